@@ -1,0 +1,37 @@
+# Compiler settings shared by every medspheres target.
+include(GNUInstallDirs)
+
+if(MEDSPHERES_SANITIZE)
+  # Applied to every target of this project, tests and benchmarks included, so that
+  # instrumented and uninstrumented code never share a container layout.
+  add_compile_options(-fsanitize=address,undefined -fno-sanitize-recover=undefined
+                      -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+
+if(MEDSPHERES_ASSERTS)
+  add_compile_definitions(MEDSPHERES_ENABLE_ASSERTS=1)
+endif()
+
+# medspheres_configure_target(<target>): C++17, warnings, the include layout.
+function(medspheres_configure_target target)
+  target_compile_features(${target} PUBLIC cxx_std_17)
+  set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF)
+  if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
+    target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow
+                           -Wnon-virtual-dtor -Wno-unused-parameter)
+    if(MEDSPHERES_WERROR)
+      target_compile_options(${target} PRIVATE -Werror)
+    endif()
+  endif()
+endfunction()
+
+# medspheres_add_library(<name> <alias> SOURCES ...): a library exported as medspheres::<alias>.
+function(medspheres_add_library name alias)
+  cmake_parse_arguments(ARG "" "" "SOURCES" ${ARGN})
+  add_library(${name} ${ARG_SOURCES})
+  add_library(medspheres::${alias} ALIAS ${name})
+  set_target_properties(${name} PROPERTIES EXPORT_NAME ${alias} OUTPUT_NAME ${name})
+  medspheres_configure_target(${name})
+  set_property(GLOBAL APPEND PROPERTY MEDSPHERES_EXPORTED_TARGETS ${name})
+endfunction()

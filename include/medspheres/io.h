@@ -1,0 +1,55 @@
+#pragma once
+/// \file
+/// Reading and writing sphere-set files.
+///
+/// The file is JSON:
+/// \code{.json}
+/// {
+///   "format": "medspheres.sphere_set",
+///   "version": 1,
+///   "spheres": [[x, y, z, r], ...],
+///   "source": {"mesh": "link1.stl", "sha256": "...", "triangles": 3000,
+///              "bbox_min": [0, 0, 0], "bbox_max": [1, 1, 1]},
+///   "generator": {"method": "medial", "version": "0.1.0", "params": {}},
+///   "stats": {"nerr": 0.034, "nerr_kind": "exact", "bake_seconds": 0.41}
+/// }
+/// \endcode
+/// A reader needs only "spheres"; "format" and "version", when present, must be the
+/// values above. Every other key is provenance: it is kept in
+/// SphereSet::metadata_json and written back unchanged. Unknown keys are not errors.
+
+#include <string>
+
+#include "medspheres/sphere_set.h"
+
+namespace medspheres {
+
+/// The value of the "format" key.
+inline constexpr const char* kSphereSetFormat = "medspheres.sphere_set";
+/// The highest "version" this library reads, and the one it writes.
+inline constexpr int kSphereSetVersion = 1;
+
+/// Reads and validates a sphere-set file.
+/// \throws InputError naming \p path when the file is missing or unreadable, is not
+///   JSON, lacks "spheres", has a wrong "format" or a newer "version", or holds a
+///   sphere that is not four finite numbers with radius > 0.
+SphereSet load_sphere_set(const std::string& path);
+
+/// Parses sphere-set JSON text; \p source names it in error messages.
+SphereSet parse_sphere_set(const std::string& json_text, const std::string& source);
+
+/// The JSON text of \p set (format, version, spheres, then the metadata keys),
+/// with numbers written so that they read back bit-identical.
+std::string sphere_set_to_json(const SphereSet& set);
+
+/// Writes \p set to \p path atomically (see write_file_atomically).
+/// \throws InputError if the set is invalid, Error if the file cannot be written.
+void save_sphere_set(const SphereSet& set, const std::string& path);
+
+/// Writes \p contents to a temporary file beside \p path, flushes it, and renames it
+/// over \p path. Readers see the old file or the whole new one, never a part; on
+/// failure the temporary file is removed and \p path is untouched.
+/// \throws Error naming \p path when any step fails.
+void write_file_atomically(const std::string& path, const std::string& contents);
+
+}  // namespace medspheres

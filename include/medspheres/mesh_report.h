@@ -1,0 +1,95 @@
+#pragma once
+/// \file
+/// Validation of a triangle mesh: what it is made of, whether it bounds a solid, and
+/// the repairs medspheres is willing to make (orientation only).
+///
+/// Definitions (all exact, on vertex indices; no tolerance is applied, so two vertices
+/// at the same position count as one only if the loader merged them, see mesh_io.h):
+/// - an edge is an unordered pair of distinct vertex indices used by some triangle;
+/// - a boundary edge is used by exactly one triangle, a non-manifold edge by three or
+///   more;
+/// - a degenerate triangle has a repeated vertex index or zero area in double
+///   precision (|(b - a) x (c - a)| == 0);
+/// - a collapsed triangle (one with a repeated vertex index) is not a surface element:
+///   it has no edges and belongs to no component. A zero-area triangle with three
+///   distinct vertices is a sliver of the surface and counts like any other;
+/// - components are the classes of non-collapsed triangles connected through shared
+///   edges;
+/// - a component is closed when none of its edges is a boundary or non-manifold edge;
+///   the mesh is closed when every component is.
+///
+/// Signed volume is (1/6) sum over triangles of a . (b x c) (divergence theorem); it is
+/// the enclosed volume for a closed, consistently outward-wound component, and merely a
+/// number otherwise.
+
+#include <cstddef>
+#include <string>
+#include <vector>
+
+#include "medspheres/triangle_mesh.h"
+
+namespace medspheres {
+
+/// Orientation of one component.
+enum class Orientation {
+  kOutward,       ///< closed, consistently wound, positive signed volume
+  kInward,        ///< closed, consistently wound, negative signed volume
+  kInconsistent,  ///< some edge is traversed in the same direction by its two triangles
+  kOpen,          ///< has boundary or non-manifold edges: no inside to point to
+};
+
+const char* to_string(Orientation o);
+
+struct ComponentReport {
+  std::size_t triangles = 0;
+  std::size_t boundary_edges = 0;
+  std::size_t nonmanifold_edges = 0;
+  bool closed = false;
+  double signed_volume = 0.0;
+  Orientation orientation = Orientation::kOpen;
+};
+
+struct MeshReport {
+  std::size_t triangles = 0;           ///< all of them, collapsed ones included
+  std::size_t vertices = 0;           ///< vertices used by at least one triangle
+  std::size_t unreferenced_vertices = 0;
+  std::size_t edges = 0;
+  std::size_t components = 0;
+  std::size_t boundary_edges = 0;
+  std::size_t nonmanifold_edges = 0;
+  std::size_t degenerate_triangles = 0;
+  std::size_t collapsed_triangles = 0;  ///< degenerate with a repeated vertex index
+  std::size_t inconsistent_edges = 0;  ///< manifold edges whose two triangles disagree on winding
+  bool closed = false;                 ///< no boundary and no non-manifold edges
+  double signed_volume = 0.0;          ///< sum over all triangles, see file comment
+  Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();  ///< of referenced vertices
+  Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
+  std::vector<ComponentReport> component_reports;  ///< in order of first triangle index
+
+  /// True when every component is closed and wound outward, the precondition for an
+  /// exact enclosed volume and an exact inside test.
+  bool is_closed_outward() const;
+};
+
+/// Analyses \p mesh. Never throws on bad geometry: it only describes it.
+/// Precondition: every index is in range (throws std::invalid_argument otherwise).
+MeshReport analyze_mesh(const TriangleMesh& mesh);
+
+/// What orient_mesh changed.
+struct OrientationFix {
+  std::size_t triangles_flipped_for_consistency = 0;  ///< minority-wound triangles of
+                                                      ///< edge-manifold components
+  std::size_t components_flipped_outward = 0;         ///< closed components turned outward
+};
+
+/// Makes the winding of each edge-manifold component consistent (flipping the smaller
+/// set of triangles), then turns every closed component with negative signed volume
+/// outward. Components with non-manifold edges are left alone. Deterministic.
+OrientationFix orient_mesh(TriangleMesh& mesh);
+
+/// Checks that a mesh can be used at all: at least one triangle, finite coordinates,
+/// indices in range, and not every triangle degenerate.
+/// \throws InputError naming \p source and the first problem found.
+void check_mesh_usable(const TriangleMesh& mesh, const std::string& source);
+
+}  // namespace medspheres

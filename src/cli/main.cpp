@@ -1,0 +1,50 @@
+// medspheres: bake, evaluate and inspect medial sphere sets from the shell.
+#include <exception>
+#include <iostream>
+#include <stdexcept>
+
+#include <CLI/CLI.hpp>
+
+#include "cli_common.h"
+#include "medspheres/error.h"
+#include "medspheres/version.h"
+
+int main(int argc, char** argv) {
+  using namespace medspheres::cli;
+  CLI::App app{"medspheres " MEDSPHERES_VERSION_STRING
+               ": approximate a triangle-mesh solid with medial spheres"};
+  app.require_subcommand(1);
+  app.set_version_flag("--version", MEDSPHERES_VERSION_STRING);
+
+  Runner info = register_info(app);
+
+  try {
+    app.parse(argc, argv);
+  } catch (const CLI::CallForHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForAllHelp& e) {
+    return app.exit(e);
+  } catch (const CLI::CallForVersion& e) {
+    return app.exit(e);
+  } catch (const CLI::ParseError& e) {
+    app.exit(e);  // prints the message and the usage hint
+    return kExitBadInput;
+  }
+
+  try {
+    for (CLI::App* sub : app.get_subcommands()) {
+      if (sub->get_name() == "info") return info();
+    }
+    std::cerr << "medspheres: error: no subcommand given\n";
+    return kExitBadInput;
+  } catch (const medspheres::InputError& e) {
+    std::cerr << "medspheres: error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::invalid_argument& e) {
+    std::cerr << "medspheres: error: " << e.what() << "\n";
+    return kExitBadInput;
+  } catch (const std::exception& e) {
+    std::cerr << "medspheres: failure: " << e.what() << "\n";
+    return kExitFailure;
+  }
+}

@@ -1,0 +1,305 @@
+#include "medspheres/mesh_report.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <numeric>
+#include <queue>
+#include <sstream>
+#include <stdexcept>
+
+#include "medspheres/error.h"
+#include "mesh_topology.h"
+
+namespace medspheres {
+
+const char* to_string(Orientation o) {
+  switch (o) {
+    case Orientation::kOutward: return "outward";
+    case Orientation::kInward: return "inward";
+    case Orientation::kInconsistent: return "inconsistent";
+    case Orientation::kOpen: return "open";
+  }
+  return "unknown";
+}
+
+bool MeshReport::is_closed_outward() const {
+  if (!closed || component_reports.empty()) return false;
+  return std::all_of(component_reports.begin(), component_reports.end(),
+                     [](const ComponentReport& c) { return c.orientation == Orientation::kOutward; });
+}
+
+namespace detail {
+
+void check_indices(const TriangleMesh& mesh) {
+  const auto n = static_cast<long long>(mesh.vertices.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    for (int k : mesh.triangles[t])
+      if (k < 0 || k >= n)
+        throw std::invalid_argument("triangle " + std::to_string(t) + " has vertex index " +
+                                    std::to_string(k) + " out of range [0, " +
+                                    std::to_string(n) + ")");
+}
+
+EdgeTable build_edge_table(const TriangleMesh& mesh) {
+  EdgeTable table;
+  table.half_edges.reserve(mesh.triangles.size() * 3);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    if (is_collapsed(tri)) continue;
+    for (int k = 0; k < 3; ++k) {
+      const int a = tri[k], b = tri[(k + 1) % 3];
+      HalfEdge h;
+      h.lo = std::min(a, b);
+      h.hi = std::max(a, b);
+      h.forward = a < b;
+      h.triangle = static_cast<int>(t);
+      table.half_edges.push_back(h);
+    }
+  }
+  std::sort(table.half_edges.begin(), table.half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
+    if (x.lo != y.lo) return x.lo < y.lo;
+    if (x.hi != y.hi) return x.hi < y.hi;
+    return x.triangle < y.triangle;
+  });
+  for (std::size_t i = 0; i < table.half_edges.size();) {
+    std::size_t j = i + 1;
+    while (j < table.half_edges.size() && table.half_edges[j].lo == table.half_edges[i].lo &&
+           table.half_edges[j].hi == table.half_edges[i].hi)
+      ++j;
+    table.edge_begin.push_back(i);
+    i = j;
+  }
+  table.edge_begin.push_back(table.half_edges.size());
+  return table;
+}
+
+std::vector<int> triangle_components(const TriangleMesh& mesh, const EdgeTable& edges,
+                                     std::size_t* count) {
+  const std::size_t nt = mesh.triangles.size();
+  std::vector<int> parent(nt);
+  std::iota(parent.begin(), parent.end(), 0);
+  auto find = [&](int x) {
+    while (parent[x] != x) {
+      parent[x] = parent[parent[x]];
+      x = parent[x];
+    }
+    return x;
+  };
+  for (std::size_t e = 0; e + 1 < edges.edge_begin.size(); ++e) {
+    const int first = edges.half_edges[edges.edge_begin[e]].triangle;
+    for (std::size_t h = edges.edge_begin[e] + 1; h < edges.edge_begin[e + 1]; ++h) {
+      const int a = find(first), b = find(edges.half_edges[h].triangle);
+      if (a != b) parent[std::max(a, b)] = std::min(a, b);
+    }
+  }
+  // Number components in order of their first triangle.
+  std::vector<int> label(nt, -1), comp(nt, -1);
+  int next = 0;
+  for (std::size_t t = 0; t < nt; ++t) {
+    if (is_collapsed(mesh.triangles[t])) continue;
+    const int root = find(static_cast<int>(t));
+    if (label[root] < 0) label[root] = next++;
+    comp[t] = label[root];
+  }
+  *count = static_cast<std::size_t>(next);
+  return comp;
+}
+
+}  // namespace detail
+
+namespace {
+
+double triangle_signed_volume(const TriangleMesh& m, std::size_t t) {
+  const Eigen::Vector3d& a = m.corner(t, 0);
+  const Eigen::Vector3d& b = m.corner(t, 1);
+  const Eigen::Vector3d& c = m.corner(t, 2);
+  return a.dot(b.cross(c)) / 6.0;
+}
+
+bool is_degenerate(const TriangleMesh& m, std::size_t t) {
+  const auto& tri = m.triangles[t];
+  if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) return true;
+  const Eigen::Vector3d n = (m.corner(t, 1) - m.corner(t, 0)).cross(m.corner(t, 2) - m.corner(t, 0));
+  return n.squaredNorm() == 0.0;
+}
+
+}  // namespace
+
+MeshReport analyze_mesh(const TriangleMesh& mesh) {
+  detail::check_indices(mesh);
+  MeshReport r;
+  r.triangles = mesh.triangles.size();
+
+  std::vector<char> used(mesh.vertices.size(), 0);
+  for (const auto& tri : mesh.triangles)
+    for (int k : tri) used[static_cast<std::size_t>(k)] = 1;
+  Eigen::AlignedBox3d box;
+  for (std::size_t v = 0; v < used.size(); ++v) {
+    if (!used[v]) continue;
+    ++r.vertices;
+    box.extend(mesh.vertices[v]);
+  }
+  r.unreferenced_vertices = mesh.vertices.size() - r.vertices;
+  if (!box.isEmpty()) {
+    r.bbox_min = box.min();
+    r.bbox_max = box.max();
+  }
+
+  const detail::EdgeTable edges = detail::build_edge_table(mesh);
+  std::size_t ncomp = 0;
+  const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
+  r.components = ncomp;
+  r.component_reports.assign(ncomp, ComponentReport{});
+  std::vector<char> inconsistent(ncomp, 0);
+
+  r.edges = edges.num_edges();
+  for (std::size_t e = 0; e < edges.num_edges(); ++e) {
+    const std::size_t b = edges.edge_begin[e], n = edges.edge_begin[e + 1] - b;
+    // Every triangle at an edge lies in the same component, by construction.
+    ComponentReport& c = r.component_reports[comp[edges.half_edges[b].triangle]];
+    if (n == 1) {
+      ++r.boundary_edges;
+      ++c.boundary_edges;
+    } else if (n >= 3) {
+      ++r.nonmanifold_edges;
+      ++c.nonmanifold_edges;
+    } else if (edges.half_edges[b].forward == edges.half_edges[b + 1].forward) {
+      ++r.inconsistent_edges;
+      inconsistent[comp[edges.half_edges[b].triangle]] = 1;
+    }
+  }
+
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    if (is_degenerate(mesh, t)) ++r.degenerate_triangles;
+    if (comp[t] < 0) {
+      ++r.collapsed_triangles;  // zero volume, no component
+      continue;
+    }
+    const double v = triangle_signed_volume(mesh, t);
+    r.signed_volume += v;
+    ComponentReport& c = r.component_reports[comp[t]];
+    ++c.triangles;
+    c.signed_volume += v;
+  }
+
+  r.closed = r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.triangles > 0;
+  for (std::size_t i = 0; i < ncomp; ++i) {
+    ComponentReport& c = r.component_reports[i];
+    c.closed = c.boundary_edges == 0 && c.nonmanifold_edges == 0;
+    if (!c.closed) c.orientation = Orientation::kOpen;
+    else if (inconsistent[i]) c.orientation = Orientation::kInconsistent;
+    else c.orientation = c.signed_volume >= 0.0 ? Orientation::kOutward : Orientation::kInward;
+  }
+  return r;
+}
+
+OrientationFix orient_mesh(TriangleMesh& mesh) {
+  detail::check_indices(mesh);
+  OrientationFix fix;
+  const detail::EdgeTable edges = detail::build_edge_table(mesh);
+  std::size_t ncomp = 0;
+  const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
+  const std::size_t nt = mesh.triangles.size();
+
+  // Per triangle, its manifold edges (as edge ids) for the breadth-first walk.
+  std::vector<char> comp_nonmanifold(ncomp, 0);
+  std::vector<std::vector<int>> tri_edges(nt);
+  for (std::size_t e = 0; e < edges.num_edges(); ++e) {
+    const std::size_t b = edges.edge_begin[e], n = edges.edge_begin[e + 1] - b;
+    if (n >= 3) comp_nonmanifold[comp[edges.half_edges[b].triangle]] = 1;
+    if (n == 2) {
+      tri_edges[edges.half_edges[b].triangle].push_back(static_cast<int>(e));
+      if (edges.half_edges[b + 1].triangle != edges.half_edges[b].triangle)
+        tri_edges[edges.half_edges[b + 1].triangle].push_back(static_cast<int>(e));
+    }
+  }
+
+  // flip[t]: 0 keep, 1 flip, -1 not yet visited.
+  std::vector<signed char> flip(nt, -1);
+  std::vector<char> comp_ok(ncomp, 1);
+  std::vector<std::vector<int>> members(ncomp);
+  for (std::size_t t = 0; t < nt; ++t)
+    if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
+
+  for (std::size_t c = 0; c < ncomp; ++c) {
+    if (comp_nonmanifold[c]) {
+      comp_ok[c] = 0;
+      continue;
+    }
+    const int seed = members[c].front();
+    flip[seed] = 0;
+    std::queue<int> q;
+    q.push(seed);
+    while (!q.empty() && comp_ok[c]) {
+      const int t = q.front();
+      q.pop();
+      for (int e : tri_edges[t]) {
+        const detail::HalfEdge& h0 = edges.half_edges[edges.edge_begin[e]];
+        const detail::HalfEdge& h1 = edges.half_edges[edges.edge_begin[e] + 1];
+        const detail::HalfEdge& mine = h0.triangle == t ? h0 : h1;
+        const detail::HalfEdge& other = h0.triangle == t ? h1 : h0;
+        // After flipping, the two half-edges must run in opposite directions.
+        const bool my_dir = mine.forward != (flip[t] == 1);
+        const int u = other.triangle;
+        const signed char want = (other.forward == !my_dir) ? 0 : 1;
+        if (flip[u] < 0) {
+          flip[u] = want;
+          q.push(u);
+        } else if (flip[u] != want) {
+          comp_ok[c] = 0;  // non-orientable (or a degenerate self-contradiction)
+        }
+      }
+    }
+    if (!comp_ok[c]) continue;
+    std::size_t flipped = 0;
+    for (int t : members[c]) flipped += flip[t] == 1;
+    const bool invert = 2 * flipped > members[c].size();  // flip the smaller set
+    for (int t : members[c]) {
+      if ((flip[t] == 1) != invert) {
+        std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+        ++fix.triangles_flipped_for_consistency;
+      }
+    }
+  }
+
+  // Closed, consistent components with negative volume are turned outward.
+  std::vector<double> vol(ncomp, 0.0);
+  std::vector<char> closed(ncomp, 1);
+  for (std::size_t e = 0; e < edges.num_edges(); ++e) {
+    const std::size_t n = edges.edge_begin[e + 1] - edges.edge_begin[e];
+    if (n != 2) closed[comp[edges.half_edges[edges.edge_begin[e]].triangle]] = 0;
+  }
+  for (std::size_t t = 0; t < nt; ++t)
+    if (comp[t] >= 0) vol[comp[t]] += triangle_signed_volume(mesh, t);
+  for (std::size_t c = 0; c < ncomp; ++c) {
+    if (!comp_ok[c] || !closed[c] || !(vol[c] < 0.0)) continue;
+    for (int t : members[c]) std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
+    ++fix.components_flipped_outward;
+  }
+  return fix;
+}
+
+void check_mesh_usable(const TriangleMesh& mesh, const std::string& source) {
+  if (mesh.triangles.empty()) throw InputError(source, "the mesh has no triangles");
+  for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
+    if (!mesh.vertices[v].allFinite()) {
+      std::ostringstream msg;
+      msg << "vertex " << v << " has a non-finite coordinate (" << mesh.vertices[v].x() << ", "
+          << mesh.vertices[v].y() << ", " << mesh.vertices[v].z() << ")";
+      throw InputError(source, msg.str());
+    }
+  }
+  try {
+    detail::check_indices(mesh);
+  } catch (const std::invalid_argument& e) {
+    throw InputError(source, e.what());
+  }
+  std::size_t degenerate = 0;
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) degenerate += is_degenerate(mesh, t);
+  if (degenerate == mesh.triangles.size())
+    throw InputError(source, "all " + std::to_string(degenerate) +
+                                 " triangles are degenerate (zero area)");
+}
+
+}  // namespace medspheres

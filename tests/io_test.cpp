@@ -1,0 +1,123 @@
+#include <cmath>
+#include <filesystem>
+#include <fstream>
+#include <limits>
+#include <random>
+#include <sstream>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/io.h"
+#include "support/temp_dir.h"
+
+using medspheres::InputError;
+using medspheres::Sphere;
+using medspheres::SphereSet;
+using medspheres::test::TempDir;
+using Catch::Matchers::Contains;
+
+namespace {
+
+SphereSet random_set(std::size_t n, unsigned seed) {
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1e3, 1e3), r(1e-9, 10.0);
+  SphereSet s;
+  for (std::size_t i = 0; i < n; ++i) s.spheres.push_back({{u(rng), u(rng), u(rng)}, r(rng)});
+  return s;
+}
+
+// Loads \p text from a file and returns the InputError message (or "" if none).
+std::string load_error(const TempDir& dir, const std::string& text) {
+  const std::string path = dir.write("bad.spheres.json", text);
+  try {
+    medspheres::load_sphere_set(path);
+  } catch (const InputError& e) {
+    CHECK(e.source() == path);
+    CHECK_THAT(std::string(e.what()), Contains(path));
+    return e.problem();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("sphere set files round-trip bit-identical, metadata included", "[io]") {
+  TempDir dir;
+  SphereSet s = random_set(500, 7);
+  s.spheres.push_back({{0.1, -0.0, 1e-300}, std::numeric_limits<double>::denorm_min()});
+  s.metadata_json =
+      R"({"source":{"mesh":"a.stl","triangles":12},"stats":{"nerr":0.03},"x-unknown":[1,2,{"k":null}]})";
+  const std::string path = dir.file("a.spheres.json");
+  medspheres::save_sphere_set(s, path);
+  const SphereSet t = medspheres::load_sphere_set(path);
+  REQUIRE(t.size() == s.size());
+  for (std::size_t i = 0; i < s.size(); ++i) {
+    // Bitwise equality, not approximate: the writer must print enough digits.
+    CHECK(std::memcmp(&t.spheres[i].radius, &s.spheres[i].radius, sizeof(double)) == 0);
+    for (int k = 0; k < 3; ++k) CHECK(t.spheres[i].center[k] == s.spheres[i].center[k]);
+  }
+  CHECK(t.metadata_json == s.metadata_json);
+  // And saving again produces the same bytes.
+  CHECK(medspheres::sphere_set_to_json(t) == medspheres::sphere_set_to_json(s));
+}
+
+TEST_CASE("a reader needs only the spheres key and ignores unknown keys", "[io]") {
+  const SphereSet s = medspheres::parse_sphere_set(
+      R"({"spheres": [[1, 2, 3, 0.5]], "future": {"anything": true}})", "inline");
+  REQUIRE(s.size() == 1);
+  CHECK(s.spheres[0].center == Eigen::Vector3d(1, 2, 3));
+  CHECK(s.spheres[0].radius == 0.5);
+  CHECK_THAT(s.metadata_json, Contains("future"));
+}
+
+TEST_CASE("malformed sphere files are rejected with the file and the problem", "[io]") {
+  TempDir dir;
+  CHECK_THAT(load_error(dir, "{not json"), Contains("not valid JSON"));
+  CHECK_THAT(load_error(dir, "[1, 2]"), Contains("not a JSON object"));
+  CHECK_THAT(load_error(dir, R"({"format": "medspheres.sphere_set"})"), Contains("\"spheres\""));
+  CHECK_THAT(load_error(dir, R"({"spheres": 3})"), Contains("not an array"));
+  CHECK_THAT(load_error(dir, R"({"spheres": [[1, 2, 3]]})"), Contains("sphere 0"));
+  CHECK_THAT(load_error(dir, R"({"spheres": [[1, 2, 3, 1], [1, 2, "x", 1]]})"),
+             Contains("sphere 1: z is not a number"));
+  CHECK_THAT(load_error(dir, R"({"spheres": [[1, 2, 3, -1]]})"), Contains("radius -1"));
+  CHECK_THAT(load_error(dir, R"({"spheres": [[1, 2, 3, 0]]})"), Contains("radius 0"));
+  CHECK_THAT(load_error(dir, R"({"spheres": [[1e999, 2, 3, 1]]})"), Contains("overflow"));
+  CHECK_THAT(load_error(dir, R"({"spheres": [[NaN, 2, 3, 1]]})"), Contains("not valid JSON"));
+  CHECK_THAT(load_error(dir, R"({"format": "other", "spheres": []})"), Contains("\"format\""));
+  CHECK_THAT(load_error(dir, R"({"version": 2, "spheres": []})"), Contains("version 2"));
+  CHECK_THAT(load_error(dir, ""), Contains("not valid JSON"));
+}
+
+TEST_CASE("a missing sphere file names the path", "[io]") {
+  TempDir dir;
+  const std::string path = dir.file("nope.spheres.json");
+  CHECK_THROWS_WITH(medspheres::load_sphere_set(path), Contains(path) && Contains("no such file"));
+  CHECK_THROWS_WITH(medspheres::load_sphere_set(dir.path().string()), Contains("directory"));
+}
+
+TEST_CASE("saving is atomic: failures leave no file and no temporary behind", "[io]") {
+  TempDir dir;
+  SphereSet good = random_set(3, 1);
+  const std::string path = dir.file("out.spheres.json");
+  medspheres::save_sphere_set(good, path);
+  const std::string before = medspheres::sphere_set_to_json(good);
+
+  // An invalid set is refused before anything is written; the old file survives.
+  SphereSet bad = good;
+  bad.spheres[1].radius = -2.0;
+  CHECK_THROWS_AS(medspheres::save_sphere_set(bad, path), InputError);
+  std::ifstream in(path);
+  std::stringstream content;
+  content << in.rdbuf();
+  CHECK(content.str() == before);
+
+  // A directory that does not exist: an error, and nothing created.
+  CHECK_THROWS_AS(medspheres::save_sphere_set(good, dir.file("missing/out.json")), medspheres::Error);
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path())) {
+    (void)e;
+    ++entries;
+  }
+  CHECK(entries == 1);  // only out.spheres.json
+}

@@ -1,0 +1,125 @@
+#include <algorithm>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/mesh_generators.h"
+#include "medspheres/mesh_io.h"
+#include "medspheres/mesh_report.h"
+#include "support/shared_meshes.h"
+
+using namespace medspheres;
+using Catch::Matchers::Contains;
+
+TEST_CASE("a cube: counts, volume and bounding box", "[report]") {
+  const MeshReport r = analyze_mesh(make_box({1, 1, 1}));
+  CHECK(r.triangles == 12);
+  CHECK(r.vertices == 8);
+  CHECK(r.edges == 18);
+  CHECK(r.components == 1);
+  CHECK(r.boundary_edges == 0);
+  CHECK(r.nonmanifold_edges == 0);
+  CHECK(r.closed);
+  CHECK(r.signed_volume == Approx(8.0));
+  CHECK(r.bbox_min == Eigen::Vector3d(-1, -1, -1));
+  CHECK(r.bbox_max == Eigen::Vector3d(1, 1, 1));
+  REQUIRE(r.component_reports.size() == 1);
+  CHECK(r.component_reports[0].orientation == Orientation::kOutward);
+}
+
+TEST_CASE("an open box has boundary edges and no orientation", "[report]") {
+  TriangleMesh m = make_box({1, 1, 1});
+  m.triangles.resize(10);  // drop the last face (two triangles)
+  const MeshReport r = analyze_mesh(m);
+  CHECK(r.boundary_edges == 4);
+  CHECK_FALSE(r.closed);
+  CHECK(r.component_reports[0].orientation == Orientation::kOpen);
+}
+
+TEST_CASE("three triangles on one edge make it non-manifold", "[report]") {
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, -1, 0}, {0, 0, 1}};
+  m.triangles = {{0, 1, 2}, {1, 0, 3}, {0, 1, 4}};
+  const MeshReport r = analyze_mesh(m);
+  CHECK(r.nonmanifold_edges == 1);
+  CHECK(r.boundary_edges == 6);
+  CHECK(r.components == 1);
+  CHECK_FALSE(r.closed);
+}
+
+TEST_CASE("two separate boxes are two components, each closed", "[report]") {
+  TriangleMesh a = make_box({1, 1, 1}), b = make_box({0.5, 0.5, 0.5});
+  const int off = static_cast<int>(a.vertices.size());
+  for (auto v : b.vertices) a.vertices.push_back(v + Eigen::Vector3d(5, 0, 0));
+  for (auto t : b.triangles) a.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+  const MeshReport r = analyze_mesh(a);
+  CHECK(r.components == 2);
+  CHECK(r.closed);
+  CHECK(r.signed_volume == Approx(8.0 + 1.0));
+}
+
+TEST_CASE("orient_mesh turns an inward box outward and fixes a flipped triangle", "[report]") {
+  TriangleMesh m = make_box({1, 2, 3}, 2);
+  for (auto& t : m.triangles) std::swap(t[1], t[2]);
+  CHECK(analyze_mesh(m).component_reports[0].orientation == Orientation::kInward);
+  OrientationFix fix = orient_mesh(m);
+  CHECK(fix.components_flipped_outward == 1);
+  CHECK(fix.triangles_flipped_for_consistency == 0);
+  CHECK(analyze_mesh(m).is_closed_outward());
+
+  std::swap(m.triangles[5][1], m.triangles[5][2]);
+  const MeshReport bad = analyze_mesh(m);
+  CHECK(bad.inconsistent_edges == 3);
+  CHECK(bad.component_reports[0].orientation == Orientation::kInconsistent);
+  fix = orient_mesh(m);
+  CHECK(fix.triangles_flipped_for_consistency == 1);
+  CHECK(fix.components_flipped_outward == 0);
+  CHECK(analyze_mesh(m).is_closed_outward());
+  CHECK(analyze_mesh(m).signed_volume == Approx(48.0));
+}
+
+TEST_CASE("degenerate triangles are counted", "[report]") {
+  TriangleMesh m = make_box({1, 1, 1});
+  m.vertices.push_back({0.5, 1.0, 1.0});  // on an edge of the top face
+  m.triangles.push_back({0, 0, 1});       // repeated index
+  m.triangles.push_back({0, 1, 0});       // repeated index
+  const int a = 0, b = 1;
+  m.vertices.push_back((m.vertices[a] + m.vertices[b]) / 2.0);  // collinear
+  m.triangles.push_back({a, b, static_cast<int>(m.vertices.size() - 1)});
+  CHECK(analyze_mesh(m).degenerate_triangles == 3);
+}
+
+TEST_CASE("check_mesh_usable names the problem", "[report]") {
+  TriangleMesh m;
+  CHECK_THROWS_WITH(check_mesh_usable(m, "a.obj"), Contains("a.obj") && Contains("no triangles"));
+  m = make_box({1, 1, 1});
+  m.vertices[3].x() = std::nan("");
+  CHECK_THROWS_WITH(check_mesh_usable(m, "a.obj"), Contains("vertex 3") && Contains("non-finite"));
+  m = make_box({1, 1, 1});
+  m.vertices[2].z() = std::numeric_limits<double>::infinity();
+  CHECK_THROWS_AS(check_mesh_usable(m, "a.obj"), InputError);
+  m = make_box({1, 1, 1});
+  m.triangles[0][1] = 99;
+  CHECK_THROWS_WITH(check_mesh_usable(m, "a.obj"), Contains("out of range"));
+  TriangleMesh flat;
+  flat.vertices = {{0, 0, 0}, {1, 0, 0}, {2, 0, 0}};
+  flat.triangles = {{0, 1, 2}, {0, 0, 1}};
+  CHECK_THROWS_WITH(check_mesh_usable(flat, "a.obj"), Contains("degenerate"));
+}
+
+#ifdef MEDSPHERES_SHARED_MESHES
+TEST_CASE("the validator agrees with MANIFEST.tsv on every shared mesh", "[report][shared]") {
+  const auto& rows = test::shared_meshes();
+  REQUIRE(rows.size() >= 40);
+  for (const auto& row : rows) {
+    INFO(row.file);
+    const LoadedMesh loaded = load_mesh(row.path);
+    CHECK(loaded.report.triangles == row.triangles);
+    CHECK(loaded.report.closed == row.closed);
+    CHECK(loaded.report.boundary_edges == row.boundary_edges);
+    CHECK(loaded.report.nonmanifold_edges == row.nonmanifold_edges);
+    CHECK(loaded.report.components == row.components);
+    CHECK(loaded.report.degenerate_triangles == row.degenerate_triangles);
+  }
+}
+#endif
