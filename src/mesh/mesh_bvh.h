@@ -1,0 +1,68 @@
+#pragma once
+// Private: the 4-wide bounding volume hierarchy behind MeshQuery.
+
+#include <cstdint>
+#include <utility>
+#include <vector>
+
+#include "medspheres/mesh_query.h"
+#include "point_triangle.h"
+
+namespace medspheres::detail {
+
+/// A 4-wide node, two cache lines. Child slot k holds an inner node index (>= 0), a
+/// triangle (~index, i.e. < 0, into the reordered triangle arrays), or nothing (kEmpty,
+/// with an inverted box that no point is near). Boxes are single precision, rounded
+/// outward, stored relative to MeshBvh::origin, laid out [axis][child] for 4-lane SIMD.
+/// Bit k of triangle_mask is set when slot k holds a triangle.
+struct alignas(64) Bvh4Node {
+  float lo[3][4];
+  float hi[3][4];
+  std::int32_t child[4];
+  std::uint32_t triangle_mask;
+};
+static_assert(sizeof(Bvh4Node) == 128, "Bvh4Node layout");
+
+inline constexpr std::int32_t kEmpty = INT32_MIN;
+
+/// Far-field data of a subtree, for hierarchical winding numbers. With N_t = a_t n_t
+/// the vector area of triangle t and d = x - centre:
+/// - centre: the area-weighted centroid; radius: the largest |vertex - centre|;
+/// - normal_sum N = sum_t N_t;
+/// - first_moment D = sum_t (integral over t of d dA / a_t) N_t^T, i.e. D_ji = sum
+///   n_i d_j dA;
+/// - second_moment[i] = sum_t (N_t)_i (integral over t of d d^T dA) / a_t, a
+///   symmetric 3x3 matrix per normal component i.
+struct WindingExpansion {
+  Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+  double radius = 0.0;
+  Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
+  Eigen::Matrix3d first_moment = Eigen::Matrix3d::Zero();
+  Eigen::Matrix3d second_moment[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(),
+                                      Eigen::Matrix3d::Zero()};
+};
+
+struct MeshBvh {
+  TriangleMesh mesh;                         // the caller's mesh, copied
+  std::vector<Bvh4Node> nodes;               // nodes[0] is the root
+  std::vector<WindingExpansion> expansions;  // one per node
+  std::vector<QueryTriangle> triangles;      // in BVH leaf order
+  std::vector<TrianglePlane> planes;         // the same order: the cheap lower bound
+  std::vector<int> original;                 // BVH order -> index in mesh.triangles
+  std::vector<std::pair<int, int>> ranges;   // per node: its triangles, [first, last) in BVH order
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // box coordinates are relative to it
+  double extent = 0.0;                       // largest side of the mesh's bounding box
+  std::size_t depth = 0;
+  double winding_beta = 2.0;
+
+  void build(const TriangleMesh& m, const MeshQueryOptions& options);
+};
+
+}  // namespace medspheres::detail
+
+namespace medspheres {
+struct MeshQuery::Impl {
+  detail::MeshBvh bvh;
+  std::vector<int> order_of;  // mesh triangle index -> BVH order
+};
+}  // namespace medspheres

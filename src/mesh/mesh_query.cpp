@@ -1,0 +1,516 @@
+#include "medspheres/mesh_query.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <stdexcept>
+#include <string>
+
+#include <omp.h>
+#if defined(__SSE2__)
+#include <emmintrin.h>
+#endif
+
+#include "mesh_bvh.h"
+
+namespace medspheres {
+
+namespace detail {
+
+namespace {
+
+// ---------------------------------------------------------------------------------
+// Binary build: binned surface-area heuristic, one triangle per leaf.
+
+struct BinaryNode {
+  Eigen::AlignedBox3d box;
+  int left = -1, right = -1;  // children, or -1 for a leaf
+  int triangle = -1;          // leaf: index into mesh.triangles
+  double area() const {
+    const Eigen::Vector3d d = box.sizes();
+    return 2.0 * (d.x() * d.y() + d.y() * d.z() + d.z() * d.x());
+  }
+};
+
+class BinaryBuilder {
+ public:
+  BinaryBuilder(const std::vector<Eigen::AlignedBox3d>& boxes,
+                const std::vector<Eigen::Vector3d>& centroids)
+      : boxes_(boxes), centroids_(centroids) {}
+
+  std::vector<BinaryNode> build() {
+    std::vector<int> ids(boxes_.size());
+    std::iota(ids.begin(), ids.end(), 0);
+    nodes_.reserve(2 * ids.size());
+    recurse(ids, 0, ids.size(), 0);
+    return std::move(nodes_);
+  }
+
+ private:
+  // Beyond this depth the object median is used, which bounds the total depth by
+  // kSahDepth + log2(n) whatever the input (a long row of triangles, say).
+  static constexpr int kSahDepth = 48;
+  static constexpr int kBins = 16;
+
+  int recurse(std::vector<int>& ids, std::size_t b, std::size_t e, int depth) {
+    const int index = static_cast<int>(nodes_.size());
+    nodes_.emplace_back();
+    Eigen::AlignedBox3d box, cbox;
+    for (std::size_t i = b; i < e; ++i) {
+      box.extend(boxes_[ids[i]]);
+      cbox.extend(centroids_[ids[i]]);
+    }
+    nodes_[index].box = box;
+    if (e - b == 1) {
+      nodes_[index].triangle = ids[b];
+      return index;
+    }
+    int axis;
+    cbox.sizes().maxCoeff(&axis);
+    const double lo = cbox.min()[axis], width = cbox.sizes()[axis];
+    std::size_t mid = b + (e - b) / 2;
+    bool use_median = depth >= kSahDepth || !(width > 0.0);
+    if (!use_median) {
+      // Bin centroids along the axis and sweep for the cheapest split.
+      std::size_t count[kBins] = {};
+      Eigen::AlignedBox3d bin_box[kBins];
+      auto bin_of = [&](int id) {
+        const int k = static_cast<int>(kBins * (centroids_[id][axis] - lo) / width);
+        return std::clamp(k, 0, kBins - 1);
+      };
+      for (std::size_t i = b; i < e; ++i) {
+        const int k = bin_of(ids[i]);
+        ++count[k];
+        bin_box[k].extend(boxes_[ids[i]]);
+      }
+      double right_area[kBins];
+      std::size_t right_count[kBins];
+      Eigen::AlignedBox3d acc;
+      std::size_t n = 0;
+      for (int k = kBins - 1; k > 0; --k) {
+        acc.extend(bin_box[k]);
+        n += count[k];
+        right_area[k] = acc.isEmpty() ? 0.0 : BinaryNode{acc}.area();
+        right_count[k] = n;
+      }
+      double best = std::numeric_limits<double>::infinity();
+      int best_k = -1;
+      acc.setEmpty();
+      n = 0;
+      for (int k = 1; k < kBins; ++k) {  // split between bin k-1 and bin k
+        acc.extend(bin_box[k - 1]);
+        n += count[k - 1];
+        if (n == 0 || right_count[k] == 0) continue;
+        const double cost = BinaryNode{acc}.area() * n + right_area[k] * right_count[k];
+        if (cost < best) {
+          best = cost;
+          best_k = k;
+        }
+      }
+      if (best_k < 0) {
+        use_median = true;
+      } else {
+        auto it = std::partition(ids.begin() + b, ids.begin() + e,
+                                 [&](int id) { return bin_of(id) < best_k; });
+        mid = static_cast<std::size_t>(it - ids.begin());
+      }
+    }
+    if (use_median) {
+      mid = b + (e - b) / 2;
+      std::nth_element(ids.begin() + b, ids.begin() + mid, ids.begin() + e, [&](int x, int y) {
+        if (centroids_[x][axis] != centroids_[y][axis])
+          return centroids_[x][axis] < centroids_[y][axis];
+        return x < y;
+      });
+    }
+    const int l = recurse(ids, b, mid, depth + 1);
+    const int r = recurse(ids, mid, e, depth + 1);
+    nodes_[index].left = l;
+    nodes_[index].right = r;
+    return index;
+  }
+
+  const std::vector<Eigen::AlignedBox3d>& boxes_;
+  const std::vector<Eigen::Vector3d>& centroids_;
+  std::vector<BinaryNode> nodes_;
+};
+
+float round_down(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+float round_up(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) < x) f = std::nextafter(f, std::numeric_limits<float>::infinity());
+  return f;
+}
+
+// Collapses the binary tree into 4-wide nodes, assigning triangles their leaf order.
+class Collapser {
+ public:
+  Collapser(const std::vector<BinaryNode>& bin, MeshBvh& out) : bin_(bin), out_(out) {}
+
+  void run() {
+    out_.nodes.clear();
+    out_.triangles.clear();
+    out_.original.clear();
+    out_.ranges.clear();
+    out_.depth = 0;
+    emit(0, 1);
+  }
+
+ private:
+  int emit(int b, std::size_t depth) {
+    out_.depth = std::max(out_.depth, depth);
+    // Open up the largest inner entries until there are four (or only leaves).
+    std::vector<int> kids;
+    if (bin_[b].triangle >= 0) {
+      kids.push_back(b);  // a one-triangle mesh: the root holds the triangle itself
+    } else {
+      kids = {bin_[b].left, bin_[b].right};
+      while (kids.size() < 4) {
+        int pick = -1;
+        double pick_area = -1.0;
+        for (std::size_t k = 0; k < kids.size(); ++k) {
+          if (bin_[kids[k]].triangle >= 0) continue;
+          const double a = bin_[kids[k]].area();
+          if (a > pick_area) {
+            pick_area = a;
+            pick = static_cast<int>(k);
+          }
+        }
+        if (pick < 0) break;
+        const int opened = kids[pick];
+        kids[pick] = bin_[opened].left;
+        kids.insert(kids.begin() + pick + 1, bin_[opened].right);
+      }
+    }
+    const int index = static_cast<int>(out_.nodes.size());
+    out_.nodes.emplace_back();
+    out_.ranges.emplace_back();
+    const int first = static_cast<int>(out_.original.size());
+    Bvh4Node node;
+    node.triangle_mask = 0;
+    for (int k = 0; k < 4; ++k) {
+      node.child[k] = kEmpty;
+      for (int a = 0; a < 3; ++a) {
+        node.lo[a][k] = std::numeric_limits<float>::infinity();
+        node.hi[a][k] = -std::numeric_limits<float>::infinity();
+      }
+    }
+    for (std::size_t k = 0; k < kids.size(); ++k) {
+      const BinaryNode& c = bin_[kids[k]];
+      for (int a = 0; a < 3; ++a) {
+        node.lo[a][k] = round_down(c.box.min()[a] - out_.origin[a]);
+        node.hi[a][k] = round_up(c.box.max()[a] - out_.origin[a]);
+      }
+      if (c.triangle >= 0) {
+        node.triangle_mask |= 1u << k;
+        node.child[k] = ~static_cast<std::int32_t>(out_.original.size());
+        out_.original.push_back(c.triangle);
+      } else {
+        node.child[k] = emit(kids[k], depth + 1);
+      }
+    }
+    out_.nodes[index] = node;
+    // Emission is depth-first, so a subtree's triangles are contiguous in leaf order.
+    out_.ranges[index] = {first, static_cast<int>(out_.original.size())};
+    return index;
+  }
+
+  const std::vector<BinaryNode>& bin_;
+  MeshBvh& out_;
+};
+
+}  // namespace
+
+void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
+  if (m.triangles.empty()) throw std::invalid_argument("MeshQuery: the mesh has no triangles");
+  if (!(options.winding_beta > 1.0) || !std::isfinite(options.winding_beta))
+    throw std::invalid_argument("MeshQuery: winding_beta must be finite and > 1");
+  const auto nv = static_cast<long long>(m.vertices.size());
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    for (int k : m.triangles[t])
+      if (k < 0 || k >= nv)
+        throw std::invalid_argument("MeshQuery: triangle " + std::to_string(t) +
+                                    " has a vertex index out of range");
+  for (const auto& v : m.vertices)
+    if (!v.allFinite()) throw std::invalid_argument("MeshQuery: non-finite vertex coordinate");
+
+  mesh = m;
+  winding_beta = options.winding_beta;
+  const Eigen::AlignedBox3d all = mesh.bounds();
+  origin = all.center();
+  extent = all.sizes().maxCoeff();
+
+  const std::size_t n = mesh.triangles.size();
+  std::vector<Eigen::AlignedBox3d> boxes(n);
+  std::vector<Eigen::Vector3d> centroids(n);
+  for (std::size_t t = 0; t < n; ++t) {
+    boxes[t].setEmpty();
+    for (int k = 0; k < 3; ++k) boxes[t].extend(mesh.corner(t, k));
+    centroids[t] = (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)) / 3.0;
+  }
+  const std::vector<BinaryNode> bin = BinaryBuilder(boxes, centroids).build();
+  Collapser(bin, *this).run();
+
+  triangles.resize(original.size());
+  planes.resize(original.size());
+  for (std::size_t i = 0; i < original.size(); ++i) {
+    const int t = original[i];
+    triangles[i] = QueryTriangle::from(mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
+    planes[i] = TrianglePlane::from(triangles[i]);
+  }
+
+  // Far-field expansions. Each node's moments are summed over its own triangles,
+  // relative to its own centre, so no moment is shifted and nothing cancels; the cost
+  // is one pass over the triangles per tree level.
+  expansions.assign(nodes.size(), WindingExpansion{});
+  for (std::size_t i = 0; i < nodes.size(); ++i) {
+    const auto [first, last] = ranges[i];
+    WindingExpansion& e = expansions[i];
+    double area = 0.0;
+    Eigen::Vector3d weighted = Eigen::Vector3d::Zero(), plain = Eigen::Vector3d::Zero();
+    for (int t = first; t < last; ++t) {
+      const QueryTriangle& q = triangles[static_cast<std::size_t>(t)];
+      const Eigen::Vector3d c = q.a + (q.ab + q.ac) / 3.0;
+      const double a = 0.5 * q.ab.cross(q.ac).norm();
+      area += a;
+      weighted += a * c;
+      plain += c;
+    }
+    // Only zero-area triangles below: any centre will do, take their mean centroid.
+    e.centre = area > 0.0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(plain / (last - first));
+    for (int t = first; t < last; ++t) {
+      const QueryTriangle& q = triangles[static_cast<std::size_t>(t)];
+      const Eigen::Vector3d v[3] = {q.a - e.centre, q.a + q.ab - e.centre, q.a + q.ac - e.centre};
+      const Eigen::Vector3d vector_area = 0.5 * q.ab.cross(q.ac);
+      const Eigen::Vector3d sum = v[0] + v[1] + v[2];
+      // Mean of d and of d d^T over the triangle: the centroid, and
+      // (sum_k v_k v_k^T + s s^T) / 12 with s = v_0 + v_1 + v_2.
+      const Eigen::Vector3d mean = sum / 3.0;
+      const Eigen::Matrix3d mean_outer =
+          (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() +
+           sum * sum.transpose()) /
+          12.0;
+      e.normal_sum += vector_area;
+      e.first_moment += mean * vector_area.transpose();
+      for (int k = 0; k < 3; ++k) e.second_moment[k] += vector_area[k] * mean_outer;
+      for (const Eigen::Vector3d& d : v) e.radius = std::max(e.radius, d.norm());
+    }
+  }
+}
+
+namespace {
+
+struct StackEntry {
+  std::int32_t node;
+  float d2;
+};
+
+// Squared distances from the query to the four child boxes of a node (float), and the
+// 4-bit mask of the children whose distance is <= threshold. Empty slots have inverted
+// boxes, hence infinite distance, and never pass: the threshold is at most FLT_MAX.
+inline unsigned child_box_distances(const Bvh4Node& n, const float q[3], float threshold,
+                                    float out[4]) {
+#if defined(__SSE2__)
+  const __m128 zero = _mm_setzero_ps();
+  __m128 acc = zero;
+  for (int a = 0; a < 3; ++a) {
+    const __m128 qa = _mm_set1_ps(q[a]);
+    const __m128 below = _mm_sub_ps(_mm_load_ps(n.lo[a]), qa);
+    const __m128 above = _mm_sub_ps(qa, _mm_load_ps(n.hi[a]));
+    const __m128 d = _mm_max_ps(_mm_max_ps(below, above), zero);
+    acc = _mm_add_ps(acc, _mm_mul_ps(d, d));
+  }
+  _mm_storeu_ps(out, acc);
+  return static_cast<unsigned>(_mm_movemask_ps(_mm_cmple_ps(acc, _mm_set1_ps(threshold))));
+#else
+  unsigned mask = 0;
+  for (int k = 0; k < 4; ++k) {
+    float s = 0.0f;
+    for (int a = 0; a < 3; ++a) {
+      const float d = std::max(std::max(n.lo[a][k] - q[a], q[a] - n.hi[a][k]), 0.0f);
+      s += d * d;
+    }
+    out[k] = s;
+    if (s <= threshold) mask |= 1u << k;
+  }
+  return mask;
+#endif
+}
+
+inline int lowest_bit(unsigned mask) { return __builtin_ctz(mask); }
+
+// Pruning threshold for the float box distances, given the best squared distance so
+// far. A box is skipped only when its computed distance exceeds the best distance plus
+// `slack`, which bounds the float error of the box test (see closest()).
+inline float prune_threshold(double best2, double slack) {
+  constexpr float kMax = std::numeric_limits<float>::max();
+  if (!(best2 < static_cast<double>(kMax))) return kMax;
+  const double t = std::sqrt(best2) + slack;
+  return std::min(round_up(t * t * (1.0 + 0x1p-20)), kMax);
+}
+
+}  // namespace
+
+ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_order,
+                     QueryCounters* counters) {
+  const Eigen::Vector3d pl = p - bvh.origin;
+  const float q[3] = {static_cast<float>(pl.x()), static_cast<float>(pl.y()),
+                      static_cast<float>(pl.z())};
+  // Float error of a box distance: rounding p to float (half an ulp of |pl|), the
+  // subtractions and the sum of squares (a few ulps of the operands, which are bounded
+  // by |pl| + extent). 8 ulps of that magnitude covers them with room to spare.
+  const double slack = 8.0 * 0x1p-24 * (pl.cwiseAbs().maxCoeff() + bvh.extent);
+  // Rounding of n.p - n.a: a few ulps of |p| and |a| (bounded by |origin| + extent).
+  const double plane_slack =
+      16.0 * 0x1p-53 * (p.cwiseAbs().sum() + bvh.origin.cwiseAbs().sum() + 2.0 * bvh.extent);
+
+  ClosestPoint best;
+  best.squared_distance = std::numeric_limits<double>::infinity();
+  std::uint64_t visited = 0, tested = 0;
+  auto test_triangle = [&](int order) {
+    // The distance to the triangle's plane bounds the distance to the triangle from
+    // below (see TrianglePlane); plane_slack covers the rounding of n.p and of the
+    // stored n.a.
+    const TrianglePlane& bound = bvh.planes[static_cast<std::size_t>(order)];
+    const double plane = std::abs(bound.normal.dot(p) - bound.offset) - bound.error - plane_slack;
+    if (plane > 0.0 && plane * plane >= best.squared_distance) return false;
+    ++tested;
+    const Eigen::Vector3d c = closest_on_triangle(p, bvh.triangles[static_cast<std::size_t>(order)]);
+    const double d2 = (p - c).squaredNorm();
+    if (d2 < best.squared_distance) {
+      best.squared_distance = d2;
+      best.point = c;
+      best.triangle = order;
+      return true;
+    }
+    return false;
+  };
+  if (hint_order >= 0) test_triangle(hint_order);
+  float threshold = prune_threshold(best.squared_distance, slack);
+
+  // Depth-first, nearest child first: the traversal descends into the nearest
+  // surviving child directly and stacks the others, farthest deepest.
+  StackEntry stack[512];
+  int sp = 0;
+  std::int32_t current = 0;
+  for (;;) {
+    const Bvh4Node& node = bvh.nodes[static_cast<std::size_t>(current)];
+    ++visited;
+    float d2[4];
+    unsigned hits = child_box_distances(node, q, threshold, d2);
+    // Triangles first: they may lower the threshold before inner nodes are stacked.
+    const unsigned triangles = hits & node.triangle_mask;
+    hits &= ~node.triangle_mask;
+    for (unsigned m = triangles; m != 0; m &= m - 1) {
+      const int k = lowest_bit(m);
+      if (d2[k] <= threshold && test_triangle(~node.child[k]))
+        threshold = prune_threshold(best.squared_distance, slack);
+    }
+    // Surviving inner nodes, in ascending distance.
+    StackEntry cand[4];
+    int nc = 0;
+    for (unsigned m = hits; m != 0; m &= m - 1) {
+      const int k = lowest_bit(m);
+      if (d2[k] > threshold) continue;
+      int j = nc++;
+      while (j > 0 && cand[j - 1].d2 > d2[k]) {
+        cand[j] = cand[j - 1];
+        --j;
+      }
+      cand[j] = {node.child[k], d2[k]};
+    }
+    if (nc > 0) {
+      for (int k = nc - 1; k > 0; --k) stack[sp++] = cand[k];
+      current = cand[0].node;
+      continue;
+    }
+    // Nothing here: resume from the stack, skipping entries the threshold now prunes.
+    while (sp > 0 && stack[sp - 1].d2 > threshold) --sp;
+    if (sp == 0) break;
+    current = stack[--sp].node;
+  }
+  if (counters != nullptr) {
+    counters->nodes_visited += visited;
+    counters->triangles_tested += tested;
+  }
+  best.triangle = bvh.original[static_cast<std::size_t>(best.triangle)];
+  return best;
+}
+
+}  // namespace detail
+
+double ClosestPoint::distance() const { return std::sqrt(squared_distance); }
+
+MeshQuery::MeshQuery(const TriangleMesh& mesh, const MeshQueryOptions& options)
+    : impl_(std::make_unique<Impl>()) {
+  impl_->bvh.build(mesh, options);
+  impl_->order_of.assign(mesh.triangles.size(), -1);
+  for (std::size_t i = 0; i < impl_->bvh.original.size(); ++i)
+    impl_->order_of[static_cast<std::size_t>(impl_->bvh.original[i])] = static_cast<int>(i);
+}
+
+MeshQuery::~MeshQuery() = default;
+MeshQuery::MeshQuery(MeshQuery&&) noexcept = default;
+MeshQuery& MeshQuery::operator=(MeshQuery&&) noexcept = default;
+
+ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, QueryCounters* counters) const {
+  return detail::closest(impl_->bvh, p, -1, counters);
+}
+
+ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, int hint_triangle,
+                                      QueryCounters* counters) const {
+  if (hint_triangle < 0 || static_cast<std::size_t>(hint_triangle) >= impl_->order_of.size())
+    throw std::invalid_argument("MeshQuery::closest_point: hint triangle out of range");
+  return detail::closest(impl_->bvh, p, impl_->order_of[static_cast<std::size_t>(hint_triangle)],
+                         counters);
+}
+
+namespace {
+int resolve_threads(int threads) {
+  if (threads < 0) throw std::invalid_argument("thread count must be >= 0 (0: all cores)");
+  return threads == 0 ? omp_get_max_threads() : threads;
+}
+}  // namespace
+
+std::vector<ClosestPoint> MeshQuery::closest_points(const std::vector<Eigen::Vector3d>& points,
+                                                    int threads) const {
+  std::vector<ClosestPoint> out(points.size());
+  const long long n = static_cast<long long>(points.size());
+#pragma omp parallel for schedule(dynamic, 256) num_threads(resolve_threads(threads))
+  for (long long i = 0; i < n; ++i) out[i] = closest_point(points[i]);
+  return out;
+}
+
+std::vector<double> MeshQuery::winding_numbers(const std::vector<Eigen::Vector3d>& points,
+                                               int threads) const {
+  std::vector<double> out(points.size());
+  const long long n = static_cast<long long>(points.size());
+#pragma omp parallel for schedule(dynamic, 256) num_threads(resolve_threads(threads))
+  for (long long i = 0; i < n; ++i) out[i] = winding_number(points[i]);
+  return out;
+}
+
+const TriangleMesh& MeshQuery::mesh() const { return impl_->bvh.mesh; }
+
+MeshBvhStats MeshQuery::stats() const {
+  const detail::MeshBvh& b = impl_->bvh;
+  MeshBvhStats s;
+  s.triangles = b.triangles.size();
+  s.nodes = b.nodes.size();
+  s.depth = b.depth;
+  s.bytes = b.nodes.capacity() * sizeof(detail::Bvh4Node) +
+            b.expansions.capacity() * sizeof(detail::WindingExpansion) +
+            b.triangles.capacity() * sizeof(detail::QueryTriangle) +
+            b.planes.capacity() * sizeof(detail::TrianglePlane) +
+            b.original.capacity() * sizeof(int) + impl_->order_of.capacity() * sizeof(int) +
+            b.mesh.vertices.capacity() * sizeof(Eigen::Vector3d) +
+            b.mesh.triangles.capacity() * sizeof(std::array<int, 3>);
+  return s;
+}
+
+}  // namespace medspheres
