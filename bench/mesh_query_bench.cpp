@@ -62,8 +62,8 @@ std::vector<Eigen::Vector3d> interior_points(const medspheres::MeshQuery& q, std
   std::size_t tries = 0;
   while (pts.size() < n && tries < 200 * n) {
     ++tries;
-    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(
-                                              Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const Eigen::Vector3d p =
+        box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
     if (q.winding_number(p) > 0.5) pts.push_back(p);
   }
   return pts;
@@ -111,7 +111,8 @@ Row measure(const std::string& name, const std::string& kind, const medspheres::
   for (int round = 0; round < 3; ++round) {
     medspheres::QueryCounters c;
     auto t0 = Clock::now();
-    for (std::size_t i = 0; i < pts.size(); ++i) ours[i] = q.closest_point(pts[i], &c).squared_distance;
+    for (std::size_t i = 0; i < pts.size(); ++i)
+      ours[i] = q.closest_point(pts[i], &c).squared_distance;
     t_ours.push_back(seconds_since(t0));
     counters = c;
 
@@ -176,9 +177,12 @@ int main(int argc, char** argv) {
   std::string dir = default_meshes_dir(), only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
-    if (a == "--points" && i + 1 < argc) npoints = std::stoul(argv[++i]);
-    else if (a == "--meshes" && i + 1 < argc) dir = argv[++i];
-    else if (a == "--only" && i + 1 < argc) only = argv[++i];
+    if (a == "--points" && i + 1 < argc)
+      npoints = std::stoul(argv[++i]);
+    else if (a == "--meshes" && i + 1 < argc)
+      dir = argv[++i];
+    else if (a == "--only" && i + 1 < argc)
+      only = argv[++i];
     else {
       std::fprintf(stderr, "usage: %s [--points N] [--meshes DIR] [--only SUBSTRING]\n", argv[0]);
       return 2;
@@ -196,7 +200,8 @@ int main(int argc, char** argv) {
 
   std::printf("MeshQuery vs CGAL AABB_tree (accelerate_distance_queries), %zu points per kind\n",
               npoints);
-  std::printf("q/s: queries per second; 1t: one thread; x2t: MeshQuery batch on 2 threads over 1t\n\n");
+  std::printf(
+      "q/s: queries per second; 1t: one thread; x2t: MeshQuery batch on 2 threads over 1t\n\n");
   std::printf("%-30s %8s %-8s %10s %10s %6s %10s %5s %7s %6s %6s %9s\n", "mesh", "tris", "kind",
               "ours q/s", "CGAL q/s", "ratio", "ours 2t", "x2t", "nodes", "tris", "depth",
               "max|dd|");
@@ -226,15 +231,16 @@ int main(int argc, char** argv) {
       if (kind == "interior") ratios.push_back(r.ours_qps / r.cgal_qps);
       std::printf("%-30s %8zu %-8s %10.0f %10.0f %6.2f %10.0f %5.2f %7.1f %6.1f %6zu %9.1e\n",
                   r.mesh.c_str(), r.triangles, r.kind.c_str(), r.ours_qps, r.cgal_qps,
-                  r.ours_qps / r.cgal_qps, r.ours2_qps, r.ours2_qps / r.ours_qps, r.nodes,
-                  r.tris, q.stats().depth, r.max_diff);
+                  r.ours_qps / r.cgal_qps, r.ours2_qps, r.ours2_qps / r.ours_qps, r.nodes, r.tris,
+                  q.stats().depth, r.max_diff);
       std::fflush(stdout);
     }
   }
   if (!ratios.empty()) {
     std::sort(ratios.begin(), ratios.end());
-    std::printf("\ninterior ratio ours/CGAL (1 thread): min %.2f, median %.2f, max %.2f; target >= 3\n",
-                ratios.front(), ratios[ratios.size() / 2], ratios.back());
+    std::printf(
+        "\ninterior ratio ours/CGAL (1 thread): min %.2f, median %.2f, max %.2f; target >= 3\n",
+        ratios.front(), ratios[ratios.size() / 2], ratios.back());
   }
   return 0;
 }

@@ -13,8 +13,6 @@ install(TARGETS ${_medspheres_targets}
 install(TARGETS medspheres_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/medspheres
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
-install(DIRECTORY ${PROJECT_SOURCE_DIR}/fcl_adapter/include/medspheres
-        DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/generated/medspheres/version.h
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR}/medspheres)
 

@@ -1,6 +1,13 @@
 // The medspheres command-line tool, run as a user runs it: exit codes, output, errors.
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
+
+#include "medspheres/io.h"
+#include "medspheres/mesh_io.h"
 
 #include "medspheres/mesh_generators.h"
 #include "support/mesh_writers.h"
@@ -8,11 +15,11 @@
 #include "support/shared_meshes.h"
 #include "support/temp_dir.h"
 
+using Catch::Matchers::Contains;
 using medspheres::test::CommandResult;
 using medspheres::test::run_command;
 using medspheres::test::shell_quote;
 using medspheres::test::TempDir;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -35,9 +42,9 @@ TEST_CASE("info --json has the documented keys and values", "[cli]") {
   const CommandResult r = cli("info --json " + shell_quote(kExample));
   REQUIRE(r.exit_code == 0);
   const auto j = nlohmann::json::parse(r.out);
-  for (const char* key : {"triangles", "vertices", "components", "boundary_edges",
-                          "nonmanifold_edges", "degenerate_triangles", "closed", "volume",
-                          "bbox_min", "bbox_max"})
+  for (const char* key :
+       {"triangles", "vertices", "components", "boundary_edges", "nonmanifold_edges",
+        "degenerate_triangles", "closed", "volume", "bbox_min", "bbox_max"})
     CHECK(j.contains(key));
   CHECK(j["triangles"] == 6400);
   CHECK(j["vertices"] == 3200);
@@ -52,13 +59,15 @@ TEST_CASE("info on an open, inward mesh reports and repairs what it can", "[cli]
   TempDir dir;
   medspheres::TriangleMesh m = medspheres::make_box({1, 1, 1}, 2);
   for (auto& t : m.triangles) std::swap(t[1], t[2]);
-  const CommandResult inward = cli("info --json " + shell_quote(dir.write("in.off", medspheres::test::to_off(m))));
+  const CommandResult inward =
+      cli("info --json " + shell_quote(dir.write("in.off", medspheres::test::to_off(m))));
   REQUIRE(inward.exit_code == 0);
   const auto j = nlohmann::json::parse(inward.out);
   CHECK(j["components_flipped_outward"] == 1);
   CHECK(j["volume"].get<double>() == Approx(8.0));
   m.triangles.pop_back();
-  const CommandResult open = cli("info --json " + shell_quote(dir.write("open.off", medspheres::test::to_off(m))));
+  const CommandResult open =
+      cli("info --json " + shell_quote(dir.write("open.off", medspheres::test::to_off(m))));
   REQUIRE(open.exit_code == 0);
   const auto k = nlohmann::json::parse(open.out);
   CHECK(k["closed"] == false);
@@ -72,7 +81,8 @@ TEST_CASE("bad usage and bad input exit 2 with a message naming the problem", "[
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Contains(missing) && Contains("no such file"));
 
-  r = cli("info " + shell_quote(dir.write("nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n")));
+  r = cli("info " +
+          shell_quote(dir.write("nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n")));
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Contains("nan.off"));
 
@@ -80,9 +90,9 @@ TEST_CASE("bad usage and bad input exit 2 with a message naming the problem", "[
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Contains("unsupported mesh format"));
 
-  CHECK(cli("").exit_code == 2);                      // no subcommand
-  CHECK(cli("frobnicate").exit_code == 2);            // unknown subcommand
-  CHECK(cli("info").exit_code == 2);                  // missing argument
+  CHECK(cli("").exit_code == 2);            // no subcommand
+  CHECK(cli("frobnicate").exit_code == 2);  // unknown subcommand
+  CHECK(cli("info").exit_code == 2);        // missing argument
   CHECK(cli("info --bogus " + shell_quote(kExample)).exit_code == 2);
   CHECK(cli("--help").exit_code == 0);
   CHECK(cli("--version").exit_code == 0);
@@ -102,3 +112,95 @@ TEST_CASE("info --json agrees with MANIFEST.tsv on every shared mesh", "[cli][sh
   }
 }
 #endif
+
+namespace {
+const std::string kEight = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off";
+
+std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+}  // namespace
+
+TEST_CASE("bake writes a valid sphere-set file with provenance", "[cli][bake]") {
+  TempDir dir;
+  const std::string out = dir.file("eight.spheres.json");
+  const CommandResult r =
+      cli("bake " + shell_quote(kEight) + " -o " + shell_quote(out) + " --resolution 24");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("spheres") && Contains("nerr"));
+  const medspheres::SphereSet set = medspheres::load_sphere_set(out);
+  CHECK(set.size() > 10);
+  const auto meta = nlohmann::json::parse(set.metadata_json);
+  CHECK(meta["source"]["sha256"] == medspheres::file_sha256(kEight));
+  CHECK(meta["source"]["triangles"] == 634);
+  CHECK(meta["generator"]["method"] == "medial");
+  CHECK(meta["generator"]["params"]["resolution"] == 24);
+  CHECK(meta["stats"]["count"] == set.size());
+  CHECK(meta["stats"]["nerr_kind"] == "exact");
+  CHECK(meta["stats"]["nerr"].get<double>() > 0.0);
+  CHECK(meta["stats"]["nerr"].get<double>() < 0.5);
+}
+
+TEST_CASE("bake's default output is the mesh stem in the working directory", "[cli][bake]") {
+  TempDir dir;
+  const CommandResult r =
+      run_command("cd " + shell_quote(dir.path().string()) + " && " + shell_quote(MEDSPHERES_CLI) +
+                  " bake --quiet " + shell_quote(kEight));
+  REQUIRE(r.exit_code == 0);
+  CHECK(r.out.empty());  // --quiet
+  CHECK(medspheres::load_sphere_set(dir.file("eight.spheres.json")).size() > 0);
+}
+
+TEST_CASE("bake's sphere budget and error target are honoured", "[cli][bake]") {
+  TempDir dir;
+  const std::string out = dir.file("k.json");
+  REQUIRE(cli("bake -q " + shell_quote(kExample) + " -o " + shell_quote(out) + " --max-spheres 120")
+              .exit_code == 0);
+  const medspheres::SphereSet capped = medspheres::load_sphere_set(out);
+  CHECK(capped.size() <= 120);
+  CHECK(nlohmann::json::parse(capped.metadata_json)["generator"]["params"]["mode"] ==
+        "max_spheres");
+
+  REQUIRE(
+      cli("bake -q " + shell_quote(kExample) + " -o " + shell_quote(out) + " --target-error 0.08")
+          .exit_code == 0);
+  const auto meta = nlohmann::json::parse(medspheres::load_sphere_set(out).metadata_json);
+  CHECK(meta["stats"]["nerr"].get<double>() <= 0.08);
+}
+
+TEST_CASE("bake rejects nonsense with exit 2 and leaves no output behind", "[cli][bake]") {
+  TempDir dir;
+  const std::string out = dir.file("out.json");
+  const std::string existing = dir.write("existing.json", "keep me");
+  for (const std::string bad :
+       {"--resolution 0", "--resolution -3", "--resolution x", "--object-angle -0.5",
+        "--object-angle 3.5", "--medial-tolerance -1", "--threads -2", "--max-spheres 0",
+        "--target-error 0", "--target-error 1.5", "--max-spheres 10 --target-error 0.1"}) {
+    INFO(bad);
+    const CommandResult r =
+        cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(out) + " " + bad);
+    CHECK(r.exit_code == 2);
+    CHECK_FALSE(std::filesystem::exists(out));
+    const CommandResult keep =
+        cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(existing) + " " + bad);
+    CHECK(keep.exit_code == 2);
+    CHECK(read_file(existing) == "keep me");
+  }
+  // A mesh with no interior: an error naming the problem, no file.
+  const std::string sheet =
+      dir.write("sheet.off", "OFF\n4 2 0\n0 0 0\n1 0 0\n1 1 0\n0 1 0\n3 0 1 2\n3 0 2 3\n");
+  const CommandResult r = cli("bake " + shell_quote(sheet) + " -o " + shell_quote(out));
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("no grid vertex lies inside"));
+  CHECK_FALSE(std::filesystem::exists(out));
+  CHECK(cli("bake " + shell_quote(dir.file("missing.obj")) + " -o " + shell_quote(out)).exit_code ==
+        2);
+  // Only the pre-existing file remains in the directory: no temporaries.
+  std::size_t entries = 0;
+  for (const auto& e : std::filesystem::directory_iterator(dir.path()))
+    entries += e.path() != sheet;
+  CHECK(entries == 1);
+}

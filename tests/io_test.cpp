@@ -11,11 +11,11 @@
 #include "medspheres/io.h"
 #include "support/temp_dir.h"
 
+using Catch::Matchers::Contains;
 using medspheres::InputError;
 using medspheres::Sphere;
 using medspheres::SphereSet;
 using medspheres::test::TempDir;
-using Catch::Matchers::Contains;
 
 namespace {
 
@@ -113,7 +113,8 @@ TEST_CASE("saving is atomic: failures leave no file and no temporary behind", "[
   CHECK(content.str() == before);
 
   // A directory that does not exist: an error, and nothing created.
-  CHECK_THROWS_AS(medspheres::save_sphere_set(good, dir.file("missing/out.json")), medspheres::Error);
+  CHECK_THROWS_AS(medspheres::save_sphere_set(good, dir.file("missing/out.json")),
+                  medspheres::Error);
   std::size_t entries = 0;
   for (const auto& e : std::filesystem::directory_iterator(dir.path())) {
     (void)e;

@@ -18,7 +18,8 @@ void check_closed_outward(const TriangleMesh& m, long euler) {
   CHECK(r.inconsistent_edges == 0);
   CHECK(r.is_closed_outward());
   CHECK(static_cast<long>(r.vertices) - static_cast<long>(r.edges) +
-            static_cast<long>(r.triangles) == euler);
+            static_cast<long>(r.triangles) ==
+        euler);
 }
 }  // namespace
 

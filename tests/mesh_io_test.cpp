@@ -7,8 +7,8 @@
 #include "support/temp_dir.h"
 
 using namespace medspheres;
-using medspheres::test::TempDir;
 using Catch::Matchers::Contains;
+using medspheres::test::TempDir;
 
 namespace {
 
@@ -41,14 +41,24 @@ TEST_CASE("each supported format loads, welds and validates", "[mesh_io]") {
   TempDir dir;
   // assimp keeps single-precision coordinates, hence the 1e-6 relative tolerances.
   const TriangleMesh m = make_torus(1.0, 0.375, 24, 12);
-  SECTION("OFF") { check_same_solid(load_mesh(dir.write("m.off", test::to_off(m))), m, 1e-6); }
-  SECTION("OBJ, indexed") { check_same_solid(load_mesh(dir.write("m.obj", test::to_obj(m))), m, 1e-6); }
+  SECTION("OFF") {
+    check_same_solid(load_mesh(dir.write("m.off", test::to_off(m))), m, 1e-6);
+  }
+  SECTION("OBJ, indexed") {
+    check_same_solid(load_mesh(dir.write("m.obj", test::to_obj(m))), m, 1e-6);
+  }
   SECTION("OBJ, one vertex per corner, welded back") {
     check_same_solid(load_mesh(dir.write("m.obj", test::to_obj(m, true))), m, 1e-6);
   }
-  SECTION("STL, ASCII") { check_same_solid(load_mesh(dir.write("m.stl", test::to_stl_ascii(m))), m, 1e-6); }
-  SECTION("STL, binary") { check_same_solid(load_mesh(dir.write("m.stl", test::to_stl_binary(m))), m, 1e-6); }
-  SECTION("PLY, ASCII") { check_same_solid(load_mesh(dir.write("m.ply", test::to_ply_ascii(m))), m, 1e-6); }
+  SECTION("STL, ASCII") {
+    check_same_solid(load_mesh(dir.write("m.stl", test::to_stl_ascii(m))), m, 1e-6);
+  }
+  SECTION("STL, binary") {
+    check_same_solid(load_mesh(dir.write("m.stl", test::to_stl_binary(m))), m, 1e-6);
+  }
+  SECTION("PLY, ASCII") {
+    check_same_solid(load_mesh(dir.write("m.ply", test::to_ply_ascii(m))), m, 1e-6);
+  }
   SECTION("glTF 2, embedded buffer") {
     check_same_solid(load_mesh(dir.write("m.gltf", test::to_gltf(m, {{0, 0, 0}}))), m, 1e-6);
   }
@@ -108,8 +118,10 @@ TEST_CASE("bad mesh files get an error naming the file and the problem", "[mesh_
              Contains("non-finite") || Contains("cannot parse"));
   CHECK_THAT(error_of(dir.write("flat.off", "OFF\n3 1 0\n0 0 0\n1 0 0\n2 0 0\n3 0 1 2\n")),
              Contains("degenerate"));
-  CHECK_THAT(error_of(dir.write("garbage.stl", std::string(200, '\x07'))), Contains("cannot parse") || Contains("no triangles"));
-  CHECK_THAT(error_of(dir.write("bad.off", "OFF\n3 1 0\n0 0 0\n")), Contains("cannot parse") || Contains("no triangles"));
+  CHECK_THAT(error_of(dir.write("garbage.stl", std::string(200, '\x07'))),
+             Contains("cannot parse") || Contains("no triangles"));
+  CHECK_THAT(error_of(dir.write("bad.off", "OFF\n3 1 0\n0 0 0\n")),
+             Contains("cannot parse") || Contains("no triangles"));
 }
 
 TEST_CASE("file_sha256 matches known digests", "[mesh_io]") {

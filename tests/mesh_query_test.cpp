@@ -46,8 +46,9 @@ Eigen::Vector3d oracle_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d&
 double brute_force_distance2(const TriangleMesh& m, const Eigen::Vector3d& p) {
   double best = std::numeric_limits<double>::infinity();
   for (std::size_t t = 0; t < m.triangles.size(); ++t)
-    best = std::min(best, (p - oracle_triangle(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)))
-                              .squaredNorm());
+    best = std::min(
+        best,
+        (p - oracle_triangle(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2))).squaredNorm());
   return best;
 }
 
@@ -225,7 +226,8 @@ TEST_CASE("winding numbers: hierarchical against exact, and exact against geomet
     // The inscribed polygonal torus differs from the ideal one by at most the sagitta
     // of its facets; away from that band the ideal inside test is the truth.
     const double tube = std::hypot(std::hypot(p.x(), p.y()) - R, p.z()) - r;
-    const double band = r * (1 - std::cos(3.14159265 / 48)) + R * (1 - std::cos(3.14159265 / 96)) + 1e-9;
+    const double band =
+        r * (1 - std::cos(3.14159265 / 48)) + R * (1 - std::cos(3.14159265 / 96)) + 1e-9;
     if (std::abs(tube) > band) {
       const bool truth = tube < 0;
       CHECK(q.inside(p) == truth);
@@ -277,8 +279,7 @@ TEST_CASE("hierarchy statistics describe a real 4-wide tree", "[mesh_query]") {
 }
 
 #ifdef MEDSPHERES_SHARED_MESHES
-TEST_CASE("closest points and inside tests on every closed shared mesh",
-          "[mesh_query][shared]") {
+TEST_CASE("closest points and inside tests on every closed shared mesh", "[mesh_query][shared]") {
   for (const auto& row : test::shared_meshes()) {
     if (!row.closed) continue;
     INFO(row.file);

@@ -56,16 +56,16 @@ struct ClosestPoint {
 
 /// Counters of one query, for benchmarks (the BVH statistics of a run).
 struct QueryCounters {
-  std::uint64_t nodes_visited = 0;      ///< 4-wide nodes whose children were tested
-  std::uint64_t triangles_tested = 0;   ///< exact point-triangle evaluations
+  std::uint64_t nodes_visited = 0;     ///< 4-wide nodes whose children were tested
+  std::uint64_t triangles_tested = 0;  ///< exact point-triangle evaluations
 };
 
 /// Shape of the hierarchy, reported next to timings.
 struct MeshBvhStats {
   std::size_t triangles = 0;
-  std::size_t nodes = 0;   ///< 4-wide inner nodes
-  std::size_t depth = 0;   ///< longest root-to-triangle path, in 4-wide nodes
-  std::size_t bytes = 0;   ///< memory held by the query structure
+  std::size_t nodes = 0;  ///< 4-wide inner nodes
+  std::size_t depth = 0;  ///< longest root-to-triangle path, in 4-wide nodes
+  std::size_t bytes = 0;  ///< memory held by the query structure
 };
 
 class MeshQuery {

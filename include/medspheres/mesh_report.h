@@ -50,8 +50,8 @@ struct ComponentReport {
 };
 
 struct MeshReport {
-  std::size_t triangles = 0;           ///< all of them, collapsed ones included
-  std::size_t vertices = 0;           ///< vertices used by at least one triangle
+  std::size_t triangles = 0;  ///< all of them, collapsed ones included
+  std::size_t vertices = 0;   ///< vertices used by at least one triangle
   std::size_t unreferenced_vertices = 0;
   std::size_t edges = 0;
   std::size_t components = 0;
@@ -59,9 +59,9 @@ struct MeshReport {
   std::size_t nonmanifold_edges = 0;
   std::size_t degenerate_triangles = 0;
   std::size_t collapsed_triangles = 0;  ///< degenerate with a repeated vertex index
-  std::size_t inconsistent_edges = 0;  ///< manifold edges whose two triangles disagree on winding
-  bool closed = false;                 ///< no boundary and no non-manifold edges
-  double signed_volume = 0.0;          ///< sum over all triangles, see file comment
+  std::size_t inconsistent_edges = 0;   ///< manifold edges whose two triangles disagree on winding
+  bool closed = false;                  ///< no boundary and no non-manifold edges
+  double signed_volume = 0.0;           ///< sum over all triangles, see file comment
   Eigen::Vector3d bbox_min = Eigen::Vector3d::Zero();  ///< of referenced vertices
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   std::vector<ComponentReport> component_reports;  ///< in order of first triangle index

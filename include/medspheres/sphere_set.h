@@ -19,7 +19,7 @@ namespace medspheres {
 /// radius > 0 (see validate_sphere_set).
 struct Sphere {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< p_MoC_M: centre, in frame M
-  double radius = 0.0;                                ///< same units as center
+  double radius = 0.0;                               ///< same units as center
 };
 
 /// The balls plus the provenance a sphere-set file carries beside them.

@@ -1,6 +1,7 @@
 #pragma once
 // Shared pieces of the medspheres command-line tool.
 
+#include <cstddef>
 #include <functional>
 #include <string>
 
@@ -17,6 +18,22 @@ inline constexpr int kExitBadInput = 2;
 using Runner = std::function<int()>;
 
 Runner register_info(CLI::App& app);
+Runner register_bake(CLI::App& app);
+
+/// A one-line progress bar on stderr, drawn only when stderr is a terminal and not
+/// silenced; redraws at most ten times a second and erases itself when done.
+class ProgressBar {
+ public:
+  explicit ProgressBar(bool enabled);
+  ~ProgressBar();
+  void update(const std::string& stage, std::size_t done, std::size_t total);
+  void finish();
+
+ private:
+  bool enabled_;
+  bool drawn_ = false;
+  double last_ = -1.0;
+};
 
 /// True when stderr is a terminal (progress bars are drawn only then).
 bool stderr_is_terminal();

@@ -16,7 +16,9 @@ struct InfoArgs {
   bool json = false;
 };
 
-nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) { return {v.x(), v.y(), v.z()}; }
+nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
+  return {v.x(), v.y(), v.z()};
+}
 
 int run_info(const InfoArgs& args) {
   const LoadedMesh loaded = load_mesh(args.mesh);
@@ -37,7 +39,8 @@ int run_info(const InfoArgs& args) {
     j["volume"] = r.signed_volume;
     j["bbox_min"] = vec_json(r.bbox_min);
     j["bbox_max"] = vec_json(r.bbox_max);
-    j["triangles_flipped_for_consistency"] = loaded.orientation_fix.triangles_flipped_for_consistency;
+    j["triangles_flipped_for_consistency"] =
+        loaded.orientation_fix.triangles_flipped_for_consistency;
     j["components_flipped_outward"] = loaded.orientation_fix.components_flipped_outward;
     auto comps = nlohmann::ordered_json::array();
     for (const ComponentReport& c : r.component_reports) {
@@ -60,8 +63,8 @@ int run_info(const InfoArgs& args) {
   std::cout << args.mesh << "\n"
             << "  triangles           " << r.triangles << "\n"
             << "  vertices            " << r.vertices << "\n"
-            << "  components          " << r.components << " (" << closed << " closed, "
-            << outward << " wound outward)\n"
+            << "  components          " << r.components << " (" << closed << " closed, " << outward
+            << " wound outward)\n"
             << "  boundary edges      " << r.boundary_edges << "\n"
             << "  non-manifold edges  " << r.nonmanifold_edges << "\n"
             << "  degenerate          " << r.degenerate_triangles << "\n"

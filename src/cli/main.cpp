@@ -17,6 +17,7 @@ int main(int argc, char** argv) {
   app.set_version_flag("--version", MEDSPHERES_VERSION_STRING);
 
   Runner info = register_info(app);
+  Runner bake = register_bake(app);
 
   try {
     app.parse(argc, argv);
@@ -34,6 +35,7 @@ int main(int argc, char** argv) {
   try {
     for (CLI::App* sub : app.get_subcommands()) {
       if (sub->get_name() == "info") return info();
+      if (sub->get_name() == "bake") return bake();
     }
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;

@@ -51,7 +51,7 @@ struct MeshBvh {
   std::vector<int> original;                 // BVH order -> index in mesh.triangles
   std::vector<std::pair<int, int>> ranges;   // per node: its triangles, [first, last) in BVH order
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // box coordinates are relative to it
-  double extent = 0.0;                       // largest side of the mesh's bounding box
+  double extent = 0.0;                               // largest side of the mesh's bounding box
   std::size_t depth = 0;
   double winding_beta = 2.0;
 

@@ -57,8 +57,10 @@ TriangleMesh make_box(const Eigen::Vector3d& h, int n) {
             return vertex(c[0], c[1], c[2]);
           };
           const int p00 = at(a, b), p10 = at(a + 1, b), p11 = at(a + 1, b + 1), p01 = at(a, b + 1);
-          if (side == 1) add_quad(m, p00, p10, p11, p01);
-          else add_quad(m, p00, p01, p11, p10);
+          if (side == 1)
+            add_quad(m, p00, p10, p11, p01);
+          else
+            add_quad(m, p00, p01, p11, p10);
         }
       }
     }
@@ -124,7 +126,8 @@ TriangleMesh make_torus(double major, double minor, int nu, int nv) {
   }
   auto id = [&](int i, int j) { return (i % nu) * nv + (j % nv); };
   for (int i = 0; i < nu; ++i)
-    for (int j = 0; j < nv; ++j) add_quad(m, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
+    for (int j = 0; j < nv; ++j)
+      add_quad(m, id(i, j), id(i + 1, j), id(i + 1, j + 1), id(i, j + 1));
   return m;
 }
 
@@ -158,7 +161,8 @@ TriangleMesh make_capsule(double radius, double half_length, int slices, int sta
   auto at = [&](std::size_t r, int s) { return ring_start[r] + (s % slices); };
   for (int s = 0; s < slices; ++s) m.triangles.push_back({bottom, at(0, s + 1), at(0, s)});
   for (std::size_t r = 0; r + 1 < ring_start.size(); ++r)
-    for (int s = 0; s < slices; ++s) add_quad(m, at(r, s), at(r, s + 1), at(r + 1, s + 1), at(r + 1, s));
+    for (int s = 0; s < slices; ++s)
+      add_quad(m, at(r, s), at(r, s + 1), at(r + 1, s + 1), at(r + 1, s));
   const std::size_t last = ring_start.size() - 1;
   for (int s = 0; s < slices; ++s) m.triangles.push_back({top, at(last, s), at(last, s + 1)});
   return m;

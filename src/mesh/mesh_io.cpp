@@ -8,10 +8,10 @@
 #include <functional>
 #include <unordered_map>
 
-#include <assimp/Importer.hpp>
 #include <assimp/config.h>
 #include <assimp/postprocess.h>
 #include <assimp/scene.h>
+#include <assimp/Importer.hpp>
 
 #include "medspheres/error.h"
 
@@ -85,7 +85,8 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a mesh file");
   {
     std::ifstream probe(path, std::ios::binary);
-    if (!probe) throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+    if (!probe)
+      throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
   }
   if (fs::file_size(path, ec) == 0) throw InputError(path, "the file is empty");
 
@@ -98,7 +99,8 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   }
   // Drop point and line primitives; triangulate polygons. No vertex joining: welding is
   // done below on positions only, so that split normals or UVs do not split vertices.
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE, aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
   // Keep COLLADA coordinates as written: no Z-up to Y-up rotation (robot description
   // formats place DAE meshes in the file's own axes).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);

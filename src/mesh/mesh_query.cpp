@@ -282,7 +282,8 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
       plain += c;
     }
     // Only zero-area triangles below: any centre will do, take their mean centroid.
-    e.centre = area > 0.0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(plain / (last - first));
+    e.centre =
+        area > 0.0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(plain / (last - first));
     for (int t = first; t < last; ++t) {
       const QueryTriangle& q = triangles[static_cast<std::size_t>(t)];
       const Eigen::Vector3d v[3] = {q.a - e.centre, q.a + q.ab - e.centre, q.a + q.ac - e.centre};
@@ -291,10 +292,9 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
       // Mean of d and of d d^T over the triangle: the centroid, and
       // (sum_k v_k v_k^T + s s^T) / 12 with s = v_0 + v_1 + v_2.
       const Eigen::Vector3d mean = sum / 3.0;
-      const Eigen::Matrix3d mean_outer =
-          (v[0] * v[0].transpose() + v[1] * v[1].transpose() + v[2] * v[2].transpose() +
-           sum * sum.transpose()) /
-          12.0;
+      const Eigen::Matrix3d mean_outer = (v[0] * v[0].transpose() + v[1] * v[1].transpose() +
+                                          v[2] * v[2].transpose() + sum * sum.transpose()) /
+                                         12.0;
       e.normal_sum += vector_area;
       e.first_moment += mean * vector_area.transpose();
       for (int k = 0; k < 3; ++k) e.second_moment[k] += vector_area[k] * mean_outer;
@@ -342,7 +342,9 @@ inline unsigned child_box_distances(const Bvh4Node& n, const float q[3], float t
 #endif
 }
 
-inline int lowest_bit(unsigned mask) { return __builtin_ctz(mask); }
+inline int lowest_bit(unsigned mask) {
+  return __builtin_ctz(mask);
+}
 
 // Pruning threshold for the float box distances, given the best squared distance so
 // far. A box is skipped only when its computed distance exceeds the best distance plus
@@ -380,7 +382,8 @@ ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_orde
     const double plane = std::abs(bound.normal.dot(p) - bound.offset) - bound.error - plane_slack;
     if (plane > 0.0 && plane * plane >= best.squared_distance) return false;
     ++tested;
-    const Eigen::Vector3d c = closest_on_triangle(p, bvh.triangles[static_cast<std::size_t>(order)]);
+    const Eigen::Vector3d c =
+        closest_on_triangle(p, bvh.triangles[static_cast<std::size_t>(order)]);
     const double d2 = (p - c).squaredNorm();
     if (d2 < best.squared_distance) {
       best.squared_distance = d2;
@@ -444,7 +447,9 @@ ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_orde
 
 }  // namespace detail
 
-double ClosestPoint::distance() const { return std::sqrt(squared_distance); }
+double ClosestPoint::distance() const {
+  return std::sqrt(squared_distance);
+}
 
 MeshQuery::MeshQuery(const TriangleMesh& mesh, const MeshQueryOptions& options)
     : impl_(std::make_unique<Impl>()) {
@@ -495,7 +500,9 @@ std::vector<double> MeshQuery::winding_numbers(const std::vector<Eigen::Vector3d
   return out;
 }
 
-const TriangleMesh& MeshQuery::mesh() const { return impl_->bvh.mesh; }
+const TriangleMesh& MeshQuery::mesh() const {
+  return impl_->bvh.mesh;
+}
 
 MeshBvhStats MeshQuery::stats() const {
   const detail::MeshBvh& b = impl_->bvh;

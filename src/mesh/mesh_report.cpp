@@ -15,18 +15,23 @@ namespace medspheres {
 
 const char* to_string(Orientation o) {
   switch (o) {
-    case Orientation::kOutward: return "outward";
-    case Orientation::kInward: return "inward";
-    case Orientation::kInconsistent: return "inconsistent";
-    case Orientation::kOpen: return "open";
+    case Orientation::kOutward:
+      return "outward";
+    case Orientation::kInward:
+      return "inward";
+    case Orientation::kInconsistent:
+      return "inconsistent";
+    case Orientation::kOpen:
+      return "open";
   }
   return "unknown";
 }
 
 bool MeshReport::is_closed_outward() const {
   if (!closed || component_reports.empty()) return false;
-  return std::all_of(component_reports.begin(), component_reports.end(),
-                     [](const ComponentReport& c) { return c.orientation == Orientation::kOutward; });
+  return std::all_of(
+      component_reports.begin(), component_reports.end(),
+      [](const ComponentReport& c) { return c.orientation == Orientation::kOutward; });
 }
 
 namespace detail {
@@ -37,8 +42,8 @@ void check_indices(const TriangleMesh& mesh) {
     for (int k : mesh.triangles[t])
       if (k < 0 || k >= n)
         throw std::invalid_argument("triangle " + std::to_string(t) + " has vertex index " +
-                                    std::to_string(k) + " out of range [0, " +
-                                    std::to_string(n) + ")");
+                                    std::to_string(k) + " out of range [0, " + std::to_string(n) +
+                                    ")");
 }
 
 EdgeTable build_edge_table(const TriangleMesh& mesh) {
@@ -57,11 +62,12 @@ EdgeTable build_edge_table(const TriangleMesh& mesh) {
       table.half_edges.push_back(h);
     }
   }
-  std::sort(table.half_edges.begin(), table.half_edges.end(), [](const HalfEdge& x, const HalfEdge& y) {
-    if (x.lo != y.lo) return x.lo < y.lo;
-    if (x.hi != y.hi) return x.hi < y.hi;
-    return x.triangle < y.triangle;
-  });
+  std::sort(table.half_edges.begin(), table.half_edges.end(),
+            [](const HalfEdge& x, const HalfEdge& y) {
+              if (x.lo != y.lo) return x.lo < y.lo;
+              if (x.hi != y.hi) return x.hi < y.hi;
+              return x.triangle < y.triangle;
+            });
   for (std::size_t i = 0; i < table.half_edges.size();) {
     std::size_t j = i + 1;
     while (j < table.half_edges.size() && table.half_edges[j].lo == table.half_edges[i].lo &&
@@ -120,7 +126,8 @@ double triangle_signed_volume(const TriangleMesh& m, std::size_t t) {
 bool is_degenerate(const TriangleMesh& m, std::size_t t) {
   const auto& tri = m.triangles[t];
   if (tri[0] == tri[1] || tri[1] == tri[2] || tri[2] == tri[0]) return true;
-  const Eigen::Vector3d n = (m.corner(t, 1) - m.corner(t, 0)).cross(m.corner(t, 2) - m.corner(t, 0));
+  const Eigen::Vector3d n =
+      (m.corner(t, 1) - m.corner(t, 0)).cross(m.corner(t, 2) - m.corner(t, 0));
   return n.squaredNorm() == 0.0;
 }
 
@@ -187,9 +194,12 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
   for (std::size_t i = 0; i < ncomp; ++i) {
     ComponentReport& c = r.component_reports[i];
     c.closed = c.boundary_edges == 0 && c.nonmanifold_edges == 0;
-    if (!c.closed) c.orientation = Orientation::kOpen;
-    else if (inconsistent[i]) c.orientation = Orientation::kInconsistent;
-    else c.orientation = c.signed_volume >= 0.0 ? Orientation::kOutward : Orientation::kInward;
+    if (!c.closed)
+      c.orientation = Orientation::kOpen;
+    else if (inconsistent[i])
+      c.orientation = Orientation::kInconsistent;
+    else
+      c.orientation = c.signed_volume >= 0.0 ? Orientation::kOutward : Orientation::kInward;
   }
   return r;
 }
@@ -298,8 +308,8 @@ void check_mesh_usable(const TriangleMesh& mesh, const std::string& source) {
   std::size_t degenerate = 0;
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) degenerate += is_degenerate(mesh, t);
   if (degenerate == mesh.triangles.size())
-    throw InputError(source, "all " + std::to_string(degenerate) +
-                                 " triangles are degenerate (zero area)");
+    throw InputError(source,
+                     "all " + std::to_string(degenerate) + " triangles are degenerate (zero area)");
 }
 
 }  // namespace medspheres

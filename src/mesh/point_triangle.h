@@ -75,7 +75,8 @@ inline Eigen::Vector3d closest_on_edges(const Eigen::Vector3d& p, const QueryTri
   const Eigen::Vector3d q0 = closest_on_segment(p, t.a, t.ab);
   const Eigen::Vector3d q1 = closest_on_segment(p, t.a, t.ac);
   const Eigen::Vector3d q2 = closest_on_segment(p, b, t.ac - t.ab);
-  const double e0 = (p - q0).squaredNorm(), e1 = (p - q1).squaredNorm(), e2 = (p - q2).squaredNorm();
+  const double e0 = (p - q0).squaredNorm(), e1 = (p - q1).squaredNorm(),
+               e2 = (p - q2).squaredNorm();
   if (e0 <= e1 && e0 <= e2) return q0;
   return e1 <= e2 ? q1 : q2;
 }

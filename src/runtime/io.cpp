@@ -8,8 +8,8 @@
 #include <fstream>
 #include <sstream>
 
-#include <nlohmann/json.hpp>
 #include <unistd.h>
+#include <nlohmann/json.hpp>
 
 #include "medspheres/error.h"
 
@@ -53,8 +53,8 @@ SphereSet parse_sphere_set(const std::string& json_text, const std::string& sour
 
   if (auto it = doc.find("format"); it != doc.end()) {
     if (!it->is_string() || it->get<std::string>() != kSphereSetFormat)
-      throw InputError(source, "\"format\" is " + it->dump() + ", expected \"" +
-                                   kSphereSetFormat + "\"");
+      throw InputError(source,
+                       "\"format\" is " + it->dump() + ", expected \"" + kSphereSetFormat + "\"");
   }
   if (auto it = doc.find("version"); it != doc.end()) {
     if (!it->is_number_integer())

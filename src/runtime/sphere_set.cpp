@@ -22,8 +22,8 @@ void validate_sphere_set(const SphereSet& set, const std::string& source) {
     const Sphere& s = set.spheres[i];
     if (!s.center.allFinite()) {
       std::ostringstream msg;
-      msg << "sphere " << i << " has a non-finite centre (" << s.center.x() << ", "
-          << s.center.y() << ", " << s.center.z() << ")";
+      msg << "sphere " << i << " has a non-finite centre (" << s.center.x() << ", " << s.center.y()
+          << ", " << s.center.z() << ")";
       throw InputError(source, msg.str());
     }
     if (!std::isfinite(s.radius) || !(s.radius > 0.0)) {

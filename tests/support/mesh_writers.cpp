@@ -16,7 +16,8 @@ std::ostringstream precise() {
 }
 
 Eigen::Vector3d normal_of(const TriangleMesh& m, std::size_t t) {
-  const Eigen::Vector3d n = (m.corner(t, 1) - m.corner(t, 0)).cross(m.corner(t, 2) - m.corner(t, 0));
+  const Eigen::Vector3d n =
+      (m.corner(t, 1) - m.corner(t, 0)).cross(m.corner(t, 2) - m.corner(t, 0));
   return n.norm() > 0 ? Eigen::Vector3d(n.normalized()) : Eigen::Vector3d::Zero();
 }
 
@@ -69,7 +70,8 @@ std::string to_obj(const TriangleMesh& m, bool unwelded) {
   s << "# generated\n";
   if (!unwelded) {
     for (const auto& v : m.vertices) s << "v " << v.x() << " " << v.y() << " " << v.z() << "\n";
-    for (const auto& t : m.triangles) s << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
+    for (const auto& t : m.triangles)
+      s << "f " << t[0] + 1 << " " << t[1] + 1 << " " << t[2] + 1 << "\n";
   } else {
     for (std::size_t t = 0; t < m.triangles.size(); ++t)
       for (int k = 0; k < 3; ++k) {
@@ -175,8 +177,8 @@ std::string to_gltf(const TriangleMesh& m, const std::vector<Eigen::Vector3d>& o
   for (std::size_t i = 0; i < offsets.size(); ++i) s << (i ? "," : "") << i;
   s << R"(]}],"nodes":[)";
   for (std::size_t i = 0; i < offsets.size(); ++i)
-    s << (i ? "," : "") << R"({"mesh":0,"translation":[)" << offsets[i].x() << ","
-      << offsets[i].y() << "," << offsets[i].z() << "]}";
+    s << (i ? "," : "") << R"({"mesh":0,"translation":[)" << offsets[i].x() << "," << offsets[i].y()
+      << "," << offsets[i].z() << "]}";
   s << R"(],"meshes":[{"primitives":[{"attributes":{"POSITION":0},"indices":1,"mode":4}]}],)"
     << R"("buffers":[{"byteLength":)" << buf.size()
     << R"(,"uri":"data:application/octet-stream;base64,)" << base64(buf) << R"("}],)"

@@ -9,7 +9,8 @@
 namespace medspheres::test {
 
 std::string to_off(const TriangleMesh& m);
-std::string to_obj(const TriangleMesh& m, bool unwelded = false);  ///< unwelded: 3 fresh vertices per face
+std::string to_obj(const TriangleMesh& m,
+                   bool unwelded = false);  ///< unwelded: 3 fresh vertices per face
 std::string to_stl_ascii(const TriangleMesh& m);
 std::string to_stl_binary(const TriangleMesh& m);
 std::string to_ply_ascii(const TriangleMesh& m);

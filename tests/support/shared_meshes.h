@@ -9,8 +9,8 @@
 namespace medspheres::test {
 
 struct SharedMesh {
-  std::string file;      ///< path relative to the meshes folder, e.g. "cgal/knot1.off"
-  std::string path;      ///< absolute path
+  std::string file;  ///< path relative to the meshes folder, e.g. "cgal/knot1.off"
+  std::string path;  ///< absolute path
   std::size_t triangles = 0;
   bool closed = false;
   std::size_t boundary_edges = 0;

@@ -1,0 +1,638 @@
+#include "medspheres/bake.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <tuple>
+#include <utility>
+
+#include <omp.h>
+
+#include "medspheres/error.h"
+#include "medspheres/mesh_report.h"
+
+namespace medspheres {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The grid: cubic cells of side h; vertex (i, j, k) sits at origin + h (i, j, k).
+struct Grid {
+  Eigen::Vector3d origin = Eigen::Vector3d::Zero();
+  double h = 0.0;
+  std::array<int, 3> cells = {0, 0, 0};
+
+  std::array<int, 3> verts() const { return {cells[0] + 1, cells[1] + 1, cells[2] + 1}; }
+  std::size_t num_vertices() const {
+    const auto v = verts();
+    return static_cast<std::size_t>(v[0]) * v[1] * v[2];
+  }
+  std::size_t num_cells() const { return static_cast<std::size_t>(cells[0]) * cells[1] * cells[2]; }
+  std::size_t vertex_index(int i, int j, int k) const {
+    const auto v = verts();
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(v[0]) * (j + static_cast<std::size_t>(v[1]) * k);
+  }
+  std::size_t cell_index(int i, int j, int k) const {
+    return static_cast<std::size_t>(i) +
+           static_cast<std::size_t>(cells[0]) * (j + static_cast<std::size_t>(cells[1]) * k);
+  }
+  Eigen::Vector3d vertex(int i, int j, int k) const {
+    return origin + h * Eigen::Vector3d(i, j, k);
+  }
+  /// Cell containing p, or -1 outside the grid.
+  long long cell_of(const Eigen::Vector3d& p) const {
+    int c[3];
+    for (int a = 0; a < 3; ++a) {
+      const double x = std::floor((p[a] - origin[a]) / h);
+      if (!(x >= 0.0) || x >= cells[a]) return -1;
+      c[a] = static_cast<int>(x);
+    }
+    return static_cast<long long>(cell_index(c[0], c[1], c[2]));
+  }
+};
+
+// Grid of `resolution` cells along the box's longest side plus one cell per axis,
+// centred on the box, so that vertices are offset from the box's faces and from its
+// mid-planes (both would put sample points exactly on the surface or on the medial
+// surface of axis-aligned shapes).
+Grid make_grid(const Eigen::AlignedBox3d& box, int resolution) {
+  Grid g;
+  const double longest = box.sizes().maxCoeff();
+  g.h = longest / resolution;
+  for (int a = 0; a < 3; ++a) {
+    const int n = static_cast<int>(std::ceil(box.sizes()[a] / g.h - 1e-9));
+    g.cells[a] = std::max(n, 1) + 1;
+  }
+  const Eigen::Vector3d span = g.h * Eigen::Vector3d(g.cells[0], g.cells[1], g.cells[2]);
+  g.origin = box.center() - span / 2.0;
+  return g;
+}
+
+struct VertexSample {
+  Eigen::Vector3d direction = Eigen::Vector3d::Zero();  // u: unit vector toward the nearest point
+  double distance = 0.0;
+  int triangle = -1;
+  bool inside = false;
+};
+
+struct Candidate {
+  Eigen::Vector3d centre;
+  double radius = 0.0;
+  MedialSample sample;
+  std::size_t vertex = 0;  // the grid vertex whose search found it
+};
+
+struct Counters {
+  std::uint64_t closest = 0, winding = 0;
+  std::uint64_t inside = 0;            // grid vertices inside, with a direction
+  std::uint64_t evaluated_inside = 0;  // inside by an evaluated winding number...
+  std::uint64_t confident = 0;         // ... of at least kConfidentWinding
+  void add(const Counters& o) {
+    closest += o.closest;
+    winding += o.winding;
+    inside += o.inside;
+    evaluated_inside += o.evaluated_inside;
+    confident += o.confident;
+  }
+};
+
+// A mesh bounds a volume when most grid points its winding number puts inside are
+// confidently inside. On a closed or nearly closed surface the winding number is close
+// to 1 inside (measured on the test meshes: at least 80% of inside points have
+// w >= 0.75, open ones with holes included); on a triangle soup it wanders between 0
+// and 1 (51% on trimesh's soup.stl).
+constexpr double kConfidentWinding = 0.75;
+constexpr double kMinConfidentShare = 0.7;
+
+void validate(const BakeOptions& o) {
+  if (o.resolution < 2 || o.resolution > 4096)
+    throw std::invalid_argument("resolution must be in [2, 4096], got " +
+                                std::to_string(o.resolution));
+  if (!(o.object_angle > 0.0) || !(o.object_angle < kPi))
+    throw std::invalid_argument("object angle must be in (0, pi) radians, got " +
+                                std::to_string(o.object_angle));
+  if (!(o.medial_tolerance >= 0.0) || !std::isfinite(o.medial_tolerance))
+    throw std::invalid_argument("medial tolerance must be finite and >= 0 (0: default), got " +
+                                std::to_string(o.medial_tolerance));
+  if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
+}
+
+class Baker {
+ public:
+  Baker(const MeshQuery& query, const BakeOptions& options)
+      : query_(query), options_(options), cos_angle_(std::cos(options.object_angle)) {
+    const Eigen::AlignedBox3d box = query.mesh().bounds();
+    longest_ = box.sizes().maxCoeff();
+    grid_ = make_grid(box, options.resolution);
+    tolerance_ = options.medial_tolerance > 0.0 ? options.medial_tolerance : 1e-3 * longest_;
+    gamma_ = std::sqrt(3.0) * grid_.h / std::sin(options.object_angle / 2.0);
+    threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
+    const MeshReport report = analyze_mesh(query.mesh());
+    closed_ = report.closed && report.inconsistent_edges == 0;
+  }
+
+  BakeResult run() {
+    const auto t0 = std::chrono::steady_clock::now();
+    // The grid is processed a chunk of slabs at a time, holding the vertex layers that
+    // bound the chunk: memory grows with resolution squared, not cubed. A chunk holds
+    // about 2^16 vertices (at most 2^22), so that a small grid is one parallel pass and
+    // a large one synchronizes rarely compared with its work.
+    const auto nv = grid_.verts();
+    const std::size_t layer = static_cast<std::size_t>(nv[0]) * nv[1];
+    const int slabs = grid_.cells[2];
+    const int per_chunk = static_cast<int>(
+        std::clamp<std::size_t>((std::size_t{1} << 16) / layer, 1,
+                                std::max<std::size_t>((std::size_t{1} << 22) / layer, 1)));
+    // layers[0] is the chunk's first layer (the previous chunk's last); searched[l]
+    // marks vertices of layer l already searched.
+    std::vector<VertexSample> layers(layer * (per_chunk + 1));
+    std::vector<char> searched(layer * (per_chunk + 1), 0);
+    std::vector<Candidate> found;
+    sample_layers(0, 1, layers.data());
+    for (int k0 = 0; k0 < slabs; k0 += per_chunk) {
+      const int count = std::min(per_chunk, slabs - k0);
+      sample_layers(k0 + 1, count, layers.data() + layer);
+      std::vector<Start> starts;
+      for (int k = 0; k < count; ++k)
+        flag_slab(k0 + k, layers.data() + k * layer, layers.data() + (k + 1) * layer,
+                  searched.data() + k * layer, searched.data() + (k + 1) * layer, starts);
+      search(starts, found);
+      // The chunk's last layer is the next chunk's first.
+      std::copy(layers.begin() + static_cast<std::ptrdiff_t>(count * layer),
+                layers.begin() + static_cast<std::ptrdiff_t>((count + 1) * layer), layers.begin());
+      std::copy(searched.begin() + static_cast<std::ptrdiff_t>(count * layer),
+                searched.begin() + static_cast<std::ptrdiff_t>((count + 1) * layer),
+                searched.begin());
+      std::fill(searched.begin() + static_cast<std::ptrdiff_t>(layer), searched.end(), 0);
+      if (options_.progress)
+        options_.progress("baking", static_cast<std::size_t>(k0 + count),
+                          static_cast<std::size_t>(slabs));
+    }
+    check_interior();
+    BakeResult result = keep_one_per_cell(std::move(found));
+    stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    result.stats = stats_;
+    return result;
+  }
+
+ private:
+  struct Start {
+    std::size_t vertex;  // global grid vertex index
+    VertexSample sample;
+  };
+
+  // Step 1 for vertex layers first .. first + count - 1, written to out (layer by
+  // layer): inside status everywhere, nearest point at the inside vertices. A row
+  // along x is one unit of work, done in order by one thread, each query hinted with
+  // the previous one's triangle: the same answers for any thread count. On a closed
+  // mesh the winding number is constant off the surface, so a vertex at exact distance
+  // d from the surface passes its status to the next ceil(d / h) - 1 vertices of its
+  // row, whose segments lie in the empty open ball: those need no winding number, and
+  // outside ones no query at all. On an open mesh every vertex gets its winding number.
+  void sample_layers(int first, int count, VertexSample* out) {
+    const auto nv = grid_.verts();
+    const long long rows = static_cast<long long>(nv[1]) * count;
+    Counters total;
+#pragma omp parallel num_threads(threads_)
+    {
+      Counters mine;
+#pragma omp for schedule(dynamic, 1)
+      for (long long row = 0; row < rows; ++row) {
+        const int j = static_cast<int>(row % nv[1]);
+        const int k = first + static_cast<int>(row / nv[1]);
+        VertexSample* line = out + static_cast<std::size_t>(row) * nv[0];
+        int hint = -1;
+        long long known = 0;  // following vertices whose status is known
+        bool known_inside = false;
+        auto ball = [&](double d) {
+          return static_cast<long long>(std::floor(d / grid_.h * (1.0 - 1e-12)));
+        };
+        for (int i = 0; i < nv[0]; ++i) {
+          VertexSample& s = line[i];
+          s = VertexSample{};
+          const Eigen::Vector3d p = grid_.vertex(i, j, k);
+          bool inside;
+          if (known > 0) {
+            inside = known_inside;
+            --known;
+          } else {
+            ++mine.winding;
+            const double w = query_.winding_number(p);
+            inside = w > 0.5;
+            if (inside) {
+              ++mine.evaluated_inside;
+              mine.confident += w >= kConfidentWinding;
+            }
+          }
+          if (!inside && (!closed_ || known > 0)) continue;
+          ++mine.closest;
+          const ClosestPoint c = hint < 0 ? query_.closest_point(p) : query_.closest_point(p, hint);
+          hint = c.triangle;
+          const double d = c.distance();
+          if (closed_ && ball(d) > known) {
+            known = ball(d);
+            known_inside = inside;
+          }
+          if (!inside || !(d > 0.0)) continue;  // outside, or on the surface: no direction
+          ++mine.inside;
+          s.inside = true;
+          s.distance = d;
+          s.direction = (c.point - p) / d;
+          s.triangle = c.triangle;
+        }
+      }
+#pragma omp critical
+      total.add(mine);
+    }
+    counters_.add(total);
+  }
+
+  // After the last slab: a mesh without a volume is an input error, not an empty set.
+  void check_interior() {
+    stats_.inside_vertices = counters_.inside;
+    if (counters_.inside == 0)
+      throw InputError("mesh", "no grid vertex lies inside the solid at resolution " +
+                                   std::to_string(options_.resolution) +
+                                   ": the mesh bounds no volume (a flat sheet or a triangle "
+                                   "soup?), or its parts are thinner than a grid cell");
+    const double share =
+        static_cast<double>(counters_.confident) /
+        static_cast<double>(std::max<std::uint64_t>(counters_.evaluated_inside, 1));
+    if (share < kMinConfidentShare)
+      throw InputError("mesh",
+                       "the mesh bounds no well-defined volume: its winding number is "
+                       "ambiguous almost everywhere (only " +
+                           std::to_string(static_cast<int>(100 * share)) +
+                           "% of the points it puts inside have a winding number of at "
+                           "least 0.75; a triangle soup?)");
+  }
+
+  // Step 2 for slab k, bounded by vertex layers k (lower) and k + 1 (upper): cells with
+  // two inside corners whose directions differ by at least the object angle. Appends
+  // their inside corners not searched before, in vertex order; the searched flags keep
+  // a vertex from being searched twice.
+  void flag_slab(int k, const VertexSample* lower, const VertexSample* upper, char* lower_searched,
+                 char* upper_searched, std::vector<Start>& starts) {
+    const auto nv = grid_.verts();
+    const std::size_t layer = static_cast<std::size_t>(nv[0]) * nv[1];
+    std::vector<char> lower_new(layer, 0), upper_new(layer, 0);
+    for (int j = 0; j < grid_.cells[1]; ++j)
+      for (int i = 0; i < grid_.cells[0]; ++i) {
+        const VertexSample* in[8];
+        std::size_t where[8];
+        bool top[8];
+        int n = 0;
+        for (int corner = 0; corner < 8; ++corner) {
+          const std::size_t v = static_cast<std::size_t>(i + (corner & 1)) +
+                                static_cast<std::size_t>(nv[0]) * (j + ((corner >> 1) & 1));
+          const bool up = (corner >> 2) != 0;
+          const VertexSample& smp = up ? upper[v] : lower[v];
+          if (!smp.inside) continue;
+          in[n] = &smp;
+          where[n] = v;
+          top[n] = up;
+          ++n;
+        }
+        bool split = false;
+        for (int x = 0; x < n && !split; ++x)
+          for (int y = x + 1; y < n && !split; ++y)
+            split = in[x]->direction.dot(in[y]->direction) <= cos_angle_;
+        if (!split) continue;
+        ++stats_.flagged_cells;
+        for (int x = 0; x < n; ++x) (top[x] ? upper_new : lower_new)[where[x]] = 1;
+      }
+    const std::size_t before = starts.size();
+    for (std::size_t v = 0; v < layer; ++v)
+      if (lower_new[v] && !lower_searched[v]) {
+        lower_searched[v] = 1;
+        starts.push_back({static_cast<std::size_t>(k) * layer + v, lower[v]});
+      }
+    for (std::size_t v = 0; v < layer; ++v)
+      if (upper_new[v]) {
+        upper_searched[v] = 1;
+        starts.push_back({static_cast<std::size_t>(k + 1) * layer + v, upper[v]});
+      }
+    stats_.searches += starts.size() - before;
+  }
+
+  Eigen::Vector3d vertex_position(std::size_t v) const {
+    const auto n = grid_.verts();
+    const int i = static_cast<int>(v % n[0]);
+    const int j = static_cast<int>((v / n[0]) % n[1]);
+    const int k = static_cast<int>(v / (static_cast<std::size_t>(n[0]) * n[1]));
+    return grid_.vertex(i, j, k);
+  }
+
+  // Step 3 for one start vertex. Returns a candidate, or nothing; `reason` tells why
+  // a bracketed candidate was dropped (1: invalid, 2: object angle).
+  std::optional<Candidate> search_from(const Start& start, Counters& count, int* reason) const {
+    *reason = 0;
+    const std::size_t v = start.vertex;
+    const VertexSample& s = start.sample;
+    const Eigen::Vector3d p = vertex_position(v);
+    const Eigen::Vector3d dir = -s.direction;
+    int hint = s.triangle;
+    auto probe = [&](double t) {
+      ++count.closest;
+      const ClosestPoint c = query_.closest_point(p + t * dir, hint);
+      hint = c.triangle;
+      return c;
+    };
+    // Angle between u(p) and the direction from the probe point to its nearest point;
+    // a probe on the surface itself has no direction and counts as fully turned (pi).
+    auto deviation = [&](const ClosestPoint& c, double t) {
+      const Eigen::Vector3d to = c.point - (p + t * dir);
+      const double len = to.norm();
+      if (!(len > 0.0)) return kPi;
+      return std::acos(std::clamp(to.dot(s.direction) / len, -1.0, 1.0));
+    };
+    // Has the segment passed a sheet of at least `angle` by parameter t? Before the
+    // first such sheet the direction has turned by less than `angle`, so the distance
+    // has grown at a rate of at least cos(angle). A probe whose direction has turned
+    // further, or whose distance has fallen below that line (past a sheet, or out of
+    // the solid through its far side, where the direction points back), has passed.
+    auto passed = [&](const ClosestPoint& c, double t, double angle) {
+      if (c.distance() < s.distance + t * std::cos(angle) - tolerance_) return true;
+      return deviation(c, t) >= angle;
+    };
+    // Bisection on [lo, hi] with passed(lo) false and passed(hi) true; *at_lo and
+    // *at_hi receive the probes at the final ends (when probed).
+    auto bisect = [&](double lo, double hi, double angle, ClosestPoint* at_lo,
+                      ClosestPoint* at_hi) {
+      while (hi - lo > tolerance_) {
+        const double mid = 0.5 * (lo + hi);
+        const ClosestPoint c = probe(mid);
+        if (passed(c, mid, angle)) {
+          hi = mid;
+          *at_hi = c;
+        } else {
+          lo = mid;
+          *at_lo = c;
+        }
+      }
+      return std::make_pair(lo, hi);
+    };
+
+    // Phase 1: the first point past a sheet of at least the object angle.
+    ClosestPoint at_lo = probe(0.0), at_hi = probe(gamma_);
+    if (!passed(at_hi, gamma_, options_.object_angle)) return std::nullopt;
+    auto [lo, hi] = bisect(0.0, gamma_, options_.object_angle, &at_lo, &at_hi);
+
+    // Phase 2, for gradual turns only. A tessellated smooth surface grows a fan of
+    // tiny-angle sheets, one per convex edge, and across them the direction turns in
+    // small steps; phase 1 then stops at the first point turned by the object angle,
+    // up to (facet width / 2) / sin(angle) short of the sheet the filter keeps. When the
+    // final bracket did not itself jump by the object angle, the turn was gradual: half
+    // a cell and a cell further the turn is nearer complete, Delta being the largest
+    // turn seen there (probes that left the solid, as their distance shows, do not
+    // count), and the sheet is where the direction has turned by Delta / 2, the middle
+    // of the transition (never by less than the object angle, so that the search
+    // cannot stop at an edge's own small sheet). A sharp jump is a sheet already: the
+    // search stays there, and cannot run on to a second sheet beyond it.
+    double threshold = options_.object_angle;
+    const bool sharp = deviation(at_hi, hi) - deviation(at_lo, lo) >= options_.object_angle;
+    if (!sharp) {
+      double full = deviation(at_hi, hi), reach = hi;
+      for (const double step : {0.5 * grid_.h, grid_.h}) {
+        const double t_beyond = hi + step;
+        const ClosestPoint beyond = probe(t_beyond);
+        const double turn = deviation(beyond, t_beyond);
+        if (beyond.distance() >= s.distance && turn > full) {
+          full = turn;
+          reach = t_beyond;
+        }
+      }
+      threshold = std::max(options_.object_angle, 0.5 * full);
+      if (threshold > options_.object_angle) {
+        ClosestPoint ignored_lo = at_lo, ignored_hi = at_hi;
+        if (!passed(at_lo, lo, threshold))
+          std::tie(lo, hi) = bisect(lo, reach, threshold, &ignored_lo, &ignored_hi);
+        else
+          std::tie(lo, hi) = bisect(0.0, lo, threshold, &ignored_lo, &ignored_hi);
+      }
+    }
+
+    // The centre is the bracket's near end m; its nearest point A is exact. The far
+    // tangency B is the nearest point of m' = m pushed half a cell straight away from A,
+    // across the sheet.
+    const double t = lo;
+    const Eigen::Vector3d m = p + t * dir;
+    const ClosestPoint near = probe(t);
+    const double d = near.distance();
+    // (a) before the sheet the direction has turned by less than 90 degrees, so the
+    // distance has not decreased along the segment.
+    if (!(d > 0.0) || !(d >= s.distance + t * std::cos(threshold) - 2.0 * tolerance_)) {
+      *reason = 1;
+      return std::nullopt;
+    }
+    // (b) the centre is inside the solid.
+    ++count.winding;
+    if (!(query_.winding_number(m) > 0.5)) {
+      *reason = 1;
+      return std::nullopt;
+    }
+    // (c) object angle: the angle between the spokes on the two sides of the sheet, m
+    // to A and m' to B. (At a true medial point the two are the directions to its two
+    // tangency points; measuring B's spoke from m itself would overstate the angle
+    // wherever m is close to the surface.)
+    const Eigen::Vector3d a = near.point - m;
+    const Eigen::Vector3d pushed = m - (0.5 * grid_.h / d) * a;
+    ++count.closest;
+    const ClosestPoint far = query_.closest_point(pushed, near.triangle);
+    const Eigen::Vector3d b = far.point - pushed;
+    const double na = a.norm(), nb = b.norm();
+    const double angle =
+        (na > 0.0 && nb > 0.0) ? std::acos(std::clamp(a.dot(b) / (na * nb), -1.0, 1.0)) : 0.0;
+    if (!(angle >= options_.object_angle)) {
+      *reason = 2;
+      return std::nullopt;
+    }
+    Candidate out;
+    out.centre = m;
+    out.radius = d - 1e-12 * longest_;
+    out.sample.near_point = near.point;
+    out.sample.far_point = far.point;
+    out.sample.object_angle = angle;
+    out.vertex = v;
+    if (!(out.radius > 0.0)) {
+      *reason = 1;
+      return std::nullopt;
+    }
+    return out;
+  }
+
+  // Step 3 for the starts of one slab, in parallel; results appended in start order.
+  void search(const std::vector<Start>& starts, std::vector<Candidate>& found) {
+    std::vector<std::optional<Candidate>> results(starts.size());
+    std::vector<signed char> reasons(starts.size(), 0);
+    const long long n = static_cast<long long>(starts.size());
+    Counters total;
+#pragma omp parallel num_threads(threads_)
+    {
+      Counters mine;
+#pragma omp for schedule(dynamic, 4)
+      for (long long i = 0; i < n; ++i) {
+        int reason = 0;
+        results[i] = search_from(starts[i], mine, &reason);
+        reasons[i] = static_cast<signed char>(reason);
+      }
+#pragma omp critical
+      total.add(mine);
+    }
+    counters_.add(total);
+    for (std::size_t i = 0; i < results.size(); ++i) {
+      if (results[i]) found.push_back(*results[i]);
+      if (reasons[i] == 1) ++stats_.rejected_invalid;
+      if (reasons[i] == 2) ++stats_.rejected_angle;
+      if (results[i] || reasons[i] != 0) ++stats_.candidates;
+    }
+  }
+
+  // Step 4: per cell, the candidate of largest radius (ties: lowest start vertex).
+  BakeResult keep_one_per_cell(std::vector<Candidate> found) {
+    for (Candidate& c : found) c.sample.cell = static_cast<int>(grid_.cell_of(c.centre));
+    found.erase(std::remove_if(found.begin(), found.end(),
+                               [](const Candidate& c) { return c.sample.cell < 0; }),
+                found.end());
+    std::sort(found.begin(), found.end(), [](const Candidate& a, const Candidate& b) {
+      if (a.sample.cell != b.sample.cell) return a.sample.cell < b.sample.cell;
+      if (a.radius != b.radius) return a.radius > b.radius;
+      return a.vertex < b.vertex;
+    });
+    BakeResult r;
+    for (std::size_t i = 0; i < found.size(); ++i) {
+      if (i > 0 && found[i].sample.cell == found[i - 1].sample.cell) continue;
+      r.spheres.spheres.push_back({found[i].centre, found[i].radius});
+      r.samples.push_back(found[i].sample);
+    }
+    stats_.resolution = options_.resolution;
+    stats_.cell_size = grid_.h;
+    stats_.medial_tolerance = tolerance_;
+    stats_.grid = grid_.cells;
+    stats_.spheres = r.spheres.size();
+    stats_.closest_point_queries = counters_.closest;
+    stats_.winding_queries = counters_.winding;
+    if (!r.spheres.empty()) {
+      stats_.min_radius = std::numeric_limits<double>::infinity();
+      for (const Sphere& s : r.spheres.spheres) {
+        stats_.min_radius = std::min(stats_.min_radius, s.radius);
+        stats_.max_radius = std::max(stats_.max_radius, s.radius);
+      }
+    }
+    return r;
+  }
+
+  const MeshQuery& query_;
+  BakeOptions options_;
+  double cos_angle_;
+  double longest_ = 0.0;
+  Grid grid_;
+  double tolerance_ = 0.0;
+  double gamma_ = 0.0;
+  int threads_ = 1;
+  bool closed_ = false;  // closed and consistently wound: integer winding numbers
+  Counters counters_;
+  BakeStats stats_;
+};
+
+}  // namespace
+
+BakeResult bake(const MeshQuery& query, const BakeOptions& options) {
+  validate(options);
+  return Baker(query, options).run();
+}
+
+BakeResult bake(const TriangleMesh& mesh, const BakeOptions& options) {
+  validate(options);
+  const MeshQuery query(mesh);
+  return Baker(query, options).run();
+}
+
+namespace {
+
+// Resolution search shared by the two modes. `good` holds at low resolutions and fails
+// at high ones when want_largest (a sphere budget), and the reverse otherwise (an error
+// target). From the start resolution, doubling or halving moves toward the other kind
+// until the boundary is bracketed; bisection then narrows it to adjacent resolutions.
+// Returns the largest (or smallest) good resolution's bake seen, if any was good.
+template <typename Good>
+std::optional<BakeResult> search_resolution(const MeshQuery& query, const BakeOptions& options,
+                                            int max_resolution, bool want_largest, Good good) {
+  if (max_resolution < 2) throw std::invalid_argument("max resolution must be >= 2");
+  std::optional<BakeResult> best;
+  auto run = [&](int r) {
+    BakeOptions o = options;
+    o.resolution = r;
+    BakeResult res = bake(query, o);
+    const bool ok = good(res);
+    if (ok && (!best || (want_largest ? r > best->stats.resolution : r < best->stats.resolution)))
+      best = std::move(res);
+    return ok;
+  };
+  int r = std::clamp(options.resolution, 2, max_resolution);
+  const bool g = run(r);
+  const bool up = g == want_largest;
+  int other = -1;
+  for (;;) {
+    const int next = up ? std::min(2 * r, max_resolution) : std::max(r / 2, 2);
+    if (next == r) break;  // reached a limit without finding the other kind
+    if (run(next) != g) {
+      other = next;
+      break;
+    }
+    r = next;
+  }
+  if (other < 0) return best;
+  int good_r = g ? r : other, bad_r = g ? other : r;
+  while (std::abs(good_r - bad_r) > 1) {
+    const int mid = (good_r + bad_r) / 2;
+    if (run(mid))
+      good_r = mid;
+    else
+      bad_r = mid;
+  }
+  return best;
+}
+
+}  // namespace
+
+BakeResult bake_max_spheres(const MeshQuery& query, std::size_t max_spheres,
+                            const BakeOptions& options, int max_resolution) {
+  if (max_spheres < 1) throw std::invalid_argument("max spheres must be >= 1");
+  validate(options);
+  auto result = search_resolution(query, options, max_resolution, true, [&](const BakeResult& r) {
+    return r.spheres.size() <= max_spheres;
+  });
+  if (!result)
+    throw InputError("--max-spheres", "even resolution 2 gives more than " +
+                                          std::to_string(max_spheres) + " spheres");
+  return std::move(*result);
+}
+
+BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorFn& error,
+                             const BakeOptions& options, int max_resolution) {
+  if (!(target > 0.0) || !std::isfinite(target))
+    throw std::invalid_argument("target error must be finite and > 0");
+  if (!error) throw std::invalid_argument("bake_target_error needs an error function");
+  validate(options);
+  double best_error = std::numeric_limits<double>::infinity();
+  auto result = search_resolution(query, options, max_resolution, false, [&](const BakeResult& r) {
+    const double e = error(r.spheres);
+    best_error = std::min(best_error, e);
+    return e <= target;
+  });
+  if (!result)
+    throw Error("target error " + std::to_string(target) + " not reached up to resolution " +
+                std::to_string(max_resolution) + " (best error " + std::to_string(best_error) +
+                ")");
+  return std::move(*result);
+}
+
+}  // namespace medspheres
