@@ -1,0 +1,511 @@
+// medspheres::fcl::distance and collide: the dispatch of pairs with a sphere set to the
+// sphere tree, the ProximityTarget views of FCL's geometries (BVHModel of every BV type,
+// primitives, octree), and the forwarding of every other pair to libfcl. FCL's heavy
+// templates live in this one translation unit.
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <optional>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fcl/config.h>
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/geometry/shape/box.h>
+#include <fcl/geometry/shape/capsule.h>
+#include <fcl/geometry/shape/cone.h>
+#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/cylinder.h>
+#include <fcl/geometry/shape/ellipsoid.h>
+#include <fcl/geometry/shape/halfspace.h>
+#include <fcl/geometry/shape/plane.h>
+#include <fcl/geometry/shape/sphere.h>
+#include <fcl/math/bv/AABB.h>
+#include <fcl/math/bv/OBB.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/math/bv/RSS.h>
+#include <fcl/math/bv/kDOP.h>
+#include <fcl/math/bv/kIOS.h>
+#include <fcl/narrowphase/collision.h>
+#include <fcl/narrowphase/distance.h>
+#if FCL_HAVE_OCTOMAP
+#include <fcl/geometry/octree/octree.h>
+#endif
+
+#include "medspheres/fcl/sphere_set_geometry.h"
+#include "medspheres/proximity_target.h"
+#include "medspheres/sphere_tree.h"
+#include "medspheres/triangle_tree.h"
+
+namespace medspheres::fcl {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// The narrowphase settings of the caller's request, passed on to FCL's sphere tests.
+struct Narrowphase {
+  ::fcl::GJKSolverType solver = ::fcl::GST_LIBCCD;
+  double distance_tolerance = 1e-6;
+  double gjk_tolerance = 1e-6;
+};
+
+// --- bounds of FCL's bounding volumes, as RSS in the model's frame ----------------------
+
+Rss rss_of_box(const Eigen::Vector3d& center, const Eigen::Matrix3d& axes,
+               const Eigen::Vector3d& half) {
+  // The rectangle spans the two largest extents; the smallest becomes the radius. The
+  // box lies inside: each of its points is within the smallest half extent of it.
+  std::array<int, 3> order = {0, 1, 2};
+  std::sort(order.begin(), order.end(), [&](int i, int j) { return half[i] > half[j]; });
+  Rss rss;
+  rss.axis.col(0) = axes.col(order[0]);
+  rss.axis.col(1) = axes.col(order[1]);
+  rss.axis.col(2) = rss.axis.col(0).cross(rss.axis.col(1));
+  rss.length = Eigen::Vector2d(2 * half[order[0]], 2 * half[order[1]]);
+  rss.corner = center - rss.axis.col(0) * half[order[0]] - rss.axis.col(1) * half[order[1]];
+  rss.radius = half[order[2]] + 16 * kEps * (center.norm() + half.sum());
+  return rss;
+}
+
+Rss rss_of(const ::fcl::AABBd& bv) {
+  return rss_of_box(bv.center(), Eigen::Matrix3d::Identity(), 0.5 * (bv.max_ - bv.min_));
+}
+
+Rss rss_of(const ::fcl::OBBd& bv) {
+  return rss_of_box(bv.To, bv.axis, bv.extent);
+}
+
+Rss rss_of(const ::fcl::RSSd& bv) {
+  Rss rss;
+  rss.corner = bv.To;
+  rss.radius = bv.r;
+  if (bv.l[0] >= bv.l[1]) {
+    rss.axis = bv.axis;
+    rss.length = Eigen::Vector2d(bv.l[0], bv.l[1]);
+  } else {
+    rss.axis.col(0) = bv.axis.col(1);
+    rss.axis.col(1) = bv.axis.col(0);
+    rss.axis.col(2) = -bv.axis.col(2);
+    rss.length = Eigen::Vector2d(bv.l[1], bv.l[0]);
+  }
+  return rss;
+}
+
+Rss rss_of(const ::fcl::OBBRSSd& bv) {
+  return rss_of(bv.rss);
+}
+
+Rss rss_of(const ::fcl::kIOSd& bv) {
+  return rss_of(bv.obb);
+}
+
+template <std::size_t N>
+Rss rss_of(const ::fcl::KDOP<double, N>& bv) {
+  // The first three slab pairs are the axis-aligned ones.
+  ::fcl::AABBd box;
+  for (int i = 0; i < 3; ++i) {
+    box.min_[i] = bv.dist(static_cast<std::size_t>(i));
+    box.max_[i] = bv.dist(N / 2 + static_cast<std::size_t>(i));
+  }
+  return rss_of(box);
+}
+
+// --- targets ----------------------------------------------------------------------------
+
+// An fcl::BVHModel of triangles, traversed through its own hierarchy.
+template <class BV>
+class BvhTarget final : public ProximityTarget {
+ public:
+  explicit BvhTarget(const ::fcl::BVHModel<BV>& model) : model_(model) {
+    if (model.getModelType() == ::fcl::BVH_MODEL_POINTCLOUD)
+      throw std::invalid_argument("medspheres::fcl: a BVHModel of points is not supported");
+    if (model.getModelType() == ::fcl::BVH_MODEL_TRIANGLES &&
+        model.build_state != ::fcl::BVH_BUILD_STATE_PROCESSED &&
+        model.build_state != ::fcl::BVH_BUILD_STATE_UPDATED)
+      throw std::invalid_argument("medspheres::fcl: the BVHModel is not finished (endModel())");
+  }
+
+  std::optional<TargetNode> root() const override {
+    if (model_.getModelType() != ::fcl::BVH_MODEL_TRIANGLES || model_.getNumBVs() == 0)
+      return std::nullopt;
+    return node(0);
+  }
+
+  int children(const TargetNode& n, TargetNode* out) const override {
+    const ::fcl::BVNode<BV>& bv = model_.getBV(static_cast<int>(n.handle));
+    if (bv.isLeaf()) return 0;
+    out[0] = node(bv.leftChild());
+    out[1] = node(bv.rightChild());
+    return 2;
+  }
+
+  BallProximity ball_proximity(const TargetNode& leaf, const Eigen::Vector3d& p_BC,
+                               double radius) const override {
+    const ::fcl::Triangle& t = model_.tri_indices[leaf.primitive];
+    return ball_triangle_proximity(p_BC, radius, model_.vertices[t[0]], model_.vertices[t[1]],
+                                   model_.vertices[t[2]]);
+  }
+
+ private:
+  TargetNode node(int index) const {
+    const ::fcl::BVNode<BV>& bv = model_.getBV(index);
+    TargetNode n;
+    n.handle = index;
+    n.is_leaf = bv.isLeaf();
+    if (n.is_leaf)
+      n.primitive = bv.primitiveId();
+    else
+      n.bounds = rss_of(bv.bv);
+    return n;
+  }
+
+  const ::fcl::BVHModel<BV>& model_;
+};
+
+// The answer of a solid or surface primitive S, posed at X_BS in frame B, to a ball, from
+// FCL's own sphere narrowphase: the distance when separated, else the contact.
+BallProximity ball_vs_shape(const ::fcl::CollisionGeometryd& shape, const ::fcl::Transform3d& X_BS,
+                            const Eigen::Vector3d& p_BC, double radius, const Narrowphase& np) {
+  const ::fcl::Sphered ball(radius);
+  ::fcl::Transform3d X_BC = ::fcl::Transform3d::Identity();
+  X_BC.translation() = p_BC;
+  ::fcl::DistanceRequestd dreq(true, false, 0.0, 0.0, np.distance_tolerance, np.solver);
+  ::fcl::DistanceResultd dres;
+  const double d = ::fcl::distance<double>(&ball, X_BC, &shape, X_BS, dreq, dres);
+  BallProximity out;
+  if (d > 0.0) {
+    out.distance = d;
+    Eigen::Vector3d n = dres.nearest_points[1] - dres.nearest_points[0];
+    if (!(n.norm() > 0.0)) n = dres.nearest_points[1] - p_BC;
+    if (n.norm() > 0.0) out.normal = n.normalized();
+    return out;
+  }
+  ::fcl::CollisionRequestd creq(1, true, 1, false, true, np.solver, np.gjk_tolerance);
+  ::fcl::CollisionResultd cres;
+  ::fcl::collide<double>(&ball, X_BC, &shape, X_BS, creq, cres);
+  if (cres.isCollision()) {
+    const ::fcl::Contactd& c = cres.getContact(0);
+    out.distance = -std::max(c.penetration_depth, 0.0);
+    if (c.normal.norm() > 0.0) out.normal = c.normal.normalized();
+  } else {
+    // The two tests disagree at the boundary (GJK tolerances): touching.
+    out.distance = 0.0;
+  }
+  return out;
+}
+
+// A lone FCL primitive, at the identity in frame B.
+class ShapeTarget final : public ProximityTarget {
+ public:
+  ShapeTarget(const ::fcl::CollisionGeometryd& shape, const Narrowphase& np)
+      : shape_(shape), np_(np) {}
+
+  std::optional<TargetNode> root() const override {
+    TargetNode n;
+    n.is_leaf = true;
+    n.primitive = ::fcl::Contactd::NONE;
+    return n;
+  }
+
+  int children(const TargetNode&, TargetNode*) const override { return 0; }
+
+  BallProximity ball_proximity(const TargetNode&, const Eigen::Vector3d& p_BC,
+                               double radius) const override {
+    BallProximity out;
+    switch (shape_.getNodeType()) {
+      case ::fcl::GEOM_HALFSPACE: {
+        // Solid {x : n.x <= d}; FCL's normal for a sphere against it is -n.
+        const auto& h = static_cast<const ::fcl::Halfspaced&>(shape_);
+        out.distance = (h.n.dot(p_BC) - h.d) - radius;
+        out.normal = -h.n;
+        return out;
+      }
+      case ::fcl::GEOM_PLANE: {
+        // Surface {x : n.x = d}; FCL's normal is -n on the positive side, n otherwise.
+        const auto& p = static_cast<const ::fcl::Planed&>(shape_);
+        const double s = p.n.dot(p_BC) - p.d;
+        out.distance = std::abs(s) - radius;
+        out.normal = s > 0.0 ? Eigen::Vector3d(-p.n) : Eigen::Vector3d(p.n);
+        return out;
+      }
+      default:
+        return ball_vs_shape(shape_, ::fcl::Transform3d::Identity(), p_BC, radius, np_);
+    }
+  }
+
+ private:
+  const ::fcl::CollisionGeometryd& shape_;
+  Narrowphase np_;
+};
+
+#if FCL_HAVE_OCTOMAP
+// An fcl::OcTree: its occupied cells as boxes, with FCL's rules (internal cells must be
+// occupied to be opened, leaf cells must be occupied to count). A node's bounds are the
+// cube's RSS: rectangle through the cube's middle, radius half its side, from which the
+// cube is recovered exactly.
+class OctreeTarget final : public ProximityTarget {
+ public:
+  OctreeTarget(const ::fcl::OcTreed& tree, const Narrowphase& np) : tree_(tree), np_(np) {}
+
+  std::optional<TargetNode> root() const override {
+    const ::fcl::OcTreed::OcTreeNode* root = tree_.getRoot();
+    if (root == nullptr || !tree_.isNodeOccupied(root)) return std::nullopt;
+    return node(root, tree_.getRootBV());
+  }
+
+  int children(const TargetNode& n, TargetNode* out) const override {
+    const auto* cell = reinterpret_cast<const ::fcl::OcTreed::OcTreeNode*>(n.handle);
+    const ::fcl::AABBd box = box_of(n.bounds);
+    int count = 0;
+    for (unsigned int i = 0; i < 8; ++i) {
+      if (!tree_.nodeChildExists(cell, i)) continue;
+      const ::fcl::OcTreed::OcTreeNode* child = tree_.getNodeChild(cell, i);
+      if (!tree_.isNodeOccupied(child)) continue;
+      ::fcl::AABBd child_box;
+      ::fcl::computeChildBV(box, i, child_box);
+      out[count++] = node(child, child_box);
+    }
+    return count;
+  }
+
+  BallProximity ball_proximity(const TargetNode& leaf, const Eigen::Vector3d& p_BC,
+                               double radius) const override {
+    const ::fcl::AABBd box = box_of(leaf.bounds);
+    const ::fcl::Boxd shape(box.max_ - box.min_);
+    ::fcl::Transform3d X_BS = ::fcl::Transform3d::Identity();
+    X_BS.translation() = box.center();
+    return ball_vs_shape(shape, X_BS, p_BC, radius, np_);
+  }
+
+ private:
+  TargetNode node(const ::fcl::OcTreed::OcTreeNode* cell, const ::fcl::AABBd& box) const {
+    TargetNode n;
+    n.handle = reinterpret_cast<std::intptr_t>(cell);
+    n.is_leaf = !tree_.nodeHasChildren(cell);
+    const double h = 0.5 * (box.max_.x() - box.min_.x());
+    n.bounds.axis.setIdentity();
+    n.bounds.corner =
+        Eigen::Vector3d(box.min_.x(), box.min_.y(), 0.5 * (box.min_.z() + box.max_.z()));
+    n.bounds.length = Eigen::Vector2d(box.max_.x() - box.min_.x(), box.max_.y() - box.min_.y());
+    n.bounds.radius = h;
+    // FCL's query cell id (see fcl::OcTree::getNodeByQueryCellId).
+    n.primitive = n.is_leaf ? static_cast<std::intptr_t>(cell - tree_.getRoot()) : -1;
+    return n;
+  }
+
+  static ::fcl::AABBd box_of(const Rss& bounds) {
+    ::fcl::AABBd box;
+    box.min_ =
+        Eigen::Vector3d(bounds.corner.x(), bounds.corner.y(), bounds.corner.z() - bounds.radius);
+    box.max_ =
+        Eigen::Vector3d(bounds.corner.x() + bounds.length[0], bounds.corner.y() + bounds.length[1],
+                        bounds.corner.z() + bounds.radius);
+    return box;
+  }
+
+  const ::fcl::OcTreed& tree_;
+  Narrowphase np_;
+};
+#endif
+
+std::string node_type_name(::fcl::NODE_TYPE type) {
+  return "FCL node type " + std::to_string(static_cast<int>(type));
+}
+
+// Calls f(target) with the ProximityTarget view of a geometry that is not a sphere set.
+template <class F>
+auto with_target(const ::fcl::CollisionGeometryd& g, const Narrowphase& np, F&& f) {
+  const ::fcl::NODE_TYPE type = g.getNodeType();
+  switch (g.getObjectType()) {
+    case ::fcl::OT_BVH:
+      switch (type) {
+        case ::fcl::BV_AABB:
+          return f(BvhTarget<::fcl::AABBd>(static_cast<const ::fcl::BVHModel<::fcl::AABBd>&>(g)));
+        case ::fcl::BV_OBB:
+          return f(BvhTarget<::fcl::OBBd>(static_cast<const ::fcl::BVHModel<::fcl::OBBd>&>(g)));
+        case ::fcl::BV_RSS:
+          return f(BvhTarget<::fcl::RSSd>(static_cast<const ::fcl::BVHModel<::fcl::RSSd>&>(g)));
+        case ::fcl::BV_kIOS:
+          return f(BvhTarget<::fcl::kIOSd>(static_cast<const ::fcl::BVHModel<::fcl::kIOSd>&>(g)));
+        case ::fcl::BV_OBBRSS:
+          return f(
+              BvhTarget<::fcl::OBBRSSd>(static_cast<const ::fcl::BVHModel<::fcl::OBBRSSd>&>(g)));
+        case ::fcl::BV_KDOP16:
+          return f(BvhTarget<::fcl::KDOP<double, 16>>(
+              static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 16>>&>(g)));
+        case ::fcl::BV_KDOP18:
+          return f(BvhTarget<::fcl::KDOP<double, 18>>(
+              static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 18>>&>(g)));
+        case ::fcl::BV_KDOP24:
+          return f(BvhTarget<::fcl::KDOP<double, 24>>(
+              static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 24>>&>(g)));
+        default:
+          break;
+      }
+      break;
+    case ::fcl::OT_GEOM:
+      switch (type) {
+        case ::fcl::GEOM_BOX:
+        case ::fcl::GEOM_SPHERE:
+        case ::fcl::GEOM_ELLIPSOID:
+        case ::fcl::GEOM_CAPSULE:
+        case ::fcl::GEOM_CONE:
+        case ::fcl::GEOM_CYLINDER:
+        case ::fcl::GEOM_CONVEX:
+        case ::fcl::GEOM_PLANE:
+        case ::fcl::GEOM_HALFSPACE:
+          return f(ShapeTarget(g, np));
+        default:
+          break;
+      }
+      break;
+#if FCL_HAVE_OCTOMAP
+    case ::fcl::OT_OCTREE:
+      return f(OctreeTarget(static_cast<const ::fcl::OcTreed&>(g), np));
+#endif
+    default:
+      break;
+  }
+  throw std::invalid_argument("medspheres::fcl: a sphere set against " + node_type_name(type) +
+                              " is not supported");
+}
+
+bool finite_pose(const ::fcl::Transform3d& X) {
+  return X.matrix().allFinite();
+}
+
+// --- distance ----------------------------------------------------------------------------
+
+// The sphere set s at X_WS against geometry g at X_WG; the result's a side is s.
+TreeDistance sphere_set_distance(const SphereSetGeometry& s, const ::fcl::Transform3d& X_WS,
+                                 const ::fcl::CollisionGeometryd& g, const ::fcl::Transform3d& X_WG,
+                                 const DistanceOptions& options, bool is_signed,
+                                 const Narrowphase& np) {
+  if (const SphereSetGeometry* other = as_sphere_set(&g)) {
+    return is_signed ? medspheres::signed_distance(s.tree(), X_WS, other->tree(), X_WG, options)
+                     : medspheres::distance(s.tree(), X_WS, other->tree(), X_WG, options);
+  }
+  return with_target(g, np, [&](const ProximityTarget& target) {
+    return is_signed ? medspheres::signed_distance(s.tree(), X_WS, target, X_WG, options)
+                     : medspheres::distance(s.tree(), X_WS, target, X_WG, options);
+  });
+}
+
+// --- collision --------------------------------------------------------------------------
+
+std::vector<TreeContact> sphere_set_contacts(const SphereSetGeometry& s,
+                                             const ::fcl::Transform3d& X_WS,
+                                             const ::fcl::CollisionGeometryd& g,
+                                             const ::fcl::Transform3d& X_WG,
+                                             std::size_t max_contacts, const Narrowphase& np) {
+  std::vector<TreeContact> out;
+  if (const SphereSetGeometry* other = as_sphere_set(&g)) {
+    medspheres::contacts(s.tree(), X_WS, other->tree(), X_WG, max_contacts, out);
+    return out;
+  }
+  with_target(g, np, [&](const ProximityTarget& target) {
+    return medspheres::contacts(s.tree(), X_WS, target, X_WG, max_contacts, out);
+  });
+  return out;
+}
+
+}  // namespace
+
+double distance(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& tf1,
+                const ::fcl::CollisionGeometryd* o2, const ::fcl::Transform3d& tf2,
+                const ::fcl::DistanceRequestd& request, ::fcl::DistanceResultd& result) {
+  if (o1 == nullptr || o2 == nullptr)
+    throw std::invalid_argument("medspheres::fcl::distance: null geometry");
+  const SphereSetGeometry* s1 = as_sphere_set(o1);
+  const SphereSetGeometry* s2 = as_sphere_set(o2);
+  if (s1 == nullptr && s2 == nullptr)
+    return ::fcl::distance<double>(o1, tf1, o2, tf2, request, result);
+  if (!finite_pose(tf1) || !finite_pose(tf2))
+    throw std::invalid_argument("medspheres::fcl::distance: a transform has a non-finite entry");
+
+  DistanceOptions options;
+  options.abs_err = request.abs_err;
+  options.rel_err = request.rel_err;
+  options.upper_bound = result.min_distance;
+  Narrowphase np;
+  np.solver = request.gjk_solver_type;
+  np.distance_tolerance = request.distance_tolerance;
+  const bool swapped = s1 == nullptr;
+  const TreeDistance d =
+      swapped
+          ? sphere_set_distance(*s2, tf2, *o1, tf1, options, request.enable_signed_distance, np)
+          : sphere_set_distance(*s1, tf1, *o2, tf2, options, request.enable_signed_distance, np);
+  if (d.found() && d.distance < result.min_distance) {
+    const int b1 = static_cast<int>(swapped ? d.primitive_b : d.sphere_a);
+    const int b2 = static_cast<int>(swapped ? d.sphere_a : d.primitive_b);
+    if (request.enable_nearest_points) {
+      result.update(d.distance, o1, o2, b1, b2, swapped ? d.p_WPb : d.p_WPa,
+                    swapped ? d.p_WPa : d.p_WPb);
+    } else {
+      result.update(d.distance, o1, o2, b1, b2);
+    }
+  }
+  return result.min_distance;
+}
+
+double distance(const ::fcl::CollisionObjectd* o1, const ::fcl::CollisionObjectd* o2,
+                const ::fcl::DistanceRequestd& request, ::fcl::DistanceResultd& result) {
+  if (o1 == nullptr || o2 == nullptr)
+    throw std::invalid_argument("medspheres::fcl::distance: null collision object");
+  return distance(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
+                  o2->getTransform(), request, result);
+}
+
+std::size_t collide(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& tf1,
+                    const ::fcl::CollisionGeometryd* o2, const ::fcl::Transform3d& tf2,
+                    const ::fcl::CollisionRequestd& request, ::fcl::CollisionResultd& result) {
+  if (o1 == nullptr || o2 == nullptr)
+    throw std::invalid_argument("medspheres::fcl::collide: null geometry");
+  const SphereSetGeometry* s1 = as_sphere_set(o1);
+  const SphereSetGeometry* s2 = as_sphere_set(o2);
+  if (s1 == nullptr && s2 == nullptr)
+    return ::fcl::collide<double>(o1, tf1, o2, tf2, request, result);
+  if (!finite_pose(tf1) || !finite_pose(tf2))
+    throw std::invalid_argument("medspheres::fcl::collide: a transform has a non-finite entry");
+  if (request.num_max_contacts == 0) return 0;
+  if (request.isSatisfied(result)) return result.numContacts();
+  if (!o1->isOccupied() || !o2->isOccupied()) return result.numContacts();
+  const std::size_t room = request.num_max_contacts > result.numContacts()
+                               ? request.num_max_contacts - result.numContacts()
+                               : 0;
+  if (room == 0) return result.numContacts();
+
+  Narrowphase np;
+  np.solver = request.gjk_solver_type;
+  np.gjk_tolerance = request.gjk_tolerance;
+  const bool swapped = s1 == nullptr;
+  const std::vector<TreeContact> found = swapped
+                                             ? sphere_set_contacts(*s2, tf2, *o1, tf1, room, np)
+                                             : sphere_set_contacts(*s1, tf1, *o2, tf2, room, np);
+  for (const TreeContact& c : found) {
+    const int b1 = static_cast<int>(swapped ? c.primitive_b : c.sphere_a);
+    const int b2 = static_cast<int>(swapped ? c.sphere_a : c.primitive_b);
+    if (request.enable_contact) {
+      result.addContact(::fcl::Contactd(o1, o2, b1, b2, c.p_WC,
+                                        swapped ? Eigen::Vector3d(-c.n_W) : c.n_W, c.depth));
+    } else {
+      result.addContact(::fcl::Contactd(o1, o2, b1, b2));
+    }
+  }
+  return result.numContacts();
+}
+
+std::size_t collide(const ::fcl::CollisionObjectd* o1, const ::fcl::CollisionObjectd* o2,
+                    const ::fcl::CollisionRequestd& request, ::fcl::CollisionResultd& result) {
+  if (o1 == nullptr || o2 == nullptr)
+    throw std::invalid_argument("medspheres::fcl::collide: null collision object");
+  return collide(o1->collisionGeometry().get(), o1->getTransform(), o2->collisionGeometry().get(),
+                 o2->getTransform(), request, result);
+}
+
+}  // namespace medspheres::fcl

@@ -1,0 +1,340 @@
+#include "bvh_build.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstddef>
+#include <limits>
+#include <list>
+#include <numeric>
+#include <utility>
+
+#include <Eigen/Eigenvalues>
+#include <Eigen/LU>
+
+#include "medspheres/assert.h"
+#include "medspheres/sphere_tree.h"
+
+namespace medspheres::detail {
+namespace {
+
+constexpr double kEps = std::numeric_limits<double>::epsilon();
+
+// Major, middle and minor axes of the centres' covariance, as columns; the third is the
+// cross product of the first two so that the frame is right-handed.
+Eigen::Matrix3d pca_axes(const std::vector<Ball>& balls) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Ball& b : balls) mean += b.center;
+  mean /= static_cast<double>(balls.size());
+  Eigen::Matrix3d cov = Eigen::Matrix3d::Zero();
+  for (const Ball& b : balls) {
+    const Eigen::Vector3d d = b.center - mean;
+    cov.noalias() += d * d.transpose();
+  }
+  Eigen::SelfAdjointEigenSolver<Eigen::Matrix3d> solver(cov);
+  Eigen::Matrix3d axes;
+  if (solver.info() != Eigen::Success) return Eigen::Matrix3d::Identity();
+  // Eigenvalues come in increasing order.
+  axes.col(0) = solver.eigenvectors().col(2).normalized();
+  axes.col(1) = solver.eigenvectors().col(1).normalized();
+  axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
+  if (!axes.allFinite()) return Eigen::Matrix3d::Identity();
+  return axes;
+}
+
+// The exact (to rounding) smallest ball containing a finite point set: Welzl's
+// move-to-front algorithm with an explicit support set of at most four points, as in
+// Gärtner's "Fast and robust smallest enclosing balls" (1999). A point that is affinely
+// dependent on the current support set, up to a relative tolerance, is not pushed; the
+// caller's cutting-plane loop makes the final ball enclose everything regardless.
+class PointMiniball {
+ public:
+  explicit PointMiniball(std::list<Eigen::Vector3d>& points) : points_(points) {
+    mtf(points_.end());
+  }
+
+  const Eigen::Vector3d& center() const { return center_; }
+  double radius() const { return sqr_radius_ < 0.0 ? 0.0 : std::sqrt(sqr_radius_); }
+
+ private:
+  // The smallest ball of the points before `end` with the support set on its boundary.
+  // The current ball is changed by push() only: after a recursive call it is the ball
+  // that call found, which is what the loop continues from.
+  void mtf(std::list<Eigen::Vector3d>::iterator end) {
+    if (size_ == 4) return;
+    for (auto it = points_.begin(); it != end;) {
+      const auto next = std::next(it);
+      const double e = (*it - center_).squaredNorm() - sqr_radius_;
+      if (e > 1e-13 * std::max(sqr_radius_, 0.0) && push(*it)) {
+        mtf(it);
+        --size_;
+        points_.splice(points_.begin(), points_, it);
+      }
+      it = next;
+    }
+  }
+
+  // Adds p to the support set and makes the current ball the smallest one with the whole
+  // support set on its boundary; false (and no change) when p is nearly affinely
+  // dependent on the set.
+  bool push(const Eigen::Vector3d& p) {
+    const int k = size_;  // points already in the support set
+    if (k == 0) {
+      support_[0] = p;
+      center_ = p;
+      sqr_radius_ = 0.0;
+      size_ = 1;
+      return true;
+    }
+    // Centre c = q0 + sum_j lambda_j d_j with d_j = q_j - q0, j = 1..k, and
+    // 2 d_j . (c - q0) = |d_j|^2.
+    support_[k] = p;
+    Eigen::Matrix<double, 3, Eigen::Dynamic> d(3, k);
+    for (int j = 1; j <= k; ++j) d.col(j - 1) = support_[j] - support_[0];
+    const Eigen::MatrixXd gram = d.transpose() * d;
+    double diag_product = 1.0;
+    for (int j = 0; j < k; ++j) diag_product *= gram(j, j);
+    if (!(diag_product > 0.0)) return false;
+    if (!(gram.determinant() > 1e-12 * diag_product)) return false;
+    Eigen::VectorXd rhs(k);
+    for (int j = 0; j < k; ++j) rhs[j] = 0.5 * gram(j, j);
+    const Eigen::VectorXd lambda = gram.partialPivLu().solve(rhs);
+    const Eigen::Vector3d offset = d * lambda;
+    if (!offset.allFinite()) return false;
+    center_ = support_[0] + offset;
+    sqr_radius_ = offset.squaredNorm();
+    size_ = k + 1;
+    return true;
+  }
+
+  std::list<Eigen::Vector3d>& points_;
+  Eigen::Vector3d support_[4];
+  Eigen::Vector3d center_ = Eigen::Vector3d::Zero();
+  double sqr_radius_ = -1.0;  // negative: the empty ball
+  int size_ = 0;
+};
+
+// The farthest point of ball b from x, and its distance.
+Eigen::Vector3d farthest_point(const Ball& b, const Eigen::Vector3d& x) {
+  const Eigen::Vector3d v = b.center - x;
+  const double len = v.norm();
+  if (len > 0.0) return b.center + v * (b.radius / len);
+  return b.center + Eigen::Vector3d::UnitX() * b.radius;
+}
+
+double enclosing_radius(const std::vector<Ball>& balls, const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (const Ball& b : balls) r = std::max(r, (b.center - c).norm() + b.radius);
+  return r;
+}
+
+}  // namespace
+
+std::vector<BuildNode> build_hierarchy(const BuildInput& input, int max_leaf_size,
+                                       std::vector<int>& order) {
+  const int n = static_cast<int>(input.split_points.size());
+  MEDSPHERES_ASSERT(static_cast<int>(input.ball_begin.size()) == n + 1);
+  order.resize(static_cast<std::size_t>(n));
+  std::iota(order.begin(), order.end(), 0);
+  std::vector<BuildNode> nodes;
+  if (n == 0) return nodes;
+  nodes.reserve(static_cast<std::size_t>(2 * n));
+  BuildNode root;
+  root.begin = 0;
+  root.end = n;
+  nodes.push_back(root);
+
+  std::vector<int> stack{0};
+  std::vector<std::pair<double, int>> keyed;
+  std::vector<int> left, right;
+  while (!stack.empty()) {
+    const int index = stack.back();
+    stack.pop_back();
+    const int begin = nodes[static_cast<std::size_t>(index)].begin;
+    const int end = nodes[static_cast<std::size_t>(index)].end;
+    const std::vector<Ball> balls = balls_below(input, order, begin, end);
+    nodes[static_cast<std::size_t>(index)].axes = pca_axes(balls);
+    const int count = end - begin;
+    if (count <= max_leaf_size) continue;
+
+    // Split by the plane through the mean split point, normal to the major axis.
+    const Eigen::Vector3d major = nodes[static_cast<std::size_t>(index)].axes.col(0);
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (int i = begin; i < end; ++i)
+      mean += input.split_points[static_cast<std::size_t>(order[static_cast<std::size_t>(i)])];
+    mean /= static_cast<double>(count);
+    keyed.clear();
+    for (int i = begin; i < end; ++i) {
+      const int item = order[static_cast<std::size_t>(i)];
+      keyed.emplace_back((input.split_points[static_cast<std::size_t>(item)] - mean).dot(major),
+                         item);
+    }
+    left.clear();
+    right.clear();
+    for (const auto& [key, item] : keyed) (key < 0.0 ? left : right).push_back(item);
+    if (10 * static_cast<long>(std::min(left.size(), right.size())) < count) {
+      // Too unbalanced: split at the median projection, ties by item index.
+      std::sort(keyed.begin(), keyed.end());
+      left.clear();
+      right.clear();
+      for (int i = 0; i < count; ++i)
+        (i < count / 2 ? left : right).push_back(keyed[static_cast<std::size_t>(i)].second);
+    }
+    int out = begin;
+    for (int item : left) order[static_cast<std::size_t>(out++)] = item;
+    const int middle = out;
+    for (int item : right) order[static_cast<std::size_t>(out++)] = item;
+
+    const int first_child = static_cast<int>(nodes.size());
+    const int depth = nodes[static_cast<std::size_t>(index)].depth + 1;
+    nodes[static_cast<std::size_t>(index)].first_child = first_child;
+    BuildNode a;
+    a.begin = begin;
+    a.end = middle;
+    a.depth = depth;
+    BuildNode b;
+    b.begin = middle;
+    b.end = end;
+    b.depth = depth;
+    nodes.push_back(a);
+    nodes.push_back(b);
+    stack.push_back(first_child + 1);
+    stack.push_back(first_child);
+  }
+  return nodes;
+}
+
+std::vector<Ball> balls_below(const BuildInput& input, const std::vector<int>& order, int begin,
+                              int end) {
+  std::vector<Ball> balls;
+  for (int i = begin; i < end; ++i) {
+    const int item = order[static_cast<std::size_t>(i)];
+    for (int k = input.ball_begin[static_cast<std::size_t>(item)];
+         k < input.ball_begin[static_cast<std::size_t>(item) + 1]; ++k)
+      balls.push_back(input.balls[static_cast<std::size_t>(k)]);
+  }
+  return balls;
+}
+
+double rss_containment_radius(const Rss& rss, const std::vector<Ball>& balls) {
+  double need = 0.0;
+  for (const Ball& b : balls) {
+    const Eigen::Vector3d q = rss.axis.transpose() * (b.center - rss.corner);
+    const double dx = q.x() - std::clamp(q.x(), 0.0, rss.length[0]);
+    const double dy = q.y() - std::clamp(q.y(), 0.0, rss.length[1]);
+    need = std::max(need, std::sqrt(dx * dx + dy * dy + q.z() * q.z()) + b.radius);
+  }
+  return need;
+}
+
+Rss fit_rss(const Eigen::Matrix3d& axes, const std::vector<Ball>& balls) {
+  MEDSPHERES_ASSERT(!balls.empty());
+  const std::size_t n = balls.size();
+  std::vector<Eigen::Vector3d> local(n);  // coordinates along the three axes
+  double z_max = -std::numeric_limits<double>::infinity();
+  double z_min = std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < n; ++i) {
+    local[i] = axes.transpose() * balls[i].center;
+    z_max = std::max(z_max, local[i].z() + balls[i].radius);
+    z_min = std::min(z_min, local[i].z() - balls[i].radius);
+  }
+  // The thinnest slab along the minor axis that holds every ball fixes the radius.
+  const double z0 = 0.5 * (z_max + z_min);
+  const double radius = 0.5 * (z_max - z_min);
+
+  // rho_i: how far the ball's centre may lie from the rectangle, within its plane.
+  std::vector<double> rho(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    const double slack = radius - balls[i].radius;
+    const double dz = local[i].z() - z0;
+    rho[i] = std::sqrt(std::max(0.0, slack * slack - dz * dz));
+  }
+  // Tightest extents when each ball is considered along one axis only.
+  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double hi[2] = {-std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity()};
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 2; ++k) {
+      lo[k] = std::min(lo[k], local[i][k] + rho[i]);
+      hi[k] = std::max(hi[k], local[i][k] - rho[i]);
+    }
+  }
+  double x0[2], x1[2];
+  for (int k = 0; k < 2; ++k) {
+    if (lo[k] <= hi[k]) {
+      x0[k] = lo[k];
+      x1[k] = hi[k];
+    } else {
+      x0[k] = x1[k] = 0.5 * (lo[k] + hi[k]);
+    }
+  }
+  // Balls beyond a corner need the rectangle to grow along the major axis.
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = local[i].x(), y = local[i].y();
+    const double dx = std::max({0.0, x0[0] - x, x - x1[0]});
+    const double dy = std::max({0.0, x0[1] - y, y - x1[1]});
+    if (dx > 0.0 && dy > 0.0 && dx * dx + dy * dy > rho[i] * rho[i]) {
+      const double s = std::sqrt(std::max(0.0, rho[i] * rho[i] - dy * dy));
+      if (x < x0[0])
+        x0[0] = x + s;
+      else
+        x1[0] = x - s;
+    }
+  }
+
+  Rss rss;
+  const double lx = x1[0] - x0[0];
+  const double ly = x1[1] - x0[1];
+  rss.corner = axes.col(0) * x0[0] + axes.col(1) * x0[1] + axes.col(2) * z0;
+  if (lx >= ly) {
+    rss.axis = axes;
+    rss.length = Eigen::Vector2d(lx, ly);
+  } else {
+    rss.axis.col(0) = axes.col(1);
+    rss.axis.col(1) = axes.col(0);
+    rss.axis.col(2) = -axes.col(2);
+    rss.length = Eigen::Vector2d(ly, lx);
+  }
+  // Make containment hold for the stored values, then absorb the rounding of the check.
+  const double need = std::max(radius, rss_containment_radius(rss, balls));
+  const double extent = rss.corner.cwiseAbs().maxCoeff() + rss.length[0] + rss.length[1] + need;
+  rss.radius = need + 16.0 * kEps * extent;
+  return rss;
+}
+
+Ball min_enclosing_ball(const std::vector<Ball>& balls) {
+  MEDSPHERES_ASSERT(!balls.empty());
+  if (balls.size() == 1) return balls.front();
+
+  Eigen::Vector3d center = Eigen::Vector3d::Zero();
+  for (const Ball& b : balls) center += b.center;
+  center /= static_cast<double>(balls.size());
+
+  // Cutting planes: P holds points on the spheres, so its smallest ball (radius r_p)
+  // is no larger than the answer; stop once the ball of the same centre that encloses
+  // every sphere is within ball_slack of it.
+  std::list<Eigen::Vector3d> points;
+  double r_p = -1.0;
+  // Each round grows r_p strictly; 200 rounds are far more than the tests ever need.
+  constexpr int kMaxRounds = 200;
+  for (int round = 0; round <= kMaxRounds; ++round) {
+    const double r = enclosing_radius(balls, center);
+    if (r_p >= 0.0 && r <= r_p * (1.0 + SphereTree::ball_slack)) break;
+    MEDSPHERES_ASSERT(round < kMaxRounds);
+    if (round == kMaxRounds) break;
+    const double add_above = r_p * (1.0 + 0.5 * SphereTree::ball_slack);
+    for (const Ball& b : balls) {
+      if ((b.center - center).norm() + b.radius > add_above)
+        points.push_back(farthest_point(b, center));
+    }
+    const PointMiniball miniball(points);
+    center = miniball.center();
+    r_p = miniball.radius();
+  }
+  Ball ball;
+  ball.center = center;
+  const double r = enclosing_radius(balls, center);
+  ball.radius = r + 16.0 * kEps * (center.cwiseAbs().maxCoeff() + r);
+  return ball;
+}
+
+}  // namespace medspheres::detail
