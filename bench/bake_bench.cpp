@@ -19,9 +19,9 @@
 #include <vector>
 
 #include "medspheres/bake.h"
+#include "medspheres/fit_metrics.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_query.h"
-#include "medspheres/union_volume.h"
 
 namespace {
 
@@ -129,11 +129,7 @@ int main(int argc, char** argv) {
     std::string note;
     if (r.spheres.size() < min_spheres)
       note = "below " + std::to_string(min_spheres) + " spheres at every resolution <= the cap";
-    double nerr = -1;
-    if (m.report.is_closed_outward()) {
-      nerr = (m.report.signed_volume - medspheres::measure_union(r.spheres.spheres).volume) /
-             m.report.signed_volume;
-    }
+    const double nerr = medspheres::FitEvaluator(m.mesh).volume_error(r.spheres.spheres).nerr;
     std::printf("%-34s %7zu %4d %7zu %7.3f %7.3f %8llu %8llu %7.4f  %s\n", e.name.c_str(),
                 m.mesh.triangles.size(), res, r.spheres.size(), t2, t1,
                 static_cast<unsigned long long>(r.stats.closest_point_queries),

@@ -178,7 +178,10 @@ TEST_CASE("bake rejects nonsense with exit 2 and leaves no output behind", "[cli
   for (const std::string bad :
        {"--resolution 0", "--resolution -3", "--resolution x", "--object-angle -0.5",
         "--object-angle 3.5", "--medial-tolerance -1", "--threads -2", "--max-spheres 0",
-        "--target-error 0", "--target-error 1.5", "--max-spheres 10 --target-error 0.1"}) {
+        "--target-error 0", "--target-error 1.5", "--max-spheres 10 --target-error 0.1",
+        "--vertex-tolerance 0.01", "--dilate --vertex-tolerance 0",
+        "--dilate --vertex-tolerance -1", "--dilate --max-protrusion -0.1", "--max-protrusion 0.1",
+        "--cover 0", "--cover -1", "--dilate --seed x"}) {
     INFO(bad);
     const CommandResult r =
         cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(out) + " " + bad);
@@ -203,4 +206,28 @@ TEST_CASE("bake rejects nonsense with exit 2 and leaves no output behind", "[cli
   for (const auto& e : std::filesystem::directory_iterator(dir.path()))
     entries += e.path() != sheet;
   CHECK(entries == 1);
+}
+
+TEST_CASE("bake --dilate writes S+ and records the dilation", "[cli][bake]") {
+  TempDir dir;
+  const std::string internal = dir.file("sd.json"), dilated = dir.file("splus.json");
+  REQUIRE(cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(internal)).exit_code == 0);
+  const CommandResult r =
+      cli("bake " + shell_quote(kEight) + " -o " + shell_quote(dilated) + " --dilate --cover 0.01");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("dilated") && Contains("protrusion"));
+  const medspheres::SphereSet sd = medspheres::load_sphere_set(internal);
+  const medspheres::SphereSet plus = medspheres::load_sphere_set(dilated);
+  REQUIRE(plus.size() >= sd.size());
+  for (std::size_t i = 0; i < sd.size(); ++i) {
+    CHECK(plus.spheres[i].center == sd.spheres[i].center);
+    CHECK(plus.spheres[i].radius >= sd.spheres[i].radius);
+  }
+  const auto meta = nlohmann::json::parse(plus.metadata_json);
+  CHECK(meta["generator"]["method"] == "medial+dilation");
+  CHECK(meta["generator"]["params"]["dilation"]["cover_tolerance"] == 0.01);
+  CHECK(meta["stats"]["count"] == plus.size());
+  CHECK(meta["stats"]["dilation"]["input_spheres"] == sd.size());
+  CHECK(meta["stats"]["nerr_kind"] == "lower_bound");
+  CHECK(meta["stats"]["max_protrusion"].get<double>() > 0.0);
 }

@@ -9,11 +9,11 @@
 #include <string>
 
 #if defined(MEDSPHERES_ENABLE_ASSERTS) && MEDSPHERES_ENABLE_ASSERTS
-#define MEDSPHERES_ASSERT(cond)                                                          \
-  do {                                                                                   \
-    if (!(cond))                                                                         \
-      throw std::logic_error(std::string(__FILE__) + ":" + std::to_string(__LINE__) +    \
-                             ": internal invariant failed: " #cond);                     \
+#define MEDSPHERES_ASSERT(cond)                                                       \
+  do {                                                                                \
+    if (!(cond))                                                                      \
+      throw std::logic_error(std::string(__FILE__) + ":" + std::to_string(__LINE__) + \
+                             ": internal invariant failed: " #cond);                  \
   } while (false)
 #else
 #define MEDSPHERES_ASSERT(cond) \

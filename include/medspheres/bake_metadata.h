@@ -4,9 +4,11 @@
 /// "stats" keys of the format in io.h), so that every tool that bakes writes the same.
 
 #include <map>
+#include <optional>
 #include <string>
 
 #include "medspheres/bake.h"
+#include "medspheres/dilate.h"
 #include "medspheres/mesh_report.h"
 
 namespace medspheres {
@@ -18,17 +20,26 @@ struct MeshProvenance {
   MeshReport report;   ///< of the mesh as baked
 };
 
+/// Everything a baked file records.
+struct BakeRecord {
+  MeshProvenance source;
+  BakeOptions options;
+  BakeStats stats;
+  std::string mode = "resolution";                ///< "resolution", "max_spheres" or "target_error"
+  double mode_target = 0.0;                       ///< the budget or the error target of the mode
+  std::optional<DilateOptions> dilation_options;  ///< set when the spheres were dilated
+  std::optional<DilateStats> dilation_stats;
+  std::map<std::string, double> extra_stats;         ///< numbers, such as nerr
+  std::map<std::string, std::string> extra_strings;  ///< such as nerr_kind
+};
+
 /// The JSON object text for SphereSet::metadata_json:
 /// - "source": mesh, sha256, triangles, closed, bbox_min, bbox_max;
-/// - "generator": method "medial", version, params (resolution, object_angle,
-///   medial_tolerance, and `mode` with its target: "resolution", "max_spheres" or
-///   "target_error");
-/// - "stats": count, resolution, bake_seconds, min_radius, max_radius, the query
-///   counts, and every entry of \p extra_stats (numbers, such as nerr) and
-///   \p extra_strings (such as nerr_kind).
-std::string bake_metadata_json(const MeshProvenance& source, const BakeOptions& options,
-                               const BakeStats& stats, const std::string& mode, double mode_target,
-                               const std::map<std::string, double>& extra_stats = {},
-                               const std::map<std::string, std::string>& extra_strings = {});
+/// - "generator": method ("medial", or "medial+dilation"), version, params (resolution,
+///   object_angle, medial_tolerance, mode and its target; "dilation" with the dilation
+///   options when dilated);
+/// - "stats": count, resolution, bake_seconds, min_radius, max_radius, the query counts,
+///   "dilation" with the dilation statistics when dilated, and every extra entry.
+std::string bake_metadata_json(const BakeRecord& record);
 
 }  // namespace medspheres

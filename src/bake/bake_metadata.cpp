@@ -1,40 +1,74 @@
 #include "medspheres/bake_metadata.h"
 
+#include <cmath>
+
 #include <nlohmann/json.hpp>
 
 #include "medspheres/version.h"
 
 namespace medspheres {
 
-std::string bake_metadata_json(const MeshProvenance& source, const BakeOptions& options,
-                               const BakeStats& stats, const std::string& mode, double mode_target,
-                               const std::map<std::string, double>& extra_stats,
-                               const std::map<std::string, std::string>& extra_strings) {
+std::string bake_metadata_json(const BakeRecord& r) {
   using Json = nlohmann::ordered_json;
   auto vec = [](const Eigen::Vector3d& v) { return Json::array({v.x(), v.y(), v.z()}); };
   Json meta;
-  meta["source"] = {{"mesh", source.mesh},
-                    {"sha256", source.sha256},
-                    {"triangles", source.report.triangles},
-                    {"closed", source.report.closed},
-                    {"bbox_min", vec(source.report.bbox_min)},
-                    {"bbox_max", vec(source.report.bbox_max)}};
-  Json params = {{"resolution", stats.resolution},
-                 {"object_angle", options.object_angle},
-                 {"medial_tolerance", stats.medial_tolerance},
-                 {"mode", mode}};
-  if (mode != "resolution") params["target"] = mode_target;
-  meta["generator"] = {
-      {"method", "medial"}, {"version", MEDSPHERES_VERSION_STRING}, {"params", params}};
-  Json st = {{"count", stats.spheres},
-             {"resolution", stats.resolution},
-             {"bake_seconds", stats.seconds},
-             {"min_radius", stats.min_radius},
-             {"max_radius", stats.max_radius},
-             {"closest_point_queries", stats.closest_point_queries},
-             {"winding_queries", stats.winding_queries}};
-  for (const auto& [k, v] : extra_stats) st[k] = v;
-  for (const auto& [k, v] : extra_strings) st[k] = v;
+  meta["source"] = {{"mesh", r.source.mesh},
+                    {"sha256", r.source.sha256},
+                    {"triangles", r.source.report.triangles},
+                    {"closed", r.source.report.closed},
+                    {"bbox_min", vec(r.source.report.bbox_min)},
+                    {"bbox_max", vec(r.source.report.bbox_max)}};
+  Json params = {{"resolution", r.stats.resolution},
+                 {"object_angle", r.options.object_angle},
+                 {"medial_tolerance", r.stats.medial_tolerance},
+                 {"mode", r.mode}};
+  if (r.mode != "resolution") params["target"] = r.mode_target;
+  if (r.dilation_options && r.dilation_stats) {
+    const DilateOptions& o = *r.dilation_options;
+    Json d = {{"vertex_tolerance", r.dilation_stats->vertex_tolerance},
+              {"max_protrusion", std::isfinite(o.max_protrusion) ? Json(o.max_protrusion) : Json()},
+              {"seed", o.seed}};
+    if (o.cover_tolerance >= 0.0) {
+      d["cover_tolerance"] = o.cover_tolerance;
+      d["cover_samples"] = o.cover_samples;
+      d["cover_max_rounds"] = o.cover_max_rounds;
+      d["cover_max_added"] = o.cover_max_added;
+    }
+    params["dilation"] = d;
+  }
+  meta["generator"] = {{"method", r.dilation_stats ? "medial+dilation" : "medial"},
+                       {"version", MEDSPHERES_VERSION_STRING},
+                       {"params", params}};
+  Json st = {{"count", r.dilation_stats
+                           ? r.dilation_stats->input_spheres + r.dilation_stats->added_vertex +
+                                 r.dilation_stats->added_cover
+                           : r.stats.spheres},
+             {"resolution", r.stats.resolution},
+             {"bake_seconds", r.stats.seconds},
+             {"min_radius", r.stats.min_radius},
+             {"max_radius", r.stats.max_radius},
+             {"closest_point_queries", r.stats.closest_point_queries},
+             {"winding_queries", r.stats.winding_queries}};
+  if (r.dilation_stats) {
+    const DilateStats& s = *r.dilation_stats;
+    Json d = {{"input_spheres", s.input_spheres},
+              {"v_points", s.v_points},
+              {"edge_points", s.edge_points},
+              {"grown", s.grown},
+              {"max_growth", s.max_growth},
+              {"capped_points", s.capped_points},
+              {"added_vertex", s.added_vertex},
+              {"added_cover", s.added_cover},
+              {"seconds", s.seconds}};
+    if (r.dilation_options && r.dilation_options->cover_tolerance >= 0.0) {
+      d["cover_rounds"] = s.cover_rounds;
+      d["cover_reached"] = s.cover_reached;
+      d["uncovered_max"] = s.uncovered_max;
+    }
+    st["dilation"] = d;
+  }
+  for (const auto& [k, v] : r.extra_stats) st[k] = v;
+  for (const auto& [k, v] : r.extra_strings) st[k] = v;
   meta["stats"] = st;
   return meta.dump();
 }

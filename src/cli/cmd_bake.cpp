@@ -1,5 +1,7 @@
 // medspheres bake MESH: medial spheres of a mesh, written as a sphere-set file.
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <filesystem>
 #include <iostream>
 #include <optional>
@@ -8,10 +10,11 @@
 #include "cli_common.h"
 #include "medspheres/bake.h"
 #include "medspheres/bake_metadata.h"
+#include "medspheres/dilate.h"
 #include "medspheres/error.h"
+#include "medspheres/fit_metrics.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh_io.h"
-#include "medspheres/union_volume.h"
 
 namespace medspheres::cli {
 
@@ -25,9 +28,46 @@ struct BakeArgs {
   double medial_tolerance = 0.0;
   std::optional<int> max_spheres;
   std::optional<double> target_error;
+  bool dilate = false;
+  std::optional<double> vertex_tolerance;
+  std::optional<double> max_protrusion;
+  std::optional<double> cover;
+  std::uint64_t seed = DilateOptions{}.seed;
   int threads = 0;
   bool quiet = false;
 };
+
+// The dilation options, checked before any work is done.
+std::optional<DilateOptions> dilation_options(const BakeArgs& a) {
+  if (!a.dilate && !a.cover) {
+    if (a.vertex_tolerance)
+      throw InputError("--vertex-tolerance", "applies only with --dilate or --cover");
+    if (a.max_protrusion)
+      throw InputError("--max-protrusion", "applies only with --dilate or --cover");
+    return std::nullopt;
+  }
+  DilateOptions o;
+  o.seed = a.seed;
+  o.threads = a.threads;
+  if (a.vertex_tolerance) {
+    if (!(*a.vertex_tolerance > 0.0) || !std::isfinite(*a.vertex_tolerance))
+      throw InputError("--vertex-tolerance",
+                       "must be a finite length > 0, got " + fmt(*a.vertex_tolerance));
+    o.vertex_tolerance = *a.vertex_tolerance;
+  }
+  if (a.max_protrusion) {
+    if (!(*a.max_protrusion >= 0.0) || !std::isfinite(*a.max_protrusion))
+      throw InputError("--max-protrusion",
+                       "must be a finite length >= 0, got " + fmt(*a.max_protrusion));
+    o.max_protrusion = *a.max_protrusion;
+  }
+  if (a.cover) {
+    if (!(*a.cover > 0.0) || !std::isfinite(*a.cover))
+      throw InputError("--cover", "must be a finite length > 0, got " + fmt(*a.cover));
+    o.cover_tolerance = *a.cover;
+  }
+  return o;
+}
 
 std::string default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + ".spheres.json";
@@ -44,14 +84,16 @@ int run_bake(const BakeArgs& args) {
     throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*args.max_spheres));
   if (args.target_error && !(*args.target_error > 0.0 && *args.target_error < 1.0))
     throw InputError("--target-error", "must be in (0, 1), got " + fmt(*args.target_error));
+  const std::optional<DilateOptions> dilation = dilation_options(args);
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
 
   const LoadedMesh loaded = load_mesh(args.mesh);
   if (!args.quiet)
     for (const std::string& w : loaded.warnings)
       std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
-  const bool exact_volume = loaded.report.is_closed_outward();
-  if (args.target_error && !exact_volume)
+  // Orients (a no-op after the loader), builds the mesh query and computes the volume.
+  const FitEvaluator fit(loaded.mesh);
+  if (args.target_error && !fit.volume())
     throw InputError("--target-error", args.mesh +
                                            " is not a closed, outward-wound mesh, so its "
                                            "volume and the error are not defined");
@@ -60,11 +102,8 @@ int run_bake(const BakeArgs& args) {
   options.progress = [&bar](const std::string& stage, std::size_t done, std::size_t total) {
     bar.update(stage, done, total);
   };
-  const MeshQuery query(loaded.mesh);
-  const double mesh_volume = loaded.report.signed_volume;
-  auto nerr_of = [&](const SphereSet& s) {
-    return (mesh_volume - measure_union(s.spheres).volume) / mesh_volume;
-  };
+  const MeshQuery& query = fit.query();
+  auto nerr_of = [&](const SphereSet& s) { return fit.volume_error(s.spheres, args.threads).nerr; };
 
   std::string mode = "resolution";
   double target = 0.0;
@@ -93,20 +132,37 @@ int run_bake(const BakeArgs& args) {
                                     " with object angle " + fmt(args.object_angle) +
                                     "; try a higher --resolution or a smaller --object-angle");
 
-  std::map<std::string, double> extra;
-  std::map<std::string, std::string> extra_text;
-  std::optional<UnionMeasures> measures;
-  if (exact_volume) {
-    measures = measure_union(result.spheres.spheres);
-    extra["nerr"] = (mesh_volume - measures->volume) / mesh_volume;
-    extra["mesh_volume"] = mesh_volume;
-    extra["union_volume"] = measures->volume;
-    extra_text["nerr_kind"] = "exact";  // baked spheres are inside the solid
+  BakeRecord record;
+  record.source = {args.mesh, file_sha256(args.mesh), loaded.report};
+  record.options = options;
+  record.stats = result.stats;
+  record.mode = mode;
+  record.mode_target = target;
+  SphereSet output = result.spheres;
+  if (dilation) {
+    const DilateResult dilated = dilate(query, result.spheres, *dilation);
+    output = dilated.spheres;
+    record.dilation_options = dilation;
+    record.dilation_stats = dilated.stats;
+    double lo = output.spheres.front().radius, hi = lo;
+    for (const Sphere& sp : output.spheres) {
+      lo = std::min(lo, sp.radius);
+      hi = std::max(hi, sp.radius);
+    }
+    record.extra_stats["min_radius"] = lo;
+    record.extra_stats["max_radius"] = hi;
   }
-  MeshProvenance source{args.mesh, file_sha256(args.mesh), loaded.report};
-  result.spheres.metadata_json =
-      bake_metadata_json(source, options, result.stats, mode, target, extra, extra_text);
-  save_sphere_set(result.spheres, out);
+  std::optional<VolumeError> volume;
+  if (fit.volume()) {
+    volume = fit.volume_error(output.spheres, args.threads);
+    record.extra_stats["nerr"] = volume->nerr;
+    record.extra_stats["mesh_volume"] = *fit.volume();
+    record.extra_stats["union_volume"] = volume->union_measures.volume;
+    record.extra_stats["max_protrusion"] = volume->max_protrusion;
+    record.extra_strings["nerr_kind"] = to_string(volume->kind);
+  }
+  output.metadata_json = bake_metadata_json(record);
+  save_sphere_set(output, out);
 
   if (!args.quiet) {
     const BakeStats& s = result.stats;
@@ -120,10 +176,25 @@ int run_bake(const BakeArgs& args) {
     std::cout << "\n"
               << "  spheres       " << s.spheres << ", radius " << fmt(s.min_radius, 4) << " .. "
               << fmt(s.max_radius, 4) << "\n";
-    if (measures) {
-      std::cout << "  volume        union " << fmt(measures->volume, 6) << " of mesh "
-                << fmt(mesh_volume, 6) << ", nerr " << fmt(extra["nerr"], 4)
-                << " (exact: the spheres are inside)\n";
+    if (record.dilation_stats) {
+      const DilateStats& d = *record.dilation_stats;
+      std::cout << "  dilated       " << output.size() << " spheres: " << d.grown
+                << " grown (by up to " << fmt(d.max_growth, 4) << "), " << d.added_vertex
+                << " added at vertices";
+      if (dilation->cover_tolerance >= 0.0)
+        std::cout << ", " << d.added_cover << " added in " << d.cover_rounds << " cover round(s); "
+                  << "uncovered " << fmt(d.uncovered_max, 4)
+                  << (d.cover_reached ? " (within --cover)" : " (caps reached before --cover)");
+      std::cout << ", " << fmt(d.seconds, 3) << " s\n";
+      if (volume)
+        std::cout << "  protrusion    " << fmt(volume->max_protrusion, 4)
+                  << " (the most a sphere sticks out of the solid)\n";
+    }
+    if (volume) {
+      std::cout << "  volume        union " << fmt(volume->union_measures.volume, 6) << " of mesh "
+                << fmt(*fit.volume(), 6) << ", nerr " << fmt(volume->nerr, 4)
+                << (volume->kind == NerrKind::kExact ? " (exact: the spheres are inside)\n"
+                                                     : " (a lower bound: spheres stick out)\n");
     } else {
       std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
     }
@@ -156,6 +227,18 @@ Runner register_bake(CLI::App& app) {
       sub->add_option("--target-error", a->target_error,
                       "Choose the smallest resolution whose normalized volume error is at most E");
   max->excludes(err);
+  sub->add_flag("--dilate", a->dilate,
+                "Dilate the spheres until they hug the surface (paper section 5.1); writes S+");
+  sub->add_option("--vertex-tolerance", a->vertex_tolerance,
+                  "Dilation: cover every mesh vertex within this length (default: 0.5% of the "
+                  "box's largest side)");
+  sub->add_option("--max-protrusion", a->max_protrusion,
+                  "Dilation: let no grown or added sphere stick out of the solid by more than "
+                  "this length (default: no cap, as in the paper)");
+  sub->add_option("--cover", a->cover,
+                  "Dilate, then add spheres until no surface sample is farther than this "
+                  "length outside (implies --dilate)");
+  sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads (default 0: all cores)")->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");
   return [a] { return run_bake(*a); };

@@ -18,6 +18,7 @@ int main(int argc, char** argv) {
 
   Runner info = register_info(app);
   Runner bake = register_bake(app);
+  Runner eval = register_eval(app);
 
   try {
     app.parse(argc, argv);
@@ -36,6 +37,7 @@ int main(int argc, char** argv) {
     for (CLI::App* sub : app.get_subcommands()) {
       if (sub->get_name() == "info") return info();
       if (sub->get_name() == "bake") return bake();
+      if (sub->get_name() == "eval") return eval();
     }
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;

@@ -1,0 +1,254 @@
+#include "medspheres/dilate.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <numeric>
+#include <random>
+#include <stdexcept>
+#include <string>
+
+#include "medspheres/error.h"
+#include "medspheres/fit_metrics.h"
+#include "medspheres/union_volume.h"
+
+namespace medspheres {
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+void validate(const DilateOptions& o) {
+  if (!(o.vertex_tolerance >= 0.0) || !std::isfinite(o.vertex_tolerance))
+    throw std::invalid_argument("vertex tolerance must be finite and >= 0 (0: default)");
+  if (!(o.max_protrusion >= 0.0))
+    throw std::invalid_argument("max protrusion must be >= 0 (infinite: no cap)");
+  if (!std::isfinite(o.cover_tolerance))
+    throw std::invalid_argument("cover tolerance must be finite (< 0: off)");
+  if (o.cover_tolerance >= 0.0) {
+    if (o.cover_samples < 1) throw std::invalid_argument("cover samples must be >= 1");
+    if (o.cover_max_rounds < 1) throw std::invalid_argument("cover rounds must be >= 1");
+    if (!(o.cover_max_added > 0.0) || !std::isfinite(o.cover_max_added))
+      throw std::invalid_argument("cover added-sphere cap must be finite and > 0");
+  }
+  if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
+}
+
+// A unit vector perpendicular to the unit vector n, the same for the same n.
+Eigen::Vector3d perpendicular(const Eigen::Vector3d& n) {
+  int axis;
+  n.cwiseAbs().minCoeff(&axis);
+  return n.cross(Eigen::Vector3d::Unit(axis)).normalized();
+}
+
+// The sphere added for a point u of the surface whose nearest point on the union is t:
+// the paper's Fig. 4(b), diameter from u to t, centre (u + t) / 2. Under a protrusion
+// cap that sphere may stick out of the solid by more than the cap; then the sphere is
+// the largest one centred on the segment from u to t that sticks out by exactly the cap
+// and comes within the tolerance of u. With c(s) = u + s (t - u)/|t - u| and D the signed
+// distance to the mesh (positive inside), such a sphere has radius D(c) + cap and
+// misses u by f(s) = s - D(c(s)) - cap; D is 1-Lipschitz, so f is nondecreasing, f(0)
+// <= 0 for u on the surface, and bisection finds the largest s with f(s) <= tolerance.
+class SphereMaker {
+ public:
+  SphereMaker(const MeshQuery& query, double cap, double tolerance)
+      : query_(query), cap_(cap), tolerance_(tolerance) {}
+
+  Sphere make(const Eigen::Vector3d& u, const Eigen::Vector3d& t) const {
+    const Sphere paper{0.5 * (u + t), 0.5 * (t - u).norm()};
+    if (!std::isfinite(cap_) || paper.radius - depth(paper.center) <= cap_) return paper;
+    const Eigen::Vector3d dir = (t - u).normalized();
+    double lo = 0.0, hi = paper.radius;
+    // 40 halvings take the bracket to 1e-12 of the paper's radius.
+    for (int i = 0; i < 40; ++i) {
+      const double mid = 0.5 * (lo + hi);
+      if (mid - depth(u + mid * dir) - cap_ <= tolerance_)
+        lo = mid;
+      else
+        hi = mid;
+    }
+    const Eigen::Vector3d c = u + lo * dir;
+    return {c, std::max(depth(c) + cap_, 0.0)};
+  }
+
+ private:
+  // Signed distance to the mesh, positive inside.
+  double depth(const Eigen::Vector3d& p) const {
+    const double d = query_.closest_point(p).distance();
+    return query_.winding_number(p) > 0.5 ? d : -d;
+  }
+
+  const MeshQuery& query_;
+  double cap_;
+  double tolerance_;
+};
+
+// Adds, for each point farther than `tolerance` outside the union of `spheres`, the
+// sphere SphereMaker gives for it. Points are visited by decreasing distance (ties:
+// lower index), each against the union as it stands, so a sphere added for one point
+// can spare the next. `coverage` holds each point's distance to the union of the first
+// `base` spheres. Adds at most `cap` spheres; returns how many it added.
+std::size_t add_touching_spheres(std::vector<Sphere>& spheres, std::size_t base,
+                                 const std::vector<Eigen::Vector3d>& points,
+                                 const std::vector<PointCoverage>& coverage, double tolerance,
+                                 std::size_t cap, const SphereMaker& maker) {
+  std::vector<std::size_t> order;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (coverage[i].outside > tolerance) order.push_back(i);
+  std::sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (coverage[a].outside != coverage[b].outside)
+      return coverage[a].outside > coverage[b].outside;
+    return a < b;
+  });
+  const std::size_t before = spheres.size();
+  for (const std::size_t i : order) {
+    if (spheres.size() - before >= cap) break;
+    const Eigen::Vector3d& u = points[i];
+    // Nearest ball of the current union: the precomputed one among the first `base`,
+    // or one added since (a short list, searched directly).
+    double best = coverage[i].outside;
+    int ball = coverage[i].ball;
+    for (std::size_t k = base; k < spheres.size(); ++k) {
+      const double d = (u - spheres[k].center).norm() - spheres[k].radius;
+      if (d < best) {
+        best = d;
+        ball = static_cast<int>(k);
+      }
+    }
+    if (!(best > tolerance)) continue;
+    const Sphere& s = spheres[static_cast<std::size_t>(ball)];
+    const Eigen::Vector3d out = u - s.center;
+    const double len = out.norm();
+    if (!(len > 0.0)) continue;  // u at a centre is inside: cannot happen when best > 0
+    const Sphere added = maker.make(u, s.center + (s.radius / len) * out);
+    if (added.radius > 0.0) spheres.push_back(added);
+  }
+  return spheres.size() - before;
+}
+
+}  // namespace
+
+DilateResult dilate(const MeshQuery& query, const SphereSet& internal,
+                    const DilateOptions& options) {
+  validate(options);
+  validate_sphere_set(internal, "sphere set");
+  if (internal.empty()) throw InputError("sphere set", "there is no sphere to dilate");
+  const auto t0 = std::chrono::steady_clock::now();
+  const TriangleMesh& mesh = query.mesh();
+  const double longest = mesh.bounds().sizes().maxCoeff();
+
+  DilateResult result;
+  DilateStats& st = result.stats;
+  st.input_spheres = internal.size();
+  st.vertex_tolerance = options.vertex_tolerance > 0.0 ? options.vertex_tolerance : 0.005 * longest;
+  std::vector<Sphere> spheres = internal.spheres;
+
+  // Steps 1 and 2: the points to cover, each with the balls that made it.
+  struct Target {
+    Eigen::Vector3d point;
+    std::array<int, 3> balls;
+    int count;
+  };
+  std::vector<Target> targets;
+  {
+    const UnionOfBalls u(spheres);
+    for (const VPoint& v : u.v_points()) targets.push_back({v.position, v.balls, 3});
+    st.v_points = targets.size();
+    std::mt19937_64 rng(options.seed);
+    std::uniform_real_distribution<double> angle(0.0, 2.0 * kPi);
+    for (const EdgeCircle& c : u.lone_edge_circles()) {
+      const Eigen::Vector3d a = perpendicular(c.normal), b = c.normal.cross(a);
+      for (int k = 0; k < 2; ++k) {
+        const double phi = angle(rng);
+        targets.push_back({c.center + c.radius * (std::cos(phi) * a + std::sin(phi) * b),
+                           {c.balls[0], c.balls[1], -1},
+                           2});
+      }
+    }
+    st.edge_points = targets.size() - st.v_points;
+  }
+  std::vector<Eigen::Vector3d> where(targets.size());
+  for (std::size_t i = 0; i < targets.size(); ++i) where[i] = targets[i].point;
+  const std::vector<ClosestPoint> nearest = query.closest_points(where, options.threads);
+  // With a cap, a sphere may grow to radius r only while r - D(c) <= cap, D(c) the
+  // exact distance from its centre to the mesh.
+  const bool capped = std::isfinite(options.max_protrusion);
+  std::vector<double> limit(spheres.size(), std::numeric_limits<double>::infinity());
+  if (capped) {
+    // Protrusion r - D(c), so the largest radius within the cap is r - protrusion + cap.
+    const std::vector<double> protrusion = sphere_protrusions(query, spheres, options.threads);
+    for (std::size_t i = 0; i < spheres.size(); ++i)
+      limit[i] = spheres[i].radius - protrusion[i] + options.max_protrusion;
+  }
+  std::vector<double> radius(spheres.size());
+  for (std::size_t i = 0; i < spheres.size(); ++i) radius[i] = spheres[i].radius;
+  std::vector<Eigen::Vector3d> left;  // points m no sphere of their triangle may cover
+  for (std::size_t i = 0; i < targets.size(); ++i) {
+    bool covered = false;
+    for (int k = 0; k < targets[i].count; ++k) {
+      const std::size_t b = static_cast<std::size_t>(targets[i].balls[static_cast<std::size_t>(k)]);
+      const double need = (nearest[i].point - spheres[b].center).norm();
+      if (need > limit[b]) continue;
+      radius[b] = std::max(radius[b], need);
+      covered = true;
+    }
+    if (!covered) left.push_back(nearest[i].point);
+  }
+  st.capped_points = left.size();
+  for (std::size_t i = 0; i < spheres.size(); ++i) {
+    const double growth = radius[i] - spheres[i].radius;
+    if (growth > 0.0) {
+      ++st.grown;
+      st.max_growth = std::max(st.max_growth, growth);
+      spheres[i].radius = radius[i];
+    }
+  }
+
+  // Step 3: spheres at the mesh vertices the union misses.
+  {
+    std::vector<char> used(mesh.vertices.size(), 0);
+    for (const auto& t : mesh.triangles)
+      for (int k : t) used[static_cast<std::size_t>(k)] = 1;
+    std::vector<Eigen::Vector3d> vertices;
+    for (std::size_t v = 0; v < used.size(); ++v)
+      if (used[v]) vertices.push_back(mesh.vertices[v]);
+    vertices.insert(vertices.end(), left.begin(), left.end());
+    const std::size_t base = spheres.size();
+    const std::vector<PointCoverage> cov = point_coverage(spheres, vertices, options.threads);
+    const SphereMaker maker(query, options.max_protrusion, st.vertex_tolerance);
+    st.added_vertex = add_touching_spheres(spheres, base, vertices, cov, st.vertex_tolerance,
+                                           vertices.size(), maker);
+  }
+
+  // Step 4: rounds of fresh surface samples until one finds nothing to cover.
+  if (options.cover_tolerance >= 0.0) {
+    const auto cap =
+        static_cast<std::size_t>(options.cover_max_added * static_cast<double>(internal.size()));
+    for (int round = 0;; ++round) {
+      const SurfaceSamples samples = sample_surface(
+          mesh, options.cover_samples, options.seed + 1 + static_cast<std::uint64_t>(round));
+      const std::vector<PointCoverage> cov =
+          point_coverage(spheres, samples.points, options.threads);
+      double worst = 0.0;
+      for (const PointCoverage& c : cov) worst = std::max(worst, c.outside);
+      st.uncovered_max = worst;
+      st.cover_rounds = round;
+      if (worst <= options.cover_tolerance) {
+        st.cover_reached = true;
+        break;
+      }
+      if (round == options.cover_max_rounds || st.added_cover >= cap) break;
+      const SphereMaker maker(query, options.max_protrusion, options.cover_tolerance);
+      st.added_cover += add_touching_spheres(spheres, spheres.size(), samples.points, cov,
+                                             options.cover_tolerance, cap - st.added_cover, maker);
+    }
+  }
+
+  result.spheres.spheres = std::move(spheres);
+  result.spheres.metadata_json = internal.metadata_json;
+  st.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
+}
+
+}  // namespace medspheres

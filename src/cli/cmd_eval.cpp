@@ -1,0 +1,208 @@
+// medspheres eval MESH SPHERES: how well a sphere set fits a mesh (fit_metrics.h).
+#include <cmath>
+#include <iostream>
+#include <string>
+#include <vector>
+
+#include <nlohmann/json.hpp>
+
+#include "cli_common.h"
+#include "medspheres/error.h"
+#include "medspheres/fit_metrics.h"
+#include "medspheres/io.h"
+#include "medspheres/mesh_io.h"
+
+namespace medspheres::cli {
+
+namespace {
+
+struct EvalArgs {
+  std::string mesh;
+  std::string spheres;
+  bool json = false;
+  long long samples = static_cast<long long>(FitOptions{}.volume_samples);
+  long long surface_samples = static_cast<long long>(FitOptions{}.surface_samples);
+  std::uint64_t seed = FitOptions{}.seed;
+  int threads = 0;
+};
+
+// A number, or null where it is not defined (NaN).
+nlohmann::ordered_json number(double v) {
+  return std::isnan(v) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(v);
+}
+
+nlohmann::ordered_json estimate_json(const Estimate95& e) {
+  return {{"estimate", number(e.estimate)},
+          {"lo", number(e.lo)},
+          {"hi", number(e.hi)},
+          {"sigma", number(e.sigma)}};
+}
+
+std::string percent_of(double v, double length) {
+  return fmt(100.0 * v / length, 3) + "% of L";
+}
+
+void print_json(const EvalArgs& args, const FitReport& r, double longest,
+                const std::vector<std::string>& warnings) {
+  const VolumeError& v = r.volume;
+  const MonteCarloError& mc = r.monte_carlo;
+  nlohmann::ordered_json j;
+  j["mesh"] = args.mesh;
+  j["spheres_file"] = args.spheres;
+  j["spheres"] = r.balls;
+  j["mesh_closed"] = r.mesh_closed;
+  j["mesh_volume"] = v.mesh_volume ? nlohmann::ordered_json(*v.mesh_volume) : nullptr;
+  j["union_volume"] = v.union_measures.volume;
+  j["union_area"] = v.union_measures.area;
+  j["hidden_spheres"] = v.union_measures.hidden.size();
+  j["duplicate_spheres"] = v.union_measures.duplicates.size();
+  j["nerr"] = number(v.nerr);
+  j["nerr_kind"] = to_string(v.kind);
+  j["nerr_slack"] = v.nerr_slack;
+  j["max_protrusion"] = v.max_protrusion;
+  j["max_protrusion_sphere"] = v.max_protrusion_ball;
+  j["protruding_spheres"] = v.protruding;
+  j["protrusion_tolerance"] = v.protrusion_tolerance;
+  nlohmann::ordered_json e = estimate_json(mc.error);
+  e["interval"] = mc.normalized_by_volume ? "wilson" : "delta_method";
+  e["normalized_by"] = mc.normalized_by_volume ? "mesh_volume" : "winding_solid_volume_estimate";
+  e["samples"] = mc.samples;
+  e["seed"] = mc.seed;
+  e["outside_mesh_volume"] = mc.outside_volume;
+  e["uncovered_mesh_volume"] = mc.uncovered_volume;
+  e["winding_solid_volume"] = estimate_json(mc.solid_volume);
+  e["multiply_covered_volume"] = mc.multiple_volume;
+  e["multiply_covered_volume_sigma"] = mc.multiple_volume_sigma;
+  j["mc_error"] = e;
+  j["uncovered_max"] = r.coverage.max;
+  j["uncovered_mean"] = r.coverage.mean;
+  j["uncovered_p95"] = r.coverage.p95;
+  j["uncovered_max_at"] = {r.coverage.max_at.x(), r.coverage.max_at.y(), r.coverage.max_at.z()};
+  j["surface_samples"] = r.coverage.area_samples;
+  j["vertices"] = r.coverage.vertices;
+  j["bbox_largest_side"] = longest;
+  j["seconds"] = r.seconds.total;
+  j["seconds_by_part"] = {{"union_volume", r.seconds.union_volume},
+                          {"protrusion", r.seconds.protrusion},
+                          {"grid", r.seconds.grid},
+                          {"monte_carlo", r.seconds.monte_carlo},
+                          {"coverage", r.seconds.coverage}};
+  j["warnings"] = warnings;
+  std::cout << j.dump(2) << "\n";
+}
+
+void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport& r, double longest,
+                const std::vector<std::string>& warnings) {
+  const VolumeError& v = r.volume;
+  const MonteCarloError& mc = r.monte_carlo;
+  const CoverageStats& c = r.coverage;
+  std::cout << "eval " << args.spheres << " against " << args.mesh << "\n";
+  std::cout << "  mesh          " << loaded.report.triangles << " triangles, ";
+  if (v.mesh_volume)
+    std::cout << "closed, volume " << fmt(*v.mesh_volume) << "\n";
+  else
+    std::cout << "open: its volume, and so nerr, is not defined\n";
+  std::cout << "  spheres       " << r.balls << " (" << v.union_measures.hidden.size()
+            << " hidden, " << v.union_measures.duplicates.size() << " duplicate), union volume "
+            << fmt(v.union_measures.volume) << ", area " << fmt(v.union_measures.area) << "\n";
+  std::cout << "  protrusion    max " << fmt(v.max_protrusion, 4) << " (sphere "
+            << v.max_protrusion_ball << ", " << percent_of(v.max_protrusion, longest) << "); "
+            << v.protruding << " sphere(s) beyond the tolerance " << fmt(v.protrusion_tolerance, 3)
+            << "\n";
+  std::cout << "  nerr          ";
+  switch (v.kind) {
+    case NerrKind::kExact:
+      std::cout << fmt(v.nerr, 5) << " (exact: no sphere sticks out)\n";
+      break;
+    case NerrKind::kLowerBound:
+      std::cout << ">= " << fmt(v.nerr, 5) << " (lower bound: spheres stick out)\n";
+      break;
+    case NerrKind::kUndefined:
+      std::cout << "not defined\n";
+      break;
+  }
+  std::cout << "  Monte Carlo   error " << fmt(mc.error.estimate, 5) << ", 95% interval ["
+            << fmt(mc.error.lo, 5) << ", " << fmt(mc.error.hi, 5) << "] ("
+            << (mc.normalized_by_volume
+                    ? "Wilson, of vol(mesh)"
+                    : "delta method, of the winding-number solid's estimated volume " +
+                          fmt(mc.solid_volume.estimate, 5))
+            << "; " << mc.samples << " points, seed " << mc.seed << ")\n"
+            << "                volume of the spheres outside the mesh "
+            << fmt(mc.outside_volume, 4) << ", of the mesh outside the spheres "
+            << fmt(mc.uncovered_volume, 4) << "\n";
+  std::cout << "  uncovered     surface outside the spheres by max " << fmt(c.max, 4) << " ("
+            << percent_of(c.max, longest) << "), mean " << fmt(c.mean, 4) << ", p95 "
+            << fmt(c.p95, 4) << " (" << percent_of(c.p95, longest) << ")\n"
+            << "                over " << c.area_samples << " area-weighted points and "
+            << c.vertices << " vertices (L = " << fmt(longest, 4) << ")\n";
+  const FitSeconds& s = r.seconds;
+  std::cout << "  time          " << fmt(s.total, 3) << " s: union " << fmt(s.union_volume, 3)
+            << ", protrusion " << fmt(s.protrusion, 3) << ", grid " << fmt(s.grid, 3)
+            << ", Monte Carlo " << fmt(s.monte_carlo, 3) << ", coverage " << fmt(s.coverage, 3)
+            << "\n";
+  for (const std::string& w : warnings) std::cout << "  warning: " << w << "\n";
+}
+
+int run_eval(const EvalArgs& args) {
+  // Options first: nonsense is reported before any work is done.
+  if (args.samples < 1)
+    throw InputError("--samples", "must be >= 1, got " + std::to_string(args.samples));
+  if (args.surface_samples < 1)
+    throw InputError("--surface-samples",
+                     "must be >= 1, got " + std::to_string(args.surface_samples));
+  if (args.threads < 0)
+    throw InputError("--threads",
+                     "must be >= 0 (0: all cores), got " + std::to_string(args.threads));
+  FitOptions options;
+  options.volume_samples = static_cast<std::size_t>(args.samples);
+  options.surface_samples = static_cast<std::size_t>(args.surface_samples);
+  options.seed = args.seed;
+  options.threads = args.threads;
+
+  const LoadedMesh loaded = load_mesh(args.mesh);
+  const SphereSet set = load_sphere_set(args.spheres);
+  FitReport report;
+  try {
+    report = FitEvaluator(loaded.mesh).evaluate(set.spheres, options);
+  } catch (const InputError& e) {
+    // The library speaks of "the sphere set"; the user knows it by its file name.
+    if (e.source() == "sphere set") throw InputError(args.spheres, e.problem());
+    throw;
+  }
+  std::vector<std::string> warnings;
+  for (const std::string& w : loaded.warnings) warnings.push_back(args.mesh + ": " + w);
+  for (const std::string& w : report.warnings) warnings.push_back(w);
+  const double longest = (loaded.report.bbox_max - loaded.report.bbox_min).maxCoeff();
+  if (args.json)
+    print_json(args, report, longest, warnings);
+  else
+    print_text(args, loaded, report, longest, warnings);
+  return kExitOk;
+}
+
+}  // namespace
+
+Runner register_eval(CLI::App& app) {
+  auto a = std::make_shared<EvalArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "eval", "Measure how well a sphere set fits a mesh: nerr, protrusion, coverage");
+  sub->add_option("mesh", a->mesh, "Mesh file (STL, OBJ, PLY, OFF, DAE, glTF, ...)")->required();
+  sub->add_option("spheres", a->spheres, "Sphere-set file (medspheres JSON)")->required();
+  sub->add_flag("--json", a->json, "Print one JSON object instead of text");
+  sub->add_option("--samples", a->samples, "Monte-Carlo points for the volume error")
+      ->capture_default_str();
+  sub->add_option("--surface-samples", a->surface_samples,
+                  "Area-weighted surface points for coverage (every vertex is added)")
+      ->capture_default_str();
+  sub->add_option("--seed", a->seed, "Seed of the Monte-Carlo and surface points")
+      ->check([](const std::string& s) {
+        return s.rfind('-', 0) == 0 ? std::string("must be an integer >= 0, got " + s)
+                                    : std::string();
+      })
+      ->capture_default_str();
+  sub->add_option("--threads", a->threads, "Threads (default 0: all cores)")->capture_default_str();
+  return [a] { return run_eval(*a); };
+}
+
+}  // namespace medspheres::cli
