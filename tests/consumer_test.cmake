@@ -23,10 +23,12 @@ step(install ${CMAKE_COMMAND} --install "${BUILD_DIR}" --prefix "${WORK_DIR}/pre
 step(configure ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/consumer" -B "${WORK_DIR}/build"
      -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix")
 step(build ${CMAKE_COMMAND} --build "${WORK_DIR}/build" -j 2)
-step(run "${WORK_DIR}/build/consumer" "${SOURCE_DIR}/examples/data/eight.off"
+step(bake "${WORK_DIR}/build/bake_example" "${SOURCE_DIR}/examples/data/eight.off"
      "${WORK_DIR}/eight.spheres.json")
 message(STATUS "${step_output}")
-if(NOT step_output MATCHES "634 triangles")
-  message(FATAL_ERROR "unexpected consumer output: ${step_output}")
+if(NOT step_output MATCHES "634 triangles, [0-9]+ spheres")
+  message(FATAL_ERROR "unexpected bake_example output: ${step_output}")
 endif()
+step(fcl "${WORK_DIR}/build/fcl_example" "${WORK_DIR}/eight.spheres.json")
+message(STATUS "${step_output}")
 file(REMOVE_RECURSE "${WORK_DIR}")
