@@ -23,7 +23,7 @@ const std::string kEightMesh = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/d
 const std::string kFast = " --samples 100000 --surface-samples 5000";
 
 CommandResult eval(const std::string& args) {
-  return run_command(shell_quote(MEDSPHERES_CLI) + " eval " + args);
+  return medspheres::test::run_cli("eval " + args);
 }
 
 // A [-1, 1]^3 box mesh, closed or with one triangle missing.

@@ -24,7 +24,7 @@ using medspheres::test::TempDir;
 namespace {
 
 CommandResult cli(const std::string& args) {
-  return run_command(shell_quote(MEDSPHERES_CLI) + " " + args);
+  return medspheres::test::run_cli(args);
 }
 
 const std::string kExample = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off";

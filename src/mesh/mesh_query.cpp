@@ -476,28 +476,32 @@ ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, int hint_triangl
 }
 
 namespace {
-int resolve_threads(int threads) {
+
+// f applied to every point, result i from point i, on `threads` threads (0: all cores).
+// Each result depends on its point alone, so the output is the same for any thread count.
+template <typename T, typename F>
+std::vector<T> map_points(const std::vector<Eigen::Vector3d>& points, int threads, F f) {
   if (threads < 0) throw std::invalid_argument("thread count must be >= 0 (0: all cores)");
-  return threads == 0 ? omp_get_max_threads() : threads;
+  std::vector<T> out(points.size());
+  const long long n = static_cast<long long>(points.size());
+#pragma omp parallel for schedule(dynamic, 256) \
+    num_threads(threads == 0 ? omp_get_max_threads() : threads)
+  for (long long i = 0; i < n; ++i) out[i] = f(points[i]);
+  return out;
 }
+
 }  // namespace
 
 std::vector<ClosestPoint> MeshQuery::closest_points(const std::vector<Eigen::Vector3d>& points,
                                                     int threads) const {
-  std::vector<ClosestPoint> out(points.size());
-  const long long n = static_cast<long long>(points.size());
-#pragma omp parallel for schedule(dynamic, 256) num_threads(resolve_threads(threads))
-  for (long long i = 0; i < n; ++i) out[i] = closest_point(points[i]);
-  return out;
+  return map_points<ClosestPoint>(points, threads,
+                                  [this](const Eigen::Vector3d& p) { return closest_point(p); });
 }
 
 std::vector<double> MeshQuery::winding_numbers(const std::vector<Eigen::Vector3d>& points,
                                                int threads) const {
-  std::vector<double> out(points.size());
-  const long long n = static_cast<long long>(points.size());
-#pragma omp parallel for schedule(dynamic, 256) num_threads(resolve_threads(threads))
-  for (long long i = 0; i < n; ++i) out[i] = winding_number(points[i]);
-  return out;
+  return map_points<double>(points, threads,
+                            [this](const Eigen::Vector3d& p) { return winding_number(p); });
 }
 
 const TriangleMesh& MeshQuery::mesh() const {

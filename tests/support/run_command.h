@@ -17,4 +17,11 @@ CommandResult run_command(const std::string& command);
 /// Quotes \p s for /bin/sh.
 std::string shell_quote(const std::string& s);
 
+#ifdef MEDSPHERES_CLI
+/// Runs the medspheres command-line tool of this build with \p args (already quoted).
+inline CommandResult run_cli(const std::string& args) {
+  return run_command(shell_quote(MEDSPHERES_CLI) + " " + args);
+}
+#endif
+
 }  // namespace medspheres::test
