@@ -41,6 +41,7 @@
 
 #include <fcl/fcl.h>
 
+#include "bench_util.h"
 #include "medspheres/bake.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/mesh_generators.h"
@@ -52,6 +53,8 @@ namespace {
 using Clock = std::chrono::steady_clock;
 using medspheres::SphereSet;
 using medspheres::TriangleMesh;
+using medspheres::bench::make_bvh;
+using medspheres::bench::percentile;
 
 struct Workload {
   std::string name;
@@ -118,18 +121,6 @@ std::vector<Workload> generated_workloads(const std::string& only) {
   return out;
 }
 
-template <class BV>
-std::shared_ptr<fcl::BVHModel<BV>> make_bvh(const TriangleMesh& mesh) {
-  auto model = std::make_shared<fcl::BVHModel<BV>>();
-  std::vector<fcl::Triangle> tris;
-  tris.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
-  model->beginModel(static_cast<int>(tris.size()), static_cast<int>(mesh.vertices.size()));
-  model->addSubModel(mesh.vertices, tris);
-  model->endModel();
-  return model;
-}
-
 struct Pose {
   fcl::Transform3d X_WA, X_WB;
   double exact = 0.0;  // FCL OBBRSS mesh distance
@@ -189,12 +180,6 @@ struct Result {
   std::vector<double> distance;
   double visits = 0.0;  // mean per query
 };
-
-double percentile(std::vector<double> v, double q) {
-  std::sort(v.begin(), v.end());
-  const std::size_t i = std::min(v.size() - 1, static_cast<std::size_t>(q * (v.size() - 1) + 0.5));
-  return v[i];
-}
 
 // Times f(pose index) for every pose: five runs each, the fastest counts (the machine
 // may be shared; the fastest run is the least disturbed).

@@ -124,7 +124,9 @@ BakeResult bake(const TriangleMesh& mesh, const BakeOptions& options = {});
 /// Largest resolution in [2, max_resolution] whose bake has at most \p max_spheres
 /// spheres, found by doubling and then bisection. Sphere counts grow with resolution
 /// but not strictly monotonically, so the answer is the largest resolution the search
-/// saw within the limit; the result returned is that bake.
+/// saw within the limit; the result returned is that bake. Doubling stops early when it
+/// adds no sphere: the medial surface is then resolved (a ball's single centre, say) and
+/// higher resolutions would only cost time.
 /// \throws std::invalid_argument if max_spheres < 1; InputError as bake().
 BakeResult bake_max_spheres(const MeshQuery& query, std::size_t max_spheres,
                             const BakeOptions& options = {}, int max_resolution = 512);
@@ -135,6 +137,7 @@ using ErrorFn = std::function<double(const SphereSet&)>;
 
 /// Smallest resolution in [2, max_resolution] whose bake has error(spheres) <= target,
 /// found by doubling and then bisection (error falls with resolution, not strictly).
+/// Doubling stops early when it does not reduce the error.
 /// \throws std::invalid_argument if target <= 0 or no ErrorFn; InputError as bake();
 ///   Error if even max_resolution misses the target (the message gives the best error).
 BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorFn& error,

@@ -21,7 +21,10 @@
 ///    sphere with r = |t - u| / 2 centred at
 ///    u + r (t - u) / |t - u|, which touches both. Vertices are visited in order of
 ///    decreasing distance (ties: lower index), each against the union as it stands, so
-///    a new sphere that covers later vertices spares them theirs.
+///    a new sphere that covers later vertices spares them theirs. (Candidates are made
+///    64 vertices at a time, in parallel, with t taken on the spheres present before
+///    this step; each is added only if its vertex is still uncovered when its turn
+///    comes, so the result does not depend on the thread count.)
 /// 4. Optional, beyond the paper (`cover_tolerance` >= 0): rounds of fresh surface
 ///    samples (area-weighted, plus every vertex), each sample farther than the tolerance
 ///    outside the union getting a sphere as in step 3, until a round finds none or the

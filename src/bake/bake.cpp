@@ -5,6 +5,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -561,19 +562,24 @@ namespace {
 // at high ones when want_largest (a sphere budget), and the reverse otherwise (an error
 // target). From the start resolution, doubling or halving moves toward the other kind
 // until the boundary is bracketed; bisection then narrows it to adjacent resolutions.
-// Returns the largest (or smallest) good resolution's bake seen, if any was good.
-template <typename Good>
+// Doubling also stops when `stalled(previous, next)` says a doubling changed nothing
+// that matters: the medial surface is then resolved (the single centre of a ball, say)
+// and higher resolutions only cost time. Returns the largest (or smallest) good
+// resolution's bake seen, if any was good.
+template <typename Good, typename Stalled>
 std::optional<BakeResult> search_resolution(const MeshQuery& query, const BakeOptions& options,
-                                            int max_resolution, bool want_largest, Good good) {
+                                            int max_resolution, bool want_largest, Good good,
+                                            Stalled stalled) {
   if (max_resolution < 2) throw std::invalid_argument("max resolution must be >= 2");
   std::optional<BakeResult> best;
+  BakeResult last;
   auto run = [&](int r) {
     BakeOptions o = options;
     o.resolution = r;
-    BakeResult res = bake(query, o);
-    const bool ok = good(res);
+    last = bake(query, o);
+    const bool ok = good(last);
     if (ok && (!best || (want_largest ? r > best->stats.resolution : r < best->stats.resolution)))
-      best = std::move(res);
+      best = last;
     return ok;
   };
   int r = std::clamp(options.resolution, 2, max_resolution);
@@ -583,11 +589,13 @@ std::optional<BakeResult> search_resolution(const MeshQuery& query, const BakeOp
   for (;;) {
     const int next = up ? std::min(2 * r, max_resolution) : std::max(r / 2, 2);
     if (next == r) break;  // reached a limit without finding the other kind
+    const BakeResult previous = last;
     if (run(next) != g) {
       other = next;
       break;
     }
     r = next;
+    if (up && stalled(previous, last)) break;
   }
   if (other < 0) return best;
   int good_r = g ? r : other, bad_r = g ? other : r;
@@ -607,9 +615,12 @@ BakeResult bake_max_spheres(const MeshQuery& query, std::size_t max_spheres,
                             const BakeOptions& options, int max_resolution) {
   if (max_spheres < 1) throw std::invalid_argument("max spheres must be >= 1");
   validate(options);
-  auto result = search_resolution(query, options, max_resolution, true, [&](const BakeResult& r) {
-    return r.spheres.size() <= max_spheres;
-  });
+  auto result = search_resolution(
+      query, options, max_resolution, true,
+      [&](const BakeResult& r) { return r.spheres.size() <= max_spheres; },
+      [](const BakeResult& a, const BakeResult& b) {
+        return b.spheres.size() <= a.spheres.size();
+      });
   if (!result)
     throw InputError("--max-spheres", "even resolution 2 gives more than " +
                                           std::to_string(max_spheres) + " spheres");
@@ -623,15 +634,27 @@ BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorF
   if (!error) throw std::invalid_argument("bake_target_error needs an error function");
   validate(options);
   double best_error = std::numeric_limits<double>::infinity();
-  auto result = search_resolution(query, options, max_resolution, false, [&](const BakeResult& r) {
-    const double e = error(r.spheres);
-    best_error = std::min(best_error, e);
-    return e <= target;
-  });
+  int highest = 0;
+  std::map<int, double> errors;  // by resolution, so that no set is measured twice
+  auto error_of = [&](const BakeResult& r) {
+    auto it = errors.find(r.stats.resolution);
+    if (it == errors.end()) it = errors.emplace(r.stats.resolution, error(r.spheres)).first;
+    return it->second;
+  };
+  auto result = search_resolution(
+      query, options, max_resolution, false,
+      [&](const BakeResult& r) {
+        const double e = error_of(r);
+        best_error = std::min(best_error, e);
+        highest = std::max(highest, r.stats.resolution);
+        return e <= target;
+      },
+      [&](const BakeResult& a, const BakeResult& b) { return error_of(b) >= error_of(a); });
   if (!result)
-    throw Error("target error " + std::to_string(target) + " not reached up to resolution " +
-                std::to_string(max_resolution) + " (best error " + std::to_string(best_error) +
-                ")");
+    throw Error(
+        "target error " + std::to_string(target) + " not reached: best error " +
+        std::to_string(best_error) + " up to resolution " + std::to_string(highest) +
+        (highest < max_resolution ? ", where doubling the resolution stopped reducing it" : ""));
   return std::move(*result);
 }
 

@@ -9,6 +9,8 @@
 #include <stdexcept>
 #include <string>
 
+#include <omp.h>
+
 #include "medspheres/error.h"
 #include "medspheres/fit_metrics.h"
 #include "medspheres/union_volume.h"
@@ -45,11 +47,14 @@ Eigen::Vector3d perpendicular(const Eigen::Vector3d& n) {
 // The sphere added for a point u of the surface whose nearest point on the union is t:
 // the paper's Fig. 4(b), diameter from u to t, centre (u + t) / 2. Under a protrusion
 // cap that sphere may stick out of the solid by more than the cap; then the sphere is
-// the largest one centred on the segment from u to t that sticks out by exactly the cap
-// and comes within the tolerance of u. With c(s) = u + s (t - u)/|t - u| and D the signed
-// distance to the mesh (positive inside), such a sphere has radius D(c) + cap and
-// misses u by f(s) = s - D(c(s)) - cap; D is 1-Lipschitz, so f is nondecreasing, f(0)
-// <= 0 for u on the surface, and bisection finds the largest s with f(s) <= tolerance.
+// the largest one, centred on a ray from u into the solid, that sticks out by exactly
+// the cap and comes within the tolerance of u. With c(s) = u + s d and D the signed
+// distance to the mesh (positive inside), such a sphere has radius D(c) + cap and misses
+// u by f(s) = s - D(c(s)) - cap; D is 1-Lipschitz, so f is nondecreasing, f(0) <= 0 for u
+// on the surface, and bisection finds the largest s with f(s) <= tolerance. Two rays are
+// tried, and the larger sphere kept: toward t, and along the inward normal of the
+// triangle nearest u, along which D grows fastest (it gives the larger sphere about nine
+// times in ten on the test meshes).
 class SphereMaker {
  public:
   SphereMaker(const MeshQuery& query, double cap, double tolerance)
@@ -58,10 +63,27 @@ class SphereMaker {
   Sphere make(const Eigen::Vector3d& u, const Eigen::Vector3d& t) const {
     const Sphere paper{0.5 * (u + t), 0.5 * (t - u).norm()};
     if (!std::isfinite(cap_) || paper.radius - depth(paper.center) <= cap_) return paper;
-    const Eigen::Vector3d dir = (t - u).normalized();
-    double lo = 0.0, hi = paper.radius;
-    // 40 halvings take the bracket to 1e-12 of the paper's radius.
-    for (int i = 0; i < 40; ++i) {
+    Sphere best = along(u, (t - u) / (2.0 * paper.radius), paper.radius);
+    const TriangleMesh& m = query_.mesh();
+    const auto& tri = m.triangles[static_cast<std::size_t>(query_.closest_point(u).triangle)];
+    const Eigen::Vector3d& a = m.vertices[static_cast<std::size_t>(tri[0])];
+    const Eigen::Vector3d n = (m.vertices[static_cast<std::size_t>(tri[1])] - a)
+                                  .cross(m.vertices[static_cast<std::size_t>(tri[2])] - a);
+    if (n.squaredNorm() > 0.0) {
+      // Along the normal the sphere can reach the medial surface, which lies at most a
+      // bounding-box diagonal away.
+      const Sphere inward = along(u, -n.normalized(), diagonal_);
+      if (inward.radius > best.radius) best = inward;
+    }
+    return best;
+  }
+
+ private:
+  // The largest sphere on the ray u + s dir, s in [0, reach]: 24 halvings take the
+  // bracket to 6e-8 of its start, far below the tolerances this serves.
+  Sphere along(const Eigen::Vector3d& u, const Eigen::Vector3d& dir, double reach) const {
+    double lo = 0.0, hi = reach;
+    for (int i = 0; i < 24; ++i) {
       const double mid = 0.5 * (lo + hi);
       if (mid - depth(u + mid * dir) - cap_ <= tolerance_)
         lo = mid;
@@ -72,7 +94,6 @@ class SphereMaker {
     return {c, std::max(depth(c) + cap_, 0.0)};
   }
 
- private:
   // Signed distance to the mesh, positive inside.
   double depth(const Eigen::Vector3d& p) const {
     const double d = query_.closest_point(p).distance();
@@ -82,17 +103,21 @@ class SphereMaker {
   const MeshQuery& query_;
   double cap_;
   double tolerance_;
+  double diagonal_ = query_.mesh().bounds().sizes().norm();
 };
 
-// Adds, for each point farther than `tolerance` outside the union of `spheres`, the
-// sphere SphereMaker gives for it. Points are visited by decreasing distance (ties:
-// lower index), each against the union as it stands, so a sphere added for one point
-// can spare the next. `coverage` holds each point's distance to the union of the first
-// `base` spheres. Adds at most `cap` spheres; returns how many it added.
+// Adds spheres until every point is within `tolerance` of the union of `spheres`, or
+// `cap` spheres were added. `coverage` holds each point's distance to the union of the
+// first `base` spheres. Points are visited farthest first (ties: lower index); a point
+// still farther than the tolerance from the union as it stands gets the sphere
+// SphereMaker gives for it, so a sphere added for one point can spare the next. The
+// candidates of the next 64 points still uncovered are computed in parallel, then added
+// in order, each only if its point is still uncovered: the result does not depend on
+// the thread count. Returns the number of spheres added.
 std::size_t add_touching_spheres(std::vector<Sphere>& spheres, std::size_t base,
                                  const std::vector<Eigen::Vector3d>& points,
                                  const std::vector<PointCoverage>& coverage, double tolerance,
-                                 std::size_t cap, const SphereMaker& maker) {
+                                 std::size_t cap, const SphereMaker& maker, int threads) {
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (coverage[i].outside > tolerance) order.push_back(i);
@@ -101,28 +126,38 @@ std::size_t add_touching_spheres(std::vector<Sphere>& spheres, std::size_t base,
       return coverage[a].outside > coverage[b].outside;
     return a < b;
   });
-  const std::size_t before = spheres.size();
-  for (const std::size_t i : order) {
-    if (spheres.size() - before >= cap) break;
-    const Eigen::Vector3d& u = points[i];
-    // Nearest ball of the current union: the precomputed one among the first `base`,
-    // or one added since (a short list, searched directly).
+  // Distance from point i to the union as it stands (at most its precomputed one).
+  auto outside = [&](std::size_t i) {
     double best = coverage[i].outside;
-    int ball = coverage[i].ball;
-    for (std::size_t k = base; k < spheres.size(); ++k) {
-      const double d = (u - spheres[k].center).norm() - spheres[k].radius;
-      if (d < best) {
-        best = d;
-        ball = static_cast<int>(k);
-      }
+    for (std::size_t j = base; j < spheres.size() && best > tolerance; ++j)
+      best = std::min(best, (points[i] - spheres[j].center).norm() - spheres[j].radius);
+    return best;
+  };
+  const std::size_t before = spheres.size();
+  constexpr std::size_t kBatch = 64;
+  std::vector<std::size_t> batch;
+  std::vector<Sphere> candidate;
+  for (std::size_t next = 0; next < order.size() && spheres.size() - before < cap;) {
+    batch.clear();
+    while (next < order.size() && batch.size() < kBatch) {
+      const std::size_t i = order[next++];
+      if (outside(i) > tolerance) batch.push_back(i);
     }
-    if (!(best > tolerance)) continue;
-    const Sphere& s = spheres[static_cast<std::size_t>(ball)];
-    const Eigen::Vector3d out = u - s.center;
-    const double len = out.norm();
-    if (!(len > 0.0)) continue;  // u at a centre is inside: cannot happen when best > 0
-    const Sphere added = maker.make(u, s.center + (s.radius / len) * out);
-    if (added.radius > 0.0) spheres.push_back(added);
+    candidate.assign(batch.size(), Sphere{});
+    const long long n = static_cast<long long>(batch.size());
+#pragma omp parallel for schedule(dynamic, 1) \
+    num_threads(threads == 0 ? omp_get_max_threads() : threads)
+    for (long long k = 0; k < n; ++k) {
+      const std::size_t i = batch[static_cast<std::size_t>(k)];
+      const Sphere& s = spheres[static_cast<std::size_t>(coverage[i].ball)];
+      const Eigen::Vector3d out = points[i] - s.center;
+      // A point outside the union is not a centre, so out is not zero.
+      candidate[static_cast<std::size_t>(k)] =
+          maker.make(points[i], s.center + (s.radius / out.norm()) * out);
+    }
+    for (std::size_t k = 0; k < batch.size() && spheres.size() - before < cap; ++k)
+      if (candidate[k].radius > 0.0 && outside(batch[k]) > tolerance)
+        spheres.push_back(candidate[k]);
   }
   return spheres.size() - before;
 }
@@ -218,7 +253,7 @@ DilateResult dilate(const MeshQuery& query, const SphereSet& internal,
     const std::vector<PointCoverage> cov = point_coverage(spheres, vertices, options.threads);
     const SphereMaker maker(query, options.max_protrusion, st.vertex_tolerance);
     st.added_vertex = add_touching_spheres(spheres, base, vertices, cov, st.vertex_tolerance,
-                                           vertices.size(), maker);
+                                           vertices.size(), maker, options.threads);
   }
 
   // Step 4: rounds of fresh surface samples until one finds nothing to cover.
@@ -241,7 +276,8 @@ DilateResult dilate(const MeshQuery& query, const SphereSet& internal,
       if (round == options.cover_max_rounds || st.added_cover >= cap) break;
       const SphereMaker maker(query, options.max_protrusion, options.cover_tolerance);
       st.added_cover += add_touching_spheres(spheres, spheres.size(), samples.points, cov,
-                                             options.cover_tolerance, cap - st.added_cover, maker);
+                                             options.cover_tolerance, cap - st.added_cover, maker,
+                                             options.threads);
     }
   }
 
