@@ -12,9 +12,6 @@
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -22,6 +19,7 @@
 #include "medspheres/fit_metrics.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_query.h"
+#include "support/shared_meshes.h"
 
 namespace {
 
@@ -30,32 +28,6 @@ using Clock = std::chrono::steady_clock;
 struct Entry {
   std::string name, path;
 };
-
-std::vector<Entry> manifest_closed(const std::string& dir) {
-  std::vector<Entry> out;
-  std::ifstream in(dir + "/MANIFEST.tsv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  {
-    std::istringstream h(line);
-    std::string c;
-    while (std::getline(h, c, '\t')) head.push_back(c);
-  }
-  auto col = [&](const char* n) {
-    return static_cast<std::size_t>(std::find(head.begin(), head.end(), n) - head.begin());
-  };
-  const std::size_t f = col("file"), closed = col("closed");
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::istringstream s(line);
-    std::string c;
-    while (std::getline(s, c, '\t')) cells.push_back(c);
-    if (cells.size() > std::max(f, closed) && cells[closed] == "yes")
-      out.push_back({cells[f], dir + "/" + cells[f]});
-  }
-  return out;
-}
 
 double time_bake(const medspheres::MeshQuery& q, medspheres::BakeOptions o, int repeats,
                  medspheres::BakeResult* last) {
@@ -72,11 +44,7 @@ double time_bake(const medspheres::MeshQuery& q, medspheres::BakeOptions o, int 
 }  // namespace
 
 int main(int argc, char** argv) {
-  std::string dir;
-  {
-    const auto p = std::filesystem::path(MEDSPHERES_SOURCE_DIR) / ".." / "shared" / "meshes";
-    if (std::filesystem::exists(p / "MANIFEST.tsv")) dir = p.string();
-  }
+  std::string dir = medspheres::test::shared_meshes_dir();
   std::size_t min_spheres = 200, max_spheres = 500;
   std::string only;
   for (int i = 1; i < argc; ++i) {
@@ -100,7 +68,8 @@ int main(int argc, char** argv) {
   meshes.push_back({"examples/knot1.off", ex + "knot1.off"});
   meshes.push_back({"examples/eight.off", ex + "eight.off"});
   if (!dir.empty())
-    for (const Entry& e : manifest_closed(dir)) meshes.push_back(e);
+    for (const medspheres::test::SharedMesh& m : medspheres::test::read_manifest(dir))
+      if (m.closed) meshes.push_back({m.file, m.path});
 
   std::printf("Medial sphere baking (paper section 3), resolution = largest with <= %zu spheres\n",
               max_spheres);

@@ -30,12 +30,9 @@
 #include <chrono>
 #include <cmath>
 #include <cstdio>
-#include <filesystem>
-#include <fstream>
 #include <memory>
 #include <numeric>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -47,6 +44,7 @@
 #include "medspheres/mesh_generators.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_query.h"
+#include "support/shared_meshes.h"
 
 namespace {
 
@@ -61,12 +59,6 @@ struct Workload {
   TriangleMesh mesh;
 };
 
-std::string default_meshes_dir() {
-  const std::filesystem::path p =
-      std::filesystem::path(MEDSPHERES_SOURCE_DIR) / ".." / "shared" / "meshes";
-  return std::filesystem::exists(p / "MANIFEST.tsv") ? p.string() : std::string();
-}
-
 // Closed "classic" meshes of MANIFEST.tsv spanning about 1k to 100k triangles.
 std::vector<Workload> shared_workloads(const std::string& dir, const std::string& only) {
   const std::vector<std::string> wanted = {
@@ -75,30 +67,9 @@ std::vector<Workload> shared_workloads(const std::string& dir, const std::string
       "odedstein/bunny.obj",         "common3d/rocker-arm.obj",
       "odedstein/spot.obj",          "odedstein/armadillo.obj",
       "quartet/dragon.obj"};
-  std::ifstream in(dir + "/MANIFEST.tsv");
-  std::string line;
-  std::getline(in, line);  // header
-  std::vector<std::string> header;
-  {
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, '\t')) header.push_back(cell);
-  }
-  const auto column = [&](const std::string& name) {
-    return static_cast<std::size_t>(std::find(header.begin(), header.end(), name) - header.begin());
-  };
-  const std::size_t c_file = column("file"), c_closed = column("closed"),
-                    c_category = column("category");
   std::vector<std::string> present;
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::stringstream ss(line);
-    std::string cell;
-    while (std::getline(ss, cell, '\t')) cells.push_back(cell);
-    if (cells.size() <= std::max({c_file, c_closed, c_category})) continue;
-    if (cells[c_closed] != "yes" || cells[c_category].rfind("classic", 0) != 0) continue;
-    present.push_back(cells[c_file]);
-  }
+  for (const medspheres::test::SharedMesh& m : medspheres::test::read_manifest(dir))
+    if (m.closed && m.classic()) present.push_back(m.file);
   std::vector<Workload> out;
   for (const std::string& file : wanted) {
     if (std::find(present.begin(), present.end(), file) == present.end()) continue;
@@ -308,7 +279,7 @@ int main(int argc, char** argv) {
   int num_poses = 200;
   std::size_t max_spheres = 800;
   int leaf = medspheres::SphereTreeOptions{}.max_leaf_size;
-  std::string dir = default_meshes_dir(), only;
+  std::string dir = medspheres::test::shared_meshes_dir(), only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--poses" && i + 1 < argc)

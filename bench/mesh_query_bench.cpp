@@ -14,10 +14,7 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <filesystem>
-#include <fstream>
 #include <random>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -29,6 +26,7 @@
 #include "medspheres/mesh_generators.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_query.h"
+#include "support/shared_meshes.h"
 
 namespace {
 
@@ -137,44 +135,11 @@ Row measure(const std::string& name, const std::string& kind, const medspheres::
   return r;
 }
 
-std::string default_meshes_dir() {
-  const std::filesystem::path p =
-      std::filesystem::path(MEDSPHERES_SOURCE_DIR) / ".." / "shared" / "meshes";
-  return std::filesystem::exists(p / "MANIFEST.tsv") ? p.string() : std::string();
-}
-
-// Closed meshes from MANIFEST.tsv (column "closed" == yes).
-std::vector<std::string> closed_manifest_meshes(const std::string& dir) {
-  std::vector<std::string> out;
-  std::ifstream in(dir + "/MANIFEST.tsv");
-  std::string line;
-  std::getline(in, line);
-  std::vector<std::string> head;
-  {
-    std::istringstream h(line);
-    std::string c;
-    while (std::getline(h, c, '\t')) head.push_back(c);
-  }
-  const auto col = [&](const std::string& name) {
-    return static_cast<std::size_t>(std::find(head.begin(), head.end(), name) - head.begin());
-  };
-  const std::size_t file_col = col("file"), closed_col = col("closed");
-  while (std::getline(in, line)) {
-    std::vector<std::string> cells;
-    std::istringstream s(line);
-    std::string c;
-    while (std::getline(s, c, '\t')) cells.push_back(c);
-    if (cells.size() > std::max(file_col, closed_col) && cells[closed_col] == "yes")
-      out.push_back(cells[file_col]);
-  }
-  return out;
-}
-
 }  // namespace
 
 int main(int argc, char** argv) {
   std::size_t npoints = 20000;
-  std::string dir = default_meshes_dir(), only;
+  std::string dir = medspheres::test::shared_meshes_dir(), only;
   for (int i = 1; i < argc; ++i) {
     const std::string a = argv[i];
     if (a == "--points" && i + 1 < argc)
@@ -195,8 +160,8 @@ int main(int argc, char** argv) {
   for (const char* f : {"knot1.off", "eight.off"})
     work.push_back({std::string("examples/") + f, medspheres::load_mesh(examples + f).mesh});
   if (!dir.empty())
-    for (const std::string& f : closed_manifest_meshes(dir))
-      work.push_back({f, medspheres::load_mesh(dir + "/" + f).mesh});
+    for (const medspheres::test::SharedMesh& m : medspheres::test::read_manifest(dir))
+      if (m.closed) work.push_back({m.file, medspheres::load_mesh(m.path).mesh});
 
   std::printf("MeshQuery vs CGAL AABB_tree (accelerate_distance_queries), %zu points per kind\n",
               npoints);

@@ -21,8 +21,15 @@ struct SharedMesh {
   bool classic() const { return category.rfind("classic", 0) == 0; }
 };
 
-/// Every row of MANIFEST.tsv; empty when the build has no shared meshes.
+/// Every row of DIR/MANIFEST.tsv, paths under DIR. Throws std::runtime_error naming
+/// the file when it cannot be read.
+std::vector<SharedMesh> read_manifest(const std::string& dir);
+
+/// The rows of ../shared/meshes/MANIFEST.tsv; empty when the build has no shared meshes.
 const std::vector<SharedMesh>& shared_meshes();
+
+/// The folder of the shared meshes this build was configured with; empty if none.
+std::string shared_meshes_dir();
 
 /// True when this build was configured with ../shared/meshes present.
 bool have_shared_meshes();
