@@ -184,6 +184,39 @@ TEST_CASE("a sphere budget picks the largest resolution within it", "[bake]") {
   CHECK_THROWS_AS(bake_max_spheres(q, 0), std::invalid_argument);
 }
 
+TEST_CASE("the resolution search stops once doubling adds no sphere", "[bake]") {
+  // A ball's medial surface is its centre: low resolutions find it as one sphere, and
+  // doubling them finds no more, so the search need not climb to the limit.
+  const TriangleMesh m = make_icosphere(1.0, 3);
+  const MeshQuery q(m);
+  const BakeResult r = bake_max_spheres(q, 500);
+  INFO("resolution " << r.stats.resolution << ", spheres " << r.spheres.size());
+  CHECK(r.spheres.size() <= 500);
+  CHECK(r.stats.resolution < 512);
+  BakeOptions half;
+  half.resolution = r.stats.resolution / 2;
+  CHECK(bake(q, half).spheres.size() >= r.spheres.size());
+}
+
+TEST_CASE("an error target the resolution cannot reach stops where doubling stops helping",
+          "[bake]") {
+  const TriangleMesh m = make_box({1.0, 0.6, 0.3}, 2);
+  const MeshQuery q(m);
+  int calls = 0;
+  const ErrorFn flat = [&](const SphereSet&) {
+    ++calls;
+    return 1.0;
+  };
+  try {
+    bake_target_error(q, 0.5, flat);
+    FAIL("an unreachable target must throw");
+  } catch (const Error& e) {
+    CHECK_THAT(e.what(), Contains("stopped reducing"));
+  }
+  // Start 28, one doubling to 56: two distinct resolutions, each measured once.
+  CHECK(calls == 2);
+}
+
 TEST_CASE("an error target picks the smallest resolution that meets it", "[bake]") {
   const TriangleMesh m = make_box({1.0, 0.6, 0.3}, 2);
   const MeshQuery q(m);

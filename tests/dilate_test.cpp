@@ -170,6 +170,19 @@ TEST_CASE("dilation is deterministic for a seed, whatever the thread count", "[d
   o.seed = 99;
   const DilateResult other = dilate(q, knot().internal, o);
   CHECK(other.stats.edge_points == one.stats.edge_points);
+
+  // Under a protrusion cap many small spheres are added, their candidates made in
+  // parallel batches of 64: still the same spheres for every thread count.
+  DilateOptions capped;
+  capped.max_protrusion = 0.0002 * knot().mesh.bounds().sizes().maxCoeff();
+  capped.threads = 1;
+  const DilateResult serial = dilate(q, knot().internal, capped);
+  INFO("added at vertices: " << serial.stats.added_vertex);
+  CHECK(serial.stats.added_vertex > 3 * 64);
+  for (int threads : {2, 3}) {
+    capped.threads = threads;
+    CHECK(bit_identical(serial.spheres, dilate(q, knot().internal, capped).spheres));
+  }
 }
 
 TEST_CASE("dilation rejects bad input by name", "[dilate]") {
