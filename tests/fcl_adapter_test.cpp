@@ -99,21 +99,16 @@ TEST_CASE("SphereSetGeometry: construction, identity and the guard box", "[fcl]"
   const fcl::Boxd box(1, 1, 1);
   CHECK(medspheres::fcl::as_sphere_set(&box) == nullptr);
   CHECK(medspheres::fcl::as_sphere_set(nullptr) == nullptr);
-  // What libfcl sees: a convex box containing every sphere.
-  CHECK(g.getNodeType() == fcl::GEOM_CONVEX);
+  // What libfcl sees: a box centred on the set's origin containing every sphere.
+  CHECK(g.getNodeType() == fcl::GEOM_BOX);
   CHECK(g.getObjectType() == fcl::OT_GEOM);
-  CHECK(g.getVertices().size() == 8);
-  CHECK(g.getFaceCount() == 6);
-  for (const Sphere& s : set.spheres) {
-    // Inside the box: on the inner side of each face plane, by at least the radius.
-    const std::vector<int>& faces = g.getFaces();
-    for (std::size_t f = 0, k = 0; f < 6; ++f, k += 5) {
-      const Eigen::Vector3d& p0 = g.getVertices()[static_cast<std::size_t>(faces[k + 1])];
-      const Eigen::Vector3d& p1 = g.getVertices()[static_cast<std::size_t>(faces[k + 2])];
-      const Eigen::Vector3d& p2 = g.getVertices()[static_cast<std::size_t>(faces[k + 3])];
-      const Eigen::Vector3d n = (p1 - p0).cross(p2 - p0).normalized();
-      CHECK(n.dot(s.center - p0) + s.radius <= 1e-12);
-    }
+  for (const Sphere& s : set.spheres)
+    for (int k = 0; k < 3; ++k) CHECK(std::abs(s.center[k]) + s.radius <= 0.5 * g.side[k]);
+  // Tight: some sphere touches each pair of faces, to rounding.
+  for (int k = 0; k < 3; ++k) {
+    double need = 0.0;
+    for (const Sphere& s : set.spheres) need = std::max(need, std::abs(s.center[k]) + s.radius);
+    CHECK(0.5 * g.side[k] <= need * (1 + 1e-13));
   }
   CHECK_THROWS_AS(g.computeVolume(), std::logic_error);
   CHECK_THROWS_AS(g.computeCOM(), std::logic_error);
@@ -456,6 +451,70 @@ TEST_CASE("libfcl sees a sphere set as a box that contains it", "[fcl]") {
     if (!cres.isCollision()) CHECK(d <= b.min_signed + 1e-6);
   }
   CHECK(colliding > 10);
+}
+
+TEST_CASE("libfcl's answers for a sphere set are its answers for the guard box", "[fcl]") {
+  // Against every geometry libfcl pairs with a box, libfcl's collide() and, where it
+  // computes one, distance() on a sphere set equal its answers on an fcl::Box of the
+  // same sides: the guard is that box, whatever the other geometry.
+  std::mt19937 rng(23);
+  const medspheres::TriangleMesh mesh = mt::bumpy_sphere(7, 9, 0.6);
+  auto verts = std::make_shared<std::vector<Eigen::Vector3d>>(std::vector<Eigen::Vector3d>{
+      {-0.9, -0.7, -0.5}, {0.9, -0.7, -0.5}, {0.0, 1.0, -0.5}, {0.0, 0.0, 1.1}});
+  auto faces = std::make_shared<std::vector<int>>(
+      std::vector<int>{3, 0, 2, 1, 3, 0, 1, 3, 3, 1, 2, 3, 3, 2, 0, 3});
+  struct Other {
+    const char* name;
+    std::shared_ptr<fcl::CollisionGeometryd> g;
+    bool distance;  // libfcl computes box distances to it
+  };
+  const std::vector<Other> others = {
+      {"box", std::make_shared<fcl::Boxd>(0.8, 0.5, 1.1), true},
+      {"sphere", std::make_shared<fcl::Sphered>(0.6), true},
+      {"ellipsoid", std::make_shared<fcl::Ellipsoidd>(0.5, 0.3, 0.7), true},
+      {"capsule", std::make_shared<fcl::Capsuled>(0.3, 0.9), true},
+      {"cone", std::make_shared<fcl::Coned>(0.7, 1.4), true},
+      {"cylinder", std::make_shared<fcl::Cylinderd>(0.4, 0.8), true},
+      {"convex", std::make_shared<fcl::Convexd>(verts, 4, faces, true), true},
+      // libfcl 0.7's distance to planes and halfspaces crashes for every shape.
+      {"plane", std::make_shared<fcl::Planed>(Eigen::Vector3d(0.3, -0.2, 1.0).normalized(), 0.1),
+       false},
+      {"halfspace",
+       std::make_shared<fcl::Halfspaced>(Eigen::Vector3d(-0.5, 0.2, 1.0).normalized(), -0.2),
+       false},
+      {"BVHModel<OBBRSS>", mt::make_bvh<fcl::OBBRSSd>(mesh), true},
+      {"BVHModel<RSS>", mt::make_bvh<fcl::RSSd>(mesh), true},
+      {"BVHModel<kIOS>", mt::make_bvh<fcl::kIOSd>(mesh), true},
+      {"BVHModel<AABB>", mt::make_bvh<fcl::AABBd>(mesh), false},
+      {"BVHModel<OBB>", mt::make_bvh<fcl::OBBd>(mesh), false},
+      {"BVHModel<KDOP24>", mt::make_bvh<fcl::KDOPd<24>>(mesh), false},
+  };
+  for (const Other& other : others) {
+    INFO(other.name);
+    int hits = 0, misses = 0;
+    for (int k = 0; k < 20; ++k) {
+      SphereSet set = mt::random_sphere_set(rng, 1 + rng() % 20, 0.5, 0.05, 0.25);
+      for (Sphere& s : set.spheres) s.center += Eigen::Vector3d(0.3, -0.2, 0.1);  // off-centre
+      const SphereSetGeometry g(set);
+      const fcl::Boxd box(g.side);
+      const fcl::Transform3d X_WA = mt::random_pose(rng, 1.2);
+      const fcl::Transform3d X_WB = mt::random_pose(rng, 1.2);
+      fcl::CollisionRequestd creq(4, true);
+      fcl::CollisionResultd on_set, on_box;
+      fcl::collide(&g, X_WA, other.g.get(), X_WB, creq, on_set);
+      fcl::collide(&box, X_WA, other.g.get(), X_WB, creq, on_box);
+      CHECK(on_set.numContacts() == on_box.numContacts());
+      (on_box.isCollision() ? hits : misses)++;
+      if (other.distance) {
+        fcl::DistanceRequestd dreq;
+        fcl::DistanceResultd d_set, d_box;
+        CHECK(fcl::distance(&g, X_WA, other.g.get(), X_WB, dreq, d_set) ==
+              fcl::distance(&box, X_WA, other.g.get(), X_WB, dreq, d_box));
+      }
+    }
+    CHECK(hits > 0);
+    CHECK(misses > 0);
+  }
 }
 
 TEST_CASE("Sphere sets against unsupported geometries throw instead of reaching libfcl", "[fcl]") {

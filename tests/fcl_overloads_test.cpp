@@ -5,6 +5,7 @@
 #include <limits>
 #include <memory>
 #include <random>
+#include <stdexcept>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -78,4 +79,48 @@ TEST_CASE("With fcl_overloads.h, FCL's default broadphase callbacks handle spher
   fcl::DefaultCollisionData<double> cdata;
   manager.collide(&cdata, fcl::DefaultCollisionFunction);
   CHECK(cdata.result.isCollision() == direct_collision);
+}
+
+TEST_CASE("With fcl_overloads.h, pairs medspheres does not answer go to libfcl, without throwing",
+          "[fcl][overloads]") {
+  // libfcl never throws for a pair it cannot answer, and FCL's default callbacks do not
+  // catch: the overloads must not throw either. A sphere set against fcl::TriangleP, or
+  // at a non-finite pose, is answered by libfcl as for the guard box (an fcl::Box).
+  std::mt19937 rng(43);
+  auto set = std::make_shared<SphereSetGeometry>(mt::random_sphere_set(rng, 20, 0.4));
+  const fcl::Boxd box(set->side);
+  auto triangle = std::make_shared<fcl::TrianglePd>(
+      Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0), Eigen::Vector3d(0, 1, 0));
+  const fcl::Transform3d I = fcl::Transform3d::Identity();
+  fcl::Transform3d bad = I;
+  bad.translation().x() = std::numeric_limits<double>::quiet_NaN();
+  for (const fcl::Transform3d& X : {I, bad}) {
+    fcl::CollisionRequestd creq;
+    fcl::CollisionResultd on_set, on_box;
+    CHECK_NOTHROW(fcl::collide(set.get(), X, triangle.get(), I, creq, on_set));
+    fcl::collide<double>(&box, X, triangle.get(), I, creq, on_box);
+    CHECK(on_set.numContacts() == on_box.numContacts());
+    fcl::DistanceRequestd dreq;
+    fcl::DistanceResultd d_set, d_box;
+    double d = 0.0;
+    CHECK_NOTHROW(d = fcl::distance(triangle.get(), I, set.get(), X, dreq, d_set));
+    CHECK(d == fcl::distance<double>(triangle.get(), I, &box, X, dreq, d_box));
+  }
+  // The explicit medspheres::fcl entry points say what is wrong instead.
+  fcl::CollisionRequestd creq;
+  fcl::CollisionResultd cres;
+  CHECK_THROWS_AS(medspheres::fcl::collide(set.get(), I, triangle.get(), I, creq, cres),
+                  std::invalid_argument);
+  CHECK_THROWS_AS(medspheres::fcl::collide(set.get(), bad, triangle.get(), I, creq, cres),
+                  std::invalid_argument);
+  // Through a broadphase manager and FCL's default callbacks: no exception escapes.
+  fcl::CollisionObjectd a(set, I), b(triangle, I);
+  fcl::DynamicAABBTreeCollisionManagerd manager;
+  manager.registerObject(&a);
+  manager.registerObject(&b);
+  manager.setup();
+  fcl::DefaultCollisionData<double> cdata;
+  CHECK_NOTHROW(manager.collide(&cdata, fcl::DefaultCollisionFunction));
+  fcl::DefaultDistanceData<double> ddata;
+  CHECK_NOTHROW(manager.distance(&ddata, fcl::DefaultDistanceFunction));
 }

@@ -37,6 +37,7 @@
 #include <fcl/geometry/octree/octree.h>
 #endif
 
+#include "fcl_dispatch.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/proximity_target.h"
 #include "medspheres/sphere_tree.h"
@@ -415,6 +416,27 @@ std::vector<TreeContact> sphere_set_contacts(const SphereSetGeometry& s,
 }
 
 }  // namespace
+
+namespace detail {
+
+bool answered_on_spheres(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& tf1,
+                         const ::fcl::CollisionGeometryd* o2, const ::fcl::Transform3d& tf2) {
+  if (o1 == nullptr || o2 == nullptr) return true;
+  const SphereSetGeometry* s1 = as_sphere_set(o1);
+  const SphereSetGeometry* s2 = as_sphere_set(o2);
+  if (s1 == nullptr && s2 == nullptr) return false;
+  if (!finite_pose(tf1) || !finite_pose(tf2)) return false;
+  if (s1 != nullptr && s2 != nullptr) return true;
+  // Building the target view is what checks the other geometry (and is cheap).
+  try {
+    return with_target(s1 == nullptr ? *o1 : *o2, Narrowphase{},
+                       [](const ProximityTarget&) { return true; });
+  } catch (const std::invalid_argument&) {
+    return false;
+  }
+}
+
+}  // namespace detail
 
 double distance(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& tf1,
                 const ::fcl::CollisionGeometryd* o2, const ::fcl::Transform3d& tf2,

@@ -8,6 +8,13 @@
 /// whose unqualified calls find these overloads by argument-dependent lookup. Pairs
 /// without a sphere set still end in libfcl, with the same results.
 ///
+/// Like libfcl's, these functions do not throw for a pair they cannot answer (FCL's
+/// default callbacks do not catch): a sphere set against a geometry that
+/// medspheres::fcl::distance and collide reject (fcl::TriangleP, a BVHModel of points or
+/// not finished, a user-defined type) or at a non-finite pose goes to libfcl, which
+/// answers for its guard box (see sphere_set_geometry.h). Null geometries still throw
+/// std::invalid_argument, where libfcl would dereference them.
+///
 /// Caveat: include this header in every translation unit of the program that calls
 /// fcl::distance or fcl::collide, or instantiates FCL's default callbacks. A translation
 /// unit without it calls libfcl directly, which sees a sphere set as its enclosing box

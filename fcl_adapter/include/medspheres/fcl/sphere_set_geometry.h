@@ -44,13 +44,19 @@
 /// fcl::collide directly (or FCL's default broadphase callbacks, compiled without
 /// fcl_overloads.h) sends a SphereSetGeometry to libfcl, which has no node type for it;
 /// a geometry of unknown type is reported as "no collision". So SphereSetGeometry
-/// derives from fcl::CollisionGeometry<double> through fcl::Convex<double>, and presents
-/// itself to libfcl as a convex box that encloses all its spheres: getNodeType() is
-/// GEOM_CONVEX, getObjectType() OT_GEOM, getVertices() the box's eight corners (along the
-/// principal axes of the sphere centres). libfcl then answers for that box: it never
-/// misses a collision of the spheres, may report collisions they do not have, and
-/// reports distances no larger than theirs. Identify a sphere set with as_sphere_set(),
-/// not with getNodeType().
+/// derives from fcl::CollisionGeometry<double> through fcl::Box<double>, and presents
+/// itself to libfcl as a box centred on the origin of its frame that encloses all its
+/// spheres: getNodeType() is GEOM_BOX, getObjectType() OT_GEOM, `side` twice the largest
+/// |coordinate| + radius along each axis. libfcl then answers exactly as for that
+/// fcl::Box: wherever it supports a box, it never misses a collision of the spheres, may
+/// report collisions they do not have, and reports distances no larger than theirs.
+/// Where libfcl does not support a box it does what it does for its own box: it prints
+/// "... is not supported" and reports no collision (against fcl::TriangleP) or a
+/// distance of the largest double (distance against a BVHModel of AABB, OBB or KDOP
+/// nodes), and libfcl 0.7's distance against fcl::Plane or fcl::Halfspace crashes for a
+/// box as for every shape. (A box was chosen over a tighter fcl::Convex because libfcl
+/// 0.7 also crashes in collide() between a Convex and a Plane.) Identify a sphere set
+/// with as_sphere_set(), not with getNodeType().
 ///
 /// Frames and units: tf1, tf2 and the CollisionObjects' transforms pose the geometries
 /// in FCL's world frame W; results are in W, in the sphere set's units. Inside namespace
@@ -93,7 +99,7 @@
 #include <cstddef>
 #include <memory>
 
-#include <fcl/geometry/shape/convex.h>
+#include <fcl/geometry/shape/box.h>
 #include <fcl/narrowphase/collision_object.h>
 #include <fcl/narrowphase/collision_request.h>
 #include <fcl/narrowphase/collision_result.h>
@@ -105,7 +111,7 @@
 
 namespace medspheres::fcl {
 
-class SphereSetGeometry final : public ::fcl::Convex<double> {
+class SphereSetGeometry final : public ::fcl::Box<double> {
  public:
   /// Copies \p set and builds its sphere tree (RSS nodes by default).
   /// \throws InputError (source "sphere set") for a sphere with a non-finite coordinate
