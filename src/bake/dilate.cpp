@@ -34,7 +34,7 @@ void validate(const DilateOptions& o) {
     if (!(o.cover_max_added > 0.0) || !std::isfinite(o.cover_max_added))
       throw std::invalid_argument("cover added-sphere cap must be finite and > 0");
   }
-  if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
+  check_threads(o.threads);
 }
 
 // A unit vector perpendicular to the unit vector n, the same for the same n.
@@ -44,17 +44,19 @@ Eigen::Vector3d perpendicular(const Eigen::Vector3d& n) {
   return n.cross(Eigen::Vector3d::Unit(axis)).normalized();
 }
 
-// The sphere added for a point u of the surface whose nearest point on the union is t:
-// the paper's Fig. 4(b), diameter from u to t, centre (u + t) / 2. Under a protrusion
-// cap that sphere may stick out of the solid by more than the cap; then the sphere is
-// the largest one, centred on a ray from u into the solid, that sticks out by exactly
-// the cap and comes within the tolerance of u. With c(s) = u + s d and D the signed
+// The sphere added for a point u of the surface whose nearest point on the union is t.
+// Without a protrusion cap it is the paper's, Fig. 4(b): diameter from u to t, centre
+// (u + t) / 2. Under a cap it is the largest of three candidates that stick out of the
+// solid by at most the cap and come within the tolerance of u: the paper's sphere when
+// it keeps to the cap, and the largest sphere on each of two rays from u into the solid
+// that sticks out by exactly the cap. (The largest, because the paper's sphere is tiny
+// when u is only a little farther than the tolerance from the union, and such spheres
+// would have to be added by the thousand.) On a ray c(s) = u + s d, with D the signed
 // distance to the mesh (positive inside), such a sphere has radius D(c) + cap and misses
 // u by f(s) = s - D(c(s)) - cap; D is 1-Lipschitz, so f is nondecreasing, f(0) <= 0 for u
-// on the surface, and bisection finds the largest s with f(s) <= tolerance. Two rays are
-// tried, and the larger sphere kept: toward t, and along the inward normal of the
-// triangle nearest u, along which D grows fastest (it gives the larger sphere about nine
-// times in ten on the test meshes).
+// on the surface, and bisection finds the largest s with f(s) <= tolerance. The rays: toward
+// t, and along the inward normal of the triangle nearest u, along which D grows fastest.
+// Either may reach the medial surface, at most a bounding-box diagonal away.
 class SphereMaker {
  public:
   SphereMaker(const MeshQuery& query, double cap, double tolerance)
@@ -62,16 +64,15 @@ class SphereMaker {
 
   Sphere make(const Eigen::Vector3d& u, const Eigen::Vector3d& t) const {
     const Sphere paper{0.5 * (u + t), 0.5 * (t - u).norm()};
-    if (!std::isfinite(cap_) || paper.radius - depth(paper.center) <= cap_) return paper;
-    Sphere best = along(u, (t - u) / (2.0 * paper.radius), paper.radius);
+    if (!std::isfinite(cap_)) return paper;
+    Sphere best = along(u, (t - u) / (2.0 * paper.radius), diagonal_);
+    if (paper.radius - depth(paper.center) <= cap_ && paper.radius > best.radius) best = paper;
     const TriangleMesh& m = query_.mesh();
     const auto& tri = m.triangles[static_cast<std::size_t>(query_.closest_point(u).triangle)];
     const Eigen::Vector3d& a = m.vertices[static_cast<std::size_t>(tri[0])];
     const Eigen::Vector3d n = (m.vertices[static_cast<std::size_t>(tri[1])] - a)
                                   .cross(m.vertices[static_cast<std::size_t>(tri[2])] - a);
     if (n.squaredNorm() > 0.0) {
-      // Along the normal the sphere can reach the medial surface, which lies at most a
-      // bounding-box diagonal away.
       const Sphere inward = along(u, -n.normalized(), diagonal_);
       if (inward.radius > best.radius) best = inward;
     }
