@@ -80,16 +80,23 @@ class SphereMaker {
   }
 
  private:
-  // The largest sphere on the ray u + s dir, s in [0, reach]: 24 halvings take the
-  // bracket to 6e-8 of its start, far below the tolerances this serves.
+  // The largest sphere on the ray u + s dir, s in [0, reach], to within 2% of `step` in s,
+  // step = cap + tolerance (at least 1e-6 reach). f(0) <= tolerance, so s doubles from
+  // step while f stays within the tolerance, then bisection narrows the last bracket. The
+  // spheres are mostly small beside the diagonal: about ten evaluations instead of the 24
+  // of a bisection over [0, reach].
   Sphere along(const Eigen::Vector3d& u, const Eigen::Vector3d& dir, double reach) const {
-    double lo = 0.0, hi = reach;
-    for (int i = 0; i < 24; ++i) {
+    const auto f = [&](double s) { return s - depth(u + s * dir) - cap_; };
+    const double step = std::max(cap_ + tolerance_, 1e-6 * reach);
+    double lo = 0.0, hi = std::min(step, reach);
+    while (hi < reach && f(hi) <= tolerance_) {
+      lo = hi;
+      hi = std::min(2.0 * hi, reach);
+    }
+    if (hi == reach && f(hi) <= tolerance_) lo = hi;
+    while (hi - lo > 0.02 * step) {
       const double mid = 0.5 * (lo + hi);
-      if (mid - depth(u + mid * dir) - cap_ <= tolerance_)
-        lo = mid;
-      else
-        hi = mid;
+      (f(mid) <= tolerance_ ? lo : hi) = mid;
     }
     const Eigen::Vector3d c = u + lo * dir;
     return {c, std::max(depth(c) + cap_, 0.0)};
