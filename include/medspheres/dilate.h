@@ -27,9 +27,11 @@
 ///    comes, so the result does not depend on the thread count.)
 /// 4. Optional, beyond the paper (`cover_tolerance` >= 0): rounds of fresh surface
 ///    samples (area-weighted, plus every vertex), each sample farther than the tolerance
-///    outside the union getting a sphere as in step 3, until a round finds none or the
-///    caps are hit; spheres are added as in step 3, cap included. The largest uncovered
-///    distance of the last round is reported.
+///    outside the union getting a sphere as in step 3, cap included, that comes within
+///    half the tolerance of it (so that the samples around it are covered too), until a
+///    round finds none or the caps are hit. The largest uncovered distance of the last
+///    round is reported. It bounds the samples of that round only: a denser sampling
+///    finds somewhat larger gaps (bench_dilate measures 10^5 fresh samples).
 ///
 /// Spheres only grow or are added: S_D is contained in S+, so every distance between
 /// two sphere sets built this way is at most the distance between their S_D. The order
@@ -59,8 +61,10 @@ struct DilateOptions {
   double cover_tolerance = -1.0;
   /// Step 4: area-weighted samples per round (every vertex is sampled too).
   std::size_t cover_samples = 20000;
-  /// Step 4 caps: rounds, and spheres added by step 4 as a multiple of |S_D|.
-  int cover_max_rounds = 8;
+  /// Step 4 caps: rounds, and spheres added by step 4 as a multiple of |S_D|. Once few
+  /// samples are left uncovered a round costs little; 32 rounds leave a handful of
+  /// samples per 20000 uncovered on the meshes with the sharpest features.
+  int cover_max_rounds = 32;
   double cover_max_added = 4.0;
   int threads = 0;  ///< 0: all cores
 };

@@ -282,7 +282,7 @@ DilateResult dilate(const MeshQuery& query, const SphereSet& internal,
         break;
       }
       if (round == options.cover_max_rounds || st.added_cover >= cap) break;
-      const SphereMaker maker(query, options.max_protrusion, options.cover_tolerance);
+      const SphereMaker maker(query, options.max_protrusion, 0.5 * options.cover_tolerance);
       st.added_cover += add_touching_spheres(spheres, spheres.size(), samples.points, cov,
                                              options.cover_tolerance, cap - st.added_cover, maker,
                                              options.threads);
