@@ -289,6 +289,59 @@ TEST_CASE("Sphere set pairs are symmetric under swapping", "[fcl]") {
   }
 }
 
+TEST_CASE("abs_err and rel_err prune sphere set pairs within FCL's guarantee", "[fcl]") {
+  // Over seeded scenes apart: with both tolerances binding, some answers exceed the exact
+  // minimum d*; every answer keeps d* <= d <= min(d* + abs_err, (1 + rel_err) d*) and is
+  // the value of the pair it reports; one tolerance alone leaves the answer exact (FCL's
+  // rule then prunes as with none). 1e6 stands for a tolerance that never binds.
+  struct Mode {
+    const char* name;
+    double abs_err;  // a fraction of d*, unless 1e6
+    double rel_err;
+    bool loose;
+  };
+  const std::vector<Mode> modes = {{"exact", 0, 0, false},
+                                   {"rel_err 0.5", 1e6, 0.5, true},
+                                   {"abs_err 0.5 d*", 0.5, 1e6, true},
+                                   {"rel_err alone", 0, 0.5, false},
+                                   {"abs_err alone", 0.5, 0, false}};
+  std::vector<int> inexact(modes.size(), 0);
+  int scenes = 0;
+  for (const Scene& s : random_scenes(18, 80)) {
+    const double exact = brute(s).min_signed;
+    if (exact <= 1e-6) continue;
+    ++scenes;
+    const double tol = 1e-9;
+    for (std::size_t m = 0; m < modes.size(); ++m) {
+      INFO(modes[m].name);
+      const double abs_err = modes[m].abs_err * (modes[m].abs_err < 1e6 ? exact : 1.0);
+      for (bool is_signed : {false, true}) {
+        fcl::DistanceRequestd req(true, is_signed, modes[m].rel_err, abs_err);
+        fcl::DistanceResultd res;
+        const double d =
+            medspheres::fcl::distance(s.ga.get(), s.X_WA, s.gb.get(), s.X_WB, req, res);
+        CHECK(d >= exact - tol);
+        CHECK(d <= std::min(exact + abs_err, (1 + modes[m].rel_err) * exact) + tol);
+        REQUIRE(res.b1 >= 0);
+        REQUIRE(res.b2 >= 0);
+        CHECK(mt::pair_signed_distance(s.a.spheres[static_cast<std::size_t>(res.b1)], s.X_WA,
+                                       s.b.spheres[static_cast<std::size_t>(res.b2)],
+                                       s.X_WB) == Approx(d).margin(tol));
+        if (!modes[m].loose) CHECK(d == Approx(exact).margin(tol));
+        if (!is_signed && d > exact + tol) ++inexact[m];
+      }
+    }
+  }
+  CHECK(scenes >= 20);
+  for (std::size_t m = 0; m < modes.size(); ++m) {
+    INFO(modes[m].name << ": " << inexact[m] << " inexact answers over " << scenes);
+    if (modes[m].loose)
+      CHECK(inexact[m] > 0);
+    else
+      CHECK(inexact[m] == 0);
+  }
+}
+
 TEST_CASE("medspheres::fcl follows FCL's request and result conventions", "[fcl]") {
   std::mt19937 rng(13);
   SphereSet a = mt::random_sphere_set(rng, 40, 0.5, 0.1, 0.3);

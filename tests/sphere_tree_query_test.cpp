@@ -4,6 +4,8 @@
 
 #include <algorithm>
 #include <cmath>
+#include <cstdint>
+#include <limits>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -14,6 +16,7 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/sphere_tree.h"
+#include "medspheres/triangle_tree.h"
 #include "support/sphere_fixtures.h"
 
 using medspheres::BoundingVolumeKind;
@@ -272,6 +275,163 @@ TEST_CASE("SphereTree tolerances keep FCL's guarantee", "[sphere_tree][query]") 
     o.abs_err = 0.0;
     o.rel_err = 0.5;
     CHECK(medspheres::distance(ta, c.X_WA, tb, c.X_WB, o).distance == Approx(exact).margin(tol));
+  }
+}
+
+namespace {
+
+// The tolerance modes compared below. With one tolerance zero, FCL's rule prunes exactly
+// as with none (c >= best - abs_err and c (1 + rel_err) >= best reduces to c >= best); the
+// other tolerance is then set to a value that never binds (1e6, the options must be
+// finite) so that the one under test decides.
+struct ToleranceMode {
+  const char* name;
+  double abs_err;  ///< as a fraction of the exact distance when relative_abs
+  double rel_err;
+  bool relative_abs;
+  bool loose;  ///< expected to prune (both tolerances bind), else exact
+};
+
+const std::vector<ToleranceMode>& tolerance_modes() {
+  static const std::vector<ToleranceMode> modes = {
+      {"exact", 0.0, 0.0, false, false},
+      {"rel_err 0.5", 1e6, 0.5, false, true},
+      {"abs_err 0.5 d*", 0.5, 1e6, true, true},
+      {"rel_err 0.5 alone", 0.0, 0.5, false, false},
+      {"abs_err 0.5 d* alone", 0.5, 0.0, true, false},
+  };
+  return modes;
+}
+
+// Work summed over scenes, and how many answers exceed the exact minimum, per mode.
+struct ToleranceTotals {
+  std::vector<std::uint64_t> work = std::vector<std::uint64_t>(tolerance_modes().size(), 0);
+  std::vector<int> inexact = std::vector<int>(tolerance_modes().size(), 0);
+  int scenes = 0;
+};
+
+// Runs \p query (DistanceOptions -> TreeDistance) in every mode on a scene whose exact
+// minimum is exact > 0, checks FCL's guarantee d* <= d <= min(d* + abs_err, (1 + rel_err) d*)
+// (to tol) and, through \p check_pair, that the reported pair has the reported value;
+// accumulates the work (bv_tests + leaf_tests) into totals.
+template <class Query, class CheckPair>
+void run_tolerance_modes(double exact, double tol, Query query, CheckPair check_pair,
+                         ToleranceTotals& totals) {
+  ++totals.scenes;
+  std::vector<std::uint64_t> work;
+  for (std::size_t m = 0; m < tolerance_modes().size(); ++m) {
+    const ToleranceMode& mode = tolerance_modes()[m];
+    INFO(mode.name);
+    DistanceOptions o;
+    o.abs_err = mode.relative_abs ? mode.abs_err * exact : mode.abs_err;
+    o.rel_err = mode.rel_err;
+    const TreeDistance d = query(o);
+    REQUIRE(d.found());
+    CHECK(d.distance >= exact - tol);
+    CHECK(d.distance <= std::min(exact + o.abs_err, (1 + o.rel_err) * exact) + tol);
+    check_pair(d, tol);
+    if (!mode.loose) CHECK(d.distance == Approx(exact).margin(tol));
+    if (d.distance > exact + tol) ++totals.inexact[m];
+    work.push_back(d.stats.bv_tests + d.stats.leaf_tests);
+    totals.work[m] += work.back();
+  }
+  // One tolerance alone prunes exactly as none: the same traversal.
+  CHECK(work[3] == work[0]);
+  CHECK(work[4] == work[0]);
+}
+
+void check_tolerance_totals(const ToleranceTotals& totals) {
+  INFO("scenes " << totals.scenes);
+  CHECK(totals.scenes >= 20);
+  for (std::size_t m = 1; m < tolerance_modes().size(); ++m) {
+    INFO(tolerance_modes()[m].name << ": work " << totals.work[m] << " against " << totals.work[0]
+                                   << " exact, " << totals.inexact[m] << " inexact answers");
+    if (tolerance_modes()[m].loose) {
+      CHECK(totals.work[m] < totals.work[0]);  // loosening prunes
+      CHECK(totals.inexact[m] > 0);            // and is used: some answer is not exact
+    } else {
+      CHECK(totals.work[m] == totals.work[0]);
+      CHECK(totals.inexact[m] == 0);
+    }
+  }
+  CHECK(totals.inexact[0] == 0);
+}
+
+}  // namespace
+
+TEST_CASE("SphereTree tolerances prune tree-tree queries within FCL's guarantee",
+          "[sphere_tree][query]") {
+  for (const SphereTreeOptions& options : all_options()) {
+    INFO("kind " << static_cast<int>(options.kind) << " leaf " << options.max_leaf_size);
+    ToleranceTotals totals;
+    for (const Case& c : random_cases(56, 60)) {
+      const SphereTree ta(c.a, options), tb(c.b, options);
+      const double exact = mt::brute_min(c.a, c.X_WA, c.b, c.X_WB).value;
+      const double tol = tolerance(c);
+      if (exact < -tol) {
+        // A negative signed distance is exact whatever the tolerances.
+        DistanceOptions o;
+        o.abs_err = 1e6;
+        o.rel_err = 1e6;
+        CHECK(medspheres::signed_distance(ta, c.X_WA, tb, c.X_WB, o).distance ==
+              Approx(exact).margin(tol));
+        continue;
+      }
+      if (exact <= tol) continue;
+      for (bool is_signed : {false, true}) {
+        run_tolerance_modes(
+            exact, tol,
+            [&](const DistanceOptions& o) {
+              return is_signed ? medspheres::signed_distance(ta, c.X_WA, tb, c.X_WB, o)
+                               : medspheres::distance(ta, c.X_WA, tb, c.X_WB, o);
+            },
+            [&](const TreeDistance& d, double t) { check_reported_pair(c, d, t); }, totals);
+      }
+    }
+    check_tolerance_totals(totals);
+  }
+}
+
+TEST_CASE("SphereTree tolerances prune tree-mesh queries within FCL's guarantee",
+          "[sphere_tree][query]") {
+  const medspheres::TriangleMesh mesh = mt::bumpy_sphere(12, 17, 1.0);
+  const medspheres::TriangleTree target(mesh);
+  std::mt19937 rng(57);
+  for (const SphereTreeOptions& options : all_options()) {
+    INFO("kind " << static_cast<int>(options.kind) << " leaf " << options.max_leaf_size);
+    ToleranceTotals totals;
+    for (int k = 0; k < 40; ++k) {
+      const SphereSet set = (k % 2) ? mt::random_sheet_set(rng, 1 + rng() % 120)
+                                    : mt::random_sphere_set(rng, 1 + rng() % 120, 0.6, 0.02, 0.2);
+      const SphereTree tree(set, options);
+      const Eigen::Isometry3d X_WA = mt::random_pose(rng, 3.0);
+      const Eigen::Isometry3d X_WB = mt::random_pose(rng, 3.0);
+      // Brute force over sphere x triangle pairs, in W (the mesh is a surface).
+      auto pair_value = [&](std::size_t i, std::size_t t) {
+        const Eigen::Vector3d c = X_WA * set.spheres[i].center;
+        const Eigen::Vector3d q = medspheres::closest_point_on_triangle(
+            c, X_WB * mesh.corner(t, 0), X_WB * mesh.corner(t, 1), X_WB * mesh.corner(t, 2));
+        return (q - c).norm() - set.spheres[i].radius;
+      };
+      double exact = std::numeric_limits<double>::infinity();
+      for (std::size_t i = 0; i < set.size(); ++i)
+        for (std::size_t t = 0; t < mesh.num_triangles(); ++t)
+          exact = std::min(exact, pair_value(i, t));
+      const double tol = 1e-12 * (4 + X_WA.translation().norm() + X_WB.translation().norm());
+      if (exact <= tol) continue;
+      run_tolerance_modes(
+          exact, tol,
+          [&](const DistanceOptions& o) {
+            return medspheres::distance(tree, X_WA, target, X_WB, o);
+          },
+          [&](const TreeDistance& d, double t) {
+            CHECK(pair_value(static_cast<std::size_t>(d.sphere_a),
+                             static_cast<std::size_t>(d.primitive_b)) ==
+                  Approx(d.distance).margin(t));
+          },
+          totals);
+    }
+    check_tolerance_totals(totals);
   }
 }
 

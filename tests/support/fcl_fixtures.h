@@ -29,6 +29,7 @@ struct FclAnswer {
   double distance = std::numeric_limits<double>::infinity();  ///< when separated
   double depth = 0.0;                                         ///< when colliding
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();           ///< when colliding
+  Eigen::Vector3d pos = Eigen::Vector3d::Zero();              ///< FCL's contact position
   Eigen::Vector3d p_sphere = Eigen::Vector3d::Zero();         ///< nearest points when separated
   Eigen::Vector3d p_other = Eigen::Vector3d::Zero();
   /// Signed distance: distance when separated, -depth when colliding.
@@ -51,6 +52,7 @@ inline FclAnswer fcl_sphere_answer(const Sphere& s, const Eigen::Isometry3d& X_W
     out.collides = true;
     out.depth = cres.getContact(0).penetration_depth;
     out.normal = cres.getContact(0).normal;
+    out.pos = cres.getContact(0).pos;
     return out;
   }
   if (use_distance) {
@@ -83,6 +85,26 @@ inline double fcl_sphere_triangle_signed_distance(const Eigen::Vector3d& c, doub
                                                   const Eigen::Vector3d& d) {
   const auto result = ::fcl::detail::Project<double>::projectTriangle(a, b, d, c);
   return std::sqrt(result.sqr_distance) - r;
+}
+
+/// FCL's point of triangle (a, b, d) nearest to c (fcl::detail::Project), from its
+/// barycentric parameterization. The triangle must not be degenerate.
+inline Eigen::Vector3d fcl_closest_point_on_triangle(const Eigen::Vector3d& c,
+                                                     const Eigen::Vector3d& a,
+                                                     const Eigen::Vector3d& b,
+                                                     const Eigen::Vector3d& d) {
+  const auto result = ::fcl::detail::Project<double>::projectTriangle(a, b, d, c);
+  return result.parameterization[0] * a + result.parameterization[1] * b +
+         result.parameterization[2] * d;
+}
+
+/// The contact position documented in sphere_set_geometry.h for a ball (centre c, radius
+/// r) in contact with a primitive with penetration depth \p depth along the unit normal n
+/// (from the ball into the primitive): the midpoint of the two deepest points, c + r n on
+/// the ball and c + (r - depth) n on the primitive.
+inline Eigen::Vector3d documented_contact_position(const Eigen::Vector3d& c, double r, double depth,
+                                                   const Eigen::Vector3d& n) {
+  return c + (r - 0.5 * depth) * n;
 }
 
 }  // namespace medspheres::test
