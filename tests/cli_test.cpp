@@ -3,6 +3,8 @@
 #include <fstream>
 #include <sstream>
 
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -84,7 +86,14 @@ TEST_CASE("bad usage and bad input exit 2 with a message naming the problem", "[
   r = cli("info " +
           shell_quote(dir.write("nan.off", "OFF\n3 1 0\n0 0 0\nnan 0 0\n0 1 0\n3 0 1 2\n")));
   CHECK(r.exit_code == 2);
-  CHECK_THAT(r.err, Contains("nan.off"));
+  CHECK_THAT(r.err, Contains("nan.off") && Contains("non-finite"));
+
+  // A FIFO would block open() for ever.
+  const std::string fifo = dir.file("fifo.obj");
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  r = cli("info " + shell_quote(fifo));
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("fifo.obj") && Contains("not a regular file"));
 
   r = cli("info " + shell_quote(dir.write("x.unknown", "stuff")));
   CHECK(r.exit_code == 2);
@@ -100,7 +109,9 @@ TEST_CASE("bad usage and bad input exit 2 with a message naming the problem", "[
 
 #ifdef MEDSPHERES_SHARED_MESHES
 TEST_CASE("info --json agrees with MANIFEST.tsv on every shared mesh", "[cli][shared]") {
-  for (const auto& row : medspheres::test::shared_meshes()) {
+  const auto& rows = medspheres::test::shared_meshes();
+  REQUIRE(rows.size() >= 40);  // an empty or unreadable manifest must not pass
+  for (const auto& row : rows) {
     INFO(row.file);
     const CommandResult r = cli("info --json " + shell_quote(row.path));
     REQUIRE(r.exit_code == 0);

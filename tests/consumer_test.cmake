@@ -31,4 +31,22 @@ if(NOT step_output MATCHES "634 triangles, [0-9]+ spheres")
 endif()
 step(fcl "${WORK_DIR}/build/fcl_example" "${WORK_DIR}/eight.spheres.json")
 message(STATUS "${step_output}")
+
+# Without CGAL: the run-time targets still configure, build and run; asking for the
+# bake component fails at find_package, naming CGAL.
+step(configure-without-cgal ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/consumer"
+     -B "${WORK_DIR}/build-nocgal" -DCMAKE_BUILD_TYPE=Release
+     "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" -DCMAKE_DISABLE_FIND_PACKAGE_CGAL=ON
+     -DCONSUMER_WITH_BAKE=OFF)
+step(build-without-cgal ${CMAKE_COMMAND} --build "${WORK_DIR}/build-nocgal" -j 2)
+step(fcl-without-cgal "${WORK_DIR}/build-nocgal/fcl_example" "${WORK_DIR}/eight.spheres.json")
+execute_process(
+  COMMAND ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/consumer" -B "${WORK_DIR}/build-nobake"
+          -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix"
+          -DCMAKE_DISABLE_FIND_PACKAGE_CGAL=ON -DCONSUMER_WITH_BAKE=ON
+  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "bake component needs CGAL")
+  message(FATAL_ERROR "COMPONENTS bake without CGAL should fail naming CGAL (${rc}):\n${out}\n${err}")
+endif()
+message(STATUS "bake-without-cgal: fails as it should")
 file(REMOVE_RECURSE "${WORK_DIR}")

@@ -1,3 +1,13 @@
+#include <cerrno>
+#include <cmath>
+#include <cstdint>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+
+#include <sys/stat.h>
+#include <sys/wait.h>
+
 #include <catch2/catch.hpp>
 
 #include "medspheres/error.h"
@@ -25,14 +35,105 @@ void check_same_solid(const LoadedMesh& got, const TriangleMesh& want, double to
   CHECK((got.report.bbox_max - w.bbox_max).norm() < tol);
 }
 
-std::string error_of(const std::string& path) {
+std::string error_of(const std::string& path, const MeshLoadOptions& options = {}) {
   try {
-    load_mesh(path);
+    load_mesh(path, options);
   } catch (const InputError& e) {
     CHECK(e.source() == path);
     return e.what();
   }
   return "";
+}
+
+// Builds with these sanitizers do not limit the import's address space (mesh_io.h).
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kNoMemoryLimit = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+constexpr bool kNoMemoryLimit = true;
+#else
+constexpr bool kNoMemoryLimit = false;
+#endif
+#else
+constexpr bool kNoMemoryLimit = false;
+#endif
+
+// The unit cube of the audit's fuzzing repros, as PLY with \p end_header as the last
+// header line: misspelled, assimp 5.2.5 segfaults on the binary file and loops forever
+// on the ASCII one.
+std::string cube_ply(bool binary, const std::string& end_header) {
+  const float v[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
+                         {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
+  const int f[12][3] = {{0, 2, 1}, {0, 3, 2}, {4, 5, 6}, {4, 6, 7}, {0, 1, 5}, {0, 5, 4},
+                        {1, 2, 6}, {1, 6, 5}, {2, 3, 7}, {2, 7, 6}, {3, 0, 4}, {3, 4, 7}};
+  std::string s = std::string("ply\nformat ") + (binary ? "binary_little_endian" : "ascii") +
+                  " 1.0\nelement vertex 8\nproperty float x\nproperty float y\nproperty "
+                  "float z\nelement face 12\nproperty list uchar int vertex_indices\n" +
+                  end_header + "\n";
+  if (binary) {
+    for (const auto& p : v) s.append(reinterpret_cast<const char*>(p), sizeof p);
+    for (const auto& t : f) {
+      s.push_back('\3');
+      s.append(reinterpret_cast<const char*>(t), sizeof t);
+    }
+  } else {
+    for (const auto& p : v)
+      s += std::to_string(int(p[0])) + " " + std::to_string(int(p[1])) + " " +
+           std::to_string(int(p[2])) + "\n";
+    for (const auto& t : f)
+      s += "3 " + std::to_string(t[0]) + " " + std::to_string(t[1]) + " " + std::to_string(t[2]) +
+           "\n";
+  }
+  return s;
+}
+
+// The audit's COLLADA repro: a stray letter in <p> ("7G2") makes assimp 5.2.5 loop while
+// allocating without bound.
+const char* const kRunawayDae = R"(<?xml version="1.0" encoding="utf-8"?>
+<COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
+ <asset><unit name="centimeter" meter="0.01"/><up_axis>Z_UP</up_axis></asset>
+ <library_geometries>
+  <geometry id="cube" name="cube"><mesh>
+   <source id="cube-pos"><float_array id="cube-pos-arr" count="24">0 0 0 1 0 0 1 1 0 0 1 0 0 0 1 1 0 1 1 1 1 0 1 1</float_array>
+    <technique_common><accessor source="#cube-pos-arr" count="8" stride="3"><param name="X" type="float"/><param name="Y" type="float"/><param name="Z" type="float"/></accessor></technique_common></source>
+   <vertices id="cube-vtx"><input semantic="POSITION" source="#cube-pos"/></vertices>
+   <triangles count="12"><input semantic="VERTEX" source="#cube-vtx" offset="0"/><p>0 2 1 0 3 2 4 5 6 4 6 7 0 1 5 0 5 4 1 2 6 1 6 5 2 3 7G2 7 6 3 0 4 3 4 7</p></triangles>
+  </mesh></geometry>
+ </library_geometries>
+ <library_visual_scenes><visual_scene id="Scene">
+  <node id="A"><instance_geometry url="#cube"/></node>
+ </visual_scene></library_visual_scenes>
+ <scene><instance_visual_scene url="#Scene"/></scene>
+</COLLADA>
+)";
+
+MeshLoadOptions with_timeout(double seconds) {
+  MeshLoadOptions o;
+  o.import_timeout_seconds = seconds;
+  return o;
+}
+
+std::size_t open_descriptors() {
+  std::size_t n = 0;
+  for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) ++n;
+  return n;
+}
+
+// An [lo, hi]^3 cube, outward.
+TriangleMesh cube(double lo, double hi) {
+  TriangleMesh m = make_box(Eigen::Vector3d::Constant((hi - lo) / 2));
+  for (auto& v : m.vertices) v += Eigen::Vector3d::Constant((hi + lo) / 2);
+  return m;
+}
+
+void append(TriangleMesh& to, const TriangleMesh& m, bool inward) {
+  const int off = static_cast<int>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
+  for (auto t : m.triangles) {
+    if (inward) std::swap(t[1], t[2]);
+    to.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+  }
 }
 
 }  // namespace
@@ -121,7 +222,192 @@ TEST_CASE("bad mesh files get an error naming the file and the problem", "[mesh_
   CHECK_THAT(error_of(dir.write("garbage.stl", std::string(200, '\x07'))),
              Contains("cannot parse") || Contains("no triangles"));
   CHECK_THAT(error_of(dir.write("bad.off", "OFF\n3 1 0\n0 0 0\n")),
-             Contains("cannot parse") || Contains("no triangles"));
+             Contains("truncated") && Contains("3 vertices"));
+}
+
+TEST_CASE("assimp's errors read as parse failures", "[mesh_io]") {
+  TempDir dir;
+  CHECK_THAT(error_of(dir.write("garbage.ply", "plx\nnot a ply file\n")),
+             Contains("cannot parse the file (assimp: ") && Contains("magic number"));
+  CHECK_THAT(error_of(dir.write("oor.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 9\n")),
+             Contains("cannot parse the file (assimp: ") && Contains("out of range"));
+}
+
+TEST_CASE("only regular files are read", "[mesh_io]") {
+  TempDir dir;
+  const std::string fifo = dir.file("pipe.obj");
+  REQUIRE(::mkfifo(fifo.c_str(), 0600) == 0);
+  // Without the check this blocks for ever in open(), waiting for a writer.
+  CHECK_THAT(error_of(fifo), Contains("not a regular file"));
+  const std::string dev = dir.file("null.stl");
+  std::filesystem::create_symlink("/dev/null", dev);
+  CHECK_THAT(error_of(dev), Contains("not a regular file"));
+  std::filesystem::create_symlink(dir.file("nowhere.obj"), dir.file("dangling.obj"));
+  CHECK_THAT(error_of(dir.file("dangling.obj")), Contains("no such file"));
+}
+
+TEST_CASE("non-finite coordinates are named by mesh and vertex as read", "[mesh_io]") {
+  TempDir dir;
+  // The file's coordinates are checked before any transform: inf stays inf, no -nan.
+  const std::string inf =
+      error_of(dir.write("inf.off", "OFF\n3 1 0\n0 0 0\ninf 0 0\n0 1 0\n3 0 1 2\n"));
+  CHECK_THAT(inf,
+             Contains("vertex 1 of mesh 0") && Contains("non-finite") && Contains("(inf, 0, 0)"));
+  CHECK_THAT(inf, !Contains("nan"));
+  // 1e60 overflows assimp's single precision to inf.
+  const std::string big =
+      error_of(dir.write("big.obj", "v 0 0 0\nv 1e60 0 0\nv 0 1 0\nv 0 0 1\nf 1 2 3\nf 1 3 4\n"));
+  CHECK_THAT(big, Contains("vertex 1 of mesh 0") && Contains("inf") && !Contains("nan"));
+  // An unreferenced vertex of an OFF file counts too.
+  CHECK_THAT(
+      error_of(dir.write("unref.off", "OFF\n4 1 0\n0 0 0\n1 0 0\n0 1 0\n0 0 -nan\n3 0 1 2\n")),
+      Contains("vertex 3 of mesh 0") && Contains("non-finite"));
+  // Finite in the file, non-finite only through a scene node's matrix.
+  Eigen::Matrix4d X = Eigen::Matrix4d::Identity();
+  X(0, 0) = 1e308;
+  X(0, 1) = 1e308;
+  CHECK_THAT(error_of(dir.write("huge.dae", test::to_dae(make_box({1, 1, 1}), X))),
+             Contains("not after the transform"));
+}
+
+TEST_CASE("OFF faces must name existing vertices", "[mesh_io]") {
+  TempDir dir;
+  const std::string head = "OFF\n4 2 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 1 2\n";
+  // assimp clamps 7 to vertex 3 and reads -5 as 0, silently.
+  CHECK_THAT(error_of(dir.write("oor.off", head + "3 0 1 7\n")),
+             Contains("face 1") && Contains("vertex 7") && Contains("out of range"));
+  CHECK_THAT(error_of(dir.write("neg.off", head + "3 0 1 -5\n")),
+             Contains("face 1") && Contains("vertex -5") && Contains("out of range"));
+  CHECK_THAT(error_of(dir.write("short.off", head + "3 0 2\n")),
+             Contains("face 1") && Contains("announces 3 vertices but lists 2"));
+  CHECK_THAT(error_of(dir.write("word.off", head + "3 0 2 x\n")),
+             Contains("face 1") && Contains("'x'"));
+  // A comment line among the faces would make assimp drop it and lose the last face.
+  CHECK_THAT(error_of(dir.write("comment.off", head + "# note\n3 0 2 3\n")),
+             Contains("face 1") && Contains("vertex count"));
+  CHECK_THAT(error_of(dir.write("few.off", head)),
+             Contains("truncated") && Contains("2 faces") && Contains("only 1 face line"));
+  std::string big = "OFF\n10 1 0\n";
+  for (int i = 0; i < 10; ++i)
+    big += std::to_string(std::cos(i * 0.6)) + " " + std::to_string(std::sin(i * 0.6)) + " 0\n";
+  CHECK_THAT(error_of(dir.write("tenagon.off", big + "10 0 1 2 3 4 5 6 7 8 9\n")),
+             Contains("face 0") && Contains("1 to 9"));
+
+  // What assimp reads correctly still loads: header comments, blank lines, CRLF, trailing
+  // colours and comments, counts on the keyword's line.
+  const std::string quads =
+      "OFF\n# a cube\n\n8 6 12\n\n-1 -1 -1\n1 -1 -1\n1 1 -1\n-1 1 -1\n-1 -1 1\n1 -1 1\n1 1 1\n"
+      "-1 1 1\n\n4 0 3 2 1 255 0 0\n4 4 5 6 7 # top\n  4\t0 1 5 4\n4 1 2 6 5\n4 2 3 7 6\n"
+      "4 3 0 4 7\n";
+  CHECK(load_mesh(dir.write("quads.off", quads)).report.signed_volume == Approx(8.0));
+  std::string crlf;
+  for (char c : quads) crlf += c == '\n' ? std::string("\r\n") : std::string(1, c);
+  CHECK(load_mesh(dir.write("crlf.off", crlf)).report.signed_volume == Approx(8.0));
+  CHECK(load_mesh(dir.write("oneline.off",
+                            "OFF 4 4 0\n0 0 0\n1 0 0\n0 1 0\n0 0 1\n3 0 2 1\n"
+                            "3 0 1 3\n3 0 3 2\n3 1 2 3\n"))
+            .report.signed_volume == Approx(1.0 / 6));
+}
+
+TEST_CASE("a file that crashes assimp is an input error, not a crash", "[mesh_io][isolation]") {
+  TempDir dir;
+  // The control: spelled right, the same bytes load.
+  CHECK(load_mesh(dir.write("good.ply", cube_ply(true, "end_header"))).report.signed_volume ==
+        Approx(1.0));
+  const std::string message = error_of(dir.write("segv.ply", cube_ply(true, "end_headXr")));
+  // Killed by SIGSEGV; under AddressSanitizer its handler may turn that into exit status 1.
+  CHECK_THAT(message, Contains("crashed on the file (signal 11: SIGSEGV)") ||
+                          Contains("failed on the file (exit status"));
+  CHECK_THAT(message, Contains("malformed"));
+}
+
+TEST_CASE("a file that makes assimp loop is stopped at the timeout", "[mesh_io][isolation]") {
+  TempDir dir;
+  CHECK(load_mesh(dir.write("good.ply", cube_ply(false, "end_header"))).report.signed_volume ==
+        Approx(1.0));
+  CHECK_THAT(error_of(dir.write("loop.ply", cube_ply(false, "end_headXr")), with_timeout(1.0)),
+             Contains("did not finish within 1 s") && Contains("malformed"));
+  CHECK_THAT(error_of(dir.write("loop.dae", kRunawayDae), with_timeout(1.0)),
+             Contains("did not finish within 1 s"));
+}
+
+TEST_CASE("an import that allocates without bound is stopped by the memory limit",
+          "[mesh_io][isolation]") {
+  TempDir dir;
+  const std::string dae = dir.write("runaway.dae", kRunawayDae);
+  MeshLoadOptions o;
+  o.import_memory_limit_bytes = std::int64_t{256} << 20;
+  if (kNoMemoryLimit) {
+    // Sanitizer builds: no address-space limit, the timeout stops it.
+    o.import_timeout_seconds = 1.0;
+    CHECK_THAT(error_of(dae, o), Contains("did not finish"));
+  } else {
+    o.import_timeout_seconds = 300.0;
+    CHECK_THAT(error_of(dae, o), Contains("ran out of memory (256 MiB allowed)"));
+  }
+}
+
+TEST_CASE("the isolated import returns what the in-process import returns",
+          "[mesh_io][isolation]") {
+  TempDir dir;
+  // About 4 MB through the pipe, far more than its 64 KiB buffer: the parent must read
+  // while the child writes.
+  const TriangleMesh m = make_torus(1.0, 0.375, 400, 200);
+  const std::string path = dir.write("big.obj", test::to_obj(m, true));
+  MeshLoadOptions in_process;
+  in_process.isolate_import = false;
+  const LoadedMesh a = load_mesh(path);
+  const LoadedMesh b = load_mesh(path, in_process);
+  check_same_solid(a, m, 1e-6);
+  CHECK(a.mesh.vertices == b.mesh.vertices);
+  CHECK(a.mesh.triangles == b.mesh.triangles);
+  CHECK(a.warnings == b.warnings);
+  // No time limit at all.
+  check_same_solid(load_mesh(path, with_timeout(0.0)), m, 1e-6);
+  MeshLoadOptions unlimited;
+  unlimited.import_memory_limit_bytes = 0;
+  check_same_solid(load_mesh(path, unlimited), m, 1e-6);
+}
+
+TEST_CASE("the import process leaves nothing behind", "[mesh_io][isolation]") {
+  TempDir dir;
+  const std::string good = dir.write("good.off", test::to_off(make_box({1, 1, 1})));
+  const std::string crash = dir.write("segv.ply", cube_ply(true, "end_headXr"));
+  const std::string loop = dir.write("loop.ply", cube_ply(false, "end_headXr"));
+  const std::string bad = dir.write("bad.off", "OFF\n3 1 0\n0 0 0\n");
+  // Unflushed output of the caller: a child that left with exit() instead of _exit()
+  // would flush it a second time.
+  const std::string out_path = dir.file("stdio.txt");
+  std::FILE* out = std::fopen(out_path.c_str(), "w");
+  REQUIRE(out != nullptr);
+  REQUIRE(std::setvbuf(out, nullptr, _IOFBF, 1 << 16) == 0);
+  std::fputs("pending", out);
+
+  const std::size_t fds = open_descriptors();
+  CHECK_NOTHROW(load_mesh(good));
+  CHECK_THROWS_AS(load_mesh(crash), InputError);
+  CHECK_THROWS_AS(load_mesh(loop, with_timeout(0.5)), InputError);
+  CHECK_THROWS_AS(load_mesh(bad), InputError);
+  CHECK(open_descriptors() == fds);
+  // Every child was reaped: none is left to wait for.
+  errno = 0;
+  CHECK(::waitpid(-1, nullptr, WNOHANG) == -1);
+  CHECK(errno == ECHILD);
+
+  CHECK(std::filesystem::file_size(out_path) == 0);
+  std::fclose(out);
+  CHECK(std::filesystem::file_size(out_path) == 7);
+}
+
+TEST_CASE("a hollow solid keeps its cavity wound inward", "[mesh_io]") {
+  TempDir dir;
+  TriangleMesh hollow = cube(0, 3);
+  append(hollow, cube(1, 2), true);
+  const LoadedMesh l = load_mesh(dir.write("hollow.off", test::to_off(hollow)));
+  CHECK(l.orientation_fix.components_flipped_outward == 0);
+  CHECK(l.report.signed_volume == Approx(26.0));
+  CHECK(l.report.is_closed_outward());
+  for (const std::string& w : l.warnings) CHECK_THAT(w, !Contains("inward"));
 }
 
 TEST_CASE("file_sha256 matches known digests", "[mesh_io]") {

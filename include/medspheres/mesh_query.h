@@ -8,13 +8,21 @@
 /// Closest point. closest_point(p) returns the point of the mesh nearest to p (over all
 /// triangles, degenerate ones included: a zero-area triangle is treated as the segment
 /// or point it is), its distance, and the index of the triangle it lies on. The answer
-/// is exact to double rounding: the bounding volume hierarchy prunes only boxes that are
-/// provably farther than the best triangle found so far, with float boxes rounded
-/// outward and a pruning slack of 8 float ulps of the mesh extent (see mesh_query.cpp),
-/// and every surviving triangle is tested in double precision. Ties: when several
-/// triangles are at exactly the same distance, the one found first by the traversal is
-/// kept; which one that is depends only on the mesh and the query point, never on
-/// threads.
+/// is exact to a few units of double rounding for every shape of triangle, slivers and
+/// needles included: the distance, and the returned point's distance to its triangle,
+/// are within 32 u (|p| + |p - a| + L) of the truth, where u = 2^-53, a is a corner and
+/// L the longest edge of the nearest triangle (src/mesh/point_triangle.h derives the
+/// bound; the tests check it against a 113-bit oracle). The bounding volume hierarchy
+/// prunes only boxes that are provably farther than the best triangle found so far,
+/// with float boxes scaled to the mesh's size and rounded outward and a pruning slack of
+/// 8 float ulps (see mesh_query.cpp), and every surviving triangle is tested in double
+/// precision. Every finite query point gets a finite distance and a valid triangle,
+/// however far it is: from about 1e7 mesh sizes away the float boxes no longer tell
+/// triangles apart and the search visits most of the tree, and when |p - centre| + the
+/// mesh's size exceeds 2^200 (1.6e60) it is a brute-force search in coordinates scaled
+/// by a power of two. Ties: when several triangles are at exactly the same distance, the
+/// one found first by the traversal is kept; which one that is depends only on the mesh
+/// and the query point, never on threads.
 ///
 /// Inside test. winding_number(p) is the generalized winding number of the mesh at p
 /// (Jacobson et al. 2013): the signed solid angle of the mesh seen from p over 4 pi. It
@@ -46,12 +54,24 @@ struct MeshQueryOptions {
   double winding_beta = 2.0;
 };
 
+namespace detail {
+struct ClosestPointAccess;
+}
+
 /// The nearest point of the mesh to a query point.
 struct ClosestPoint {
   Eigen::Vector3d point = Eigen::Vector3d::Zero();  ///< p_MoN_M, on triangle `triangle`
-  double squared_distance = 0.0;                    ///< |p - point|^2
-  int triangle = -1;                                ///< index into TriangleMesh::triangles
+  /// |p - point|^2, rounded; +infinity when that overflows a double (|p - point| beyond
+  /// about 1.3e154), which distance() does not.
+  double squared_distance = 0.0;
+  int triangle = -1;  ///< index into TriangleMesh::triangles
+  /// |p - point|, computed without overflow: finite for every finite query point, and
+  /// equal to sqrt(squared_distance) whenever that is finite.
   double distance() const;
+
+ private:
+  friend struct detail::ClosestPointAccess;
+  double distance_ = 0.0;
 };
 
 /// Counters of one query, for benchmarks (the BVH statistics of a run).
@@ -81,13 +101,15 @@ class MeshQuery {
   MeshQuery(const MeshQuery&) = delete;
   MeshQuery& operator=(const MeshQuery&) = delete;
 
-  /// Exact nearest point; see the file comment. Precondition: p is finite.
+  /// Exact nearest point; see the file comment.
+  /// \throws std::invalid_argument if p is not finite.
   ClosestPoint closest_point(const Eigen::Vector3d& p, QueryCounters* counters = nullptr) const;
 
   /// As closest_point(p), but starts from triangle \p hint_triangle as the best
   /// candidate. The answer's distance is identical; a good hint (the triangle nearest to
   /// a nearby point) only makes the search faster. On exact ties the triangle returned
-  /// may differ from the unhinted query. Precondition: 0 <= hint_triangle < triangles.
+  /// may differ from the unhinted query.
+  /// \throws std::invalid_argument unless 0 <= hint_triangle < triangles and p is finite.
   ClosestPoint closest_point(const Eigen::Vector3d& p, int hint_triangle,
                              QueryCounters* counters = nullptr) const;
 
@@ -101,7 +123,8 @@ class MeshQuery {
   bool inside(const Eigen::Vector3d& p) const { return winding_number(p) > 0.5; }
 
   /// Batch forms: result i belongs to point i. They use \p threads threads (0: all
-  /// cores) and give bit-identical answers for every thread count.
+  /// cores) and give bit-identical answers for every thread count. closest_points
+  /// throws std::invalid_argument if a point is not finite.
   std::vector<ClosestPoint> closest_points(const std::vector<Eigen::Vector3d>& points,
                                            int threads = 0) const;
   std::vector<double> winding_numbers(const std::vector<Eigen::Vector3d>& points,

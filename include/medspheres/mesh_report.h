@@ -47,6 +47,9 @@ struct ComponentReport {
   bool closed = false;
   double signed_volume = 0.0;
   Orientation orientation = Orientation::kOpen;
+  /// kInward and inside an odd number of the other closed, consistently wound
+  /// components: the wall of a cavity, which is rightly wound inward (see orient_mesh).
+  bool cavity = false;
 };
 
 struct MeshReport {
@@ -66,8 +69,8 @@ struct MeshReport {
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   std::vector<ComponentReport> component_reports;  ///< in order of first triangle index
 
-  /// True when every component is closed and wound outward, the precondition for an
-  /// exact enclosed volume and an exact inside test.
+  /// True when every component is closed and wound outward, or inward as the wall of a
+  /// cavity: the precondition for an exact enclosed volume and an exact inside test.
   bool is_closed_outward() const;
 };
 
@@ -80,11 +83,23 @@ struct OrientationFix {
   std::size_t triangles_flipped_for_consistency = 0;  ///< minority-wound triangles of
                                                       ///< edge-manifold components
   std::size_t components_flipped_outward = 0;         ///< closed components turned outward
+                                                      ///< (cavities are kept, see below)
 };
 
 /// Makes the winding of each edge-manifold component consistent (flipping the smaller
-/// set of triangles), then turns every closed component with negative signed volume
-/// outward. Components with non-manifold edges are left alone. Deterministic.
+/// set of triangles), then turns closed components with negative signed volume outward,
+/// except cavities. Components with non-manifold edges are left alone. Deterministic.
+///
+/// Cavities. A hollow solid (a ball with a spherical void) has an inner shell wound
+/// inward: its negative volume is what makes the total the solid's volume. So a closed,
+/// consistently wound component C with negative signed volume is flipped only when an
+/// even number of the other closed, consistently wound components contain it: C at
+/// nesting depth 0 (outermost), 2, ... bounds material and must face out; at odd depth
+/// it bounds a cavity and already faces the right way. "D contains C" means
+/// |winding number of D alone| > 0.5 at the centroid of C's largest triangle (exact sum
+/// of solid angles; D's orientation does not matter). Components of positive volume are
+/// never flipped, even at odd depth. Nesting is assumed to be proper (shells do not
+/// cross); for crossing shells the test point decides.
 OrientationFix orient_mesh(TriangleMesh& mesh);
 
 /// Checks that a mesh can be used at all: at least one triangle, finite coordinates,

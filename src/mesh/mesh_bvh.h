@@ -13,7 +13,9 @@ namespace medspheres::detail {
 /// A 4-wide node, two cache lines. Child slot k holds an inner node index (>= 0), a
 /// triangle (~index, i.e. < 0, into the reordered triangle arrays), or nothing (kEmpty,
 /// with an inverted box that no point is near). Boxes are single precision, rounded
-/// outward, stored relative to MeshBvh::origin, laid out [axis][child] for 4-lane SIMD.
+/// outward, stored relative to MeshBvh::origin in units of 1 / MeshBvh::box_scale (so
+/// that every coordinate lies within [-1, 1], whatever the mesh's size), laid out
+/// [axis][child] for 4-lane SIMD.
 /// Bit k of triangle_mask is set when slot k holds a triangle.
 struct alignas(64) Bvh4Node {
   float lo[3][4];
@@ -52,6 +54,7 @@ struct MeshBvh {
   std::vector<std::pair<int, int>> ranges;   // per node: its triangles, [first, last) in BVH order
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // box coordinates are relative to it
   double extent = 0.0;                               // largest side of the mesh's bounding box
+  double box_scale = 1.0;  // a power of two: box coordinates are (x - origin) * box_scale
   std::size_t depth = 0;
   double winding_beta = 2.0;
 

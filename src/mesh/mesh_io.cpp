@@ -1,30 +1,28 @@
 #include "medspheres/mesh_io.h"
 
+#include <algorithm>
 #include <cerrno>
+#include <csignal>
 #include <cstdint>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <functional>
+#include <iomanip>
+#include <new>
+#include <sstream>
 #include <unordered_map>
 
-#include <assimp/config.h>
-#include <assimp/postprocess.h>
-#include <assimp/scene.h>
+#include <sys/stat.h>
+
 #include <assimp/Importer.hpp>
 
+#include "isolated_call.h"
 #include "medspheres/error.h"
+#include "scene_import.h"
 
 namespace medspheres {
 
 namespace {
-
-Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
-  Eigen::Matrix4d e;
-  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3,
-      m.d4;
-  return e;
-}
 
 // Bit-exact welding key; -0.0 is folded onto +0.0.
 struct PointKey {
@@ -76,83 +74,149 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
+// Sanitizers that reserve terabytes of address space up front: an RLIMIT_AS on the
+// import child would fail every allocation there, so only the timeout applies.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+constexpr bool kSanitizerReservesAddressSpace = true;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+constexpr bool kSanitizerReservesAddressSpace = true;
+#else
+constexpr bool kSanitizerReservesAddressSpace = false;
+#endif
+#else
+constexpr bool kSanitizerReservesAddressSpace = false;
+#endif
+
+constexpr double kMiB = 1024.0 * 1024.0;
+
+// "30", "2.5": whole seconds from 10 s up, three digits below.
+std::string seconds_text(double s) {
+  std::ostringstream o;
+  if (s >= 10.0)
+    o << std::fixed << std::setprecision(0) << s;
+  else
+    o << std::setprecision(3) << s;
+  return o.str();
+}
+
+// The import in a child process, its outcome turned into a FlatScene or an error.
+detail::FlatScene import_isolated(const std::string& path, const std::string& ext,
+                                  std::uintmax_t file_bytes, const MeshLoadOptions& options) {
+  detail::IsolationLimits limits;
+  limits.timeout_seconds = options.import_timeout_seconds < 0.0
+                               ? 30.0 + 5.0 * static_cast<double>(file_bytes) / kMiB
+                               : options.import_timeout_seconds;
+  if (options.import_memory_limit_bytes < 0)
+    limits.address_space_bytes =
+        kSanitizerReservesAddressSpace
+            ? 0
+            : std::max<std::uint64_t>(std::uint64_t{4} << 30, std::uint64_t{64} * file_bytes);
+  else if (!kSanitizerReservesAddressSpace)
+    limits.address_space_bytes = static_cast<std::uint64_t>(options.import_memory_limit_bytes);
+
+  const detail::IsolatedOutcome outcome = detail::run_isolated(
+      [&]() -> std::string {
+        try {
+          return detail::encode_scene(detail::import_flat(path, ext));
+        } catch (const InputError& e) {
+          return detail::encode_message('E', e.problem());
+        } catch (const std::bad_alloc&) {
+          return detail::encode_message('M', "");
+        } catch (const std::exception& e) {
+          return detail::encode_message('X', e.what());
+        }
+      },
+      limits);
+
+  using End = detail::IsolatedOutcome::End;
+  if (outcome.end == End::kTimedOut)
+    throw InputError(path, "the importer did not finish within " +
+                               seconds_text(limits.timeout_seconds) +
+                               " s: the file is malformed (assimp loops forever on some "
+                               "malformed files) or too large for the time limit");
+  if (outcome.end == End::kSignaled) {
+    const std::string sig =
+        "signal " + std::to_string(outcome.code) + ": " + detail::signal_name(outcome.code);
+    if (outcome.code == SIGKILL)
+      throw InputError(path, "the importer was killed (" + sig +
+                                 "), probably for using too much memory: the file is malformed "
+                                 "or too large");
+    throw InputError(path, "the importer crashed on the file (" + sig + "): it is malformed");
+  }
+  detail::ImportAnswer answer = detail::decode_answer(outcome.output);
+  if (!answer.ok) {
+    if (outcome.code == 0) throw Error(path + ": the import process sent an incomplete result");
+    // A crash that a sanitizer turned into an exit status, or a failure to answer.
+    throw InputError(path, "the importer failed on the file (exit status " +
+                               std::to_string(outcome.code) + ", no result): it is malformed");
+  }
+  switch (answer.tag) {
+    case 'R':
+      return std::move(answer.scene);
+    case 'E':
+      throw InputError(path, answer.text);
+    case 'M':
+      throw InputError(
+          path, "the importer ran out of memory" +
+                    (limits.address_space_bytes > 0
+                         ? " (" + std::to_string(limits.address_space_bytes >> 20) + " MiB allowed)"
+                         : std::string()) +
+                    ": the file is malformed or too large for the memory limit");
+    default:
+      throw InputError(path, "cannot parse the file (" + answer.text + ")");
+  }
+}
+
 }  // namespace
 
 LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
-  namespace fs = std::filesystem;
-  std::error_code ec;
-  if (!fs::exists(path, ec)) throw InputError(path, "no such file");
-  if (fs::is_directory(path, ec)) throw InputError(path, "is a directory, not a mesh file");
+  // stat, not open: opening a FIFO blocks until a writer comes, and opening a device
+  // can have side effects.
+  struct stat st {};
+  if (::stat(path.c_str(), &st) != 0) {
+    if (errno == ENOENT || errno == ENOTDIR) throw InputError(path, "no such file");
+    throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+  }
+  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a directory, not a mesh file");
+  if (!S_ISREG(st.st_mode))
+    throw InputError(path,
+                     "is not a regular file (a FIFO, device or socket cannot be read as "
+                     "a mesh)");
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
       throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
   }
-  if (fs::file_size(path, ec) == 0) throw InputError(path, "the file is empty");
+  if (st.st_size == 0) throw InputError(path, "the file is empty");
 
-  Assimp::Importer importer;
   const std::string ext = lower_extension(path);
-  if (ext.empty() || !importer.IsExtensionSupported(ext)) {
+  if (ext.empty() || !Assimp::Importer().IsExtensionSupported(ext)) {
     throw InputError(path, "unsupported mesh format '" + ext +
                                "' (use STL, OBJ, PLY, OFF, DAE, glTF/GLB or another format "
                                "assimp reads)");
   }
-  // Drop point and line primitives; triangulate polygons. No vertex joining: welding is
-  // done below on positions only, so that split normals or UVs do not split vertices.
-  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
-                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
-  // Keep COLLADA coordinates as written: no Z-up to Y-up rotation (robot description
-  // formats place DAE meshes in the file's own axes).
-  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
-  if (scene == nullptr) {
-    std::string why = importer.GetErrorString();
-    if (why.empty()) why = "unknown error";
-    throw InputError(path, "cannot parse the file: " + why);
-  }
+
+  const detail::FlatScene scene =
+      options.isolate_import
+          ? import_isolated(path, ext, static_cast<std::uintmax_t>(st.st_size), options)
+          : detail::import_flat(path, ext);
 
   LoadedMesh out;
   TriangleMesh& mesh = out.mesh;
   Welder welder(mesh);
-  std::vector<char> referenced(scene->mNumMeshes, 0);
-
-  auto add_mesh = [&](unsigned mesh_index, const Eigen::Matrix4d& X) {
-    const aiMesh* m = scene->mMeshes[mesh_index];
-    std::vector<int> ids(m->mNumVertices);
-    for (unsigned v = 0; v < m->mNumVertices; ++v) {
-      const aiVector3D& p = m->mVertices[v];
-      const Eigen::Vector4d q = X * Eigen::Vector4d(p.x, p.y, p.z, 1.0);
-      ids[v] = welder.add(q.head<3>() / q.w());
-    }
-    for (unsigned f = 0; f < m->mNumFaces; ++f) {
-      const aiFace& face = m->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines
-      mesh.triangles.push_back(
-          {ids[face.mIndices[0]], ids[face.mIndices[1]], ids[face.mIndices[2]]});
-    }
-  };
-
-  std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk =
-      [&](const aiNode* node, const Eigen::Matrix4d& parent) {
-        const Eigen::Matrix4d X = parent * to_eigen(node->mTransformation);
-        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
-          const unsigned mi = node->mMeshes[i];
-          if (mi >= scene->mNumMeshes) continue;
-          referenced[mi] = 1;
-          add_mesh(mi, X);
-        }
-        for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], X);
-      };
-  if (scene->mRootNode != nullptr) walk(scene->mRootNode, Eigen::Matrix4d::Identity());
-  std::size_t orphans = 0;
-  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
-    if (referenced[i]) continue;
-    add_mesh(i, Eigen::Matrix4d::Identity());
-    ++orphans;
+  std::vector<int> ids;
+  for (const detail::FlatMesh& m : scene.meshes) {
+    const std::size_t nv = m.xyz.size() / 3;
+    ids.resize(nv);
+    for (std::size_t v = 0; v < nv; ++v)
+      ids[v] = welder.add(Eigen::Vector3d(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]));
+    for (std::size_t t = 0; t + 2 < m.index.size(); t += 3)
+      mesh.triangles.push_back({ids[m.index[t]], ids[m.index[t + 1]], ids[m.index[t + 2]]});
   }
-  if (orphans > 0)
-    out.warnings.push_back(std::to_string(orphans) +
+  if (scene.orphans > 0)
+    out.warnings.push_back(std::to_string(scene.orphans) +
                            " mesh(es) not placed by any scene node were kept untransformed");
 
   check_mesh_usable(mesh, path);

@@ -203,8 +203,8 @@ class Collapser {
     for (std::size_t k = 0; k < kids.size(); ++k) {
       const BinaryNode& c = bin_[kids[k]];
       for (int a = 0; a < 3; ++a) {
-        node.lo[a][k] = round_down(c.box.min()[a] - out_.origin[a]);
-        node.hi[a][k] = round_up(c.box.max()[a] - out_.origin[a]);
+        node.lo[a][k] = round_down((c.box.min()[a] - out_.origin[a]) * out_.box_scale);
+        node.hi[a][k] = round_up((c.box.max()[a] - out_.origin[a]) * out_.box_scale);
       }
       if (c.triangle >= 0) {
         node.triangle_mask |= 1u << k;
@@ -244,6 +244,15 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
   const Eigen::AlignedBox3d all = mesh.bounds();
   origin = all.center();
   extent = all.sizes().maxCoeff();
+  // The power of two 2^-e with extent < 2^e: box coordinates relative to the centre then
+  // lie within [-1/2, 1/2], so that single precision neither overflows on huge meshes
+  // nor underflows on tiny ones.
+  box_scale = 1.0;
+  if (extent > 0.0 && std::isfinite(extent)) {
+    int e = 0;
+    std::frexp(extent, &e);
+    box_scale = std::ldexp(1.0, -e);
+  }
 
   const std::size_t n = mesh.triangles.size();
   std::vector<Eigen::AlignedBox3d> boxes(n);
@@ -260,8 +269,9 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
   planes.resize(original.size());
   for (std::size_t i = 0; i < original.size(); ++i) {
     const int t = original[i];
-    triangles[i] = QueryTriangle::from(mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
-    planes[i] = TrianglePlane::from(triangles[i]);
+    const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
+    triangles[i] = QueryTriangle::from(a, b, c);
+    planes[i] = TrianglePlane::from(a, b, c, triangles[i]);
   }
 
   // Far-field expansions. Each node's moments are summed over its own triangles,
@@ -346,27 +356,94 @@ inline int lowest_bit(unsigned mask) {
   return __builtin_ctz(mask);
 }
 
-// Pruning threshold for the float box distances, given the best squared distance so
-// far. A box is skipped only when its computed distance exceeds the best distance plus
-// `slack`, which bounds the float error of the box test (see closest()).
-inline float prune_threshold(double best2, double slack) {
+// Pruning threshold for the float box distances (in box units), given the best squared
+// distance so far (in mesh units). A box is skipped only when its computed distance
+// exceeds the best distance plus `slack`, which bounds the float error of the box test
+// (see closest()).
+inline float prune_threshold(double best2, double box_scale, double slack) {
   constexpr float kMax = std::numeric_limits<float>::max();
-  if (!(best2 < static_cast<double>(kMax))) return kMax;
-  const double t = std::sqrt(best2) + slack;
-  return std::min(round_up(t * t * (1.0 + 0x1p-20)), kMax);
+  const double t = std::sqrt(best2) * box_scale + slack;
+  const double t2 = t * t * (1.0 + 0x1p-20);
+  if (!(t2 < static_cast<double>(kMax))) return kMax;
+  return std::min(round_up(t2), kMax);
+}
+
+// Queries with |p - origin|_max + extent beyond this take closest_far(). Below it every
+// length is below 2^201, so no product of up to four lengths can overflow a double
+// (the region tests of closest_on_triangle multiply two dot products; squared
+// distances and the plane bound multiply two lengths).
+constexpr double kNearReach = 0x1p200;
+
+// The query's box coordinates are clamped to [-kBoxClamp, kBoxClamp]. Every box lies
+// within [-1, 1], so clamping only moves the query towards every box along each axis
+// it is outside of: box distances can only shrink, and pruning stays conservative.
+// Each per-axis distance is then below 2^61, and the sum of three squares below 2^124,
+// which float holds, while empty slots (inverted infinite boxes) stay at infinity.
+constexpr double kBoxClamp = 0x1p60;
+
+// Closest point by brute force, in coordinates scaled by a power of two 2^-e with
+// max(|p|, |vertices|) < 2^e, so that nothing overflows however far p is: every scaled
+// length is below 4. Scaling by a power of two is exact short of underflow, so this is
+// the arithmetic of the near path. Underflow only loses what is tiny next to |p| or
+// the mesh's coordinates, with one exception: a triangle whose scaled edges are below
+// 2^-250 (whose products of four lengths would underflow and upset the region tests)
+// is queried as its edges, off by at most its size, far below the rounding of the
+// scaled coordinates. Ties go to the first triangle in BVH order.
+ClosestPoint closest_far(const MeshBvh& bvh, const Eigen::Vector3d& p, QueryCounters* counters,
+                         double* distance) {
+  if (!p.allFinite())
+    throw std::invalid_argument("MeshQuery::closest_point: the query point is not finite");
+  // Vertices lie within extent / 2 of the origin, per coordinate.
+  const double reach =
+      std::max(p.cwiseAbs().maxCoeff(), bvh.origin.cwiseAbs().maxCoeff() + bvh.extent);
+  int e = 0;
+  std::frexp(std::min(reach, std::numeric_limits<double>::max()), &e);
+  const double s = std::ldexp(1.0, -e);
+  const Eigen::Vector3d ps = p * s;
+  ClosestPoint best;
+  double best_s2 = std::numeric_limits<double>::infinity();
+  Eigen::Vector3d best_cs = Eigen::Vector3d::Zero();
+  for (std::size_t i = 0; i < bvh.triangles.size(); ++i) {
+    QueryTriangle t = bvh.triangles[i];
+    t.a *= s;
+    t.ab *= s;
+    t.ac *= s;
+    t.ab_ab = t.ab.dot(t.ab);
+    t.ab_ac = t.ab.dot(t.ac);
+    t.ac_ac = t.ac.dot(t.ac);
+    if (std::max({t.ab_ab, t.ac_ac, (t.ac - t.ab).squaredNorm()}) < 0x1p-500)
+      t.shape = TriangleShape::kDegenerate;
+    const Eigen::Vector3d cs = closest_on_triangle(ps, t, bvh.planes[i].normal);
+    const double d2 = (ps - cs).squaredNorm();
+    if (d2 < best_s2 || best.triangle < 0) {
+      best_s2 = d2;
+      best_cs = cs;
+      best.triangle = static_cast<int>(i);
+    }
+  }
+  if (counters != nullptr) counters->triangles_tested += bvh.triangles.size();
+  for (int k = 0; k < 3; ++k) best.point[k] = std::ldexp(best_cs[k], e);
+  best.squared_distance = std::ldexp(best_s2, 2 * e);
+  best.triangle = bvh.original[static_cast<std::size_t>(best.triangle)];
+  *distance = std::ldexp(std::sqrt(best_s2), e);
+  return best;
 }
 
 }  // namespace
 
 ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_order,
-                     QueryCounters* counters) {
+                     QueryCounters* counters, double* distance) {
   const Eigen::Vector3d pl = p - bvh.origin;
-  const float q[3] = {static_cast<float>(pl.x()), static_cast<float>(pl.y()),
-                      static_cast<float>(pl.z())};
-  // Float error of a box distance: rounding p to float (half an ulp of |pl|), the
+  const double reach = pl.cwiseAbs().maxCoeff() + bvh.extent;
+  if (!(reach <= kNearReach)) return closest_far(bvh, p, counters, distance);  // or not finite
+  const Eigen::Vector3d ql =
+      (pl * bvh.box_scale).cwiseMax(-kBoxClamp).cwiseMin(kBoxClamp);  // box units
+  const float q[3] = {static_cast<float>(ql.x()), static_cast<float>(ql.y()),
+                      static_cast<float>(ql.z())};
+  // Float error of a box distance: rounding q to float (half an ulp of |q|), the
   // subtractions and the sum of squares (a few ulps of the operands, which are bounded
-  // by |pl| + extent). 8 ulps of that magnitude covers them with room to spare.
-  const double slack = 8.0 * 0x1p-24 * (pl.cwiseAbs().maxCoeff() + bvh.extent);
+  // by |q| + the scaled extent). 8 ulps of that magnitude covers them with room to spare.
+  const double slack = 8.0 * 0x1p-24 * (ql.cwiseAbs().maxCoeff() + bvh.extent * bvh.box_scale);
   // Rounding of n.p - n.a: a few ulps of |p| and |a| (bounded by |origin| + extent).
   const double plane_slack =
       16.0 * 0x1p-53 * (p.cwiseAbs().sum() + bvh.origin.cwiseAbs().sum() + 2.0 * bvh.extent);
@@ -383,7 +460,7 @@ ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_orde
     if (plane > 0.0 && plane * plane >= best.squared_distance) return false;
     ++tested;
     const Eigen::Vector3d c =
-        closest_on_triangle(p, bvh.triangles[static_cast<std::size_t>(order)]);
+        closest_on_triangle(p, bvh.triangles[static_cast<std::size_t>(order)], bound.normal);
     const double d2 = (p - c).squaredNorm();
     if (d2 < best.squared_distance) {
       best.squared_distance = d2;
@@ -394,7 +471,7 @@ ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_orde
     return false;
   };
   if (hint_order >= 0) test_triangle(hint_order);
-  float threshold = prune_threshold(best.squared_distance, slack);
+  float threshold = prune_threshold(best.squared_distance, bvh.box_scale, slack);
 
   // Depth-first, nearest child first: the traversal descends into the nearest
   // surviving child directly and stacks the others, farthest deepest.
@@ -412,7 +489,7 @@ ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_orde
     for (unsigned m = triangles; m != 0; m &= m - 1) {
       const int k = lowest_bit(m);
       if (d2[k] <= threshold && test_triangle(~node.child[k]))
-        threshold = prune_threshold(best.squared_distance, slack);
+        threshold = prune_threshold(best.squared_distance, bvh.box_scale, slack);
     }
     // Surviving inner nodes, in ascending distance.
     StackEntry cand[4];
@@ -441,14 +518,28 @@ ClosestPoint closest(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_orde
     counters->nodes_visited += visited;
     counters->triangles_tested += tested;
   }
+  // Every box distance is finite (kBoxClamp) and every squared distance too
+  // (kNearReach), so the first triangle reached is always taken. Never index with -1.
+  if (best.triangle < 0) return closest_far(bvh, p, counters, distance);
   best.triangle = bvh.original[static_cast<std::size_t>(best.triangle)];
+  *distance = std::sqrt(best.squared_distance);
   return best;
 }
 
 }  // namespace detail
 
+struct detail::ClosestPointAccess {
+  static ClosestPoint query(const MeshBvh& bvh, const Eigen::Vector3d& p, int hint_order,
+                            QueryCounters* counters) {
+    double distance = 0.0;
+    ClosestPoint c = closest(bvh, p, hint_order, counters, &distance);
+    c.distance_ = distance;
+    return c;
+  }
+};
+
 double ClosestPoint::distance() const {
-  return std::sqrt(squared_distance);
+  return distance_;
 }
 
 MeshQuery::MeshQuery(const TriangleMesh& mesh, const MeshQueryOptions& options)
@@ -464,15 +555,15 @@ MeshQuery::MeshQuery(MeshQuery&&) noexcept = default;
 MeshQuery& MeshQuery::operator=(MeshQuery&&) noexcept = default;
 
 ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, QueryCounters* counters) const {
-  return detail::closest(impl_->bvh, p, -1, counters);
+  return detail::ClosestPointAccess::query(impl_->bvh, p, -1, counters);
 }
 
 ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, int hint_triangle,
                                       QueryCounters* counters) const {
   if (hint_triangle < 0 || static_cast<std::size_t>(hint_triangle) >= impl_->order_of.size())
     throw std::invalid_argument("MeshQuery::closest_point: hint triangle out of range");
-  return detail::closest(impl_->bvh, p, impl_->order_of[static_cast<std::size_t>(hint_triangle)],
-                         counters);
+  return detail::ClosestPointAccess::query(
+      impl_->bvh, p, impl_->order_of[static_cast<std::size_t>(hint_triangle)], counters);
 }
 
 namespace {
@@ -494,6 +585,10 @@ std::vector<T> map_points(const std::vector<Eigen::Vector3d>& points, int thread
 
 std::vector<ClosestPoint> MeshQuery::closest_points(const std::vector<Eigen::Vector3d>& points,
                                                     int threads) const {
+  // Checked here: an exception must not escape the parallel loop.
+  for (const Eigen::Vector3d& p : points)
+    if (!p.allFinite())
+      throw std::invalid_argument("MeshQuery::closest_points: a query point is not finite");
   return map_points<ClosestPoint>(points, threads,
                                   [this](const Eigen::Vector3d& p) { return closest_point(p); });
 }

@@ -29,9 +29,11 @@ const char* to_string(Orientation o) {
 
 bool MeshReport::is_closed_outward() const {
   if (!closed || component_reports.empty()) return false;
-  return std::all_of(
-      component_reports.begin(), component_reports.end(),
-      [](const ComponentReport& c) { return c.orientation == Orientation::kOutward; });
+  return std::all_of(component_reports.begin(), component_reports.end(),
+                     [](const ComponentReport& c) {
+                       return c.orientation == Orientation::kOutward ||
+                              (c.orientation == Orientation::kInward && c.cavity);
+                     });
 }
 
 namespace detail {
@@ -131,6 +133,71 @@ bool is_degenerate(const TriangleMesh& m, std::size_t t) {
   return n.squaredNorm() == 0.0;
 }
 
+// The solid angle of triangle abc seen from p, signed by its orientation (Van Oosterom
+// and Strackee 1983).
+double solid_angle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                   const Eigen::Vector3d& c) {
+  const Eigen::Vector3d x = a - p, y = b - p, z = c - p;
+  const double lx = x.norm(), ly = y.norm(), lz = z.norm();
+  const double num = x.dot(y.cross(z));
+  const double den = lx * ly * lz + x.dot(y) * lz + y.dot(z) * lx + z.dot(x) * ly;
+  return 2.0 * std::atan2(num, den);
+}
+
+// The winding number about p of the triangles of one component, summed exactly.
+double winding_number(const TriangleMesh& m, const std::vector<int>& triangles,
+                      const Eigen::Vector3d& p) {
+  double sum = 0.0;
+  for (int t : triangles) {
+    const auto i = static_cast<std::size_t>(t);
+    sum += solid_angle(p, m.corner(i, 0), m.corner(i, 1), m.corner(i, 2));
+  }
+  return sum / (4.0 * 3.14159265358979323846);
+}
+
+// A point of a component that stands for it in containment tests: the centroid of its
+// largest triangle (first in order on ties), which lies on no other component unless
+// the two overlap.
+Eigen::Vector3d interior_point(const TriangleMesh& m, const std::vector<int>& triangles) {
+  double best = -1.0;
+  std::size_t pick = static_cast<std::size_t>(triangles.front());
+  for (int t : triangles) {
+    const auto i = static_cast<std::size_t>(t);
+    const double area2 =
+        (m.corner(i, 1) - m.corner(i, 0)).cross(m.corner(i, 2) - m.corner(i, 0)).squaredNorm();
+    if (area2 > best) {
+      best = area2;
+      pick = i;
+    }
+  }
+  return (m.corner(pick, 0) + m.corner(pick, 1) + m.corner(pick, 2)) / 3.0;
+}
+
+// For each component c with query[c], how many other components d with solid[d]
+// contain it (|winding number of d| > 0.5 at c's interior_point); 0 for the others.
+std::vector<std::size_t> containment_depth(const TriangleMesh& m,
+                                           const std::vector<std::vector<int>>& members,
+                                           const std::vector<char>& solid,
+                                           const std::vector<char>& query) {
+  const std::size_t n = members.size();
+  std::vector<std::size_t> depth(n, 0);
+  if (std::none_of(query.begin(), query.end(), [](char q) { return q != 0; })) return depth;
+  std::vector<Eigen::AlignedBox3d> box(n);
+  for (std::size_t d = 0; d < n; ++d)
+    if (solid[d])
+      for (int t : members[d])
+        for (int k = 0; k < 3; ++k) box[d].extend(m.corner(static_cast<std::size_t>(t), k));
+  for (std::size_t c = 0; c < n; ++c) {
+    if (!query[c] || members[c].empty()) continue;
+    const Eigen::Vector3d p = interior_point(m, members[c]);
+    for (std::size_t d = 0; d < n; ++d) {
+      if (d == c || !solid[d] || !box[d].contains(p)) continue;
+      depth[c] += std::abs(winding_number(m, members[d], p)) > 0.5;
+    }
+  }
+  return depth;
+}
+
 }  // namespace
 
 MeshReport analyze_mesh(const TriangleMesh& mesh) {
@@ -200,6 +267,21 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
       c.orientation = Orientation::kInconsistent;
     else
       c.orientation = c.signed_volume >= 0.0 ? Orientation::kOutward : Orientation::kInward;
+  }
+  // Inward components at odd nesting depth are cavities (see orient_mesh).
+  std::vector<char> solid(ncomp, 0), inward(ncomp, 0);
+  for (std::size_t i = 0; i < ncomp; ++i) {
+    const Orientation o = r.component_reports[i].orientation;
+    solid[i] = o == Orientation::kOutward || o == Orientation::kInward;
+    inward[i] = o == Orientation::kInward;
+  }
+  if (std::any_of(inward.begin(), inward.end(), [](char x) { return x != 0; })) {
+    std::vector<std::vector<int>> members(ncomp);
+    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+      if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
+    const std::vector<std::size_t> depth = containment_depth(mesh, members, solid, inward);
+    for (std::size_t i = 0; i < ncomp; ++i)
+      r.component_reports[i].cavity = inward[i] && depth[i] % 2 == 1;
   }
   return r;
 }
@@ -282,8 +364,19 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
   }
   for (std::size_t t = 0; t < nt; ++t)
     if (comp[t] >= 0) vol[comp[t]] += triangle_signed_volume(mesh, t);
+  // A closed component whose inside is a solid's cavity is correctly wound inward: one
+  // with negative volume is turned outward only when an even number of the other closed
+  // components contain it (see mesh_report.h).
+  std::vector<char> solid(ncomp, 0), inward(ncomp, 0);
   for (std::size_t c = 0; c < ncomp; ++c) {
-    if (!comp_ok[c] || !closed[c] || !(vol[c] < 0.0)) continue;
+    solid[c] = comp_ok[c] && closed[c];
+    inward[c] = solid[c] && vol[c] < 0.0;
+  }
+  const std::vector<std::size_t> depth = containment_depth(mesh, members, solid, inward);
+  std::vector<std::size_t> to_flip;
+  for (std::size_t c = 0; c < ncomp; ++c)
+    if (inward[c] && depth[c] % 2 == 0) to_flip.push_back(c);
+  for (std::size_t c : to_flip) {
     for (int t : members[c]) std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
     ++fix.components_flipped_outward;
   }

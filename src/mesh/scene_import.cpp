@@ -1,0 +1,379 @@
+#include "scene_import.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstring>
+#include <fstream>
+#include <functional>
+#include <iterator>
+#include <new>
+#include <sstream>
+#include <string_view>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include <assimp/config.h>
+#include <assimp/postprocess.h>
+#include <assimp/scene.h>
+#include <assimp/Importer.hpp>
+
+#include "medspheres/error.h"
+
+namespace medspheres::detail {
+
+namespace {
+
+Eigen::Matrix4d to_eigen(const aiMatrix4x4& m) {
+  Eigen::Matrix4d e;
+  e << m.a1, m.a2, m.a3, m.a4, m.b1, m.b2, m.b3, m.b4, m.c1, m.c2, m.c3, m.c4, m.d1, m.d2, m.d3,
+      m.d4;
+  return e;
+}
+
+// ---- OFF pre-scan -------------------------------------------------------------------
+// It reads the file the way assimp 5.2's OFF reader does, so that "face f" is the line
+// assimp takes as face f: the header's tokens, skipping blank space and '#' comment lines;
+// then one vertex line per vertex and one face line per face, where a line ends at
+// '\n', '\r' or '\f' and runs of line ends count as one.
+
+bool is_digits(std::string_view s) {
+  if (s.empty()) return false;
+  for (char c : s)
+    if (c < '0' || c > '9') return false;
+  return true;
+}
+
+// The value of a string of digits, saturated at 2^62 (any count or index that large is
+// out of range anyway).
+long long digits_value(std::string_view s) {
+  long long v = 0;
+  for (char c : s) v = std::min(v * 10 + (c - '0'), 1ll << 62);
+  return v;
+}
+
+class OffScanner {
+ public:
+  explicit OffScanner(std::string_view text) : p_(text.data()), end_(text.data() + text.size()) {}
+
+  // assimp's NextToken without the token: skips blanks, line ends and whole '#'
+  // comment lines.
+  void skip_blank() {
+    for (;;) {
+      while (p_ < end_ && (*p_ == ' ' || *p_ == '\t' || is_line_end(*p_))) ++p_;
+      if (p_ >= end_ || *p_ != '#') return;
+      while (p_ < end_ && !is_line_end(*p_)) ++p_;
+    }
+  }
+
+  // The next header token.
+  std::string_view token() {
+    skip_blank();
+    const char* s = p_;
+    while (p_ < end_ && *p_ != ' ' && *p_ != '\t' && !is_line_end(*p_)) ++p_;
+    return {s, static_cast<std::size_t>(p_ - s)};
+  }
+
+  // assimp's GetNextLine.
+  bool line(std::string_view* out) {
+    if (p_ >= end_) return false;
+    const char* s = p_;
+    while (p_ < end_ && !is_line_end(*p_)) ++p_;
+    *out = {s, static_cast<std::size_t>(p_ - s)};
+    while (p_ < end_ && is_line_end(*p_)) ++p_;
+    return true;
+  }
+
+ private:
+  static bool is_line_end(char c) { return c == '\n' || c == '\r' || c == '\f'; }
+  const char* p_;
+  const char* end_;
+};
+
+// Splits a line at blanks.
+std::vector<std::string_view> split_blanks(std::string_view line) {
+  std::vector<std::string_view> out;
+  std::size_t i = 0;
+  while (i < line.size()) {
+    while (i < line.size() && (line[i] == ' ' || line[i] == '\t')) ++i;
+    const std::size_t s = i;
+    while (i < line.size() && line[i] != ' ' && line[i] != '\t') ++i;
+    if (i > s) out.push_back(line.substr(s, i - s));
+  }
+  return out;
+}
+
+// "ST", "C", "N", "4", "n" prefixes, in this order, then "OFF". *dimension set for "n".
+bool is_off_keyword(std::string_view t, bool* dimension) {
+  if (t.size() >= 2 && t.substr(0, 2) == "ST") t.remove_prefix(2);
+  for (char c : {'C', 'N', '4'})
+    if (!t.empty() && t.front() == c) t.remove_prefix(1);
+  *dimension = !t.empty() && t.front() == 'n';
+  if (*dimension) t.remove_prefix(1);
+  return t == "OFF";
+}
+
+std::string plural(long long n, const char* one, const char* many) {
+  return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+}  // namespace
+
+void check_off_faces(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  if (!in) return;  // assimp reports it
+  std::string text((std::istreambuf_iterator<char>(in)), std::istreambuf_iterator<char>());
+  text.resize(std::strlen(text.c_str()));  // assimp's reader stops at a NUL byte
+
+  OffScanner scan(text);
+  bool dimension = false;
+  if (!is_off_keyword(scan.token(), &dimension)) return;  // assimp decides
+  if (dimension && !is_digits(scan.token())) return;
+  const std::string_view nv_token = scan.token();
+  const std::string_view nf_token = scan.token();
+  const std::string_view ne_token = scan.token();
+  if (!is_digits(nv_token) || !is_digits(nf_token) || !is_digits(ne_token)) return;
+  const long long nv = digits_value(nv_token), nf = digits_value(nf_token);
+  if (nv == 0 || nf == 0) return;  // assimp's own error is clear
+  scan.skip_blank();               // the data starts at the next token, as in assimp
+
+  std::string_view line;
+  for (long long v = 0; v < nv; ++v) {
+    if (!scan.line(&line))
+      throw InputError(path, "truncated: the header announces " + plural(nv, "vertex", "vertices") +
+                                 ", but the file has only " +
+                                 plural(v, "vertex line", "vertex lines"));
+  }
+  for (long long f = 0; f < nf; ++f) {
+    if (!scan.line(&line))
+      throw InputError(path, "truncated: the header announces " + plural(nf, "face", "faces") +
+                                 ", but the file has only " + plural(f, "face line", "face lines"));
+    const std::vector<std::string_view> tokens = split_blanks(line);
+    const std::string face = "face " + std::to_string(f) + " (counted from 0)";
+    if (tokens.empty()) throw InputError(path, face + " is a blank line");
+    if (!is_digits(tokens[0]))
+      throw InputError(
+          path, face + " does not start with a vertex count: '" + std::string(tokens[0]) + "'");
+    const long long k = digits_value(tokens[0]);
+    if (k < 1 || k > 9)
+      throw InputError(path, face + " has " + std::to_string(k) +
+                                 " vertices; the OFF reader takes 1 to 9 per face");
+    if (static_cast<long long>(tokens.size()) < k + 1)
+      throw InputError(path, face + " announces " + std::to_string(k) + " vertices but lists " +
+                                 std::to_string(tokens.size() - 1));
+    for (long long j = 1; j <= k; ++j) {
+      std::string_view t = tokens[static_cast<std::size_t>(j)];
+      const bool negative = t.size() > 1 && t.front() == '-';
+      if (negative) t.remove_prefix(1);
+      if (!is_digits(t))
+        throw InputError(path, face + " has '" + std::string(tokens[static_cast<std::size_t>(j)]) +
+                                   "' where a vertex index should be");
+      const long long index = negative ? -digits_value(t) : digits_value(t);
+      if (index < 0 || index >= nv)
+        throw InputError(path, face + " refers to vertex " + std::to_string(index) +
+                                   ", out of range: the file has " +
+                                   plural(nv, "vertex", "vertices") + " (0 to " +
+                                   std::to_string(nv - 1) + ")");
+    }
+  }
+}
+
+FlatScene import_flat(const std::string& path, const std::string& ext) {
+  if (ext == ".off") check_off_faces(path);
+
+  Assimp::Importer importer;
+  // Drop point and line primitives; triangulate polygons. No vertex joining: load_mesh
+  // welds on positions only, so that split normals or UVs do not split vertices.
+  importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
+                              aiPrimitiveType_POINT | aiPrimitiveType_LINE);
+  // Keep COLLADA coordinates as written: no Z-up to Y-up rotation (robot description
+  // formats place DAE meshes in the file's own axes).
+  importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
+  const aiScene* scene = importer.ReadFile(
+      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+  if (scene == nullptr) {
+    std::string why = importer.GetErrorString();
+    // assimp catches std::bad_alloc and keeps only its text.
+    if (why.find("bad_alloc") != std::string::npos) throw std::bad_alloc();
+    if (why.empty()) why = "unknown error";
+    throw InputError(path, "cannot parse the file (assimp: " + why + ")");
+  }
+
+  // The file's own coordinates first, so that the message can name the vertex as read.
+  for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
+    const aiMesh* m = scene->mMeshes[mi];
+    for (unsigned v = 0; v < m->mNumVertices; ++v) {
+      const aiVector3D& p = m->mVertices[v];
+      if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
+      std::ostringstream msg;
+      msg << "vertex " << v << " of mesh " << mi
+          << " (counted from 0, as assimp reads the file) has a non-finite coordinate (" << p.x
+          << ", " << p.y << ", " << p.z << ")";
+      throw InputError(path, msg.str());
+    }
+  }
+
+  FlatScene out;
+  std::vector<char> referenced(scene->mNumMeshes, 0);
+  auto add_mesh = [&](unsigned mesh_index, const Eigen::Matrix4d& X, const aiNode* node) {
+    const aiMesh* m = scene->mMeshes[mesh_index];
+    FlatMesh flat;
+    flat.xyz.resize(3 * static_cast<std::size_t>(m->mNumVertices));
+    const bool identity = X == Eigen::Matrix4d::Identity();
+    for (unsigned v = 0; v < m->mNumVertices; ++v) {
+      const aiVector3D& p = m->mVertices[v];
+      Eigen::Vector3d q(p.x, p.y, p.z);
+      if (!identity) {
+        const Eigen::Vector4d h = X * Eigen::Vector4d(p.x, p.y, p.z, 1.0);
+        q = h.head<3>() / h.w();
+        if (!q.allFinite())
+          throw InputError(path, "vertex " + std::to_string(v) + " of mesh " +
+                                     std::to_string(mesh_index) +
+                                     " is finite in the file but not after the transform of "
+                                     "scene node '" +
+                                     std::string(node != nullptr ? node->mName.C_Str() : "") + "'");
+      }
+      for (int i = 0; i < 3; ++i) flat.xyz[3 * static_cast<std::size_t>(v) + i] = q[i];
+    }
+    for (unsigned f = 0; f < m->mNumFaces; ++f) {
+      const aiFace& face = m->mFaces[f];
+      if (face.mNumIndices != 3) continue;  // points and lines
+      for (int k = 0; k < 3; ++k) {
+        if (face.mIndices[k] >= m->mNumVertices)  // ValidateDataStructure rules this out
+          throw InputError(path, "face " + std::to_string(f) + " of mesh " +
+                                     std::to_string(mesh_index) + " refers to vertex " +
+                                     std::to_string(face.mIndices[k]) + ", out of range");
+        flat.index.push_back(face.mIndices[k]);
+      }
+    }
+    out.meshes.push_back(std::move(flat));
+  };
+
+  std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk =
+      [&](const aiNode* node, const Eigen::Matrix4d& parent) {
+        const Eigen::Matrix4d X = parent * to_eigen(node->mTransformation);
+        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+          const unsigned mi = node->mMeshes[i];
+          if (mi >= scene->mNumMeshes) continue;
+          referenced[mi] = 1;
+          add_mesh(mi, X, node);
+        }
+        for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], X);
+      };
+  if (scene->mRootNode != nullptr) walk(scene->mRootNode, Eigen::Matrix4d::Identity());
+  for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
+    if (referenced[i]) continue;
+    add_mesh(i, Eigen::Matrix4d::Identity(), nullptr);
+    ++out.orphans;
+  }
+  return out;
+}
+
+// ---- the child's answer --------------------------------------------------------------
+
+namespace {
+
+class Encoder {
+ public:
+  explicit Encoder(char tag, std::size_t reserve = 0) {
+    out_.reserve(reserve);
+    out_.push_back(tag);
+  }
+  void u64(std::uint64_t v) { bytes(&v, sizeof v); }
+  template <typename T>
+  void array(const std::vector<T>& v) {
+    u64(v.size());
+    bytes(v.data(), v.size() * sizeof(T));
+  }
+  void text(const std::string& s) {
+    u64(s.size());
+    bytes(s.data(), s.size());
+  }
+  std::string take() { return std::move(out_); }
+
+ private:
+  void bytes(const void* p, std::size_t n) {
+    if (n > 0) out_.append(static_cast<const char*>(p), n);
+  }
+  std::string out_;
+};
+
+class Decoder {
+ public:
+  Decoder(const char* begin, const char* end) : p_(begin), end_(end) {}
+  bool u64(std::uint64_t* v) { return bytes(v, sizeof *v); }
+  template <typename T>
+  bool array(std::vector<T>* v) {
+    std::uint64_t n = 0;
+    if (!u64(&n) || n > static_cast<std::uint64_t>(end_ - p_) / sizeof(T)) return false;
+    v->resize(static_cast<std::size_t>(n));
+    return bytes(v->data(), v->size() * sizeof(T));
+  }
+  bool text(std::string* s) {
+    std::uint64_t n = 0;
+    if (!u64(&n) || n > static_cast<std::uint64_t>(end_ - p_)) return false;
+    s->assign(p_, static_cast<std::size_t>(n));
+    p_ += n;
+    return true;
+  }
+  bool at_end() const { return p_ == end_; }
+
+ private:
+  bool bytes(void* out, std::size_t n) {
+    if (n > static_cast<std::size_t>(end_ - p_)) return false;
+    if (n > 0) std::memcpy(out, p_, n);
+    p_ += n;
+    return true;
+  }
+  const char* p_;
+  const char* end_;
+};
+
+}  // namespace
+
+std::string encode_scene(const FlatScene& scene) {
+  std::size_t bytes = 17;
+  for (const FlatMesh& m : scene.meshes)
+    bytes += 16 + m.xyz.size() * sizeof(double) + m.index.size() * sizeof(std::uint32_t);
+  Encoder e('R', bytes);
+  e.u64(scene.orphans);
+  e.u64(scene.meshes.size());
+  for (const FlatMesh& m : scene.meshes) {
+    e.array(m.xyz);
+    e.array(m.index);
+  }
+  return e.take();
+}
+
+std::string encode_message(char tag, const std::string& text) {
+  Encoder e(tag);
+  e.text(text);
+  return e.take();
+}
+
+ImportAnswer decode_answer(const std::string& bytes) {
+  ImportAnswer a;
+  if (bytes.empty()) return a;
+  a.tag = bytes[0];
+  Decoder r(bytes.data() + 1, bytes.data() + bytes.size());
+  if (a.tag == 'R') {
+    std::uint64_t n = 0;
+    if (!r.u64(&a.scene.orphans) || !r.u64(&n)) return a;
+    for (std::uint64_t i = 0; i < n; ++i) {
+      FlatMesh m;
+      if (!r.array(&m.xyz) || !r.array(&m.index)) return a;
+      if (m.xyz.size() % 3 != 0 || m.index.size() % 3 != 0) return a;
+      for (std::uint32_t k : m.index)
+        if (k >= m.xyz.size() / 3) return a;
+      a.scene.meshes.push_back(std::move(m));
+    }
+  } else if (a.tag == 'E' || a.tag == 'M' || a.tag == 'X') {
+    if (!r.text(&a.text)) return a;
+  } else {
+    return a;
+  }
+  a.ok = r.at_end();
+  return a;
+}
+
+}  // namespace medspheres::detail

@@ -1,0 +1,51 @@
+#pragma once
+// Private: the assimp import of a mesh file, flattened to plain arrays so that it can
+// run in a child process and be sent back to load_mesh through a pipe (see mesh_io.h).
+
+#include <cstdint>
+#include <string>
+#include <vector>
+
+namespace medspheres::detail {
+
+/// One placement of one assimp mesh: its vertices under the node's accumulated
+/// transform, and its triangles as indices into those vertices.
+struct FlatMesh {
+  std::vector<double> xyz;           ///< 3 per vertex
+  std::vector<std::uint32_t> index;  ///< 3 per triangle, each < xyz.size() / 3
+};
+
+struct FlatScene {
+  std::vector<FlatMesh> meshes;  ///< placed meshes in node order, then the orphans
+  std::uint64_t orphans = 0;     ///< meshes no node places, kept with the identity
+};
+
+/// Reads \p path with assimp (after a pre-scan of OFF files, whose out-of-range face
+/// indices assimp clamps silently), checks that every coordinate is finite, and flattens
+/// the scene. \p ext is the lower-case extension with its dot.
+/// \throws InputError naming \p path for a file that cannot be read as a mesh;
+///   std::bad_alloc when the import runs out of memory.
+FlatScene import_flat(const std::string& path, const std::string& ext);
+
+/// Checks the face list of the OFF file \p path against its header: every face line
+/// present, 1 to 9 vertices per face, every index an integer in [0, vertices).
+/// Files whose header it does not recognise are left to assimp.
+/// \throws InputError naming \p path, the face (counted from 0) and the bad index.
+void check_off_faces(const std::string& path);
+
+// The byte format of the child's answer: one tag byte, then the payload.
+//   'R' FlatScene; 'E' problem text of an InputError; 'M' out of memory; 'X' other
+//   exception text.
+std::string encode_scene(const FlatScene& scene);
+std::string encode_message(char tag, const std::string& text);
+
+/// A decoded answer. ok is false when \p bytes is truncated or malformed.
+struct ImportAnswer {
+  bool ok = false;
+  char tag = 0;
+  FlatScene scene;   ///< for 'R'
+  std::string text;  ///< for the other tags
+};
+ImportAnswer decode_answer(const std::string& bytes);
+
+}  // namespace medspheres::detail
