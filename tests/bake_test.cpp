@@ -6,7 +6,9 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/bake.h"
+#include "medspheres/dilate.h"
 #include "medspheres/error.h"
+#include "medspheres/fit_metrics.h"
 #include "medspheres/mesh_generators.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_query.h"
@@ -74,6 +76,54 @@ bool bit_identical(const SphereSet& a, const SphereSet& b) {
   }
   return true;
 }
+
+// Distance from p to triangle (a, b, c) in long double, by a construction of its own:
+// the foot of the perpendicular when it falls inside (same-side tests against each
+// edge), otherwise the nearest of the three edges. Differences of the double inputs are
+// formed in long double first (exactly, for points within a box of a few units), so the
+// result is good to a few long-double ulps of the distance, far below the rounding of
+// double coordinates a million units from the origin.
+long double ld_distance(const Eigen::Vector3d& pd, const Eigen::Vector3d& ad,
+                        const Eigen::Vector3d& bd, const Eigen::Vector3d& cd) {
+  using V = Eigen::Matrix<long double, 3, 1>;
+  auto rel = [&](const Eigen::Vector3d& x) {
+    V v;
+    for (int k = 0; k < 3; ++k) v[k] = static_cast<long double>(x[k]) - pd[k];
+    return v;
+  };
+  const V a = rel(ad), b = rel(bd), c = rel(cd);  // p is the origin
+  auto segment = [](const V& s, const V& e) {
+    const V d = e - s;
+    const long double dd = d.squaredNorm();
+    long double t = dd > 0 ? -s.dot(d) / dd : 0.0L;
+    t = std::clamp(t, 0.0L, 1.0L);
+    return (s + t * d).norm();
+  };
+  long double best = std::min({segment(a, b), segment(b, c), segment(c, a)});
+  const V n = (b - a).cross(c - a);
+  const long double nn = n.squaredNorm();
+  if (nn > 0) {
+    const V q = n * (n.dot(a) / nn);  // foot of the perpendicular from the origin
+    if (n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 &&
+        n.dot((a - c).cross(q - c)) >= 0)
+      best = std::min(best, q.norm());
+  }
+  return best;
+}
+
+long double ld_mesh_distance(const TriangleMesh& m, const Eigen::Vector3d& p) {
+  long double best = std::numeric_limits<long double>::infinity();
+  for (std::size_t t = 0; t < m.triangles.size(); ++t)
+    best = std::min(best, ld_distance(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)));
+  return best;
+}
+
+TriangleMesh translated(TriangleMesh m, const Eigen::Vector3d& offset) {
+  for (Eigen::Vector3d& v : m.vertices) v += offset;
+  return m;
+}
+
+const std::string kKnot = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off";
 
 }  // namespace
 
@@ -294,3 +344,151 @@ TEST_CASE("baked spheres are inside every closed shared mesh", "[bake][shared]")
   }
 }
 #endif
+
+TEST_CASE("every sphere is inside meshes far from the origin", "[bake]") {
+  // The radius shrink must cover the rounding of the distance at the mesh's coordinates,
+  // not only at its size: 1e-12 L alone left a third of a torus's spheres sticking out
+  // by a few ulps at an offset of 1e5. The oracle is an independent long-double distance.
+  for (const double offset : {0.0, 1e3, 1e5, 1e6}) {
+    for (const TriangleMesh& base : {make_torus(1.0, 0.3, 48, 24), make_box({1.0, 0.6, 0.3}, 2),
+                                     make_capsule(0.3, 0.8, 24, 6)}) {
+      const TriangleMesh m = translated(base, offset * Eigen::Vector3d(1.0, -0.5, 0.25));
+      const MeshQuery q(m);
+      const BakeResult r = bake(q, BakeOptions{});
+      INFO("offset " << offset << ", " << m.triangles.size() << " triangles");
+      REQUIRE(r.spheres.size() > 0);
+      std::size_t outside = 0;
+      for (const Sphere& sp : r.spheres.spheres) {
+        outside += static_cast<long double>(sp.radius) > ld_mesh_distance(m, sp.center);
+        CHECK(q.winding_number_exact(sp.center) > 0.5);
+      }
+      CHECK(outside == 0);
+    }
+  }
+}
+
+TEST_CASE("medial tolerance: from 1e-9 L to below the cell size, and searches that end", "[bake]") {
+  const TriangleMesh m = make_torus(1.0, 0.3, 48, 24);
+  const MeshQuery q(m);
+  const double L = m.bounds().sizes().maxCoeff();
+  auto with = [&](double tolerance, int resolution = 20) {
+    BakeOptions o;
+    o.resolution = resolution;
+    o.medial_tolerance = tolerance;
+    return o;
+  };
+  const double h = L / 20;
+  // Out of range: below the rounding scale (a tolerance of 1e-18 once never ended), or a
+  // cell or more (1e300, 10 and 0.5 once gave garbage sets without a word).
+  for (const double bad : {1e-18, 0.99e-9 * L, h, 0.5, 10.0, 1e300}) {
+    INFO("tolerance " << bad);
+    CHECK_THROWS_WITH(bake(q, with(bad)),
+                      Contains("medial tolerance") && Contains("[") && Contains("cell size"));
+  }
+  const ToleranceRange range = medial_tolerance_range(L, 20);
+  CHECK(range.lo == 1e-9 * L);
+  CHECK(range.hi == h);
+  // The ends of the range work, and the spheres stay inside.
+  for (const double good : {1e-9 * L, 0.99 * h}) {
+    INFO("tolerance " << good);
+    const BakeResult r = bake(q, with(good));
+    CHECK(r.stats.medial_tolerance == good);
+    for (const Sphere& sp : r.spheres.spheres)
+      CHECK(static_cast<long double>(sp.radius) <= ld_mesh_distance(m, sp.center));
+  }
+  // The default: 1e-3 L, kept below half a cell.
+  CHECK(bake(q, with(0.0, 28)).stats.medial_tolerance == 1e-3 * L);
+  // A search must keep the tolerance below the cell of the finest resolution it may bake.
+  CHECK_THROWS_WITH(bake_max_spheres(q, 100, with(L / 400)), Contains("medial tolerance"));
+  CHECK_THROWS_WITH(bake_max_spheres(q, 100, with(L / 50), 64), Contains("medial tolerance"));
+  CHECK(bake_max_spheres(q, 100, with(L / 600)).spheres.size() <= 100);
+}
+
+TEST_CASE("thread counts are capped at kMaxThreads", "[bake]") {
+  // 100000 threads once crashed the OpenMP runtime (exit 139).
+  const TriangleMesh m = make_icosphere(1.0, 2);
+  const MeshQuery q(m);
+  for (const int threads : {kMaxThreads + 1, 100000, -1}) {
+    INFO("threads " << threads);
+    BakeOptions o;
+    o.threads = threads;
+    CHECK_THROWS_WITH(bake(q, o), Contains("threads") && Contains("[0, 1024]"));
+    CHECK_THROWS_AS(bake_max_spheres(q, 10, o), std::invalid_argument);
+    DilateOptions d;
+    d.threads = threads;
+    const SphereSet one{{{Eigen::Vector3d::Zero(), 0.9}}};
+    CHECK_THROWS_WITH(dilate(q, one, d), Contains("threads") && Contains("[0, 1024]"));
+  }
+  BakeOptions o;
+  o.threads = kMaxThreads;
+  CHECK_NOTHROW(validate_bake_options(o));
+}
+
+TEST_CASE("a sphere budget: empty bakes are too coarse, and counts are not monotonic", "[bake]") {
+  const TriangleMesh m = load_mesh(kKnot).mesh;
+  const MeshQuery q(m);
+  auto count_at = [&](int resolution) {
+    BakeOptions o;
+    o.resolution = resolution;
+    return bake(q, o).spheres.size();
+  };
+  // knot1 gives 2 spheres at resolution 3, none at 4 and 5 (and no inside vertex at 2),
+  // 14 at 6. An empty bake once counted as within the budget, and was returned.
+  const BakeResult five = bake_max_spheres(q, 5);
+  CHECK(five.stats.resolution == 3);
+  CHECK(five.spheres.size() == 2);
+  // No resolution gives exactly one sphere: an error that says so, with the fewest found.
+  CHECK_THROWS_WITH(bake_max_spheres(q, 1), Contains("--max-spheres") &&
+                                                Contains("between 1 and 1 spheres") &&
+                                                Contains("fewest found is 2 at resolution 3"));
+  // 84 spheres at 13, 112 at 14, exactly 100 at 15: the window above the boundary finds 15.
+  const BakeResult hundred = bake_max_spheres(q, 100);
+  const int r = hundred.stats.resolution;
+  INFO("resolution " << r);
+  CHECK(hundred.spheres.size() <= 100);
+  CHECK(r >= 15);
+  for (int k = 1; k <= kResolutionSearchWindow; ++k) {
+    const std::size_t n = count_at(r + k);
+    CHECK((n == 0 || n > 100));
+  }
+  // The search is recorded: every resolution once, the chosen one among them, and the
+  // time of the whole search.
+  std::vector<int> tried;
+  for (const SearchStep& step : hundred.stats.search) tried.push_back(step.resolution);
+  CHECK(std::find(tried.begin(), tried.end(), r) != tried.end());
+  std::sort(tried.begin(), tried.end());
+  CHECK(std::adjacent_find(tried.begin(), tried.end()) == tried.end());
+  CHECK(hundred.stats.total_seconds >= hundred.stats.seconds);
+  CHECK(hundred.stats.search.size() >= 5);
+}
+
+TEST_CASE("an error target: empty bakes never meet it and are never measured", "[bake]") {
+  const TriangleMesh m = load_mesh(kKnot).mesh;
+  const MeshQuery q(m);
+  const FitEvaluator fit(m);
+  int empty_calls = 0;
+  const ErrorFn nerr = [&](const SphereSet& s) {
+    empty_calls += s.empty();
+    return fit.volume_error(s.spheres).nerr;  // throws for an empty set
+  };
+  // Halving from 28 reaches resolutions 2 (no inside vertex) and 5 (no sphere).
+  const double target = 0.9;
+  const BakeResult r = bake_target_error(q, target, nerr);
+  CHECK(empty_calls == 0);
+  CHECK(nerr(r.spheres) <= target);
+  for (int k = 1; k <= kResolutionSearchWindow && r.stats.resolution - k >= 2; ++k) {
+    BakeOptions o;
+    o.resolution = r.stats.resolution - k;
+    const BakeResult below = [&] {
+      try {
+        return bake(q, o);
+      } catch (const InputError&) {
+        return BakeResult{};  // no grid vertex inside: nothing meets the target
+      }
+    }();
+    INFO("resolution " << o.resolution);
+    CHECK((below.spheres.empty() || nerr(below.spheres) > target));
+  }
+  for (const SearchStep& step : r.stats.search)
+    if (step.spheres == 0) CHECK(step.error == 1.0);
+}

@@ -82,14 +82,17 @@ void check_same(const FitReport& a, const FitReport& b) {
   CHECK(a.coverage.p95 == b.coverage.p95);
 }
 
-// For a set baked from a closed mesh: nerr is exact and the Monte-Carlo error agrees. When
-// components overlap, V counts the shared volume M twice and the true error is that of nerr
-// less M / V; M is itself estimated from the same points, so its error adds to the bound.
+// For a set baked from a closed mesh: nerr is exact (approximate when the mesh intersects
+// itself) and the Monte-Carlo error agrees. When components overlap, V counts the shared
+// volume M twice and the true error is that of nerr less M / V; M is itself estimated from
+// the same points, so its error adds to the bound.
 void check_baked(const TriangleMesh& mesh, const FitOptions& options) {
   const FitEvaluator fit(mesh);
   const BakeResult baked = bake(fit.query());
   const FitReport r = fit.evaluate(baked.spheres.spheres, options);
-  REQUIRE(r.volume.kind == NerrKind::kExact);
+  const bool self_intersecting = fit.self_intersections().any();
+  REQUIRE(r.volume.kind == (self_intersecting ? NerrKind::kApproximate : NerrKind::kExact));
+  CHECK(r.volume.self_intersecting_pairs == fit.self_intersections().count());
   CHECK(r.volume.max_protrusion <= 0.0);
   CHECK(r.volume.nerr_slack == 0.0);
   CHECK(r.volume.nerr > 0.0);
@@ -101,7 +104,7 @@ void check_baked(const TriangleMesh& mesh, const FitOptions& options) {
                << mc.multiple_volume_sigma);
   CHECK(std::abs(r.volume.nerr - mc.multiple_volume / v - mc.error.estimate) <=
         4.0 * (mc.error.sigma + mc.multiple_volume_sigma / v));
-  CHECK(r.warnings.size() == (mc.multiple_volume > 0.0 ? 1u : 0u));
+  CHECK(r.warnings.size() == (self_intersecting ? 1u : 0u) + (mc.multiple_volume > 0.0 ? 1u : 0u));
 }
 
 }  // namespace
@@ -289,6 +292,41 @@ TEST_CASE("point coverage agrees with brute force, near and far", "[fit_metrics]
   }
 }
 
+TEST_CASE("point coverage copes with any finite radii: subnormal, tiny and huge", "[fit_metrics]") {
+  // The grid's cell size once came from the median radius alone: a subnormal radius made
+  // 1 / h infinite and the cell indices garbage (a crash). Any valid set must work, and
+  // agree with brute force.
+  const double sub = 1e-320, tiny = 1e-300, huge = 1e300;
+  const std::vector<std::vector<Sphere>> sets = {
+      {{Vector3d::Zero(), sub}},
+      {{Vector3d(1, 1, 1), sub}},
+      {{Vector3d(1, 1, 1), sub}, {Vector3d(1, 1, 1 + 1e-12), sub}},
+      {{Vector3d(0.1, 0, 0), sub}, {Vector3d::Zero(), 0.2}},
+      {{Vector3d(1e6, -1e6, 3), tiny}, {Vector3d(1e6, -1e6, 4), 0.5}},
+      {{Vector3d::Zero(), huge}, {Vector3d(1, 2, 3), 1.0}},
+  };
+  const std::vector<Vector3d> points = {
+      Vector3d::Zero(),       Vector3d(1, 1, 1),    Vector3d(0.1, 0, 0),   Vector3d(0.3, 0, 0),
+      Vector3d(1e6, -1e6, 3), Vector3d(5, -7, 2e5), Vector3d(1e300, 0, 0), Vector3d(-1e299, 1, 1)};
+  for (std::size_t k = 0; k < sets.size(); ++k) {
+    const std::vector<PointCoverage> c = point_coverage(sets[k], points, 1);
+    for (std::size_t i = 0; i < points.size(); ++i) {
+      INFO("set " << k << ", point " << i);
+      const double exact = brute_outside(sets[k], points[i]);
+      // (Both overflow to infinity for the points 1e300 away from small balls.)
+      CHECK((c[i].outside == exact ||
+             std::abs(c[i].outside - exact) <= 8.0 * kEps * (points[i].norm() + exact + 2.0)));
+      CHECK((c[i].outside == 0.0) == (exact == 0.0));
+    }
+  }
+  // And the whole evaluation of a set with a subnormal radius.
+  const TriangleMesh box = make_box({1.0, 1.0, 1.0});
+  const FitReport r =
+      FitEvaluator(box).evaluate({{Vector3d::Zero(), sub}, {Vector3d(0.5, 0, 0), 0.25}}, quick());
+  CHECK(r.volume.kind == NerrKind::kExact);
+  CHECK(r.volume.nerr == Approx(1.0 - 4.0 / 3.0 * kPi * 0.25 * 0.25 * 0.25 / 8.0).epsilon(1e-12));
+}
+
 TEST_CASE("surface samples are area-weighted, on the surface and seeded", "[fit_metrics]") {
   const Vector3d h(1.0, 2.0, 3.0);
   const TriangleMesh box = make_box(h, 2);
@@ -414,8 +452,55 @@ TEST_CASE("overlapping closed components: V counts the overlap twice, and a warn
   CHECK(r.monte_carlo.box.volume() == Approx(12.0).epsilon(1e-14));
   CHECK(r.monte_carlo.in_solid == r.monte_carlo.samples);
   CHECK(std::abs(r.monte_carlo.multiple_volume - 4.0) <= 4.0 * r.monte_carlo.multiple_volume_sigma);
-  REQUIRE(r.warnings.size() == 1);
-  CHECK_THAT(r.warnings[0], Contains("overlap"));
+  // The faces cross: nerr is approximate, and a warning names the pairs; another gives the
+  // size of the overlap.
+  const std::size_t pairs = find_self_intersections(two).count();
+  CHECK(pairs > 0);
+  CHECK(r.volume.kind == NerrKind::kApproximate);
+  CHECK(r.volume.self_intersecting_pairs == pairs);
+  CHECK(r.volume.nerr == Approx((16.0 - r.volume.union_measures.volume) / 16.0).epsilon(1e-14));
+  REQUIRE(r.warnings.size() == 2);
+  CHECK_THAT(r.warnings[0],
+             Contains("self-intersects") && Contains(std::to_string(pairs) + " pair"));
+  CHECK_THAT(r.warnings[1], Contains("overlap"));
+}
+
+TEST_CASE("nerr kinds in order: undefined, approximate, then exact or lower bound",
+          "[fit_metrics]") {
+  // Two boxes glued face to face, the shared face triangulated alike: no pair, V exact.
+  TriangleMesh glued = make_box({1.0, 1.0, 1.0});
+  const TriangleMesh copy = glued;
+  const int base = static_cast<int>(glued.vertices.size());
+  for (const Vector3d& v : copy.vertices) glued.vertices.push_back(v + Vector3d(2, 0, 0));
+  for (const auto& t : copy.triangles)
+    glued.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  const FitEvaluator glued_fit(glued);
+  CHECK_FALSE(glued_fit.self_intersections().any());
+  CHECK(glued_fit.volume_error({{Vector3d(0, 0, 0), 0.5}}).kind == NerrKind::kExact);
+
+  // The second box moved 0.5 into the first: their faces cross.
+  TriangleMesh crossing = glued;
+  for (std::size_t v = static_cast<std::size_t>(base); v < crossing.vertices.size(); ++v)
+    crossing.vertices[v].x() -= 0.5;
+  const FitEvaluator fit(crossing, 2);
+  REQUIRE(fit.self_intersections().any());
+  const VolumeError inside = fit.volume_error({{Vector3d(0, 0, 0), 0.5}});
+  CHECK(inside.kind == NerrKind::kApproximate);
+  CHECK(inside.nerr == Approx((16.0 - inside.union_measures.volume) / 16.0).epsilon(1e-14));
+  CHECK(inside.nerr_slack == 0.0);
+  // Sticking out: still approximate (V is off, so Lemma 1 gives no bound), value |V - U| / V.
+  const VolumeError out = fit.volume_error({{Vector3d(0, 0, 0), 3.0}});
+  CHECK(out.protruding == 1);
+  CHECK(out.kind == NerrKind::kApproximate);
+  CHECK(out.nerr == Approx(std::abs(16.0 - out.union_measures.volume) / 16.0).epsilon(1e-14));
+  // Open: undefined, whatever the pairs.
+  TriangleMesh open = crossing;
+  open.triangles.pop_back();
+  const VolumeError undefined = FitEvaluator(open).volume_error({{Vector3d(0, 0, 0), 0.5}});
+  CHECK(undefined.kind == NerrKind::kUndefined);
+  CHECK(undefined.self_intersecting_pairs > 0);
+  CHECK(std::string(to_string(NerrKind::kApproximate)) == "approximate");
+  CHECK_THROWS_AS(FitEvaluator(crossing, -1), std::invalid_argument);
 }
 
 TEST_CASE("bad input is rejected by name", "[fit_metrics]") {
@@ -435,12 +520,25 @@ TEST_CASE("bad input is rejected by name", "[fit_metrics]") {
   o.threads = -1;
   CHECK_THROWS_WITH(fit.evaluate(one, o), Contains("threads"));
   CHECK_THROWS_AS(fit.volume_error(one, -2), std::invalid_argument);
+  // Thread counts are capped (threads.h): 100000 once crashed the OpenMP runtime.
+  for (const int threads : {kMaxThreads + 1, 100000}) {
+    o.threads = threads;
+    CHECK_THROWS_WITH(fit.evaluate(one, o), Contains("threads") && Contains("1024"));
+    CHECK_THROWS_AS(fit.volume_error(one, threads), std::invalid_argument);
+    CHECK_THROWS_AS(point_coverage(one, box.vertices, threads), std::invalid_argument);
+    CHECK_THROWS_AS(sphere_protrusions(fit.query(), one, threads), std::invalid_argument);
+  }
+  // A set whose box with the mesh has no finite volume cannot be sampled.
+  CHECK_THROWS_WITH(fit.evaluate({{Vector3d::Zero(), 1e103}}, quick()),
+                    Contains("sphere set") && Contains("finite volume"));
   CHECK_THROWS_AS(FitEvaluator(TriangleMesh{}), std::invalid_argument);
 }
 
 #ifdef MEDSPHERES_SHARED_MESHES
-TEST_CASE("sets baked from every closed shared mesh: nerr is exact and Monte Carlo agrees",
-          "[fit_metrics][shared]") {
+TEST_CASE(
+    "sets baked from every closed shared mesh: nerr exact (approximate if it self-intersects), "
+    "Monte Carlo agrees",
+    "[fit_metrics][shared]") {
   for (const auto& row : test::shared_meshes()) {
     if (!row.closed) continue;
     INFO(row.file);

@@ -5,6 +5,8 @@
 #include <random>
 #include <sstream>
 
+#include <sys/stat.h>
+
 #include <catch2/catch.hpp>
 
 #include "medspheres/error.h"
@@ -121,4 +123,128 @@ TEST_CASE("saving is atomic: failures leave no file and no temporary behind", "[
     ++entries;
   }
   CHECK(entries == 1);  // only out.spheres.json
+}
+
+namespace {
+
+std::string read_text(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+}  // namespace
+
+TEST_CASE("saving through a symbolic link writes its target and keeps the link", "[io]") {
+  namespace fs = std::filesystem;
+  TempDir dir;
+  const SphereSet s = random_set(4, 3);
+  const std::string expected = medspheres::sphere_set_to_json(s);
+  fs::create_directories(dir.path() / "real");
+  const std::string target = dir.write("real/target.json", "old");
+  fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+
+  // An absolute link, a relative one, and a link to a link.
+  const fs::path absolute = dir.path() / "absolute.json";
+  const fs::path relative = dir.path() / "relative.json";
+  const fs::path chain = dir.path() / "chain.json";
+  fs::create_symlink(target, absolute);
+  fs::create_symlink("real/target.json", relative);
+  fs::create_symlink("absolute.json", chain);
+  for (const fs::path& link : {absolute, relative, chain}) {
+    INFO(link.string());
+    fs::remove(target);
+    std::ofstream(target) << "old";
+    fs::permissions(target, fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read);
+    medspheres::save_sphere_set(s, link.string());
+    CHECK(fs::is_symlink(fs::symlink_status(link)));
+    CHECK(fs::is_regular_file(fs::symlink_status(target)));
+    CHECK(read_text(target) == expected);
+    CHECK(read_text(link.string()) == expected);
+    // The file replaced keeps its permission bits.
+    CHECK((fs::status(target).permissions() & fs::perms::all) ==
+          (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read));
+  }
+  // A dangling link: its target is created, the link stays.
+  const fs::path dangling = dir.path() / "dangling.json";
+  fs::create_symlink("real/new.json", dangling);
+  medspheres::save_sphere_set(s, dangling.string());
+  CHECK(fs::is_symlink(fs::symlink_status(dangling)));
+  CHECK(read_text((dir.path() / "real/new.json").string()) == expected);
+  // Only the files made here remain: no temporaries.
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path() / "real")) {
+    (void)e;
+    ++entries;
+  }
+  CHECK(entries == 2);
+  // A loop of links is an error naming the path.
+  fs::create_symlink("loop_b.json", dir.path() / "loop_a.json");
+  fs::create_symlink("loop_a.json", dir.path() / "loop_b.json");
+  CHECK_THROWS_WITH(medspheres::save_sphere_set(s, (dir.path() / "loop_a.json").string()),
+                    Contains("loop_a.json") && Contains("symbolic links"));
+}
+
+TEST_CASE("saving to a device writes it in place and leaves it a device", "[io]") {
+  // Renaming over /dev/null once replaced it, as root, by a regular file.
+  const SphereSet s = random_set(2, 4);
+  struct stat before {};
+  REQUIRE(::stat("/dev/null", &before) == 0);
+  REQUIRE(S_ISCHR(before.st_mode));
+  medspheres::save_sphere_set(s, "/dev/null");
+  medspheres::check_output_path("/dev/null");
+  struct stat after {};
+  REQUIRE(::stat("/dev/null", &after) == 0);
+  CHECK(S_ISCHR(after.st_mode));
+  CHECK(after.st_rdev == before.st_rdev);
+  CHECK(after.st_ino == before.st_ino);
+  // A device that fails the write (/dev/full: no space left) is an Error, not bad input.
+  struct stat full {};
+  if (::stat("/dev/full", &full) == 0 && S_ISCHR(full.st_mode)) {
+    try {
+      medspheres::save_sphere_set(s, "/dev/full");
+      FAIL("writing to /dev/full must fail");
+    } catch (const InputError&) {
+      FAIL("a failed write is not bad input");
+    } catch (const medspheres::Error& e) {
+      CHECK_THAT(std::string(e.what()), Contains("/dev/full") && Contains("cannot write"));
+    }
+    REQUIRE(::stat("/dev/full", &full) == 0);
+    CHECK(S_ISCHR(full.st_mode));
+  }
+}
+
+TEST_CASE("an output path that cannot be a file is bad input, found before writing", "[io]") {
+  TempDir dir;
+  const SphereSet s = random_set(2, 5);
+  const std::string parent_file = dir.write("plain", "x");
+  struct Case {
+    std::string path, says;
+  };
+  for (const Case& c : {Case{dir.path().string(), "is a directory"},
+                        Case{dir.file("missing/out.json"), "does not exist"},
+                        Case{parent_file + "/out.json", "is not a directory"}}) {
+    INFO(c.path);
+    CHECK_THROWS_WITH(medspheres::check_output_path(c.path), Contains(c.path) && Contains(c.says));
+    try {
+      medspheres::save_sphere_set(s, c.path);
+      FAIL("must throw");
+    } catch (const InputError& e) {
+      CHECK(e.source() == c.path);
+      CHECK_THAT(e.problem(), Contains(c.says));
+    }
+  }
+  CHECK(std::filesystem::is_directory(dir.path()));
+  CHECK(read_text(parent_file) == "x");
+  CHECK_NOTHROW(medspheres::check_output_path(dir.file("new.json")));
+  CHECK_FALSE(std::filesystem::exists(dir.file("new.json")));
+}
+
+TEST_CASE("sphere files: subnormal radii are valid, a box beyond the doubles is not", "[io]") {
+  const SphereSet tiny = medspheres::parse_sphere_set(R"({"spheres": [[0, 0, 0, 1e-320]]})", "t");
+  CHECK(tiny.spheres[0].radius == 1e-320);
+  CHECK_THROWS_WITH(
+      medspheres::parse_sphere_set(R"({"spheres": [[0, 0, 0, 1], [1e308, 0, 0, 1e308]]})", "t"),
+      Contains("sphere 1") && Contains("beyond the largest finite double"));
 }

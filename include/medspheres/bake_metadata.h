@@ -38,8 +38,12 @@ struct BakeRecord {
 /// - "generator": method ("medial", or "medial+dilation"), version, params (resolution,
 ///   object_angle, medial_tolerance, mode and its target; "dilation" with the dilation
 ///   options when dilated);
-/// - "stats": count, resolution, bake_seconds, min_radius, max_radius, the query counts,
-///   "dilation" with the dilation statistics when dilated, and every extra entry.
+/// - "stats": count, resolution, bake_seconds (BakeStats::total_seconds: for a
+///   resolution search the whole search), min_radius, max_radius, the query counts,
+///   for a search "final_bake_seconds" (the chosen resolution's bake) and "search"
+///   ({"resolutions": [...], "spheres": [...]} in the order baked, plus "errors" for an
+///   error target), "dilation" with the dilation statistics when dilated, and every extra
+///   entry (a non-finite number is written as null).
 std::string bake_metadata_json(const BakeRecord& record);
 
 }  // namespace medspheres

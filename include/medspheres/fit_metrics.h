@@ -13,11 +13,15 @@
 /// The solid. The mesh is oriented first (orient_mesh on a copy: consistent winding,
 /// closed components turned outward), so a raw mesh is measured like a loaded one.
 /// - vol(Omega) = V is defined when every component is closed (see mesh_report.h): it is
-///   the sum of the components' divergence-theorem volumes, each positive once oriented.
-///   That is the volume of the solid when components neither overlap nor nest; a region
-///   inside two components is counted twice (the Monte Carlo below measures how much, and
-///   FitReport::warnings says so). The volume of an open mesh is not defined, and neither
-///   is nerr.
+///   the sum of the components' divergence-theorem volumes, each positive once oriented,
+///   i.e. the integral of the winding number. That is the volume of the solid when the
+///   surface does not intersect itself and components do not nest; a region inside two
+///   components, or enclosed twice by a surface that passes through itself, is counted
+///   twice (the Monte Carlo below measures how much, and FitReport::warnings says so). The
+///   volume of an open mesh is not defined, and neither is nerr.
+/// - The mesh self-intersects when two of its triangles meet other than at the vertices and
+///   edges they share (self_intersection.h; touching counts). FitEvaluator finds the pairs
+///   once, at construction.
 /// - Inside means a generalized winding number > 0.5 (mesh_query.h). For a closed mesh
 ///   this is Omega; for an open one it is the solid its winding number defines, the solid
 ///   the baker fills, and the one the Monte-Carlo estimate measures.
@@ -33,13 +37,20 @@
 ///   thickness t_i, so 0 <= Err / V - nerr <= nerr_slack = 2 sum_i 4 pi r_i^2 max(t_i, 0)
 ///   / V, which VolumeError reports (0 for baked sets: their protrusions are negative);
 /// - kind "lower_bound" otherwise: nerr = |V - U| / V <= Err / V (Lemma 1);
+/// - kind "approximate" when the mesh self-intersects: nerr is the value of the two rules
+///   above, but V may count the regions where parts of the surface overlap as often as they
+///   are covered, so it is neither exact nor a bound (two parts that only touch leave V
+///   exact; the pairs do not tell, the Monte-Carlo multiply covered volume does). A warning
+///   names the number of intersecting pairs;
 /// - kind "undefined" when V is not defined or not positive: nerr is NaN.
-/// The tolerance: the baker shrinks radii by 1e-12 L (bake.h), so its spheres protrude by
-/// about -1e-12 L give or take the rounding of the distance (a few ulps of the
-/// coordinates, near 1e-16 L). kProtrusionTolerance = 1e-9 also accepts sets rounded to
-/// 12 significant digits (for coordinates up to about 100 L from the origin); the error it
-/// can hide is bounded by nerr_slack <= 2 t A / V, A the balls' total sphere area, and is
-/// reported rather than assumed.
+/// The kinds are decided in the order undefined, approximate, exact / lower_bound.
+/// The tolerance: the baker shrinks radii by 1e-12 L + 4 eps (X + L), X the largest
+/// |coordinate| of the box (bake.h), so its spheres protrude by about minus that, give
+/// or take the rounding of the distance (a few ulps of the coordinates).
+/// kProtrusionTolerance = 1e-9 also accepts sets rounded to 12 significant digits (for
+/// coordinates up to about 100 L from the origin); the error it can hide is bounded by
+/// nerr_slack <= 2 t A / V, A the balls' total sphere area, and is reported rather than
+/// assumed.
 ///
 /// Monte-Carlo error (any mesh, any set). N points uniform in the box B that bounds both
 /// the mesh and the balls; point i comes from a counter-based generator keyed by the seed
@@ -72,9 +83,11 @@
 /// bit-identical for every thread count: each point's work is independent, counts are
 /// integers, and sums run in index order.
 ///
-/// Errors. An empty ball list, or a ball with a non-finite coordinate or a radius not
-/// finite and > 0, throws InputError with source "sphere set". Options out of range throw
-/// std::invalid_argument naming the option. A mesh without triangles, with non-finite
+/// Errors. An empty ball list, or a ball with a non-finite coordinate, a radius not
+/// finite and > 0 or a bounding box that is not finite (validate_sphere_set), throws
+/// InputError with source "sphere set"; so does, in evaluate(), a set reaching so far
+/// that the box B has no finite volume. Subnormal radii are valid. Options out of range
+/// throw std::invalid_argument naming the option. A mesh without triangles, with non-finite
 /// coordinates or bad indices throws std::invalid_argument (as MeshQuery does).
 ///
 /// Thread safety: a FitEvaluator is immutable after construction; its const members may
@@ -91,7 +104,9 @@
 #include <Eigen/Geometry>
 
 #include "medspheres/mesh_query.h"
+#include "medspheres/self_intersection.h"
 #include "medspheres/sphere_set.h"
+#include "medspheres/threads.h"
 #include "medspheres/triangle_mesh.h"
 #include "medspheres/union_volume.h"
 
@@ -104,13 +119,13 @@ struct FitOptions {
   std::size_t volume_samples = 1000000;  ///< Monte-Carlo points (>= 1); sigma ~ 1/sqrt(N)
   std::size_t surface_samples = 100000;  ///< area-weighted surface points (>= 1); plus vertices
   std::uint64_t seed = 1;                ///< the points drawn, whatever the thread count
-  int threads = 0;                       ///< 0: all cores
+  int threads = 0;                       ///< 0: all cores; at most kMaxThreads
 };
 
 /// What nerr is (file comment).
-enum class NerrKind { kExact, kLowerBound, kUndefined };
+enum class NerrKind { kExact, kLowerBound, kApproximate, kUndefined };
 
-/// "exact", "lower_bound" or "undefined".
+/// "exact", "lower_bound", "approximate" or "undefined".
 const char* to_string(NerrKind kind);
 
 /// The paper's volumetric error and the protrusions it depends on.
@@ -124,7 +139,10 @@ struct VolumeError {
   double protrusion_tolerance = 0.0;  ///< t = kProtrusionTolerance L
   double nerr = std::numeric_limits<double>::quiet_NaN();
   NerrKind kind = NerrKind::kUndefined;
-  double nerr_slack = 0.0;  ///< kind exact: Err / V lies in [nerr, nerr + nerr_slack]
+  double nerr_slack = 0.0;  ///< kind exact: Err / V lies in [nerr, nerr + nerr_slack]; else 0
+  /// Pairs of triangles of the mesh that intersect (self_intersection.h); when V is defined
+  /// and this is > 0, kind is approximate.
+  std::size_t self_intersecting_pairs = 0;
 };
 
 /// A Monte-Carlo estimate with its 95% interval [lo, hi] and standard error sigma.
@@ -231,8 +249,11 @@ CoverageStats summarize_coverage(const SurfaceSamples& samples,
 /// Holds the oriented mesh, its query structure and its volume, for evaluating many sets.
 class FitEvaluator {
  public:
-  /// Orients a copy of \p mesh, builds its MeshQuery and computes V.
-  explicit FitEvaluator(const TriangleMesh& mesh);
+  /// Orients a copy of \p mesh, builds its MeshQuery, computes V and finds the pairs of
+  /// triangles that intersect (find_self_intersections with \p threads threads, 0: all
+  /// cores).
+  /// \throws std::invalid_argument for threads outside [0, kMaxThreads].
+  explicit FitEvaluator(const TriangleMesh& mesh, int threads = 0);
 
   const MeshQuery& query() const noexcept { return query_; }
   /// V (see solid_volume).
@@ -241,12 +262,15 @@ class FitEvaluator {
   bool closed() const noexcept { return closed_; }
   /// kProtrusionTolerance L.
   double protrusion_tolerance() const noexcept { return tolerance_; }
+  /// The intersecting pairs of triangles of the mesh (self_intersection.h).
+  const SelfIntersections& self_intersections() const noexcept { return self_intersections_; }
 
   /// Union measures, protrusions and nerr: the part of evaluate() the paper defines.
   VolumeError volume_error(const std::vector<Sphere>& balls, int threads = 0) const;
 
   /// Every metric of the file comment.
-  /// \throws std::invalid_argument for volume_samples or surface_samples 0, threads < 0.
+  /// \throws std::invalid_argument for volume_samples or surface_samples 0, threads outside
+  ///   [0, kMaxThreads].
   FitReport evaluate(const std::vector<Sphere>& balls, const FitOptions& options = {}) const;
 
  private:
@@ -257,6 +281,7 @@ class FitEvaluator {
   std::optional<double> volume_;
   bool closed_ = false;
   double tolerance_ = 0.0;
+  SelfIntersections self_intersections_;
 };
 
 /// One-off FitEvaluator(mesh).evaluate(balls, options).

@@ -32,7 +32,8 @@ inline constexpr int kSphereSetVersion = 1;
 /// Reads and validates a sphere-set file.
 /// \throws InputError naming \p path when the file is missing or unreadable, is not
 ///   JSON, lacks "spheres", has a wrong "format" or a newer "version", or holds a
-///   sphere that is not four finite numbers with radius > 0.
+///   sphere that is not four finite numbers with radius > 0 and a finite bounding box
+///   (validate_sphere_set; subnormal radii are valid).
 SphereSet load_sphere_set(const std::string& path);
 
 /// Parses sphere-set JSON text; \p source names it in error messages.
@@ -43,13 +44,29 @@ SphereSet parse_sphere_set(const std::string& json_text, const std::string& sour
 std::string sphere_set_to_json(const SphereSet& set);
 
 /// Writes \p set to \p path atomically (see write_file_atomically).
-/// \throws InputError if the set is invalid, Error if the file cannot be written.
+/// \throws InputError if the set is invalid, and as write_file_atomically.
 void save_sphere_set(const SphereSet& set, const std::string& path);
 
-/// Writes \p contents to a temporary file beside \p path, flushes it, and renames it
-/// over \p path. Readers see the old file or the whole new one, never a part; on
-/// failure the temporary file is removed and \p path is untouched.
-/// \throws Error naming \p path when any step fails.
+/// Writes \p contents to \p path, atomically wherever a file is replaced:
+/// - \p path is first followed through symbolic links; the link stays, and its final
+///   target (which need not exist yet) is what gets written;
+/// - a regular file, or a new one, is written to a temporary file in the target's
+///   directory, flushed to disk, given the permission bits of the file it replaces, and
+///   renamed over the target: readers see the old file or the whole new one, and on
+///   failure the temporary file is removed and the target is untouched;
+/// - an existing file that is not a regular file (a character device such as
+///   /dev/null, a FIFO) is written in place, as a shell redirection would: renaming
+///   over it would replace the device by a regular file.
+/// \throws InputError naming \p path when it is a directory, when its directory does
+///   not exist or is not a directory, or for a symbolic-link loop (bad usage);
+///   Error naming \p path when a step of writing fails (permissions, a read-only file
+///   system, a full disk, ...).
 void write_file_atomically(const std::string& path, const std::string& contents);
+
+/// The checks write_file_atomically makes before writing, without writing: run before a
+/// long computation whose result goes to \p path, so that a bad path fails at once.
+/// Same errors (InputError for a directory or a missing directory; Error when the
+/// directory, or the existing non-regular file, is not writable for this process).
+void check_output_path(const std::string& path);
 
 }  // namespace medspheres

@@ -15,8 +15,9 @@
 
 namespace medspheres {
 
-/// A closed ball {x : |x - center| <= radius}. A valid ball has finite coordinates and
-/// radius > 0 (see validate_sphere_set).
+/// A closed ball {x : |x - center| <= radius}. A valid ball has finite coordinates, a
+/// finite radius > 0 (subnormal radii included) and a finite bounding box (see
+/// validate_sphere_set).
 struct Sphere {
   Eigen::Vector3d center = Eigen::Vector3d::Zero();  ///< p_MoC_M: centre, in frame M
   double radius = 0.0;                               ///< same units as center
@@ -39,7 +40,9 @@ struct SphereSet {
   Eigen::AlignedBox3d bounds() const;
 };
 
-/// Checks that every ball has finite coordinates and a finite radius > 0.
+/// Checks that every ball has finite coordinates, a finite radius > 0 (however small:
+/// subnormal radii are valid), and a finite bounding box (|centre coordinate| + radius
+/// finite, so that nothing computed from the box overflows to infinity).
 /// \param source the name used in the error message (a file name, or "sphere set").
 /// \throws InputError "<source>: sphere 17 has radius -0.5 (must be > 0)" and the like.
 void validate_sphere_set(const SphereSet& set, const std::string& source);

@@ -4,6 +4,7 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
@@ -112,17 +113,31 @@ struct Counters {
 constexpr double kConfidentWinding = 0.75;
 constexpr double kMinConfidentShare = 0.7;
 
-void validate(const BakeOptions& o) {
-  if (o.resolution < 2 || o.resolution > 4096)
-    throw std::invalid_argument("resolution must be in [2, 4096], got " +
-                                std::to_string(o.resolution));
-  if (!(o.object_angle > 0.0) || !(o.object_angle < kPi))
-    throw std::invalid_argument("object angle must be in (0, pi) radians, got " +
-                                std::to_string(o.object_angle));
-  if (!(o.medial_tolerance >= 0.0) || !std::isfinite(o.medial_tolerance))
-    throw std::invalid_argument("medial tolerance must be finite and >= 0 (0: default), got " +
-                                std::to_string(o.medial_tolerance));
-  if (o.threads < 0) throw std::invalid_argument("threads must be >= 0 (0: all cores)");
+std::string number(double v) {
+  char buffer[32];
+  std::snprintf(buffer, sizeof buffer, "%.6g", v);
+  return buffer;
+}
+
+// An explicit medial tolerance against the range for this box and the finest resolution
+// that will be baked.
+void check_tolerance(double tolerance, double longest, int resolution) {
+  if (tolerance == 0.0) return;
+  const ToleranceRange range = medial_tolerance_range(longest, resolution);
+  if (!(tolerance >= range.lo && tolerance < range.hi))
+    throw std::invalid_argument(
+        "medial tolerance must be in [" + number(range.lo) + ", " + number(range.hi) +
+        ") for this mesh at resolution " + std::to_string(resolution) +
+        " (from 1e-9 of the bounding box's largest side up to, not including, the cell "
+        "size), got " +
+        number(tolerance));
+}
+
+// Radius shrink s = 1e-12 L + 4 eps (X + L) of step 5 (bake.h gives the derivation).
+double radius_shrink(const Eigen::AlignedBox3d& box) {
+  const double longest = box.sizes().maxCoeff();
+  const double far = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
+  return 1e-12 * longest + 4.0 * std::numeric_limits<double>::epsilon() * (far + longest);
 }
 
 class Baker {
@@ -132,14 +147,22 @@ class Baker {
     const Eigen::AlignedBox3d box = query.mesh().bounds();
     longest_ = box.sizes().maxCoeff();
     grid_ = make_grid(box, options.resolution);
-    tolerance_ = options.medial_tolerance > 0.0 ? options.medial_tolerance : 1e-3 * longest_;
+    check_tolerance(options.medial_tolerance, longest_, options.resolution);
+    tolerance_ = options.medial_tolerance > 0.0
+                     ? options.medial_tolerance
+                     : std::min(kDefaultMedialTolerance * longest_, 0.5 * grid_.h);
+    shrink_ = radius_shrink(box);
     gamma_ = std::sqrt(3.0) * grid_.h / std::sin(options.object_angle / 2.0);
-    threads_ = options.threads == 0 ? omp_get_max_threads() : options.threads;
+    threads_ =
+        options.threads == 0 ? std::min(omp_get_max_threads(), kMaxThreads) : options.threads;
     const MeshReport report = analyze_mesh(query.mesh());
     closed_ = report.closed && report.inconsistent_edges == 0;
   }
 
-  BakeResult run() {
+  // A bake; when no grid vertex is inside the solid, an InputError, or with
+  // \p empty_if_no_interior an empty result with stats.inside_vertices 0 (the resolution
+  // searches treat that resolution as too coarse).
+  BakeResult run(bool empty_if_no_interior = false) {
     const auto t0 = std::chrono::steady_clock::now();
     // The grid is processed a chunk of slabs at a time, holding the vertex layers that
     // bound the chunk: memory grows with resolution squared, not cubed. A chunk holds
@@ -176,9 +199,11 @@ class Baker {
         options_.progress("baking", static_cast<std::size_t>(k0 + count),
                           static_cast<std::size_t>(slabs));
     }
-    check_interior();
+    // No inside vertex means no search ran and nothing was found.
+    if (!empty_if_no_interior || counters_.inside > 0) check_interior();
     BakeResult result = keep_one_per_cell(std::move(found));
     stats_.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+    stats_.total_seconds = stats_.seconds;
     result.stats = stats_;
     return result;
   }
@@ -367,8 +392,9 @@ class Baker {
     // *at_hi receive the probes at the final ends (when probed).
     auto bisect = [&](double lo, double hi, double angle, ClosestPoint* at_lo,
                       ClosestPoint* at_hi) {
-      while (hi - lo > tolerance_) {
+      for (int step = 0; step < kMaxBisections && hi - lo > tolerance_; ++step) {
         const double mid = 0.5 * (lo + hi);
+        if (!(mid > lo && mid < hi)) break;  // adjacent doubles: nothing left to halve
         const ClosestPoint c = probe(mid);
         if (passed(c, mid, angle)) {
           hi = mid;
@@ -457,7 +483,7 @@ class Baker {
     }
     Candidate out;
     out.centre = m;
-    out.radius = d - 1e-12 * longest_;
+    out.radius = d - shrink_;
     out.sample.near_point = near.point;
     out.sample.far_point = far.point;
     out.sample.object_angle = angle;
@@ -536,6 +562,7 @@ class Baker {
   double longest_ = 0.0;
   Grid grid_;
   double tolerance_ = 0.0;
+  double shrink_ = 0.0;  // step 5's radius shrink
   double gamma_ = 0.0;
   int threads_ = 1;
   bool closed_ = false;  // closed and consistently wound: integer winding numbers
@@ -545,50 +572,94 @@ class Baker {
 
 }  // namespace
 
+ToleranceRange medial_tolerance_range(double longest, int resolution) {
+  return {kMinMedialTolerance * longest, longest / resolution};
+}
+
+void validate_bake_options(const BakeOptions& o) {
+  if (o.resolution < kMinResolution || o.resolution > kMaxResolution)
+    throw std::invalid_argument("resolution must be in [" + std::to_string(kMinResolution) + ", " +
+                                std::to_string(kMaxResolution) + "], got " +
+                                std::to_string(o.resolution));
+  if (!(o.object_angle > 0.0) || !(o.object_angle < kPi))
+    throw std::invalid_argument("object angle must be in (0, pi) radians, got " +
+                                number(o.object_angle));
+  if (!(o.medial_tolerance >= 0.0) || !std::isfinite(o.medial_tolerance))
+    throw std::invalid_argument("medial tolerance must be finite and >= 0 (0: default), got " +
+                                number(o.medial_tolerance));
+  check_threads(o.threads);
+}
+
 BakeResult bake(const MeshQuery& query, const BakeOptions& options) {
-  validate(options);
+  validate_bake_options(options);
   return Baker(query, options).run();
 }
 
 BakeResult bake(const TriangleMesh& mesh, const BakeOptions& options) {
-  validate(options);
+  validate_bake_options(options);
   const MeshQuery query(mesh);
   return Baker(query, options).run();
 }
 
 namespace {
 
-// Resolution search shared by the two modes. `good` holds at low resolutions and fails
-// at high ones when want_largest (a sphere budget), and the reverse otherwise (an error
-// target). From the start resolution, doubling or halving moves toward the other kind
-// until the boundary is bracketed; bisection then narrows it to adjacent resolutions.
-// Doubling also stops when `stalled(previous, next)` says a doubling changed nothing
-// that matters: the medial surface is then resolved (the single centre of a ball, say)
-// and higher resolutions only cost time. Returns the largest (or smallest) good
-// resolution's bake seen, if any was good.
-template <typename Good, typename Stalled>
-std::optional<BakeResult> search_resolution(const MeshQuery& query, const BakeOptions& options,
-                                            int max_resolution, bool want_largest, Good good,
-                                            Stalled stalled) {
-  if (max_resolution < 2) throw std::invalid_argument("max resolution must be >= 2");
+// Resolution search shared by the two modes (bake.h). `low` says a resolution is on the
+// coarse side of the boundary: within the sphere budget (an empty bake included), or
+// missing the error target. `accept` says its bake may be the answer. When want_largest
+// (a budget) the answer is the largest accepted resolution, on the low side; otherwise
+// (a target) the smallest, on the high side. From the start resolution, doubling or
+// halving moves toward the other side until the boundary is bracketed; bisection narrows
+// it to adjacent resolutions; then windows of kResolutionSearchWindow resolutions past
+// the boundary (above it for a budget, below for a target) are baked, moving to any
+// accepted one, until a window holds none. Doubling also stops when `stalled(previous,
+// next)` says a doubling changed nothing that matters: the medial surface is then
+// resolved (the single centre of a ball, say) and higher resolutions only cost time.
+// Each resolution is baked at most once; `steps` records them in order.
+struct SearchOutcome {
   std::optional<BakeResult> best;
+  std::vector<SearchStep> steps;
+  std::optional<InputError> no_interior;  // the error of the last bake with no inside vertex
+  bool any_interior = false;              // some bake had a grid vertex inside
+};
+
+template <typename Low, typename Accept, typename Stalled, typename Measure>
+SearchOutcome search_resolution(const MeshQuery& query, const BakeOptions& options,
+                                int max_resolution, bool want_largest, Low low, Accept accept,
+                                Stalled stalled, Measure measure) {
+  SearchOutcome out;
+  std::map<int, bool> seen;  // resolution -> low
   BakeResult last;
   auto run = [&](int r) {
+    if (auto it = seen.find(r); it != seen.end()) return it->second;
     BakeOptions o = options;
     o.resolution = r;
-    last = bake(query, o);
-    const bool ok = good(last);
-    if (ok && (!best || (want_largest ? r > best->stats.resolution : r < best->stats.resolution)))
-      best = last;
-    return ok;
+    // An ambiguous winding number (a triangle soup) throws here: it is an error at every
+    // resolution. No inside vertex only makes this resolution too coarse.
+    last = Baker(query, o).run(true);
+    if (last.stats.inside_vertices == 0) {
+      out.no_interior = InputError(
+          "mesh", "no grid vertex lies inside the solid at any resolution tried (up to " +
+                      std::to_string(r) +
+                      "): the mesh bounds no volume (a flat sheet or a triangle soup?), or "
+                      "its parts are thinner than a grid cell");
+    } else {
+      out.any_interior = true;
+    }
+    const bool is_low = low(last);
+    out.steps.push_back({r, last.spheres.size(), measure(last)});
+    if (accept(last) && (!out.best || (want_largest ? r > out.best->stats.resolution
+                                                    : r < out.best->stats.resolution)))
+      out.best = last;
+    seen.emplace(r, is_low);
+    return is_low;
   };
-  int r = std::clamp(options.resolution, 2, max_resolution);
+  int r = std::clamp(options.resolution, kMinResolution, max_resolution);
   const bool g = run(r);
-  const bool up = g == want_largest;
+  const bool up = g;  // on the coarse side: go finer
   int other = -1;
   for (;;) {
-    const int next = up ? std::min(2 * r, max_resolution) : std::max(r / 2, 2);
-    if (next == r) break;  // reached a limit without finding the other kind
+    const int next = up ? std::min(2 * r, max_resolution) : std::max(r / 2, kMinResolution);
+    if (next == r) break;  // reached a limit without finding the other side
     const BakeResult previous = last;
     if (run(next) != g) {
       other = next;
@@ -597,65 +668,120 @@ std::optional<BakeResult> search_resolution(const MeshQuery& query, const BakeOp
     r = next;
     if (up && stalled(previous, last)) break;
   }
-  if (other < 0) return best;
-  int good_r = g ? r : other, bad_r = g ? other : r;
-  while (std::abs(good_r - bad_r) > 1) {
-    const int mid = (good_r + bad_r) / 2;
+  if (other < 0) return out;
+  int low_r = g ? r : other, high_r = g ? other : r;
+  while (high_r - low_r > 1) {
+    const int mid = low_r + (high_r - low_r) / 2;
     if (run(mid))
-      good_r = mid;
+      low_r = mid;
     else
-      bad_r = mid;
+      high_r = mid;
   }
-  return best;
+  // The windows past the boundary.
+  int boundary = want_largest ? low_r : high_r;
+  for (int k = 1; k <= kResolutionSearchWindow; ++k) {
+    const int q = want_largest ? boundary + k : boundary - k;
+    if (q < kMinResolution || q > max_resolution) break;
+    run(q);
+    if (out.best && out.best->stats.resolution == q) {
+      boundary = q;  // accepted: a new window from here
+      k = 0;
+    }
+  }
+  return out;
+}
+
+void check_search(const MeshQuery& query, const BakeOptions& options, int max_resolution) {
+  if (max_resolution < kMinResolution || max_resolution > kMaxResolution)
+    throw std::invalid_argument("max resolution must be in [" + std::to_string(kMinResolution) +
+                                ", " + std::to_string(kMaxResolution) + "], got " +
+                                std::to_string(max_resolution));
+  validate_bake_options(options);
+  check_tolerance(options.medial_tolerance, query.mesh().bounds().sizes().maxCoeff(),
+                  max_resolution);
+}
+
+// The search's details in the result's stats.
+BakeResult finish(SearchOutcome&& found, std::chrono::steady_clock::time_point t0) {
+  BakeResult result = std::move(*found.best);
+  result.stats.search = std::move(found.steps);
+  result.stats.total_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return result;
 }
 
 }  // namespace
 
 BakeResult bake_max_spheres(const MeshQuery& query, std::size_t max_spheres,
                             const BakeOptions& options, int max_resolution) {
+  const auto t0 = std::chrono::steady_clock::now();
   if (max_spheres < 1) throw std::invalid_argument("max spheres must be >= 1");
-  validate(options);
-  auto result = search_resolution(
+  check_search(query, options, max_resolution);
+  SearchOutcome found = search_resolution(
       query, options, max_resolution, true,
       [&](const BakeResult& r) { return r.spheres.size() <= max_spheres; },
+      [&](const BakeResult& r) { return !r.spheres.empty() && r.spheres.size() <= max_spheres; },
       [](const BakeResult& a, const BakeResult& b) {
-        return b.spheres.size() <= a.spheres.size();
-      });
-  if (!result)
-    throw InputError("--max-spheres", "even resolution 2 gives more than " +
-                                          std::to_string(max_spheres) + " spheres");
-  return std::move(*result);
+        return !a.spheres.empty() && b.spheres.size() <= a.spheres.size();
+      },
+      [](const BakeResult&) { return std::numeric_limits<double>::quiet_NaN(); });
+  if (!found.best) {
+    if (!found.any_interior && found.no_interior) throw *found.no_interior;
+    // The fewest spheres any resolution gave, and where.
+    const SearchStep* fewest = nullptr;
+    std::string tried;
+    for (const SearchStep& s : found.steps) {
+      if (s.spheres > 0 && (!fewest || s.spheres < fewest->spheres)) fewest = &s;
+      tried += (tried.empty() ? "" : ", ") + std::to_string(s.resolution);
+    }
+    throw InputError("--max-spheres",
+                     "no resolution tried (" + tried + ") gives between 1 and " +
+                         std::to_string(max_spheres) + " spheres: " +
+                         (fewest ? "the fewest found is " + std::to_string(fewest->spheres) +
+                                       " at resolution " + std::to_string(fewest->resolution)
+                                 : std::string("none gave any sphere")));
+  }
+  return finish(std::move(found), t0);
 }
 
 BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorFn& error,
                              const BakeOptions& options, int max_resolution) {
+  const auto t0 = std::chrono::steady_clock::now();
   if (!(target > 0.0) || !std::isfinite(target))
     throw std::invalid_argument("target error must be finite and > 0");
   if (!error) throw std::invalid_argument("bake_target_error needs an error function");
-  validate(options);
+  check_search(query, options, max_resolution);
   double best_error = std::numeric_limits<double>::infinity();
   int highest = 0;
   std::map<int, double> errors;  // by resolution, so that no set is measured twice
   auto error_of = [&](const BakeResult& r) {
+    if (r.spheres.empty()) return 1.0;  // misses the whole volume; never measured
     auto it = errors.find(r.stats.resolution);
     if (it == errors.end()) it = errors.emplace(r.stats.resolution, error(r.spheres)).first;
     return it->second;
   };
-  auto result = search_resolution(
+  auto meets = [&](const BakeResult& r) { return !r.spheres.empty() && error_of(r) <= target; };
+  SearchOutcome found = search_resolution(
       query, options, max_resolution, false,
       [&](const BakeResult& r) {
         const double e = error_of(r);
-        best_error = std::min(best_error, e);
+        if (!r.spheres.empty()) best_error = std::min(best_error, e);
         highest = std::max(highest, r.stats.resolution);
-        return e <= target;
+        return !meets(r);
       },
-      [&](const BakeResult& a, const BakeResult& b) { return error_of(b) >= error_of(a); });
-  if (!result)
+      meets,
+      [&](const BakeResult& a, const BakeResult& b) {
+        return !a.spheres.empty() && !b.spheres.empty() && error_of(b) >= error_of(a);
+      },
+      error_of);
+  if (!found.best) {
+    if (!found.any_interior && found.no_interior) throw *found.no_interior;
     throw Error(
-        "target error " + std::to_string(target) + " not reached: best error " +
-        std::to_string(best_error) + " up to resolution " + std::to_string(highest) +
+        "target error " + number(target) + " not reached: best error " + number(best_error) +
+        " up to resolution " + std::to_string(highest) +
         (highest < max_resolution ? ", where doubling the resolution stopped reducing it" : ""));
-  return std::move(*result);
+  }
+  return finish(std::move(found), t0);
 }
 
 }  // namespace medspheres

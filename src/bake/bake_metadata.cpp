@@ -39,16 +39,17 @@ std::string bake_metadata_json(const BakeRecord& r) {
   meta["generator"] = {{"method", r.dilation_stats ? "medial+dilation" : "medial"},
                        {"version", MEDSPHERES_VERSION_STRING},
                        {"params", params}};
-  Json st = {{"count", r.dilation_stats
-                           ? r.dilation_stats->input_spheres + r.dilation_stats->added_vertex +
-                                 r.dilation_stats->added_cover
-                           : r.stats.spheres},
-             {"resolution", r.stats.resolution},
-             {"bake_seconds", r.stats.seconds},
-             {"min_radius", r.stats.min_radius},
-             {"max_radius", r.stats.max_radius},
-             {"closest_point_queries", r.stats.closest_point_queries},
-             {"winding_queries", r.stats.winding_queries}};
+  Json st = {
+      {"count", r.dilation_stats
+                    ? r.dilation_stats->input_spheres + r.dilation_stats->added_vertex +
+                          r.dilation_stats->added_cover
+                    : r.stats.spheres},
+      {"resolution", r.stats.resolution},
+      {"bake_seconds", r.stats.total_seconds > 0.0 ? r.stats.total_seconds : r.stats.seconds},
+      {"min_radius", r.stats.min_radius},
+      {"max_radius", r.stats.max_radius},
+      {"closest_point_queries", r.stats.closest_point_queries},
+      {"winding_queries", r.stats.winding_queries}};
   if (r.dilation_stats) {
     const DilateStats& s = *r.dilation_stats;
     Json d = {{"input_spheres", s.input_spheres},
@@ -67,7 +68,21 @@ std::string bake_metadata_json(const BakeRecord& r) {
     }
     st["dilation"] = d;
   }
-  for (const auto& [k, v] : r.extra_stats) st[k] = v;
+  if (!r.stats.search.empty()) {
+    // A resolution search: bake_seconds above is the whole search; what it baked.
+    st["final_bake_seconds"] = r.stats.seconds;
+    Json resolutions = Json::array(), spheres = Json::array(), errors = Json::array();
+    for (const SearchStep& step : r.stats.search) {
+      resolutions.push_back(step.resolution);
+      spheres.push_back(step.spheres);
+      errors.push_back(std::isfinite(step.error) ? Json(step.error) : Json());
+    }
+    Json search = {{"resolutions", resolutions}, {"spheres", spheres}};
+    if (r.mode == "target_error") search["errors"] = errors;
+    st["search"] = search;
+  }
+  // Non-finite numbers (a nerr that is not defined) are written as null.
+  for (const auto& [k, v] : r.extra_stats) st[k] = std::isfinite(v) ? Json(v) : Json();
   for (const auto& [k, v] : r.extra_strings) st[k] = v;
   meta["stats"] = st;
   return meta.dump();

@@ -13,6 +13,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/fit_metrics.h"
+#include "medspheres/threads.h"
 #include "medspheres/union_volume.h"
 
 namespace medspheres {

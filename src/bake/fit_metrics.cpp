@@ -16,6 +16,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh_report.h"
+#include "medspheres/threads.h"
 #include "union_grid.h"
 
 namespace medspheres {
@@ -32,10 +33,8 @@ double seconds_since(Clock::time_point t0) {
 }
 
 int resolve_threads(int threads) {
-  if (threads < 0)
-    throw std::invalid_argument("threads must be >= 0 (0: all cores), got " +
-                                std::to_string(threads));
-  return threads == 0 ? omp_get_max_threads() : threads;
+  check_threads(threads);
+  return threads == 0 ? std::min(omp_get_max_threads(), kMaxThreads) : threads;
 }
 
 void require_balls(const std::vector<Sphere>& balls) {
@@ -273,6 +272,8 @@ const char* to_string(NerrKind kind) {
       return "exact";
     case NerrKind::kLowerBound:
       return "lower_bound";
+    case NerrKind::kApproximate:
+      return "approximate";
     case NerrKind::kUndefined:
       return "undefined";
   }
@@ -362,11 +363,12 @@ CoverageStats summarize_coverage(const SurfaceSamples& samples,
   return s;
 }
 
-FitEvaluator::FitEvaluator(const TriangleMesh& mesh) : query_(oriented(mesh)) {
+FitEvaluator::FitEvaluator(const TriangleMesh& mesh, int threads) : query_(oriented(mesh)) {
   const MeshReport report = analyze_mesh(query_.mesh());
   closed_ = report.closed;
   volume_ = volume_of(report);
   tolerance_ = kProtrusionTolerance * (report.bbox_max - report.bbox_min).maxCoeff();
+  self_intersections_ = find_self_intersections(query_.mesh(), threads);
 }
 
 VolumeError FitEvaluator::combine(const std::vector<Sphere>& balls, UnionMeasures measures,
@@ -376,6 +378,7 @@ VolumeError FitEvaluator::combine(const std::vector<Sphere>& balls, UnionMeasure
   e.union_measures = std::move(measures);
   e.protrusions = std::move(protrusions);
   e.protrusion_tolerance = tolerance_;
+  e.self_intersecting_pairs = self_intersections_.count();
   double slack = 0.0;
   for (std::size_t i = 0; i < e.protrusions.size(); ++i) {
     const double p = e.protrusions[i];
@@ -396,6 +399,10 @@ VolumeError FitEvaluator::combine(const std::vector<Sphere>& balls, UnionMeasure
     e.kind = NerrKind::kLowerBound;
     e.nerr = std::abs(v - u) / v;
   }
+  if (self_intersections_.any()) {  // V may count overlaps more than once: no guarantee left
+    e.kind = NerrKind::kApproximate;
+    e.nerr_slack = 0.0;
+  }
   return e;
 }
 
@@ -412,6 +419,16 @@ FitReport FitEvaluator::evaluate(const std::vector<Sphere>& balls,
   if (options.surface_samples < 1) throw std::invalid_argument("surface_samples must be >= 1");
   const int nt = resolve_threads(options.threads);
   require_balls(balls);
+  // The Monte-Carlo box B holds the mesh and the balls; its volume must be finite.
+  Eigen::AlignedBox3d reach = query_.mesh().bounds();
+  for (const Sphere& b : balls) {
+    reach.extend(b.center - Eigen::Vector3d::Constant(b.radius));
+    reach.extend(b.center + Eigen::Vector3d::Constant(b.radius));
+  }
+  if (!std::isfinite(reach.sizes().prod()))
+    throw InputError("sphere set",
+                     "the spheres reach so far that the box holding them and the mesh has no "
+                     "finite volume (the Monte-Carlo error samples that box)");
 
   FitReport r;
   r.balls = balls.size();
@@ -441,13 +458,21 @@ FitReport FitEvaluator::evaluate(const std::vector<Sphere>& balls,
         "the mesh is open: its volume and nerr are not defined; the Monte-Carlo error is "
         "measured against the solid its winding number defines and normalized by that "
         "solid's estimated volume");
-  } else if (r.monte_carlo.multiple_volume > 0.0) {
-    const MonteCarloError& mc = r.monte_carlo;
-    r.warnings.push_back(
-        "components of the mesh overlap or nest: a volume of about " + fmt(mc.multiple_volume) +
-        " +- " + fmt(mc.multiple_volume_sigma) +
-        " (Monte Carlo) lies in more than one of them, and the mesh volume counts it as often; "
-        "nerr, which divides by the mesh volume, is off by about that over the volume");
+  } else {
+    if (r.volume.kind == NerrKind::kApproximate)
+      r.warnings.push_back(
+          "the mesh self-intersects: " + std::to_string(self_intersections_.count()) +
+          " pair(s) of triangles meet other than at a shared vertex or edge, so the mesh "
+          "volume may count the regions where its parts overlap more than once, and nerr is "
+          "approximate");
+    if (r.monte_carlo.multiple_volume > 0.0) {
+      const MonteCarloError& mc = r.monte_carlo;
+      r.warnings.push_back(
+          "components of the mesh overlap or nest: a volume of about " + fmt(mc.multiple_volume) +
+          " +- " + fmt(mc.multiple_volume_sigma) +
+          " (Monte Carlo) lies in more than one of them, and the mesh volume counts it as often; "
+          "nerr, which divides by the mesh volume, is off by about that over the volume");
+    }
   }
   r.seconds.total = seconds_since(start);
   return r;

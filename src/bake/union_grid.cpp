@@ -15,6 +15,15 @@ constexpr double kMaxCellsPerAxis = 128.0;
 // so that a search from a point outside them crosses few empty cells.
 constexpr double kMaxCellsPerBall = 64.0;
 
+// The smallest cell side for balls whose coordinates reach \p magnitude: 2^20 eps of it
+// (a cell is then a million double spacings wide, so points still map to cells
+// meaningfully), and at least 2^-900 (about 1e-271), so that 1 / h and the cell indices
+// of points in the grid stay finite. Below it are only sets of tiny balls (subnormal
+// radii, say), for which a coarser grid costs nothing.
+double min_cell(double magnitude) {
+  return std::max(0x1p20 * kEps * magnitude, 0x1p-900);
+}
+
 }  // namespace
 
 UnionGrid::UnionGrid(const std::vector<Sphere>& balls) {
@@ -30,13 +39,22 @@ UnionGrid::UnionGrid(const std::vector<Sphere>& balls) {
   }
   const auto middle = radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2);
   std::nth_element(radii.begin(), middle, radii.end());
-  h_ = std::max({*middle, box.sizes().maxCoeff() / kMaxCellsPerAxis,
-                 std::cbrt(box.volume() / (kMaxCellsPerBall * static_cast<double>(balls.size())))});
+  const Eigen::Vector3d size = box.sizes();
+  const double magnitude = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
+  // cbrt(volume / (64 n)); as a product of cube roots when the volume overflows.
+  const double n = kMaxCellsPerBall * static_cast<double>(balls.size());
+  const double per_ball = std::isfinite(box.volume()) ? std::cbrt(box.volume() / n)
+                                                      : std::cbrt(size[0]) * std::cbrt(size[1]) *
+                                                            std::cbrt(size[2]) / std::cbrt(n);
+  h_ = std::max({*middle, size.maxCoeff() / kMaxCellsPerAxis, per_ball, min_cell(magnitude)});
   inv_h_ = 1.0 / h_;
   origin_ = box.min();
+  // h >= the largest side / 128, so each count is at most 128 plus rounding; the cap
+  // only guards that bound.
   for (int k = 0; k < 3; ++k)
-    dims_[k] = std::max(1, static_cast<int>(std::ceil(box.sizes()[k] * inv_h_)));
-  slack_ = 64.0 * kEps * (box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff() + h_);
+    dims_[k] =
+        static_cast<int>(std::clamp(std::ceil(size[k] * inv_h_), 1.0, kMaxCellsPerAxis + 1.0));
+  slack_ = 64.0 * kEps * (magnitude + h_);
 
   const std::size_t cells = static_cast<std::size_t>(dims_[0]) *
                             static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(dims_[2]);

@@ -4,7 +4,9 @@
 //
 // Cells are cubes of side h, laid from the minimum corner of the balls' bounding box: the
 // median radius, raised so that there are at most 128 cells along the box's largest side
-// and at most 64 cells per ball. A cell that lies inside one ball
+// and at most 64 cells per ball, and to at least 2^20 eps times the magnitude of the
+// coordinates (and 2^-900): any finite radii > 0, subnormal ones included, give a grid of
+// at most 129^3 cells with finite cell indices. A cell that lies inside one ball
 // (with a margin, below) keeps only that ball, the one of smallest index: every point of
 // the cell is in U, and that ball is at least as near to any point as the part of U in
 // the cell. Every other cell keeps, in ascending order, the balls that meet it.
@@ -32,7 +34,8 @@ namespace medspheres::detail {
 
 class UnionGrid {
  public:
-  /// Precondition: \p balls is not empty, every centre finite, every radius finite and > 0.
+  /// Precondition: \p balls is not empty, every centre finite, every radius finite and > 0
+  /// (validate_sphere_set), so that the balls' bounding box is finite.
   explicit UnionGrid(const std::vector<Sphere>& balls);
 
   /// A ball that contains p (closed balls), or -1 when none does: for a cell inside a

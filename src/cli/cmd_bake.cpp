@@ -4,6 +4,7 @@
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
+#include <limits>
 #include <optional>
 #include <string>
 
@@ -15,6 +16,7 @@
 #include "medspheres/fit_metrics.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh_io.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::cli {
 
@@ -73,24 +75,63 @@ std::string default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + ".spheres.json";
 }
 
+// The numeric options whose range does not depend on the mesh, named as the user typed
+// them (the library's own checks say the same in its words).
+BakeOptions bake_options(const BakeArgs& a) {
+  BakeOptions o;
+  if (a.resolution < kMinResolution || a.resolution > kMaxResolution)
+    throw InputError("--resolution", "must be in [" + std::to_string(kMinResolution) + ", " +
+                                         std::to_string(kMaxResolution) + "], got " +
+                                         std::to_string(a.resolution));
+  if (!(a.object_angle > 0.0 && a.object_angle < 3.141592653589793))
+    throw InputError("--object-angle", "must be in (0, pi) radians, got " + fmt(a.object_angle));
+  if (!(a.medial_tolerance >= 0.0) || !std::isfinite(a.medial_tolerance))
+    throw InputError("--medial-tolerance", "must be a finite length > 0 (or 0: the default), got " +
+                                               fmt(a.medial_tolerance));
+  if (a.threads < 0 || a.threads > kMaxThreads)
+    throw InputError("--threads", "must be in [0, " + std::to_string(kMaxThreads) +
+                                      "] (0: all cores), got " + std::to_string(a.threads));
+  if (a.max_spheres && *a.max_spheres < 1)
+    throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*a.max_spheres));
+  if (a.target_error && !(*a.target_error > 0.0 && *a.target_error < 1.0))
+    throw InputError("--target-error", "must be in (0, 1), got " + fmt(*a.target_error));
+  o.resolution = a.resolution;
+  o.object_angle = a.object_angle;
+  o.medial_tolerance = a.medial_tolerance;
+  o.threads = a.threads;
+  return o;
+}
+
+// An explicit --medial-tolerance against the mesh's box: at least 1e-9 L, below the cell
+// of the finest resolution that will be baked.
+void check_medial_tolerance(const BakeArgs& a, const MeshReport& report) {
+  if (a.medial_tolerance == 0.0) return;
+  const bool search = a.max_spheres || a.target_error;
+  const int finest = search ? kMaxSearchResolution : a.resolution;
+  const double longest = (report.bbox_max - report.bbox_min).maxCoeff();
+  const ToleranceRange range = medial_tolerance_range(longest, finest);
+  if (a.medial_tolerance >= range.lo && a.medial_tolerance < range.hi) return;
+  throw InputError("--medial-tolerance",
+                   "must be in [" + fmt(range.lo) + ", " + fmt(range.hi) + ") for " + a.mesh +
+                       ": from 1e-9 of its bounding box's largest side L = " + fmt(longest) +
+                       " up to, not including, the cell size L / " + std::to_string(finest) +
+                       (search ? " of the finest resolution the search may bake" : "") + ", got " +
+                       fmt(a.medial_tolerance));
+}
+
 int run_bake(const BakeArgs& args) {
-  // Options first: nonsense is reported before any work is done.
-  BakeOptions options;
-  options.resolution = args.resolution;
-  options.object_angle = args.object_angle;
-  options.medial_tolerance = args.medial_tolerance;
-  options.threads = args.threads;
-  if (args.max_spheres && *args.max_spheres < 1)
-    throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*args.max_spheres));
-  if (args.target_error && !(*args.target_error > 0.0 && *args.target_error < 1.0))
-    throw InputError("--target-error", "must be in (0, 1), got " + fmt(*args.target_error));
+  // Options first: nonsense is reported before any work is done, and so is an output
+  // path that cannot be written.
+  BakeOptions options = bake_options(args);
   const std::optional<DilateOptions> dilation = dilation_options(args);
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
+  check_output_path(out);
 
   const LoadedMesh loaded = load_mesh(args.mesh);
   if (!args.quiet)
     for (const std::string& w : loaded.warnings)
       std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
+  check_medial_tolerance(args, loaded.report);
   // Orients (a no-op after the loader), builds the mesh query and computes the volume.
   const FitEvaluator fit(loaded.mesh);
   if (args.target_error && !fit.volume())
@@ -139,7 +180,9 @@ int run_bake(const BakeArgs& args) {
   record.mode = mode;
   record.mode_target = target;
   SphereSet output = result.spheres;
+  std::optional<VolumeError> internal;  // S_D's, when dilated
   if (dilation) {
+    if (fit.volume()) internal = fit.volume_error(result.spheres.spheres, args.threads);
     const DilateResult dilated = dilate(query, result.spheres, *dilation);
     output = dilated.spheres;
     record.dilation_options = dilation;
@@ -160,6 +203,15 @@ int run_bake(const BakeArgs& args) {
     record.extra_stats["union_volume"] = volume->union_measures.volume;
     record.extra_stats["max_protrusion"] = volume->max_protrusion;
     record.extra_strings["nerr_kind"] = to_string(volume->kind);
+  } else {
+    // Written as null: the volume of an open mesh, and so nerr, is not defined.
+    record.extra_stats["nerr"] = std::numeric_limits<double>::quiet_NaN();
+    record.extra_strings["nerr_kind"] = to_string(NerrKind::kUndefined);
+  }
+  if (internal) {
+    // The internal set S_D, before dilation: what --target-error was met by.
+    record.extra_stats["nerr_internal"] = internal->nerr;
+    record.extra_strings["nerr_internal_kind"] = to_string(internal->kind);
   }
   output.metadata_json = bake_metadata_json(record);
   save_sphere_set(output, out);
@@ -172,7 +224,9 @@ int run_bake(const BakeArgs& args) {
               << "\n"
               << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
               << " x " << s.grid[2] << ", cell " << fmt(s.cell_size, 4) << ")";
-    if (mode != "resolution") std::cout << ", chosen for " << mode << " " << fmt(target);
+    if (mode != "resolution")
+      std::cout << ", chosen for " << mode << " " << fmt(target) << " among " << s.search.size()
+                << " resolutions baked";
     std::cout << "\n"
               << "  spheres       " << s.spheres << ", radius " << fmt(s.min_radius, 4) << " .. "
               << fmt(s.max_radius, 4) << "\n";
@@ -190,16 +244,28 @@ int run_bake(const BakeArgs& args) {
         std::cout << "  protrusion    " << fmt(volume->max_protrusion, 4)
                   << " (the most a sphere sticks out of the solid)\n";
     }
+    if (internal)
+      std::cout << "  internal S_D  nerr " << fmt(internal->nerr, 4)
+                << (internal->kind == NerrKind::kExact ? " (exact)" : " (a lower bound)")
+                << (mode == "target_error"
+                        ? ": --target-error " + fmt(target) +
+                              " was met by this internal set; the written S+ is measured below"
+                        : std::string())
+                << "\n";
     if (volume) {
-      std::cout << "  volume        union " << fmt(volume->union_measures.volume, 6) << " of mesh "
-                << fmt(*fit.volume(), 6) << ", nerr " << fmt(volume->nerr, 4)
+      std::cout << "  volume        " << (internal ? "S+: " : "") << "union "
+                << fmt(volume->union_measures.volume, 6) << " of mesh " << fmt(*fit.volume(), 6)
+                << ", nerr " << fmt(volume->nerr, 4)
                 << (volume->kind == NerrKind::kExact ? " (exact: the spheres are inside)\n"
                                                      : " (a lower bound: spheres stick out)\n");
     } else {
       std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
     }
     std::cout << "  work          " << s.closest_point_queries << " closest-point and "
-              << s.winding_queries << " winding-number queries, " << fmt(s.seconds, 3) << " s\n";
+              << s.winding_queries << " winding-number queries, " << fmt(s.seconds, 3) << " s";
+    if (mode != "resolution")
+      std::cout << " (the whole search: " << fmt(s.total_seconds, 3) << " s)";
+    std::cout << "\n";
   }
   return kExitOk;
 }
@@ -220,9 +286,10 @@ Runner register_bake(CLI::App& app) {
       ->capture_default_str();
   sub->add_option(
       "--medial-tolerance", a->medial_tolerance,
-      "Stop the medial search within this distance (default: 1e-3 of the box's largest side)");
+      "Stop the medial search within this distance: at least 1e-9 of the box's largest side L "
+      "and below the cell size (default: 1e-3 L, at most half a cell)");
   auto* max = sub->add_option("--max-spheres", a->max_spheres,
-                              "Choose the largest resolution giving at most N spheres");
+                              "Choose the largest resolution giving 1 to N spheres");
   auto* err =
       sub->add_option("--target-error", a->target_error,
                       "Choose the smallest resolution whose normalized volume error is at most E");
@@ -239,7 +306,8 @@ Runner register_bake(CLI::App& app) {
                   "Dilate, then add spheres until no surface sample is farther than this "
                   "length outside (implies --dilate)");
   sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
-  sub->add_option("--threads", a->threads, "Threads (default 0: all cores)")->capture_default_str();
+  sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");
   return [a] { return run_bake(*a); };
 }

@@ -11,6 +11,7 @@
 #include "medspheres/fit_metrics.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh_io.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::cli {
 
@@ -59,6 +60,7 @@ void print_json(const EvalArgs& args, const FitReport& r, double longest,
   j["nerr"] = number(v.nerr);
   j["nerr_kind"] = to_string(v.kind);
   j["nerr_slack"] = v.nerr_slack;
+  j["self_intersecting_pairs"] = v.self_intersecting_pairs;
   j["max_protrusion"] = v.max_protrusion;
   j["max_protrusion_sphere"] = v.max_protrusion_ball;
   j["protruding_spheres"] = v.protruding;
@@ -117,6 +119,9 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
     case NerrKind::kLowerBound:
       std::cout << ">= " << fmt(v.nerr, 5) << " (lower bound: spheres stick out)\n";
       break;
+    case NerrKind::kApproximate:
+      std::cout << "~ " << fmt(v.nerr, 5) << " (approximate: the mesh intersects itself)\n";
+      break;
     case NerrKind::kUndefined:
       std::cout << "not defined\n";
       break;
@@ -151,9 +156,9 @@ int run_eval(const EvalArgs& args) {
   if (args.surface_samples < 1)
     throw InputError("--surface-samples",
                      "must be >= 1, got " + std::to_string(args.surface_samples));
-  if (args.threads < 0)
-    throw InputError("--threads",
-                     "must be >= 0 (0: all cores), got " + std::to_string(args.threads));
+  if (args.threads < 0 || args.threads > kMaxThreads)
+    throw InputError("--threads", "must be in [0, " + std::to_string(kMaxThreads) +
+                                      "] (0: all cores), got " + std::to_string(args.threads));
   FitOptions options;
   options.volume_samples = static_cast<std::size_t>(args.samples);
   options.surface_samples = static_cast<std::size_t>(args.surface_samples);
@@ -164,7 +169,7 @@ int run_eval(const EvalArgs& args) {
   const SphereSet set = load_sphere_set(args.spheres);
   FitReport report;
   try {
-    report = FitEvaluator(loaded.mesh).evaluate(set.spheres, options);
+    report = FitEvaluator(loaded.mesh, options.threads).evaluate(set.spheres, options);
   } catch (const InputError& e) {
     // The library speaks of "the sphere set"; the user knows it by its file name.
     if (e.source() == "sphere set") throw InputError(args.spheres, e.problem());
@@ -201,7 +206,8 @@ Runner register_eval(CLI::App& app) {
                                     : std::string();
       })
       ->capture_default_str();
-  sub->add_option("--threads", a->threads, "Threads (default 0: all cores)")->capture_default_str();
+  sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
+      ->capture_default_str();
   return [a] { return run_eval(*a); };
 }
 

@@ -6,6 +6,7 @@
 
 #include "cli_common.h"
 #include "medspheres/mesh_io.h"
+#include "medspheres/self_intersection.h"
 
 namespace medspheres::cli {
 
@@ -23,6 +24,7 @@ nlohmann::ordered_json vec_json(const Eigen::Vector3d& v) {
 int run_info(const InfoArgs& args) {
   const LoadedMesh loaded = load_mesh(args.mesh);
   const MeshReport& r = loaded.report;
+  const SelfIntersections self = find_self_intersections(loaded.mesh);
   if (args.json) {
     nlohmann::ordered_json j;
     j["file"] = args.mesh;
@@ -35,6 +37,7 @@ int run_info(const InfoArgs& args) {
     j["nonmanifold_edges"] = r.nonmanifold_edges;
     j["degenerate_triangles"] = r.degenerate_triangles;
     j["inconsistent_edges"] = r.inconsistent_edges;
+    j["self_intersecting_pairs"] = self.count();
     j["closed"] = r.closed;
     j["volume"] = r.signed_volume;
     j["bbox_min"] = vec_json(r.bbox_min);
@@ -68,9 +71,17 @@ int run_info(const InfoArgs& args) {
             << "  boundary edges      " << r.boundary_edges << "\n"
             << "  non-manifold edges  " << r.nonmanifold_edges << "\n"
             << "  degenerate          " << r.degenerate_triangles << "\n"
+            << "  self-intersecting   "
+            << (self.any() ? std::to_string(self.count()) +
+                                 " triangle pair(s) meet other than at a shared vertex or edge"
+                           : std::string("no"))
+            << "\n"
             << "  closed              " << (r.closed ? "yes" : "no") << "\n"
             << "  volume              " << fmt(r.signed_volume)
-            << (r.is_closed_outward() ? "" : "  (not a closed outward solid: indicative only)")
+            << (!r.is_closed_outward() ? "  (not a closed outward solid: indicative only)"
+                : self.any()
+                    ? "  (the surface intersects itself: overlaps may count more than once)"
+                    : "")
             << "\n"
             << "  bbox                [" << fmt(r.bbox_min.x()) << ", " << fmt(r.bbox_min.y())
             << ", " << fmt(r.bbox_min.z()) << "] .. [" << fmt(r.bbox_max.x()) << ", "

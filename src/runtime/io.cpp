@@ -8,6 +8,7 @@
 #include <fstream>
 #include <sstream>
 
+#include <sys/stat.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
 
@@ -138,27 +139,101 @@ void save_sphere_set(const SphereSet& set, const std::string& path) {
   write_file_atomically(path, sphere_set_to_json(set));
 }
 
-void write_file_atomically(const std::string& path, const std::string& contents) {
-  namespace fs = std::filesystem;
-  const fs::path target(path);
-  const fs::path dir = target.has_parent_path() ? target.parent_path() : fs::path(".");
+namespace {
+
+namespace fs = std::filesystem;
+
+// Follows \p path through symbolic links (relative targets resolve against the link's
+// directory) to the file a write should reach, which need not exist. At most 40 links,
+// as the kernel allows.
+fs::path resolve_links(const std::string& path) {
+  fs::path p(path);
+  for (int hops = 0; hops < 40; ++hops) {
+    std::error_code ec;
+    if (!fs::is_symlink(fs::symlink_status(p, ec))) return p;
+    const fs::path target = fs::read_symlink(p, ec);
+    if (ec) throw Error(path + ": cannot write: cannot read the symbolic link: " + ec.message());
+    p = target.is_absolute() ? target : p.parent_path() / target;
+  }
+  throw InputError(path, "cannot write: too many levels of symbolic links");
+}
+
+// The directory a new file at \p p goes into.
+fs::path directory_of(const fs::path& p) {
+  return p.has_parent_path() ? p.parent_path() : fs::path(".");
+}
+
+// Writes to an existing file that is not a regular one (a character device such as
+// /dev/null, a FIFO): in place, as a shell redirection would, since a rename would
+// replace the device by a regular file.
+void write_in_place(const std::string& path, const fs::path& target, const std::string& contents) {
+  std::FILE* f = std::fopen(target.c_str(), "wb");
+  if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
+  int failure = 0;  // errno of the first step that failed
+  auto step = [&failure](bool done) {
+    if (!done && failure == 0) failure = errno != 0 ? errno : EIO;
+  };
+  step(std::fwrite(contents.data(), 1, contents.size(), f) == contents.size());
+  step(std::fflush(f) == 0);
+  step(std::fclose(f) == 0);
+  if (failure != 0) throw Error(path + ": cannot write: " + std::strerror(failure));
+}
+
+}  // namespace
+
+void check_output_path(const std::string& path) {
+  const fs::path target = resolve_links(path);
   std::error_code ec;
-  if (!fs::is_directory(dir, ec))
-    throw Error(path + ": cannot write: directory " + dir.string() + " does not exist");
+  const fs::file_status st = fs::status(target, ec);
+  if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
+  if (fs::exists(st)) {
+    if (!fs::is_regular_file(st)) {
+      if (::access(target.c_str(), W_OK) != 0)
+        throw Error(path + ": cannot write: " + std::strerror(errno));
+      return;
+    }
+  }
+  const fs::path dir = directory_of(target);
+  const fs::file_status ds = fs::status(dir, ec);
+  if (!fs::exists(ds)) throw InputError(path, "directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(ds)) throw InputError(path, dir.string() + " is not a directory");
+  if (::access(dir.c_str(), W_OK | X_OK) != 0)
+    throw Error(path + ": cannot write in directory " + dir.string() + ": " + std::strerror(errno));
+}
+
+void write_file_atomically(const std::string& path, const std::string& contents) {
+  const fs::path target = resolve_links(path);
+  std::error_code ec;
+  const fs::file_status st = fs::status(target, ec);
+  if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
+  if (fs::exists(st) && !fs::is_regular_file(st)) {
+    write_in_place(path, target, contents);
+    return;
+  }
+  const fs::path dir = directory_of(target);
+  const fs::file_status ds = fs::status(dir, ec);
+  if (!fs::exists(ds)) throw InputError(path, "directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(ds)) throw InputError(path, dir.string() + " is not a directory");
 
   static std::atomic_uint counter{0};  // two writers in one process never share a name
   const fs::path tmp = dir / ("." + target.filename().string() + ".tmp." +
                               std::to_string(::getpid()) + "." + std::to_string(counter++));
   std::FILE* f = std::fopen(tmp.c_str(), "wb");
   if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
-  bool ok = std::fwrite(contents.data(), 1, contents.size(), f) == contents.size();
-  ok = (std::fflush(f) == 0) && ok;
-  ok = (::fsync(::fileno(f)) == 0) && ok;
-  const int saved_errno = errno;
-  ok = (std::fclose(f) == 0) && ok;
-  if (!ok) {
+  int failure = 0;  // errno of the first step that failed
+  auto step = [&failure](bool done) {
+    if (!done && failure == 0) failure = errno != 0 ? errno : EIO;
+  };
+  step(std::fwrite(contents.data(), 1, contents.size(), f) == contents.size());
+  step(std::fflush(f) == 0);
+  // A file replaced keeps its permission bits.
+  if (fs::is_regular_file(st))
+    step(::fchmod(::fileno(f), static_cast<mode_t>(st.permissions()) & 07777) == 0);
+  step(::fsync(::fileno(f)) == 0);
+  step(std::fclose(f) == 0);
+  if (failure != 0) {
     fs::remove(tmp, ec);
-    throw Error(path + ": cannot write: " + std::strerror(saved_errno));
+    throw Error(path + ": cannot write: " + std::strerror(failure));
   }
   fs::rename(tmp, target, ec);
   if (ec) {

@@ -31,6 +31,13 @@ void validate_sphere_set(const SphereSet& set, const std::string& source) {
       msg << "sphere " << i << " has radius " << s.radius << " (must be finite and > 0)";
       throw InputError(source, msg.str());
     }
+    if (!(s.center.cwiseAbs().array() + s.radius).allFinite()) {
+      std::ostringstream msg;
+      msg << "sphere " << i << " (centre (" << s.center.x() << ", " << s.center.y() << ", "
+          << s.center.z() << "), radius " << s.radius
+          << ") reaches beyond the largest finite double";
+      throw InputError(source, msg.str());
+    }
   }
 }
 

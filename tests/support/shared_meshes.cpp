@@ -47,6 +47,7 @@ std::vector<SharedMesh> read_manifest(const std::string& dir) {
     m.nonmanifold_edges = std::stoul(row["nonmanifold_edges"]);
     m.components = std::stoul(row["components"]);
     m.degenerate_triangles = std::stoul(row["degenerate_tris"]);
+    m.selfint_pairs = std::stoul(row["selfint_pairs"]);
     m.category = row["category"];
     out.push_back(m);
   }

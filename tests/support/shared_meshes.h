@@ -17,7 +17,8 @@ struct SharedMesh {
   std::size_t nonmanifold_edges = 0;
   std::size_t components = 0;
   std::size_t degenerate_triangles = 0;
-  std::string category;  ///< "classic", "classic:peanut", "awkward:open", ...
+  std::size_t selfint_pairs = 0;  ///< the manifest's (heuristic) count of intersecting pairs
+  std::string category;           ///< "classic", "classic:peanut", "awkward:open", ...
   bool classic() const { return category.rfind("classic", 0) == 0; }
 };
 

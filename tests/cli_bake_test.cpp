@@ -1,0 +1,280 @@
+// medspheres bake (and eval) at the edges of their options, run as a user runs them:
+// exit codes, messages, what the written file says, and what happens to the output path.
+#include <algorithm>
+#include <filesystem>
+#include <fstream>
+#include <sstream>
+#include <string>
+
+#include <sys/stat.h>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "medspheres/io.h"
+#include "medspheres/mesh_generators.h"
+#include "support/mesh_writers.h"
+#include "support/run_command.h"
+#include "support/temp_dir.h"
+
+using Catch::Matchers::Contains;
+using medspheres::test::CommandResult;
+using medspheres::test::run_command;
+using medspheres::test::shell_quote;
+using medspheres::test::TempDir;
+
+namespace {
+
+const std::string kKnot = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off";
+const std::string kEight = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off";
+
+// The CLI under a time limit, so that a run that never ends fails the test (exit 124)
+// instead of hanging the suite.
+CommandResult cli(const std::string& args, int seconds = 300) {
+  return run_command("timeout " + std::to_string(seconds) + " " + shell_quote(MEDSPHERES_CLI) +
+                     " " + args);
+}
+
+nlohmann::json stats_of(const std::string& path) {
+  return nlohmann::json::parse(medspheres::load_sphere_set(path).metadata_json)["stats"];
+}
+
+// Bakes kKnot at a resolution into \p out; returns its stats.
+nlohmann::json bake_knot_at(int resolution, const std::string& out) {
+  const CommandResult r = cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) +
+                              " --resolution " + std::to_string(resolution));
+  REQUIRE(r.exit_code == 0);
+  return stats_of(out);
+}
+
+}  // namespace
+
+TEST_CASE("bake --medial-tolerance outside its range: exit 2 naming the range", "[cli][bake]") {
+  TempDir dir;
+  const std::string out = dir.file("t.json");
+  // 1e-18 once never ended (the bisection below the double spacing); 1e300, 10 and 0.5,
+  // a cell or more, once wrote garbage sets with exit 0.
+  for (const std::string t : {"1e-18", "1e-10", "1e300", "10", "0.5", "0.0358"}) {
+    INFO(t);
+    const CommandResult r = cli(
+        "bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --medial-tolerance " + t,
+        120);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains("--medial-tolerance") && Contains("must be in [1e-09, 0.0357143)") &&
+                          Contains("cell size"));
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  // A search bakes up to resolution 512: the tolerance must be below that cell.
+  const CommandResult search = cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) +
+                                   " --max-spheres 100 --medial-tolerance 0.01");
+  CHECK(search.exit_code == 2);
+  CHECK_THAT(search.err, Contains("--medial-tolerance") && Contains("512"));
+  // The ends of the range work, and end.
+  for (const std::string t : {"1e-9", "0.035"}) {
+    INFO(t);
+    const CommandResult r = cli(
+        "bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --medial-tolerance " + t,
+        120);
+    CHECK(r.exit_code == 0);
+    CHECK(stats_of(out)["nerr_kind"] == "exact");
+  }
+}
+
+TEST_CASE("bake and eval cap --threads at 1024", "[cli][bake]") {
+  // 100000 once crashed both (exit 139).
+  TempDir dir;
+  const std::string spheres = dir.write("s.json", R"({"spheres": [[0, 0, 0, 0.05]]})");
+  for (const std::string n : {"1025", "100000"}) {
+    INFO(n);
+    CommandResult r = cli("bake -q " + shell_quote(kEight) + " -o " +
+                          shell_quote(dir.file("o.json")) + " --threads " + n);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains("--threads") && Contains("[0, 1024]"));
+    r = cli("eval " + shell_quote(kEight) + " " + shell_quote(spheres) + " --threads " + n);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains("--threads") && Contains("[0, 1024]"));
+  }
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.json")));
+}
+
+TEST_CASE("eval of a set with a subnormal radius works", "[cli][eval]") {
+  // A radius of 1e-320 once made eval crash in its grid over the spheres (exit 139).
+  TempDir dir;
+  for (const std::string set : {R"({"spheres": [[0, 0, 0, 1e-320]]})",
+                                R"({"spheres": [[0.1, 0, 0, 1e-320], [0, 0, 0, 0.05]]})"}) {
+    INFO(set);
+    const std::string spheres = dir.write("tiny.json", set);
+    const CommandResult r = cli("eval --json --samples 20000 --surface-samples 2000 " +
+                                shell_quote(kKnot) + " " + shell_quote(spheres));
+    REQUIRE(r.exit_code == 0);
+    const auto j = nlohmann::json::parse(r.out);
+    CHECK(j["nerr"].get<double>() > 0.9);
+    CHECK(j["uncovered_max"].get<double>() > 0.0);
+  }
+}
+
+TEST_CASE("bake --max-spheres with small and exact budgets", "[cli][bake]") {
+  TempDir dir;
+  const std::string out = dir.file("k.json");
+  // Resolution 3 gives 2 spheres; 4 and 5 none. An empty bake once counted as within the
+  // budget and ended the run with "no medial sphere was found at resolution 5".
+  CommandResult r =
+      cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --max-spheres 5");
+  REQUIRE(r.exit_code == 0);
+  nlohmann::json st = stats_of(out);
+  CHECK(st["count"] == 2);
+  CHECK(st["resolution"] == 3);
+  // No resolution gives a single sphere: said plainly, with the fewest found.
+  r = cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(dir.file("one.json")) +
+          " --max-spheres 1");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("--max-spheres") && Contains("between 1 and 1 spheres") &&
+                        Contains("the fewest found is 2 at resolution 3"));
+  CHECK_FALSE(std::filesystem::exists(dir.file("one.json")));
+  // 84 spheres at 13, 112 at 14, exactly 100 at 15: the search once stopped at 13.
+  r = cli("bake " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --max-spheres 100");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("chosen for max_spheres 100") && Contains("the whole search"));
+  st = stats_of(out);
+  const int chosen = st["resolution"];
+  CHECK(chosen >= 15);
+  CHECK(st["count"].get<int>() <= 100);
+  for (int k = 1; k <= 4; ++k) {
+    INFO("resolution " << chosen + k);
+    const int n = bake_knot_at(chosen + k, dir.file("above.json"))["count"];
+    CHECK(n > 100);
+  }
+  // The whole search is recorded and timed.
+  const auto& resolutions = st["search"]["resolutions"];
+  CHECK(resolutions.size() == st["search"]["spheres"].size());
+  CHECK(std::find(resolutions.begin(), resolutions.end(), chosen) != resolutions.end());
+  CHECK(st["bake_seconds"].get<double>() >= st["final_bake_seconds"].get<double>());
+}
+
+TEST_CASE("bake --target-error picks the smallest resolution and says which set met it",
+          "[cli][bake]") {
+  TempDir dir;
+  const std::string out = dir.file("t.json");
+  const double target = 0.08;
+  CommandResult r =
+      cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --target-error 0.08");
+  REQUIRE(r.exit_code == 0);
+  const nlohmann::json st = stats_of(out);
+  CHECK(st["nerr_kind"] == "exact");
+  CHECK(st["nerr"].get<double>() <= target);
+  const int chosen = st["resolution"];
+  // Smallest: the resolutions below it, baked on their own, miss the target (all four
+  // of the search's window).
+  for (int k = 1; k <= 4; ++k) {
+    INFO("resolution " << chosen - k);
+    const nlohmann::json below = bake_knot_at(chosen - k, dir.file("below.json"));
+    CHECK(below["nerr_kind"] == "exact");
+    CHECK(below["nerr"].get<double>() > target);
+  }
+  CHECK(st["search"]["errors"].size() == st["search"]["resolutions"].size());
+  CHECK(st["bake_seconds"].get<double>() >= st["final_bake_seconds"].get<double>());
+
+  // With --dilate the file holds S+, whose nerr is only a lower bound and may exceed the
+  // target: the stats and the summary say the target was met by the internal set.
+  r = cli("bake " + shell_quote(kKnot) + " -o " + shell_quote(out) +
+          " --target-error 0.08 --dilate");
+  REQUIRE(r.exit_code == 0);
+  const nlohmann::json dilated = stats_of(out);
+  CHECK(dilated["resolution"] == chosen);
+  CHECK(dilated["nerr_internal_kind"] == "exact");
+  CHECK(dilated["nerr_internal"].get<double>() == Approx(st["nerr"].get<double>()).epsilon(1e-12));
+  CHECK(dilated["nerr_internal"].get<double>() <= target);
+  CHECK(dilated["nerr_kind"] == "lower_bound");
+  CHECK_THAT(r.out, Contains("internal S_D") && Contains("met by this internal set") &&
+                        Contains("S+: union"));
+}
+
+TEST_CASE("bake of an open mesh writes nerr null and nerr_kind undefined", "[cli][bake]") {
+  TempDir dir;
+  medspheres::TriangleMesh m = medspheres::make_box({1.0, 1.0, 1.0}, 2);
+  m.triangles.pop_back();
+  const std::string open = dir.write("open.off", medspheres::test::to_off(m));
+  const std::string out = dir.file("open.json");
+  const CommandResult r = cli("bake -q " + shell_quote(open) + " -o " + shell_quote(out));
+  REQUIRE(r.exit_code == 0);
+  const nlohmann::json st = stats_of(out);
+  REQUIRE(st.contains("nerr"));
+  CHECK(st["nerr"].is_null());
+  CHECK(st["nerr_kind"] == "undefined");
+}
+
+TEST_CASE("bake checks its options and output path before loading the mesh", "[cli][bake]") {
+  TempDir dir;
+  // The mesh does not exist: an error naming the option, not the mesh, shows that the
+  // option was checked first.
+  const std::string missing = shell_quote(dir.file("missing.off"));
+  const std::string out = " -o " + shell_quote(dir.file("o.json"));
+  for (const std::string bad : {"--resolution 1", "--resolution 5000", "--object-angle 3.2",
+                                "--object-angle 0", "--threads 2000", "--threads -1",
+                                "--max-spheres 0", "--target-error 1", "--medial-tolerance -1"}) {
+    INFO(bad);
+    const CommandResult r = cli("bake -q " + missing + out + " " + bad);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(bad.substr(0, bad.find(' '))));
+    CHECK_THAT(r.err, !Contains("missing.off"));
+  }
+  // The output path too: checked before the (missing) mesh is read.
+  const std::string plain = dir.write("plain", "x");
+  struct Case {
+    std::string path, says;
+  };
+  for (const Case& c : {Case{dir.file("nodir/o.json"), "does not exist"},
+                        Case{plain + "/o.json", "is not a directory"},
+                        Case{dir.path().string(), "is a directory"}}) {
+    INFO(c.path);
+    const CommandResult r = cli("bake -q " + missing + " -o " + shell_quote(c.path));
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(c.path) && Contains(c.says));
+  }
+}
+
+TEST_CASE("bake -o: links are followed, devices written in place, failures exit 1", "[cli][bake]") {
+  namespace fs = std::filesystem;
+  TempDir dir;
+  // A symbolic link: the target is replaced by the new set, the link stays a link.
+  const std::string target = dir.write("target.json", "old");
+  const fs::path link = dir.path() / "link.json";
+  fs::create_symlink("target.json", link);
+  REQUIRE(cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(link.string()) +
+              " --resolution 12")
+              .exit_code == 0);
+  CHECK(fs::is_symlink(fs::symlink_status(link)));
+  CHECK(fs::is_regular_file(fs::symlink_status(target)));
+  CHECK(medspheres::load_sphere_set(target).size() > 0);
+
+  // /dev/null stays the character device it is (as root a rename once replaced it).
+  struct stat before {};
+  REQUIRE(::stat("/dev/null", &before) == 0);
+  REQUIRE(S_ISCHR(before.st_mode));
+  const CommandResult null = cli("bake " + shell_quote(kEight) + " -o /dev/null --resolution 12");
+  CHECK(null.exit_code == 0);
+  CHECK_THAT(null.out, Contains("-> /dev/null"));
+  struct stat after {};
+  REQUIRE(::stat("/dev/null", &after) == 0);
+  CHECK(S_ISCHR(after.st_mode));
+  CHECK(after.st_rdev == before.st_rdev);
+
+  // A write that fails is a failure, exit 1, not bad usage: /dev/full has no space left.
+  struct stat full {};
+  if (::stat("/dev/full", &full) == 0 && S_ISCHR(full.st_mode)) {
+    const CommandResult r = cli("bake -q " + shell_quote(kEight) + " -o /dev/full --resolution 12");
+    CHECK(r.exit_code == 1);
+    CHECK_THAT(r.err, Contains("/dev/full") && Contains("cannot write"));
+    REQUIRE(::stat("/dev/full", &full) == 0);
+    CHECK(S_ISCHR(full.st_mode));
+  } else {
+    WARN("no /dev/full here: the exit-1 write failure is not exercised");
+  }
+  // Nothing else was left in the directory (no temporaries).
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) {
+    (void)e;
+    ++entries;
+  }
+  CHECK(entries == 2);
+}
