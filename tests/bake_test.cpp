@@ -492,3 +492,38 @@ TEST_CASE("an error target: empty bakes never meet it and are never measured", "
   for (const SearchStep& step : r.stats.search)
     if (step.spheres == 0) CHECK(step.error == 1.0);
 }
+
+TEST_CASE("spheres of an open mesh stay inside its solid: no ball leaks through a hole", "[bake]") {
+  // A box [-1, 1]^3 with its bottom face (z = -1) removed. Its winding-number solid is
+  // the box: across the planar hole the level set 1/2 is the hole itself. Without caps
+  // the radius of a ball near the hole was its distance to the walls, and it reached
+  // through the bottom.
+  TriangleMesh open = make_box(Eigen::Vector3d(1, 1, 1), 4);
+  std::vector<std::array<int, 3>> kept;
+  for (std::size_t t = 0; t < open.triangles.size(); ++t) {
+    bool bottom = true;
+    for (int k = 0; k < 3; ++k) bottom = bottom && open.corner(t, k).z() == -1.0;
+    if (!bottom) kept.push_back(open.triangles[t]);
+  }
+  REQUIRE(kept.size() + 32 == open.triangles.size());
+  open.triangles = kept;
+  BakeOptions options;
+  options.resolution = 16;
+  const BakeResult r = bake(open, options);
+  REQUIRE(r.spheres.size() > 10);
+  for (const Sphere& s : r.spheres.spheres) {
+    // Inside the closed box: at least r from each of the six face planes.
+    for (int axis = 0; axis < 3; ++axis) {
+      CHECK(s.center[axis] - s.radius >= -1.0);
+      CHECK(s.center[axis] + s.radius <= 1.0);
+    }
+  }
+  // eval measures the same solid: these spheres do not protrude, and a ball reaching
+  // through the hole does, by exactly how far it reaches.
+  const FitEvaluator fit(open);
+  const std::vector<double> p = sphere_protrusions(fit.query(), r.spheres.spheres);
+  for (double x : p) CHECK(x <= 0.0);
+  const std::vector<double> leak =
+      sphere_protrusions(fit.query(), {Sphere{Eigen::Vector3d(0.1, 0.2, -0.5), 0.75}});
+  CHECK(leak[0] == Approx(0.25).margin(1e-12));
+}

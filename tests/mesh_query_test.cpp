@@ -492,3 +492,76 @@ TEST_CASE("closest points and inside tests on every closed shared mesh", "[mesh_
   }
 }
 #endif
+
+TEST_CASE("cap_holes: boundary chains get fans, and closest points include them", "[mesh]") {
+  // The unit cube [-1, 1]^3 without its top face (z = 1): one boundary loop of four
+  // edges, wound as the walls' triangles run.
+  TriangleMesh open = make_box(Eigen::Vector3d(1, 1, 1), 1);
+  std::vector<std::array<int, 3>> kept;
+  for (std::size_t t = 0; t < open.triangles.size(); ++t) {
+    bool top = true;
+    for (int k = 0; k < 3; ++k) top = top && open.corner(t, k).z() == 1.0;
+    if (!top) kept.push_back(open.triangles[t]);
+  }
+  REQUIRE(kept.size() == 10);
+  open.triangles = kept;
+  const std::vector<std::vector<int>> loops = boundary_loops(open);
+  REQUIRE(loops.size() == 1);
+  REQUIRE(loops[0].size() == 4);
+  for (int v : loops[0]) CHECK(open.vertices[static_cast<std::size_t>(v)].z() == 1.0);
+  // Each loop edge a -> b runs as in the one triangle that uses it.
+  for (std::size_t k = 0; k < 4; ++k) {
+    const int a = loops[0][k], b = loops[0][(k + 1) % 4];
+    int uses = 0;
+    for (const auto& t : open.triangles)
+      for (int j = 0; j < 3; ++j) uses += t[j] == a && t[(j + 1) % 3] == b;
+    CHECK(uses == 1);
+  }
+  CHECK(boundary_loops(make_box(Eigen::Vector3d(1, 1, 1), 2)).empty());
+
+  MeshQueryOptions capped;
+  capped.cap_holes = true;
+  const MeshQuery plain(open), with_caps(open, capped);
+  CHECK(plain.cap_mesh().triangles.empty());
+  REQUIRE(with_caps.cap_mesh().triangles.size() == 4);
+  CHECK(with_caps.stats().cap_triangles == 4);
+  // Just below the missing face: 0.1 from the hole, 0.6 from the nearest wall.
+  const Eigen::Vector3d p(0.4, 0.1, 0.9);
+  CHECK(plain.closest_point(p).distance() == Approx(0.6));
+  const ClosestPoint c = with_caps.closest_point(p);
+  CHECK(c.distance() == Approx(0.1));
+  CHECK(c.point.isApprox(Eigen::Vector3d(0.4, 0.1, 1.0)));
+  REQUIRE(c.triangle >= 10);
+  const std::array<Eigen::Vector3d, 3> corners = with_caps.triangle_corners(c.triangle);
+  for (const Eigen::Vector3d& x : corners) CHECK(x.z() == 1.0);
+  // A hint on a cap triangle or a wall gives the same distance.
+  CHECK(with_caps.closest_point(p, c.triangle).distance() == c.distance());
+  CHECK(with_caps.closest_point(p, 0).distance() == c.distance());
+  CHECK_THROWS_AS(with_caps.closest_point(p, 14), std::invalid_argument);
+  CHECK_THROWS_AS(with_caps.triangle_corners(14), std::out_of_range);
+  // The winding number is the open mesh's, caps or not.
+  for (const Eigen::Vector3d& q : {p, Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 2)})
+    CHECK(with_caps.winding_number(q) == plain.winding_number(q));
+  // Against brute force over walls and caps together, on random points.
+  TriangleMesh both = open;
+  const TriangleMesh& caps = with_caps.cap_mesh();
+  const int base = static_cast<int>(both.vertices.size());
+  both.vertices.insert(both.vertices.end(), caps.vertices.begin(), caps.vertices.end());
+  for (const auto& t : caps.triangles)
+    both.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  const MeshQuery oracle(both);
+  std::mt19937 rng(7);
+  std::uniform_real_distribution<double> u(-2.0, 2.0);
+  for (int k = 0; k < 500; ++k) {
+    const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+    CHECK(with_caps.closest_point(q).distance() == oracle.closest_point(q).distance());
+  }
+  // A closed mesh has no caps: the same answers either way.
+  const TriangleMesh closed = make_torus(1.0, 0.3, 24, 12);
+  const MeshQuery a(closed), b(closed, capped);
+  CHECK(b.cap_mesh().triangles.empty());
+  for (int k = 0; k < 100; ++k) {
+    const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+    CHECK(a.closest_point(q).distance() == b.closest_point(q).distance());
+  }
+}

@@ -183,7 +183,10 @@ struct BakeResult {
 };
 
 /// Bakes medial spheres of the solid bounded by query.mesh(). Reusing one MeshQuery
-/// across bakes (as the resolution searches do) saves rebuilding the hierarchy.
+/// across bakes (as the resolution searches do) saves rebuilding the hierarchy. For an
+/// open mesh build the query with MeshQueryOptions::cap_holes (FitEvaluator::query() and
+/// bake(mesh) do): radii are distances as the query gives them, and without the caps a
+/// ball near a hole reaches out through it.
 /// \throws std::invalid_argument for options out of range (message names the option
 ///   and the allowed range), including an explicit medial_tolerance outside
 ///   medial_tolerance_range(L, resolution).

@@ -29,6 +29,8 @@
 /// Protrusion of a ball (c, r): r - s d, with d the exact distance from c to the mesh and
 /// s = +1 when c is inside, -1 when not (a ball whose centre is outside protrudes by
 /// r + d). For a closed mesh it is <= 0 exactly when the ball lies in the closed solid.
+/// For an open mesh d is the distance to the mesh with its holes capped
+/// (MeshQueryOptions::cap_holes), so that a ball reaching out through a hole protrudes.
 ///
 /// nerr (paper section 4.1), with U = vol(S) exact (union_volume.h) and
 /// Err = vol(S \ Omega) + vol(Omega \ S):

@@ -36,6 +36,7 @@
 ///
 /// Thread safety: every const member may be called from many threads at once.
 
+#include <array>
 #include <cstddef>
 #include <cstdint>
 #include <memory>
@@ -52,6 +53,16 @@ struct MeshQueryOptions {
   /// the tests bound the total by 1e-2 on generated and real meshes, far from the 0.5
   /// the inside test compares with. Larger is more exact and slower.
   double winding_beta = 2.0;
+  /// Close the holes of an open mesh for the closest-point queries (not for the winding
+  /// number): each chain of boundary_loops() gets a fan of triangles from the centroid
+  /// of its vertices, and closest_point() answers for the triangles and these caps
+  /// together. An open mesh's solid is where its winding number exceeds 1/2; across a
+  /// planar hole the boundary of that solid is the hole itself, which the fan covers
+  /// exactly (for a convex hole; a fan over a non-convex or non-planar loop only
+  /// approximates it). Distances to the solid's boundary then include the holes, so that
+  /// a ball sized by them does not leak out through a hole. No effect on a mesh without
+  /// boundary edges.
+  bool cap_holes = false;
 };
 
 namespace detail {
@@ -64,7 +75,9 @@ struct ClosestPoint {
   /// |p - point|^2, rounded; +infinity when that overflows a double (|p - point| beyond
   /// about 1.3e154), which distance() does not.
   double squared_distance = 0.0;
-  int triangle = -1;  ///< index into TriangleMesh::triangles
+  /// Index into TriangleMesh::triangles; with cap_holes, mesh().num_triangles() + k for
+  /// triangle k of cap_mesh().
+  int triangle = -1;
   /// |p - point|, computed without overflow: finite for every finite query point, and
   /// equal to sqrt(squared_distance) whenever that is finite.
   double distance() const;
@@ -83,9 +96,10 @@ struct QueryCounters {
 /// Shape of the hierarchy, reported next to timings.
 struct MeshBvhStats {
   std::size_t triangles = 0;
-  std::size_t nodes = 0;  ///< 4-wide inner nodes
-  std::size_t depth = 0;  ///< longest root-to-triangle path, in 4-wide nodes
-  std::size_t bytes = 0;  ///< memory held by the query structure
+  std::size_t cap_triangles = 0;  ///< MeshQueryOptions::cap_holes (in a hierarchy of their own)
+  std::size_t nodes = 0;          ///< 4-wide inner nodes
+  std::size_t depth = 0;          ///< longest root-to-triangle path, in 4-wide nodes
+  std::size_t bytes = 0;          ///< memory held by the query structure
 };
 
 class MeshQuery {
@@ -109,7 +123,8 @@ class MeshQuery {
   /// candidate. The answer's distance is identical; a good hint (the triangle nearest to
   /// a nearby point) only makes the search faster. On exact ties the triangle returned
   /// may differ from the unhinted query.
-  /// \throws std::invalid_argument unless 0 <= hint_triangle < triangles and p is finite.
+  /// \throws std::invalid_argument unless hint_triangle is a triangle as closest_point()
+  ///   numbers them (caps included) and p is finite.
   ClosestPoint closest_point(const Eigen::Vector3d& p, int hint_triangle,
                              QueryCounters* counters = nullptr) const;
 
@@ -131,6 +146,13 @@ class MeshQuery {
                                       int threads = 0) const;
 
   const TriangleMesh& mesh() const;
+  /// The hole caps (MeshQueryOptions::cap_holes): a mesh of its own, empty when there are
+  /// none.
+  const TriangleMesh& cap_mesh() const;
+  /// The corners of triangle \p t as closest_point() numbers it: a triangle of mesh(),
+  /// or, from mesh().num_triangles() on, one of cap_mesh().
+  /// \throws std::out_of_range for any other index.
+  std::array<Eigen::Vector3d, 3> triangle_corners(int t) const;
   MeshBvhStats stats() const;
 
  private:

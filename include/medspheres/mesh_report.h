@@ -102,6 +102,14 @@ struct OrientationFix {
 /// cross); for crossing shells the test point decides.
 OrientationFix orient_mesh(TriangleMesh& mesh);
 
+/// The boundary of the mesh as chains of vertex indices: every boundary edge (used by
+/// exactly one triangle) exactly once, directed as in its triangle, chained head to tail
+/// from the lowest unused edge. Where several boundary edges leave one vertex (a
+/// non-manifold boundary), a chain takes the lowest unused one. A chain usually closes
+/// (its last vertex leads back to its first); one that cannot is returned open. Empty
+/// for a closed mesh. Deterministic.
+std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh);
+
 /// Checks that a mesh can be used at all: at least one triangle, finite coordinates,
 /// indices in range, and not every triangle degenerate.
 /// \throws InputError naming \p source and the first problem found.

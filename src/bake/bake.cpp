@@ -597,7 +597,9 @@ BakeResult bake(const MeshQuery& query, const BakeOptions& options) {
 
 BakeResult bake(const TriangleMesh& mesh, const BakeOptions& options) {
   validate_bake_options(options);
-  const MeshQuery query(mesh);
+  MeshQueryOptions query_options;
+  query_options.cap_holes = true;  // radii bounded by the holes of an open mesh too
+  const MeshQuery query(mesh, query_options);
   return Baker(query, options).run();
 }
 

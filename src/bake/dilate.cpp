@@ -1,6 +1,7 @@
 #include "medspheres/dilate.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -68,11 +69,9 @@ class SphereMaker {
     if (!std::isfinite(cap_)) return paper;
     Sphere best = along(u, (t - u) / (2.0 * paper.radius), diagonal_);
     if (paper.radius - depth(paper.center) <= cap_ && paper.radius > best.radius) best = paper;
-    const TriangleMesh& m = query_.mesh();
-    const auto& tri = m.triangles[static_cast<std::size_t>(query_.closest_point(u).triangle)];
-    const Eigen::Vector3d& a = m.vertices[static_cast<std::size_t>(tri[0])];
-    const Eigen::Vector3d n = (m.vertices[static_cast<std::size_t>(tri[1])] - a)
-                                  .cross(m.vertices[static_cast<std::size_t>(tri[2])] - a);
+    const std::array<Eigen::Vector3d, 3> tri =
+        query_.triangle_corners(query_.closest_point(u).triangle);
+    const Eigen::Vector3d n = (tri[1] - tri[0]).cross(tri[2] - tri[0]);
     if (n.squaredNorm() > 0.0) {
       const Sphere inward = along(u, -n.normalized(), diagonal_);
       if (inward.radius > best.radius) best = inward;

@@ -363,7 +363,12 @@ CoverageStats summarize_coverage(const SurfaceSamples& samples,
   return s;
 }
 
-FitEvaluator::FitEvaluator(const TriangleMesh& mesh, int threads) : query_(oriented(mesh)) {
+FitEvaluator::FitEvaluator(const TriangleMesh& mesh, int threads)
+    : query_(oriented(mesh), [] {
+        MeshQueryOptions o;
+        o.cap_holes = true;  // distances to the solid's boundary, holes included
+        return o;
+      }()) {
   const MeshReport report = analyze_mesh(query_.mesh());
   closed_ = report.closed;
   volume_ = volume_of(report);

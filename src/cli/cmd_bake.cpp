@@ -7,6 +7,7 @@
 #include <limits>
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "cli_common.h"
 #include "medspheres/bake.h"
@@ -119,6 +120,38 @@ void check_medial_tolerance(const BakeArgs& a, const MeshReport& report) {
                        fmt(a.medial_tolerance));
 }
 
+// What the summary says of a nerr of this kind.
+const char* nerr_note(NerrKind kind) {
+  switch (kind) {
+    case NerrKind::kExact:
+      return "exact: the spheres are inside";
+    case NerrKind::kLowerBound:
+      return "a lower bound: spheres stick out";
+    case NerrKind::kApproximate:
+      return "approximate: the mesh intersects itself, and its volume counts overlaps";
+    case NerrKind::kUndefined:
+      break;
+  }
+  return "undefined";
+}
+
+// The mesh line of the summary: closed, or what makes the winding number define the solid.
+std::string mesh_description(const MeshReport& report, std::size_t self_intersecting_pairs) {
+  std::vector<std::string> flaws;
+  if (report.boundary_edges > 0)
+    flaws.push_back("open (" + std::to_string(report.boundary_edges) +
+                    " boundary edges; radii also respect the holes, capped)");
+  if (report.nonmanifold_edges > 0)
+    flaws.push_back("non-manifold (" + std::to_string(report.nonmanifold_edges) + " edges)");
+  if (self_intersecting_pairs > 0)
+    flaws.push_back("self-intersecting (" + std::to_string(self_intersecting_pairs) +
+                    " triangle pairs)");
+  if (flaws.empty()) return "closed";
+  std::string out;
+  for (const std::string& f : flaws) out += (out.empty() ? "" : ", ") + f;
+  return out + ": baked against its winding-number solid";
+}
+
 int run_bake(const BakeArgs& args) {
   // Options first: nonsense is reported before any work is done, and so is an output
   // path that cannot be written.
@@ -220,8 +253,7 @@ int run_bake(const BakeArgs& args) {
     const BakeStats& s = result.stats;
     std::cout << "baked " << args.mesh << " -> " << out << "\n"
               << "  mesh          " << loaded.report.triangles << " triangles, "
-              << (loaded.report.closed ? "closed" : "open: baked against its winding-number solid")
-              << "\n"
+              << mesh_description(loaded.report, fit.self_intersections().count()) << "\n"
               << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
               << " x " << s.grid[2] << ", cell " << fmt(s.cell_size, 4) << ")";
     if (mode != "resolution")
@@ -245,8 +277,8 @@ int run_bake(const BakeArgs& args) {
                   << " (the most a sphere sticks out of the solid)\n";
     }
     if (internal)
-      std::cout << "  internal S_D  nerr " << fmt(internal->nerr, 4)
-                << (internal->kind == NerrKind::kExact ? " (exact)" : " (a lower bound)")
+      std::cout << "  internal S_D  nerr " << fmt(internal->nerr, 4) << " ("
+                << nerr_note(internal->kind) << ")"
                 << (mode == "target_error"
                         ? ": --target-error " + fmt(target) +
                               " was met by this internal set; the written S+ is measured below"
@@ -255,9 +287,7 @@ int run_bake(const BakeArgs& args) {
     if (volume) {
       std::cout << "  volume        " << (internal ? "S+: " : "") << "union "
                 << fmt(volume->union_measures.volume, 6) << " of mesh " << fmt(*fit.volume(), 6)
-                << ", nerr " << fmt(volume->nerr, 4)
-                << (volume->kind == NerrKind::kExact ? " (exact: the spheres are inside)\n"
-                                                     : " (a lower bound: spheres stick out)\n");
+                << ", nerr " << fmt(volume->nerr, 4) << " (" << nerr_note(volume->kind) << ")\n";
     } else {
       std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
     }

@@ -2,6 +2,7 @@
 // Private: the 4-wide bounding volume hierarchy behind MeshQuery.
 
 #include <cstdint>
+#include <memory>
 #include <utility>
 #include <vector>
 
@@ -67,5 +68,9 @@ namespace medspheres {
 struct MeshQuery::Impl {
   detail::MeshBvh bvh;
   std::vector<int> order_of;  // mesh triangle index -> BVH order
+  // MeshQueryOptions::cap_holes: the caps in a hierarchy of their own (null without caps).
+  std::unique_ptr<detail::MeshBvh> caps;
+  std::vector<int> caps_order_of;
+  TriangleMesh no_caps;  // what cap_mesh() returns without caps
 };
 }  // namespace medspheres

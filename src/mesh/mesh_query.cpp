@@ -12,6 +12,7 @@
 #include <emmintrin.h>
 #endif
 
+#include "medspheres/mesh_report.h"
 #include "mesh_bvh.h"
 
 namespace medspheres {
@@ -542,12 +543,46 @@ double ClosestPoint::distance() const {
   return distance_;
 }
 
+namespace {
+
+std::vector<int> inverse_order(const detail::MeshBvh& bvh) {
+  std::vector<int> order_of(bvh.mesh.triangles.size(), -1);
+  for (std::size_t i = 0; i < bvh.original.size(); ++i)
+    order_of[static_cast<std::size_t>(bvh.original[i])] = static_cast<int>(i);
+  return order_of;
+}
+
+// A fan from the centroid of each chain's vertices (see MeshQueryOptions::cap_holes).
+TriangleMesh hole_caps(const TriangleMesh& mesh) {
+  TriangleMesh caps;
+  for (const std::vector<int>& loop : boundary_loops(mesh)) {
+    if (loop.size() < 3) continue;
+    Eigen::Vector3d centre = Eigen::Vector3d::Zero();
+    for (int v : loop) centre += mesh.vertices[static_cast<std::size_t>(v)];
+    centre /= static_cast<double>(loop.size());
+    const int base = static_cast<int>(caps.vertices.size());
+    for (int v : loop) caps.vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
+    caps.vertices.push_back(centre);
+    const int n = static_cast<int>(loop.size());
+    for (int k = 0; k < n; ++k) caps.triangles.push_back({base + (k + 1) % n, base + k, base + n});
+  }
+  return caps;
+}
+
+}  // namespace
+
 MeshQuery::MeshQuery(const TriangleMesh& mesh, const MeshQueryOptions& options)
     : impl_(std::make_unique<Impl>()) {
   impl_->bvh.build(mesh, options);
-  impl_->order_of.assign(mesh.triangles.size(), -1);
-  for (std::size_t i = 0; i < impl_->bvh.original.size(); ++i)
-    impl_->order_of[static_cast<std::size_t>(impl_->bvh.original[i])] = static_cast<int>(i);
+  impl_->order_of = inverse_order(impl_->bvh);
+  if (options.cap_holes) {
+    TriangleMesh caps = hole_caps(mesh);
+    if (!caps.triangles.empty()) {
+      impl_->caps = std::make_unique<detail::MeshBvh>();
+      impl_->caps->build(caps, options);
+      impl_->caps_order_of = inverse_order(*impl_->caps);
+    }
+  }
 }
 
 MeshQuery::~MeshQuery() = default;
@@ -555,15 +590,35 @@ MeshQuery::MeshQuery(MeshQuery&&) noexcept = default;
 MeshQuery& MeshQuery::operator=(MeshQuery&&) noexcept = default;
 
 ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, QueryCounters* counters) const {
-  return detail::ClosestPointAccess::query(impl_->bvh, p, -1, counters);
+  ClosestPoint best = detail::ClosestPointAccess::query(impl_->bvh, p, -1, counters);
+  if (impl_->caps) {
+    ClosestPoint cap = detail::ClosestPointAccess::query(*impl_->caps, p, -1, counters);
+    if (cap.distance() < best.distance()) {
+      cap.triangle += static_cast<int>(impl_->order_of.size());
+      best = cap;
+    }
+  }
+  return best;
 }
 
 ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, int hint_triangle,
                                       QueryCounters* counters) const {
-  if (hint_triangle < 0 || static_cast<std::size_t>(hint_triangle) >= impl_->order_of.size())
+  const std::size_t n = impl_->order_of.size();
+  if (hint_triangle < 0 ||
+      static_cast<std::size_t>(hint_triangle) >= n + impl_->caps_order_of.size())
     throw std::invalid_argument("MeshQuery::closest_point: hint triangle out of range");
-  return detail::ClosestPointAccess::query(
-      impl_->bvh, p, impl_->order_of[static_cast<std::size_t>(hint_triangle)], counters);
+  const auto hint = static_cast<std::size_t>(hint_triangle);
+  ClosestPoint best = detail::ClosestPointAccess::query(
+      impl_->bvh, p, hint < n ? impl_->order_of[hint] : -1, counters);
+  if (impl_->caps) {
+    ClosestPoint cap = detail::ClosestPointAccess::query(
+        *impl_->caps, p, hint < n ? -1 : impl_->caps_order_of[hint - n], counters);
+    if (cap.distance() < best.distance()) {
+      cap.triangle += static_cast<int>(n);
+      best = cap;
+    }
+  }
+  return best;
 }
 
 namespace {
@@ -603,19 +658,39 @@ const TriangleMesh& MeshQuery::mesh() const {
   return impl_->bvh.mesh;
 }
 
+const TriangleMesh& MeshQuery::cap_mesh() const {
+  return impl_->caps ? impl_->caps->mesh : impl_->no_caps;
+}
+
+std::array<Eigen::Vector3d, 3> MeshQuery::triangle_corners(int t) const {
+  const std::size_t n = impl_->order_of.size();
+  const TriangleMesh& caps = cap_mesh();
+  if (t < 0 || static_cast<std::size_t>(t) >= n + caps.triangles.size())
+    throw std::out_of_range("MeshQuery::triangle_corners: no triangle " + std::to_string(t));
+  const auto i = static_cast<std::size_t>(t);
+  const TriangleMesh& m = i < n ? impl_->bvh.mesh : caps;
+  const std::size_t k = i < n ? i : i - n;
+  return {m.corner(k, 0), m.corner(k, 1), m.corner(k, 2)};
+}
+
 MeshBvhStats MeshQuery::stats() const {
   const detail::MeshBvh& b = impl_->bvh;
   MeshBvhStats s;
   s.triangles = b.triangles.size();
+  s.cap_triangles = impl_->caps ? impl_->caps->triangles.size() : 0;
   s.nodes = b.nodes.size();
   s.depth = b.depth;
-  s.bytes = b.nodes.capacity() * sizeof(detail::Bvh4Node) +
-            b.expansions.capacity() * sizeof(detail::WindingExpansion) +
-            b.triangles.capacity() * sizeof(detail::QueryTriangle) +
-            b.planes.capacity() * sizeof(detail::TrianglePlane) +
-            b.original.capacity() * sizeof(int) + impl_->order_of.capacity() * sizeof(int) +
-            b.mesh.vertices.capacity() * sizeof(Eigen::Vector3d) +
-            b.mesh.triangles.capacity() * sizeof(std::array<int, 3>);
+  const auto bytes = [](const detail::MeshBvh& h, const std::vector<int>& order_of) {
+    return h.nodes.capacity() * sizeof(detail::Bvh4Node) +
+           h.expansions.capacity() * sizeof(detail::WindingExpansion) +
+           h.triangles.capacity() * sizeof(detail::QueryTriangle) +
+           h.planes.capacity() * sizeof(detail::TrianglePlane) +
+           h.original.capacity() * sizeof(int) + order_of.capacity() * sizeof(int) +
+           h.mesh.vertices.capacity() * sizeof(Eigen::Vector3d) +
+           h.mesh.triangles.capacity() * sizeof(std::array<int, 3>);
+  };
+  s.bytes = bytes(b, impl_->order_of);
+  if (impl_->caps) s.bytes += bytes(*impl_->caps, impl_->caps_order_of);
   return s;
 }
 

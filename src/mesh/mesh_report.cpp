@@ -7,6 +7,7 @@
 #include <queue>
 #include <sstream>
 #include <stdexcept>
+#include <utility>
 
 #include "medspheres/error.h"
 #include "mesh_topology.h"
@@ -381,6 +382,48 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
     ++fix.components_flipped_outward;
   }
   return fix;
+}
+
+std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh) {
+  detail::check_indices(mesh);
+  const detail::EdgeTable edges = detail::build_edge_table(mesh);
+  // Boundary edges, directed as in their triangle, sorted by tail: out[v] lists the
+  // edges leaving v, lowest first.
+  std::vector<std::pair<int, int>> directed;
+  for (std::size_t e = 0; e < edges.num_edges(); ++e) {
+    if (edges.edge_begin[e + 1] - edges.edge_begin[e] != 1) continue;
+    const detail::HalfEdge& h = edges.half_edges[edges.edge_begin[e]];
+    directed.emplace_back(h.forward ? h.lo : h.hi, h.forward ? h.hi : h.lo);
+  }
+  std::sort(directed.begin(), directed.end());
+  std::vector<char> used(directed.size(), 0);
+  // first[v]: index of the first edge leaving v in `directed` (or directed.size()).
+  const auto first_leaving = [&](int v) {
+    return static_cast<std::size_t>(
+        std::lower_bound(directed.begin(), directed.end(), std::make_pair(v, INT32_MIN)) -
+        directed.begin());
+  };
+  std::vector<std::vector<int>> loops;
+  for (std::size_t start = 0; start < directed.size(); ++start) {
+    if (used[start]) continue;
+    std::vector<int> loop;
+    std::size_t e = start;
+    for (;;) {
+      used[e] = 1;
+      loop.push_back(directed[e].first);
+      const int head = directed[e].second;
+      if (head == directed[start].first) break;  // closed
+      std::size_t next = first_leaving(head);
+      while (next < directed.size() && directed[next].first == head && used[next]) ++next;
+      if (next >= directed.size() || directed[next].first != head) {
+        loop.push_back(head);  // open chain: keep its last vertex
+        break;
+      }
+      e = next;
+    }
+    loops.push_back(std::move(loop));
+  }
+  return loops;
 }
 
 void check_mesh_usable(const TriangleMesh& mesh, const std::string& source) {
