@@ -1,3 +1,4 @@
+#include <cerrno>
 #include <cmath>
 #include <filesystem>
 #include <fstream>
@@ -6,6 +7,8 @@
 #include <sstream>
 
 #include <sys/stat.h>
+#include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 
@@ -187,7 +190,7 @@ TEST_CASE("saving through a symbolic link writes its target and keeps the link",
 }
 
 TEST_CASE("saving to a device writes it in place and leaves it a device", "[io]") {
-  // Renaming over /dev/null once replaced it, as root, by a regular file.
+  // Renaming a temporary file over /dev/null would replace it, as root, by a regular file.
   const SphereSet s = random_set(2, 4);
   struct stat before {};
   REQUIRE(::stat("/dev/null", &before) == 0);
@@ -247,4 +250,124 @@ TEST_CASE("sphere files: subnormal radii are valid, a box beyond the doubles is 
   CHECK_THROWS_WITH(
       medspheres::parse_sphere_set(R"({"spheres": [[0, 0, 0, 1], [1e308, 0, 0, 1e308]]})", "t"),
       Contains("sphere 1") && Contains("beyond the largest finite double"));
+}
+
+namespace {
+
+// What check_output_path and then save_sphere_set throw for \p path, one line each:
+// "input: <what>" for an InputError, "error: <what>" for another Error, "none".
+std::string write_outcomes(const std::string& path) {
+  std::string out;
+  for (int call = 0; call < 2; ++call) {
+    try {
+      if (call == 0)
+        medspheres::check_output_path(path);
+      else
+        medspheres::save_sphere_set(random_set(1, 6), path);
+      out += "none\n";
+    } catch (const InputError& e) {
+      out += std::string("input: ") + e.what() + "\n";
+    } catch (const medspheres::Error& e) {
+      out += std::string("error: ") + e.what() + "\n";
+    }
+  }
+  return out;
+}
+
+// write_outcomes(path) as user and group nobody (65534), in a child process: root may
+// search any directory. Empty when the child cannot drop its privileges.
+std::string write_outcomes_as_nobody(const std::string& path) {
+  int fds[2];
+  REQUIRE(::pipe(fds) == 0);
+  const pid_t pid = ::fork();
+  if (pid == 0) {
+    ::close(fds[0]);
+    if (::setgid(65534) == 0 && ::setuid(65534) == 0) {
+      const std::string out = write_outcomes(path);
+      if (::write(fds[1], out.data(), out.size()) < 0) ::_exit(1);
+    }
+    ::_exit(0);
+  }
+  ::close(fds[1]);
+  REQUIRE(pid > 0);
+  std::string out;
+  char buf[4096];
+  for (ssize_t n; (n = ::read(fds[0], buf, sizeof buf)) != 0;) {
+    if (n < 0 && errno == EINTR) continue;
+    if (n < 0) break;
+    out.append(buf, static_cast<std::size_t>(n));
+  }
+  ::close(fds[0]);
+  int status = 0;
+  ::waitpid(pid, &status, 0);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("a directory that cannot be searched is an error and not a missing one", "[io]") {
+  namespace fs = std::filesystem;
+  TempDir dir;
+  const fs::path locked = dir.path() / "locked";
+  fs::create_directories(locked / "sub");
+  const std::string path = (locked / "sub" / "out.json").string();
+  fs::permissions(locked, fs::perms::none);
+  const std::string outcomes =
+      ::geteuid() == 0 ? write_outcomes_as_nobody(path) : write_outcomes(path);
+  fs::permissions(locked, fs::perms::owner_all);
+  if (outcomes.empty()) {
+    WARN("cannot run as nobody: not checked");
+    return;
+  }
+  const std::string want = "error: " + path + ": cannot write: cannot look up ";
+  INFO(outcomes);
+  CHECK_THAT(outcomes, Contains(want) && Contains("Permission denied") &&
+                           !Contains("does not exist") && !Contains("input:") && !Contains("none"));
+  CHECK_FALSE(fs::exists(locked / "sub" / "out.json"));
+}
+
+TEST_CASE("the temporary file is always created anew and no existing file or link is written",
+          "[io]") {
+  namespace fs = std::filesystem;
+  TempDir dir;
+  const SphereSet s = random_set(3, 7);
+  const std::string victim = dir.write("victim.txt", "victim");
+  const std::string target = dir.file("out.json");
+  // A link at each of the first names the temporary file can take (write_file_atomically
+  // names it .NAME.tmp.PID.N): each must be passed by, not written through.
+  constexpr int kLinks = 256;
+  for (int i = 0; i < kLinks; ++i)
+    fs::create_symlink(victim, dir.path() / (".out.json.tmp." + std::to_string(::getpid()) + "." +
+                                             std::to_string(i)));
+  medspheres::save_sphere_set(s, target);
+  CHECK(read_text(victim) == "victim");
+  CHECK(fs::is_regular_file(fs::symlink_status(target)));
+  CHECK(read_text(target) == medspheres::sphere_set_to_json(s));
+  std::size_t entries = 0;
+  for (const auto& e : fs::directory_iterator(dir.path())) {
+    (void)e;
+    ++entries;
+  }
+  CHECK(entries == kLinks + 2);  // the links, the victim and the output: no temporary
+}
+
+TEST_CASE("a new file gets 0666 less the umask and a replaced one keeps its bits", "[io]") {
+  namespace fs = std::filesystem;
+  TempDir dir;
+  const SphereSet s = random_set(2, 8);
+  const auto bits = [](const std::string& p) {
+    return static_cast<unsigned>(fs::status(p).permissions() & fs::perms::all);
+  };
+  for (const unsigned mask : {022u, 027u, 077u}) {
+    INFO("umask " << mask);
+    const std::string path = dir.file("new" + std::to_string(mask) + ".json");
+    const mode_t old = ::umask(static_cast<mode_t>(mask));
+    medspheres::save_sphere_set(s, path);
+    ::umask(old);
+    CHECK(bits(path) == (0666u & ~mask));
+    // Replaced under another umask: the bits stay.
+    fs::permissions(path, fs::perms::owner_read | fs::perms::owner_write | fs::perms::others_read);
+    medspheres::save_sphere_set(s, path);
+    CHECK(bits(path) == 0604u);
+  }
 }

@@ -4,9 +4,15 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <limits>
+#include <stdexcept>
 
+#include <fcntl.h>
+#include <signal.h>
+#include <sys/resource.h>
 #include <sys/stat.h>
 #include <sys/wait.h>
+#include <unistd.h>
 
 #include <catch2/catch.hpp>
 
@@ -45,23 +51,8 @@ std::string error_of(const std::string& path, const MeshLoadOptions& options = {
   return "";
 }
 
-// Builds with these sanitizers do not limit the import's address space (mesh_io.h).
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kNoMemoryLimit = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-constexpr bool kNoMemoryLimit = true;
-#else
-constexpr bool kNoMemoryLimit = false;
-#endif
-#else
-constexpr bool kNoMemoryLimit = false;
-#endif
-
-// The unit cube of the audit's fuzzing repros, as PLY with \p end_header as the last
-// header line: misspelled, assimp 5.2.5 segfaults on the binary file and loops forever
-// on the ASCII one.
+// The unit cube as PLY with \p end_header as the last header line: misspelled, it makes
+// assimp 5.2.5 segfault on the binary file and loop forever on the ASCII one.
 std::string cube_ply(bool binary, const std::string& end_header) {
   const float v[8][3] = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0},
                          {0, 0, 1}, {1, 0, 1}, {1, 1, 1}, {0, 1, 1}};
@@ -88,7 +79,7 @@ std::string cube_ply(bool binary, const std::string& end_header) {
   return s;
 }
 
-// The audit's COLLADA repro: a stray letter in <p> ("7G2") makes assimp 5.2.5 loop while
+// A COLLADA cube with a stray letter in <p> ("7G2"): it makes assimp 5.2.5 loop while
 // allocating without bound.
 const char* const kRunawayDae = R"(<?xml version="1.0" encoding="utf-8"?>
 <COLLADA xmlns="http://www.collada.org/2005/11/COLLADASchema" version="1.4.1">
@@ -118,22 +109,6 @@ std::size_t open_descriptors() {
   std::size_t n = 0;
   for ([[maybe_unused]] const auto& e : std::filesystem::directory_iterator("/proc/self/fd")) ++n;
   return n;
-}
-
-// An [lo, hi]^3 cube, outward.
-TriangleMesh cube(double lo, double hi) {
-  TriangleMesh m = make_box(Eigen::Vector3d::Constant((hi - lo) / 2));
-  for (auto& v : m.vertices) v += Eigen::Vector3d::Constant((hi + lo) / 2);
-  return m;
-}
-
-void append(TriangleMesh& to, const TriangleMesh& m, bool inward) {
-  const int off = static_cast<int>(to.vertices.size());
-  to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
-  for (auto t : m.triangles) {
-    if (inward) std::swap(t[1], t[2]);
-    to.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
-  }
 }
 
 }  // namespace
@@ -292,6 +267,15 @@ TEST_CASE("OFF faces must name existing vertices", "[mesh_io]") {
     big += std::to_string(std::cos(i * 0.6)) + " " + std::to_string(std::sin(i * 0.6)) + " 0\n";
   CHECK_THAT(error_of(dir.write("tenagon.off", big + "10 0 1 2 3 4 5 6 7 8 9\n")),
              Contains("face 0") && Contains("1 to 9"));
+  // Numbers of any length are read without overflow (run under UBSan) and shown as
+  // written.
+  const std::string huge = "1234567890123456789012345";
+  CHECK_THAT(error_of(dir.write("huge.off", head + "3 0 1 " + huge + "\n")),
+             Contains("face 1") && Contains("vertex " + huge + ", out of range"));
+  CHECK_THAT(error_of(dir.write("hugeneg.off", head + "3 0 1 -" + huge + "\n")),
+             Contains("face 1") && Contains("vertex -" + huge + ", out of range"));
+  CHECK_THAT(error_of(dir.write("hugecount.off", "OFF\n" + huge + " 1 0\n0 0 0\n")),
+             Contains("truncated") && Contains("announces " + huge + " vertices"));
 
   // What assimp reads correctly still loads: header comments, blank lines, CRLF, trailing
   // colours and comments, counts on the keyword's line.
@@ -325,10 +309,39 @@ TEST_CASE("a file that makes assimp loop is stopped at the timeout", "[mesh_io][
   TempDir dir;
   CHECK(load_mesh(dir.write("good.ply", cube_ply(false, "end_header"))).report.signed_volume ==
         Approx(1.0));
-  CHECK_THAT(error_of(dir.write("loop.ply", cube_ply(false, "end_headXr")), with_timeout(1.0)),
-             Contains("did not finish within 1 s") && Contains("malformed"));
-  CHECK_THAT(error_of(dir.write("loop.dae", kRunawayDae), with_timeout(1.0)),
+  // No memory limit: the COLLADA file also allocates without bound, and the memory
+  // limit could stop it first, with another message.
+  MeshLoadOptions o = with_timeout(1.0);
+  o.import_memory_limit_bytes = 0;
+  CHECK_THAT(error_of(dir.write("loop.ply", cube_ply(false, "end_headXr")), o),
+             Contains("did not finish within 1 s") && Contains("may be malformed") &&
+                 Contains("MeshLoadOptions::import_timeout_seconds"));
+  CHECK_THAT(error_of(dir.write("loop.dae", kRunawayDae), o),
              Contains("did not finish within 1 s"));
+}
+
+TEST_CASE("the import timeout must be a number of seconds >= 0", "[mesh_io][isolation]") {
+  TempDir dir;
+  const std::string path = dir.write("box.off", test::to_off(make_box({1, 1, 1})));
+  const double nan = std::numeric_limits<double>::quiet_NaN();
+  const double inf = std::numeric_limits<double>::infinity();
+  for (const double bad : {nan, -1.0, -inf, -1e-300}) {
+    INFO(bad);
+    for (const bool isolate : {true, false}) {
+      MeshLoadOptions o = with_timeout(bad);
+      o.isolate_import = isolate;
+      std::string message;
+      try {
+        load_mesh(path, o);
+      } catch (const std::invalid_argument& e) {
+        message = e.what();
+      }
+      CHECK_THAT(message, Contains("MeshLoadOptions::import_timeout_seconds"));
+    }
+  }
+  // +infinity and 0 mean no limit.
+  CHECK(load_mesh(path, with_timeout(inf)).report.signed_volume == Approx(8.0));
+  CHECK(load_mesh(path, with_timeout(0.0)).report.signed_volume == Approx(8.0));
 }
 
 TEST_CASE("an import that allocates without bound is stopped by the memory limit",
@@ -337,7 +350,7 @@ TEST_CASE("an import that allocates without bound is stopped by the memory limit
   const std::string dae = dir.write("runaway.dae", kRunawayDae);
   MeshLoadOptions o;
   o.import_memory_limit_bytes = std::int64_t{256} << 20;
-  if (kNoMemoryLimit) {
+  if (!import_memory_limit_enforced()) {
     // Sanitizer builds: no address-space limit, the timeout stops it.
     o.import_timeout_seconds = 1.0;
     CHECK_THAT(error_of(dae, o), Contains("did not finish"));
@@ -367,6 +380,78 @@ TEST_CASE("the isolated import returns what the in-process import returns",
   MeshLoadOptions unlimited;
   unlimited.import_memory_limit_bytes = 0;
   check_same_solid(load_mesh(path, unlimited), m, 1e-6);
+}
+
+TEST_CASE("a caller that ignores SIGCHLD gets the same outcomes", "[mesh_io][isolation]") {
+  // The kernel reaps the child itself then: the parent can neither wait for it nor
+  // rely on its pid, which may be reused, for the kill at the deadline.
+  TempDir dir;
+  const std::string good = dir.write("good.off", test::to_off(make_box({1, 1, 1})));
+  const std::string loop = dir.write("loop.ply", cube_ply(false, "end_headXr"));
+  struct sigaction ignore {
+  }, old{};
+  ignore.sa_handler = SIG_IGN;
+  sigemptyset(&ignore.sa_mask);
+  REQUIRE(::sigaction(SIGCHLD, &ignore, &old) == 0);
+  std::string good_error, loop_error;
+  double volume = 0.0;
+  try {
+    volume = load_mesh(good).report.signed_volume;
+    loop_error = error_of(loop, with_timeout(0.5));
+  } catch (const std::exception& e) {
+    good_error = e.what();
+  }
+  ::sigaction(SIGCHLD, &old, nullptr);
+  CHECK(good_error.empty());
+  CHECK(volume == Approx(8.0));
+  CHECK_THAT(loop_error, Contains("did not finish within 0.5 s"));
+}
+
+namespace {
+
+// Lowers the soft limit on descriptors for its lifetime.
+class DescriptorLimit {
+ public:
+  explicit DescriptorLimit(rlim_t soft) {
+    REQUIRE(::getrlimit(RLIMIT_NOFILE, &old_) == 0);
+    rlimit tight = old_;
+    tight.rlim_cur = soft;
+    REQUIRE(::setrlimit(RLIMIT_NOFILE, &tight) == 0);
+  }
+  ~DescriptorLimit() { ::setrlimit(RLIMIT_NOFILE, &old_); }
+  DescriptorLimit(const DescriptorLimit&) = delete;
+  DescriptorLimit& operator=(const DescriptorLimit&) = delete;
+
+ private:
+  rlimit old_{};
+};
+
+}  // namespace
+
+TEST_CASE("an import process that cannot be started is an error naming the file",
+          "[mesh_io][isolation]") {
+  TempDir dir;
+  const std::string path = dir.write("box.obj", test::to_obj(make_box({1, 1, 1})));
+  // One free descriptor: enough to open the file, not for the pipe to the child.
+  const int lowest = ::open("/dev/null", O_RDONLY | O_CLOEXEC);
+  REQUIRE(lowest >= 0);
+  ::close(lowest);
+  std::string message;
+  bool input_error = false;
+  {
+    DescriptorLimit limit(static_cast<rlim_t>(lowest) + 1);
+    try {
+      load_mesh(path);
+    } catch (const InputError& e) {
+      input_error = true;
+      message = e.what();
+    } catch (const Error& e) {
+      message = e.what();
+    }
+  }
+  CHECK_FALSE(input_error);  // not the file's fault: exit status 1 in the CLI
+  CHECK_THAT(message, Contains(path + ": ") && Contains("cannot create a pipe"));
+  CHECK(load_mesh(path).report.signed_volume == Approx(8.0));
 }
 
 TEST_CASE("the import process leaves nothing behind", "[mesh_io][isolation]") {
@@ -401,8 +486,8 @@ TEST_CASE("the import process leaves nothing behind", "[mesh_io][isolation]") {
 
 TEST_CASE("a hollow solid keeps its cavity wound inward", "[mesh_io]") {
   TempDir dir;
-  TriangleMesh hollow = cube(0, 3);
-  append(hollow, cube(1, 2), true);
+  TriangleMesh hollow = test::cube_mesh(0, 3);
+  test::append_mesh(hollow, test::cube_mesh(1, 2), true);
   const LoadedMesh l = load_mesh(dir.write("hollow.off", test::to_off(hollow)));
   CHECK(l.orientation_fix.components_flipped_outward == 0);
   CHECK(l.report.signed_volume == Approx(26.0));

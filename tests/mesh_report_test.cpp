@@ -6,10 +6,13 @@
 #include "medspheres/mesh_generators.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_report.h"
+#include "support/mesh_writers.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
 using Catch::Matchers::Contains;
+using medspheres::test::append_mesh;
+using medspheres::test::cube_mesh;
 
 TEST_CASE("a cube: counts, volume and bounding box", "[report]") {
   const MeshReport r = analyze_mesh(make_box({1, 1, 1}));
@@ -78,32 +81,12 @@ TEST_CASE("orient_mesh turns an inward box outward and fixes a flipped triangle"
   CHECK(analyze_mesh(m).signed_volume == Approx(48.0));
 }
 
-namespace {
-
-// An [lo, hi]^3 cube, outward.
-TriangleMesh cube(double lo, double hi) {
-  TriangleMesh m = make_box(Eigen::Vector3d::Constant((hi - lo) / 2));
-  for (auto& v : m.vertices) v += Eigen::Vector3d::Constant((hi + lo) / 2);
-  return m;
-}
-
-void append(TriangleMesh& to, const TriangleMesh& m, bool inward) {
-  const int off = static_cast<int>(to.vertices.size());
-  to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
-  for (auto t : m.triangles) {
-    if (inward) std::swap(t[1], t[2]);
-    to.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
-  }
-}
-
-}  // namespace
-
 TEST_CASE("orient_mesh keeps cavities inward and turns the shells around them outward",
           "[report]") {
   TriangleMesh m;
   SECTION("a hollow cube is right as it is") {
-    append(m, cube(0, 3), false);
-    append(m, cube(1, 2), true);
+    append_mesh(m, cube_mesh(0, 3), false);
+    append_mesh(m, cube_mesh(1, 2), true);
     CHECK(orient_mesh(m).components_flipped_outward == 0);
     const MeshReport r = analyze_mesh(m);
     CHECK(r.signed_volume == Approx(26.0));
@@ -114,15 +97,15 @@ TEST_CASE("orient_mesh keeps cavities inward and turns the shells around them ou
     CHECK(r.component_reports[1].cavity);
   }
   SECTION("an inward cube with nothing around it is turned outward") {
-    append(m, cube(1, 2), true);
+    append_mesh(m, cube_mesh(1, 2), true);
     CHECK_FALSE(analyze_mesh(m).component_reports[0].cavity);
     CHECK_FALSE(analyze_mesh(m).is_closed_outward());
     CHECK(orient_mesh(m).components_flipped_outward == 1);
     CHECK(analyze_mesh(m).signed_volume == Approx(1.0));
   }
   SECTION("both shells inward: the outer one is turned, the cavity kept") {
-    append(m, cube(0, 3), true);
-    append(m, cube(1, 2), true);
+    append_mesh(m, cube_mesh(0, 3), true);
+    append_mesh(m, cube_mesh(1, 2), true);
     CHECK(orient_mesh(m).components_flipped_outward == 1);
     const MeshReport r = analyze_mesh(m);
     CHECK(r.signed_volume == Approx(26.0));
@@ -131,21 +114,21 @@ TEST_CASE("orient_mesh keeps cavities inward and turns the shells around them ou
     CHECK(r.is_closed_outward());
   }
   SECTION("an island inside a cavity bounds material again") {
-    append(m, cube(0, 5), true);
-    append(m, cube(1, 4), true);
-    append(m, cube(2, 3), true);
+    append_mesh(m, cube_mesh(0, 5), true);
+    append_mesh(m, cube_mesh(1, 4), true);
+    append_mesh(m, cube_mesh(2, 3), true);
     CHECK(orient_mesh(m).components_flipped_outward == 2);
     CHECK(analyze_mesh(m).signed_volume == Approx(125.0 - 27.0 + 1.0));
   }
   SECTION("separate inward cubes are all turned") {
-    append(m, cube(0, 1), true);
-    append(m, cube(2, 3), true);
+    append_mesh(m, cube_mesh(0, 1), true);
+    append_mesh(m, cube_mesh(2, 3), true);
     CHECK(orient_mesh(m).components_flipped_outward == 2);
     CHECK(analyze_mesh(m).signed_volume == Approx(2.0));
   }
   SECTION("an outward shell inside another is left alone") {
-    append(m, cube(0, 3), false);
-    append(m, cube(1, 2), false);
+    append_mesh(m, cube_mesh(0, 3), false);
+    append_mesh(m, cube_mesh(1, 2), false);
     CHECK(orient_mesh(m).components_flipped_outward == 0);
     CHECK(analyze_mesh(m).signed_volume == Approx(28.0));
   }

@@ -51,22 +51,29 @@ void save_sphere_set(const SphereSet& set, const std::string& path);
 /// - \p path is first followed through symbolic links; the link stays, and its final
 ///   target (which need not exist yet) is what gets written;
 /// - a regular file, or a new one, is written to a temporary file in the target's
-///   directory, flushed to disk, given the permission bits of the file it replaces, and
-///   renamed over the target: readers see the old file or the whole new one, and on
-///   failure the temporary file is removed and the target is untouched;
+///   directory, flushed to disk and renamed over the target: readers see the old file
+///   or the whole new one, and on failure the temporary file is removed and the target
+///   is untouched. The temporary file is created by this call (O_EXCL: an existing file
+///   or symbolic link at its name is never written through), with mode 0600, and given
+///   its final permission bits before any contents are written: those of the file it
+///   replaces, or 0666 less the umask for a new file. Only the permission bits are
+///   kept: the new file belongs to this process's user and group, whoever owned the
+///   file it replaces, and extended attributes and ACLs are not copied;
 /// - an existing file that is not a regular file (a character device such as
 ///   /dev/null, a FIFO) is written in place, as a shell redirection would: renaming
 ///   over it would replace the device by a regular file.
 /// \throws InputError naming \p path when it is a directory, when its directory does
-///   not exist or is not a directory, or for a symbolic-link loop (bad usage);
-///   Error naming \p path when a step of writing fails (permissions, a read-only file
-///   system, a full disk, ...).
+///   not exist or is not a directory, or for a symbolic-link loop or a name too long
+///   (bad usage); Error naming \p path when the path cannot be looked up for another
+///   reason (no search permission on a directory on the way, ...) or a step of writing
+///   fails (permissions, a read-only file system, a full disk, ...).
 void write_file_atomically(const std::string& path, const std::string& contents);
 
 /// The checks write_file_atomically makes before writing, without writing: run before a
 /// long computation whose result goes to \p path, so that a bad path fails at once.
-/// Same errors (InputError for a directory or a missing directory; Error when the
-/// directory, or the existing non-regular file, is not writable for this process).
+/// Same errors (InputError for a directory or a missing directory; Error when the path
+/// cannot be looked up, or the directory, or the existing non-regular file, is not
+/// writable for this process).
 void check_output_path(const std::string& path);
 
 }  // namespace medspheres

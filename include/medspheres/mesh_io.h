@@ -30,18 +30,34 @@
 /// placed mesh through a pipe; the caller waits with a wall-clock timeout, kills the
 /// child at the deadline and does steps 2 to 4 itself. A child that crashes, times out
 /// or runs out of memory becomes an InputError saying so. The child leaves with _exit
-/// (no atexit handlers, no stdio flush) and is always reaped. The cost is a fork and a
-/// copy of the mesh through the pipe: a few milliseconds for a small file, and up to
-/// about twice the in-process load time for a large mesh on a virtual machine, where
-/// copy-on-write page faults are slow. The child of a multi-threaded caller holds only
-/// the calling thread and runs only assimp and the C++ runtime (glibc's malloc is safe
-/// after fork), so load_mesh may be called from any thread.
+/// (no atexit handlers, no stdio flush) and is always reaped; it is signalled through a
+/// pidfd where the kernel has them (Linux 5.3), so that a caller that ignores SIGCHLD
+/// cannot have the signal reach another process that reuses the child's pid. The cost is
+/// a fork and a copy of the mesh through the pipe: a few milliseconds for a small file,
+/// and up to about twice the in-process load time for a large mesh on a virtual machine,
+/// where copy-on-write page faults are slow.
+///
+/// Threads. load_mesh may be called from any thread, and from several at once, but the
+/// isolated import has one risk in a multi-threaded process. The child of a fork holds
+/// only the calling thread, and a lock that another thread held at the moment of the
+/// fork stays locked in the child for ever. So the child does as little as it can: the
+/// checks of the file and options, the OFF pre-scan and the limits are done in the
+/// caller before the fork, and the child itself uses no C++ streams; glibc makes its
+/// malloc and stdio safe after fork. What remains is assimp and the parts of the C++
+/// runtime that assimp uses (its logger, locale-dependent parsing in some importers,
+/// function-local statics). If another thread holds one of their locks when the child
+/// is forked, for example because it is itself inside assimp, the child waits for ever
+/// and the import ends at the timeout, with the timeout's error, although the file may
+/// be fine. A caller that runs assimp or changes the global locale on other threads while
+/// it loads meshes can set isolate_import = false: no fork, hence no such risk, but no
+/// protection from malformed files either.
 ///
 /// OFF files are pre-scanned before assimp reads them: assimp clamps an out-of-range
 /// face index to the last vertex and reads a negative one as 0, silently, and drops faces
 /// of more than 9 vertices; the pre-scan rejects such files instead, naming the face.
 
 #include <cstdint>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -58,14 +74,16 @@ struct MeshLoadOptions {
   /// then do not apply.
   bool isolate_import = true;
 
-  /// Wall-clock limit on the import, in seconds. Negative (the default): 30 s plus 5 s
-  /// per MiB of file, generous for any well-formed file; 0: no limit.
-  double import_timeout_seconds = -1.0;
+  /// Wall-clock limit on the import, in seconds. Unset (the default): 30 s plus 5 s per
+  /// MiB of file, generous for any well-formed file; 0 or +infinity: no limit. NaN and
+  /// negative values are rejected (std::invalid_argument), also when isolate_import is
+  /// false.
+  std::optional<double> import_timeout_seconds;
 
   /// Address space the import may add to what the process has mapped, in bytes.
-  /// Negative (the default): max(4 GiB, 64 x the file size); 0: no limit. Not applied in
-  /// builds with AddressSanitizer, ThreadSanitizer or MemorySanitizer, which reserve
-  /// terabytes of address space: there only the timeout guards the import.
+  /// Negative (the default): max(4 GiB, 64 x the file size); 0: no limit. Not applied
+  /// where import_memory_limit_enforced() is false: there only the timeout guards the
+  /// import.
   std::int64_t import_memory_limit_bytes = -1;
 };
 
@@ -83,8 +101,15 @@ struct LoadedMesh {
 ///   importer that crashed, timed out or ran out of memory on the file, no triangles,
 ///   non-finite coordinates (named by assimp's mesh and vertex index), or only degenerate
 ///   triangles.
-/// \throws Error when the import process cannot be started.
+/// \throws Error naming \p path when the import process cannot be started.
+/// \throws std::invalid_argument for an import_timeout_seconds that is NaN or negative.
 LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options = {});
+
+/// Whether this build of the library applies MeshLoadOptions::import_memory_limit_bytes:
+/// false in builds with AddressSanitizer, ThreadSanitizer or MemorySanitizer, which
+/// reserve terabytes of address space up front, so that any address-space limit would
+/// fail every allocation.
+bool import_memory_limit_enforced() noexcept;
 
 /// The SHA-256 of the bytes of \p path, as 64 lowercase hex digits.
 /// \throws InputError when the file cannot be read.

@@ -96,8 +96,9 @@ struct OrientationFix {
 /// even number of the other closed, consistently wound components contain it: C at
 /// nesting depth 0 (outermost), 2, ... bounds material and must face out; at odd depth
 /// it bounds a cavity and already faces the right way. "D contains C" means
-/// |winding number of D alone| > 0.5 at the centroid of C's largest triangle (exact sum
-/// of solid angles; D's orientation does not matter). Components of positive volume are
+/// |winding number of D alone| > 0.5 at the centroid of C's largest triangle (its solid
+/// angles summed directly over D's triangles, with no far-field approximation; D's
+/// orientation does not matter). Components of positive volume are
 /// never flipped, even at odd depth. Nesting is assumed to be proper (shells do not
 /// cross); for crossing shells the test point decides.
 OrientationFix orient_mesh(TriangleMesh& mesh);

@@ -24,7 +24,8 @@ namespace medspheres::detail {
 namespace {
 
 std::string errno_text(const char* what) {
-  return std::string(what) + ": " + std::strerror(errno);
+  const int error = errno;
+  return std::string(what) + ": " + std::strerror(error);
 }
 
 // Bytes of address space the process has mapped now (VmSize), 0 if unknown.
@@ -112,6 +113,15 @@ bool reap(pid_t pid, int* status) {
   }
 }
 
+// A pidfd for pid (Linux 5.3), or -1 where the kernel or the C library has none.
+int open_pidfd(pid_t pid) {
+#if defined(SYS_pidfd_open) && defined(SYS_pidfd_send_signal)
+  const long fd = ::syscall(SYS_pidfd_open, pid, 0u);  // close-on-exec by default
+  if (fd >= 0) return static_cast<int>(fd);
+#endif
+  return -1;
+}
+
 class Fd {
  public:
   explicit Fd(int fd) : fd_(fd) {}
@@ -130,14 +140,20 @@ class Fd {
 
 // Kills and reaps the child unless it was reaped already: no zombie and no runaway
 // import survives an exception in the parent.
+//
+// A signal never reaches another process that reuses the child's pid. If the caller
+// ignores SIGCHLD, the kernel reaps the child the moment it exits and its pid is free
+// for reuse, so kill(pid) could hit a stranger. With a pidfd (opened while the child
+// provably lives, see run_isolated), the signal goes to the child or, if it is gone, to
+// nobody. Without one (kernels before 5.3), the child is signalled only while waitid
+// sees it still running as this process's child; the pid cannot be reused between that
+// test and kill() unless the child exits and is reaped in that instant.
 class Reaper {
  public:
-  explicit Reaper(pid_t pid) : pid_(pid) {}
+  Reaper(pid_t pid, int pidfd) : pid_(pid), pidfd_(pidfd) {}
   ~Reaper() {
-    if (pid_ <= 0) return;
-    ::kill(pid_, SIGKILL);
-    int status = 0;
-    reap(pid_, &status);
+    if (pid_ > 0) kill_and_wait();
+    close_pidfd();
   }
   Reaper(const Reaper&) = delete;
   Reaper& operator=(const Reaper&) = delete;
@@ -145,17 +161,36 @@ class Reaper {
   bool wait(int* status) {
     const bool ok = reap(pid_, status);
     pid_ = 0;
+    close_pidfd();
     return ok;
   }
   void kill_and_wait() {
-    ::kill(pid_, SIGKILL);
+    kill();
     int status = 0;
     reap(pid_, &status);
     pid_ = 0;
+    close_pidfd();
   }
 
  private:
+  void kill() {
+#if defined(SYS_pidfd_open) && defined(SYS_pidfd_send_signal)
+    if (pidfd_ >= 0) {
+      ::syscall(SYS_pidfd_send_signal, pidfd_, SIGKILL, nullptr, 0u);
+      return;
+    }
+#endif
+    siginfo_t info{};
+    if (::waitid(P_PID, static_cast<id_t>(pid_), &info, WEXITED | WNOHANG | WNOWAIT) == 0 &&
+        info.si_pid == 0)
+      ::kill(pid_, SIGKILL);  // running, and still this process's child
+  }
+  void close_pidfd() {
+    if (pidfd_ >= 0) ::close(pidfd_);
+    pidfd_ = -1;
+  }
   pid_t pid_;
+  int pidfd_;
 };
 
 }  // namespace
@@ -190,25 +225,45 @@ std::string signal_name(int sig) {
 }
 
 IsolatedOutcome run_isolated(const std::function<std::string()>& work,
-                             const IsolationLimits& limits) {
+                             const IsolationLimits& limits, const std::string& subject) {
   using Clock = std::chrono::steady_clock;
   const std::uint64_t as_limit =
       limits.address_space_bytes > 0 ? mapped_bytes() + limits.address_space_bytes : 0;
+  const std::string prefix = subject + ": ";
 
-  int fds[2];
-  if (::pipe2(fds, O_CLOEXEC) != 0) throw Error(errno_text("cannot create a pipe"));
+  // fds carries the result to the parent; go carries the parent's go-ahead to the child.
+  int fds[2], go[2];
+  if (::pipe2(fds, O_CLOEXEC) != 0)
+    throw Error(prefix + errno_text("cannot create a pipe for the import process"));
   Fd read_end(fds[0]), write_end(fds[1]);
+  if (::pipe2(go, O_CLOEXEC) != 0)
+    throw Error(prefix + errno_text("cannot create a pipe for the import process"));
+  Fd go_read(go[0]), go_write(go[1]);
 
   const pid_t parent = ::getpid();
   const Clock::time_point start = Clock::now();
   const pid_t pid = ::fork();
-  if (pid < 0) throw Error(errno_text("cannot start the import process (fork)"));
+  if (pid < 0) throw Error(prefix + errno_text("cannot start the import process (fork)"));
   if (pid == 0) {
+    // Wait for the go-ahead: until the parent holds a pidfd for this process, it must
+    // not exit (see Reaper). EOF instead of the byte: the parent gave up.
     ::close(fds[0]);
+    ::close(go[1]);
+    char byte = 0;
+    ssize_t n = 0;
+    while ((n = ::read(go[0], &byte, 1)) < 0 && errno == EINTR) {
+    }
+    if (n != 1) ::_exit(kIsolatedWriteFailed);
+    ::close(go[0]);
     run_child(fds[1], parent, as_limit, work);
   }
-  Reaper child(pid);
+  Reaper child(pid, open_pidfd(pid));
+  go_read.reset();
   write_end.reset();
+  const char byte = 1;
+  while (::write(go_write.get(), &byte, 1) < 0 && errno == EINTR) {
+  }
+  go_write.reset();
 
   const bool limited = limits.timeout_seconds > 0.0;
   const auto budget = std::chrono::duration_cast<Clock::duration>(
@@ -233,13 +288,13 @@ IsolatedOutcome run_isolated(const std::function<std::string()>& work,
     const int ready = ::poll(&p, 1, wait_ms);
     if (ready < 0) {
       if (errno == EINTR) continue;
-      throw Error(errno_text("poll on the import pipe failed"));
+      throw Error(prefix + errno_text("poll on the import pipe failed"));
     }
     if (ready == 0) continue;  // the deadline is checked above
     const ssize_t n = ::read(read_end.get(), buf, sizeof buf);
     if (n < 0) {
       if (errno == EINTR || errno == EAGAIN) continue;
-      throw Error(errno_text("reading the import pipe failed"));
+      throw Error(prefix + errno_text("reading the import pipe failed"));
     }
     if (n == 0) break;  // the child closed its end: it is exiting
     out.output.append(buf, static_cast<std::size_t>(n));

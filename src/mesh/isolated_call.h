@@ -29,18 +29,23 @@ struct IsolatedOutcome {
 constexpr int kIsolatedWorkThrew = 121;
 constexpr int kIsolatedWriteFailed = 122;
 
-/// Forks; the child sets its limits (RLIMIT_AS, no core file), closes every descriptor
-/// but 0, 1, 2 and its end of the pipe, asks to be killed if the caller dies, runs
-/// \p work, writes its result to the pipe and leaves with _exit (no atexit handlers, no
-/// stdio flush). The parent reads the pipe as the child writes it (poll() with the
-/// deadline, so a large result cannot fill the pipe and stall both), kills the child at
-/// the deadline, and always reaps it, also when it throws itself.
+/// Forks; the child waits until the parent holds a pidfd for it (so that no signal
+/// meant for it can reach a process that reuses its pid), sets its limits (RLIMIT_AS, no
+/// core file), closes every descriptor but 0, 1, 2 and its end of the pipe, asks to be
+/// killed if the caller dies, runs \p work, writes its result to the pipe and leaves
+/// with _exit (no atexit handlers, no stdio flush). The parent reads the pipe as the
+/// child writes it (poll() with the deadline, so a large result cannot fill the pipe and
+/// stall both), kills the child at the deadline, and always reaps it, also when it
+/// throws itself.
 ///
 /// The child of a multi-threaded caller holds only the forking thread; work() must not
-/// depend on locks other threads may hold (glibc's malloc is safe after fork).
-/// \throws medspheres::Error when the pipe or the process cannot be created.
+/// depend on locks other threads may hold (glibc's malloc and stdio are safe after
+/// fork; C++ streams and locales are not guaranteed to be). Do whatever can be done
+/// before the call in the caller, and keep work() to the third-party code it isolates.
+/// \throws medspheres::Error starting with "<subject>: " when the pipe or the process
+///   cannot be created, or the pipe cannot be read.
 IsolatedOutcome run_isolated(const std::function<std::string()>& work,
-                             const IsolationLimits& limits);
+                             const IsolationLimits& limits, const std::string& subject);
 
 /// "SIGSEGV" for 11, and so on; "signal N" for a number without a name.
 std::string signal_name(int sig);

@@ -2,6 +2,7 @@
 
 #include <algorithm>
 #include <cerrno>
+#include <cmath>
 #include <csignal>
 #include <cstdint>
 #include <cstring>
@@ -10,6 +11,7 @@
 #include <iomanip>
 #include <new>
 #include <sstream>
+#include <stdexcept>
 #include <unordered_map>
 
 #include <sys/stat.h>
@@ -74,21 +76,6 @@ std::string lower_extension(const std::string& path) {
   return ext;
 }
 
-// Sanitizers that reserve terabytes of address space up front: an RLIMIT_AS on the
-// import child would fail every allocation there, so only the timeout applies.
-#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
-constexpr bool kSanitizerReservesAddressSpace = true;
-#elif defined(__has_feature)
-#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
-    __has_feature(memory_sanitizer)
-constexpr bool kSanitizerReservesAddressSpace = true;
-#else
-constexpr bool kSanitizerReservesAddressSpace = false;
-#endif
-#else
-constexpr bool kSanitizerReservesAddressSpace = false;
-#endif
-
 constexpr double kMiB = 1024.0 * 1024.0;
 
 // "30", "2.5": whole seconds from 10 s up, three digits below.
@@ -102,24 +89,26 @@ std::string seconds_text(double s) {
 }
 
 // The import in a child process, its outcome turned into a FlatScene or an error.
-detail::FlatScene import_isolated(const std::string& path, const std::string& ext,
-                                  std::uintmax_t file_bytes, const MeshLoadOptions& options) {
+detail::FlatScene import_isolated(const std::string& path, std::uintmax_t file_bytes,
+                                  const MeshLoadOptions& options) {
   detail::IsolationLimits limits;
-  limits.timeout_seconds = options.import_timeout_seconds < 0.0
-                               ? 30.0 + 5.0 * static_cast<double>(file_bytes) / kMiB
-                               : options.import_timeout_seconds;
-  if (options.import_memory_limit_bytes < 0)
+  if (!options.import_timeout_seconds)
+    limits.timeout_seconds = 30.0 + 5.0 * static_cast<double>(file_bytes) / kMiB;
+  else if (std::isfinite(*options.import_timeout_seconds))
+    limits.timeout_seconds = *options.import_timeout_seconds;  // else 0: no limit
+  if (!import_memory_limit_enforced())
+    limits.address_space_bytes = 0;
+  else if (options.import_memory_limit_bytes < 0)
     limits.address_space_bytes =
-        kSanitizerReservesAddressSpace
-            ? 0
-            : std::max<std::uint64_t>(std::uint64_t{4} << 30, std::uint64_t{64} * file_bytes);
-  else if (!kSanitizerReservesAddressSpace)
+        std::max<std::uint64_t>(std::uint64_t{4} << 30, std::uint64_t{64} * file_bytes);
+  else
     limits.address_space_bytes = static_cast<std::uint64_t>(options.import_memory_limit_bytes);
 
+  // The child runs assimp and nothing else it can avoid (see "Threads" in mesh_io.h).
   const detail::IsolatedOutcome outcome = detail::run_isolated(
       [&]() -> std::string {
         try {
-          return detail::encode_scene(detail::import_flat(path, ext));
+          return detail::encode_scene(detail::import_flat(path));
         } catch (const InputError& e) {
           return detail::encode_message('E', e.problem());
         } catch (const std::bad_alloc&) {
@@ -128,14 +117,14 @@ detail::FlatScene import_isolated(const std::string& path, const std::string& ex
           return detail::encode_message('X', e.what());
         }
       },
-      limits);
+      limits, path);
 
   using End = detail::IsolatedOutcome::End;
   if (outcome.end == End::kTimedOut)
     throw InputError(path, "the importer did not finish within " +
                                seconds_text(limits.timeout_seconds) +
-                               " s: the file is malformed (assimp loops forever on some "
-                               "malformed files) or too large for the time limit");
+                               " s: the file may be malformed, or too large for the limit "
+                               "(MeshLoadOptions::import_timeout_seconds)");
   if (outcome.end == End::kSignaled) {
     const std::string sig =
         "signal " + std::to_string(outcome.code) + ": " + detail::signal_name(outcome.code);
@@ -171,7 +160,32 @@ detail::FlatScene import_isolated(const std::string& path, const std::string& ex
 
 }  // namespace
 
+bool import_memory_limit_enforced() noexcept {
+  // Sanitizers that reserve terabytes of address space up front: an RLIMIT_AS on the
+  // import child would fail every allocation there, so only the timeout applies.
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  return false;
+#elif defined(__has_feature)
+#if __has_feature(address_sanitizer) || __has_feature(thread_sanitizer) || \
+    __has_feature(memory_sanitizer)
+  return false;
+#else
+  return true;
+#endif
+#else
+  return true;
+#endif
+}
+
 LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
+  if (options.import_timeout_seconds && !(*options.import_timeout_seconds >= 0.0)) {
+    std::ostringstream got;
+    got << *options.import_timeout_seconds;
+    throw std::invalid_argument(
+        "MeshLoadOptions::import_timeout_seconds must be unset, >= 0 or +infinity, not " +
+        got.str());
+  }
+
   // stat, not open: opening a FIFO blocks until a writer comes, and opening a device
   // can have side effects.
   struct stat st {};
@@ -198,10 +212,14 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
                                "assimp reads)");
   }
 
+  // In this process, also for the isolated import: the child should do no more than
+  // assimp's part (see "Threads" in mesh_io.h).
+  if (ext == ".off") detail::check_off_faces(path);
+
   const detail::FlatScene scene =
       options.isolate_import
-          ? import_isolated(path, ext, static_cast<std::uintmax_t>(st.st_size), options)
-          : detail::import_flat(path, ext);
+          ? import_isolated(path, static_cast<std::uintmax_t>(st.st_size), options)
+          : detail::import_flat(path);
 
   LoadedMesh out;
   TriangleMesh& mesh = out.mesh;

@@ -11,6 +11,7 @@
 
 #include "medspheres/error.h"
 #include "mesh_topology.h"
+#include "point_triangle.h"
 
 namespace medspheres {
 
@@ -134,24 +135,14 @@ bool is_degenerate(const TriangleMesh& m, std::size_t t) {
   return n.squaredNorm() == 0.0;
 }
 
-// The solid angle of triangle abc seen from p, signed by its orientation (Van Oosterom
-// and Strackee 1983).
-double solid_angle(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                   const Eigen::Vector3d& c) {
-  const Eigen::Vector3d x = a - p, y = b - p, z = c - p;
-  const double lx = x.norm(), ly = y.norm(), lz = z.norm();
-  const double num = x.dot(y.cross(z));
-  const double den = lx * ly * lz + x.dot(y) * lz + y.dot(z) * lx + z.dot(x) * ly;
-  return 2.0 * std::atan2(num, den);
-}
-
-// The winding number about p of the triangles of one component, summed exactly.
+// The winding number about p of the triangles of one component: their solid angles
+// summed directly over the triangles (no far-field approximation).
 double winding_number(const TriangleMesh& m, const std::vector<int>& triangles,
                       const Eigen::Vector3d& p) {
   double sum = 0.0;
   for (int t : triangles) {
     const auto i = static_cast<std::size_t>(t);
-    sum += solid_angle(p, m.corner(i, 0), m.corner(i, 1), m.corner(i, 2));
+    sum += detail::solid_angle(p, m.corner(i, 0), m.corner(i, 1), m.corner(i, 2));
   }
   return sum / (4.0 * 3.14159265358979323846);
 }

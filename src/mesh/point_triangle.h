@@ -12,11 +12,11 @@
 // the regular path, and C <= 16 (the inradius bound below) on degenerate triangles
 // just under the threshold. The path is chosen per triangle when the BVH is built:
 //
-// - Regular (kappa <= kThinKappa = 8; over 91% of the triangles of every mesh in
-//   ../shared/meshes, 100% of most): Ericson's Voronoi-region walk (Real-Time Collision Detection,
-//   5.1.5). To first order: each dot product d = e.(p - v) (edge e, corner v) is off by
-//   ~6 u |e| S. The edge tests va, vb, vc equal 2A |e| s_e, s_e the signed in-plane
-//   distance of p's projection to the line of edge e; where the region matters (the
+// - Regular (kappa <= kThinKappa = 8; over 91% of the triangles of every one of the test
+//   meshes of tests/support/shared_meshes.h, 100% of most): Ericson's Voronoi-region
+//   walk (Real-Time Collision Detection, 5.1.5). To first order: each dot product d = e.(p - v)
+//   (edge e, corner v) is off by ~6 u |e| S. The edge tests va, vb, vc equal 2A |e| s_e, s_e the
+//   signed in-plane distance of p's projection to the line of edge e; where the region matters (the
 //   projection within 2L of the triangle) they are off by ~70 u |e_1| |e_2| L S, so a
 //   projection is put on the wrong side of an edge line only within ~70 kappa u S of
 //   it. Edge parameters (d1 / (d1 - d3) and the like) are off by ~25 kappa u S along
@@ -24,13 +24,13 @@
 //   by slab tests off by only ~6 u S, so a wrong side near a sharp corner is still
 //   caught there. In the face region the point is the projection p - (n.(p - a)) n with
 //   the accurate normal n below, off by ~4 u S. So the error is O(kappa u S) (measured:
-//   about 1.5 kappa u S at worst). The old face point a + v ab + w ac, with v and w
-//   the quotients of va, vb, vc by their sum 4 A^2, was off by O(kappa^2 u S):
-//   eps / width^2 on slivers.
+//   about 1.5 kappa u S at worst). The face point is not taken as a + v ab + w ac,
+//   with v and w the quotients of va, vb, vc by their sum 4 A^2: that point is off by
+//   O(kappa^2 u S), eps / width^2 on slivers.
 //   Why 8: the regular path's error grows like kappa and the thin path's does not, but
 //   the thin path costs more (a cross product per edge line it tests). At kappa <= 8
 //   the regular path measures below 6 u S, less than the degenerate path's 16, and at
-//   most 9% of the triangles of any mesh in ../shared/meshes take the thin path.
+//   most 9% of the triangles of any of the test meshes take the thin path.
 // - Thin (kappa > kThinKappa): the same seven regions, each told by tests that are well
 //   conditioned whatever the shape. A vertex or edge region by slab tests along each
 //   edge (dot products with that edge, measured from that edge's own corners: off by

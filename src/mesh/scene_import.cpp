@@ -1,13 +1,12 @@
 #include "scene_import.h"
 
-#include <algorithm>
 #include <cmath>
+#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <iterator>
 #include <new>
-#include <sstream>
 #include <string_view>
 #include <vector>
 
@@ -45,10 +44,16 @@ bool is_digits(std::string_view s) {
 }
 
 // The value of a string of digits, saturated at 2^62 (any count or index that large is
-// out of range anyway).
+// out of range anyway). Each step is tested before it is taken, so that no digit string,
+// however long, overflows: v * 10 + d <= 2^62 exactly when v <= (2^62 - d) / 10.
 long long digits_value(std::string_view s) {
+  constexpr long long kCap = 1ll << 62;
   long long v = 0;
-  for (char c : s) v = std::min(v * 10 + (c - '0'), 1ll << 62);
+  for (char c : s) {
+    const int d = c - '0';
+    if (v > (kCap - d) / 10) return kCap;
+    v = v * 10 + d;
+  }
   return v;
 }
 
@@ -113,8 +118,21 @@ bool is_off_keyword(std::string_view t, bool* dimension) {
   return t == "OFF";
 }
 
+// A coordinate as a stream would print it ("%g"). snprintf, not a stream: this runs in
+// the import child, where a stream's locale may wait for a lock (mesh_io.h, "Threads").
+std::string coordinate_text(float x) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));
+  return buf;
+}
+
 std::string plural(long long n, const char* one, const char* many) {
   return std::to_string(n) + " " + (n == 1 ? one : many);
+}
+
+// A count as the file writes it (a count past 2^62 is not shown saturated).
+std::string plural(std::string_view digits, long long n, const char* one, const char* many) {
+  return std::string(digits) + " " + (n == 1 ? one : many);
 }
 
 }  // namespace
@@ -140,13 +158,14 @@ void check_off_faces(const std::string& path) {
   std::string_view line;
   for (long long v = 0; v < nv; ++v) {
     if (!scan.line(&line))
-      throw InputError(path, "truncated: the header announces " + plural(nv, "vertex", "vertices") +
-                                 ", but the file has only " +
-                                 plural(v, "vertex line", "vertex lines"));
+      throw InputError(
+          path, "truncated: the header announces " + plural(nv_token, nv, "vertex", "vertices") +
+                    ", but the file has only " + plural(v, "vertex line", "vertex lines"));
   }
   for (long long f = 0; f < nf; ++f) {
     if (!scan.line(&line))
-      throw InputError(path, "truncated: the header announces " + plural(nf, "face", "faces") +
+      throw InputError(path, "truncated: the header announces " +
+                                 plural(nf_token, nf, "face", "faces") +
                                  ", but the file has only " + plural(f, "face line", "face lines"));
     const std::vector<std::string_view> tokens = split_blanks(line);
     const std::string face = "face " + std::to_string(f) + " (counted from 0)";
@@ -170,17 +189,15 @@ void check_off_faces(const std::string& path) {
                                    "' where a vertex index should be");
       const long long index = negative ? -digits_value(t) : digits_value(t);
       if (index < 0 || index >= nv)
-        throw InputError(path, face + " refers to vertex " + std::to_string(index) +
-                                   ", out of range: the file has " +
-                                   plural(nv, "vertex", "vertices") + " (0 to " +
-                                   std::to_string(nv - 1) + ")");
+        throw InputError(
+            path, face + " refers to vertex " + std::string(tokens[static_cast<std::size_t>(j)]) +
+                      ", out of range: the file has " + plural(nv_token, nv, "vertex", "vertices") +
+                      " (0 to " + std::to_string(nv - 1) + ")");
     }
   }
 }
 
-FlatScene import_flat(const std::string& path, const std::string& ext) {
-  if (ext == ".off") check_off_faces(path);
-
+FlatScene import_flat(const std::string& path) {
   Assimp::Importer importer;
   // Drop point and line primitives; triangulate polygons. No vertex joining: load_mesh
   // welds on positions only, so that split normals or UVs do not split vertices.
@@ -205,11 +222,11 @@ FlatScene import_flat(const std::string& path, const std::string& ext) {
     for (unsigned v = 0; v < m->mNumVertices; ++v) {
       const aiVector3D& p = m->mVertices[v];
       if (std::isfinite(p.x) && std::isfinite(p.y) && std::isfinite(p.z)) continue;
-      std::ostringstream msg;
-      msg << "vertex " << v << " of mesh " << mi
-          << " (counted from 0, as assimp reads the file) has a non-finite coordinate (" << p.x
-          << ", " << p.y << ", " << p.z << ")";
-      throw InputError(path, msg.str());
+      throw InputError(path, "vertex " + std::to_string(v) + " of mesh " + std::to_string(mi) +
+                                 " (counted from 0, as assimp reads the file) has a "
+                                 "non-finite coordinate (" +
+                                 coordinate_text(p.x) + ", " + coordinate_text(p.y) + ", " +
+                                 coordinate_text(p.z) + ")");
     }
   }
 

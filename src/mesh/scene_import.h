@@ -20,16 +20,17 @@ struct FlatScene {
   std::uint64_t orphans = 0;     ///< meshes no node places, kept with the identity
 };
 
-/// Reads \p path with assimp (after a pre-scan of OFF files, whose out-of-range face
-/// indices assimp clamps silently), checks that every coordinate is finite, and flattens
-/// the scene. \p ext is the lower-case extension with its dot.
+/// Reads \p path with assimp, checks that every coordinate is finite, and flattens the
+/// scene. This is what runs in the import child: it uses no C++ streams (see "Threads"
+/// in mesh_io.h). OFF files must have passed check_off_faces first.
 /// \throws InputError naming \p path for a file that cannot be read as a mesh;
 ///   std::bad_alloc when the import runs out of memory.
-FlatScene import_flat(const std::string& path, const std::string& ext);
+FlatScene import_flat(const std::string& path);
 
 /// Checks the face list of the OFF file \p path against its header: every face line
-/// present, 1 to 9 vertices per face, every index an integer in [0, vertices).
-/// Files whose header it does not recognise are left to assimp.
+/// present, 1 to 9 vertices per face, every index an integer in [0, vertices). assimp
+/// itself clamps an out-of-range index silently. Files whose header it does not
+/// recognise are left to assimp. Runs in the caller's process, before any fork.
 /// \throws InputError naming \p path, the face (counted from 0) and the bad index.
 void check_off_faces(const std::string& path);
 

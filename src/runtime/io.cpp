@@ -2,12 +2,12 @@
 
 #include <atomic>
 #include <cerrno>
-#include <cstdio>
 #include <cstring>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
 
+#include <fcntl.h>
 #include <sys/stat.h>
 #include <unistd.h>
 #include <nlohmann/json.hpp>
@@ -163,19 +163,74 @@ fs::path directory_of(const fs::path& p) {
   return p.has_parent_path() ? p.parent_path() : fs::path(".");
 }
 
+// Writes \p contents to \p fd, fsyncs it if \p sync, and closes it, whatever failed
+// before: the errno of the first step that failed, or 0.
+int write_and_close(int fd, const std::string& contents, bool sync) {
+  int failure = 0;
+  auto step = [&failure](bool done) {
+    if (!done && failure == 0) failure = errno != 0 ? errno : EIO;
+  };
+  std::size_t done = 0;
+  while (done < contents.size() && failure == 0) {
+    errno = 0;
+    const ssize_t n = ::write(fd, contents.data() + done, contents.size() - done);
+    if (n < 0 && errno == EINTR) continue;
+    step(n > 0);
+    if (n > 0) done += static_cast<std::size_t>(n);
+  }
+  if (sync) step(::fsync(fd) == 0);
+  errno = 0;
+  step(::close(fd) == 0);
+  return failure;
+}
+
+// fs::status of \p p, a step towards writing \p path. A missing file or directory
+// (ENOENT, ENOTDIR) is not_found, for the caller to judge. Any other failure to look
+// \p p up throws: InputError for a path that cannot name a file (a loop of symbolic
+// links, a name too long), Error otherwise (no search permission on a directory, an
+// I/O error, ...): the real reason, never "does not exist".
+fs::file_status status_for_writing(const std::string& path, const fs::path& p) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(p, ec);
+  if (!ec || ec == std::errc::no_such_file_or_directory || ec == std::errc::not_a_directory)
+    return st;
+  const std::string problem = "cannot write: cannot look up " + p.string() + ": " + ec.message();
+  if (ec == std::errc::too_many_symbolic_link_levels || ec == std::errc::filename_too_long)
+    throw InputError(path, problem);
+  throw Error(path + ": " + problem);
+}
+
+// Throws unless the directory \p dir of \p path exists and is a directory.
+void check_directory(const std::string& path, const fs::path& dir) {
+  const fs::file_status ds = status_for_writing(path, dir);
+  if (!fs::exists(ds)) throw InputError(path, "directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(ds)) throw InputError(path, dir.string() + " is not a directory");
+}
+
+// The permission bits a new file gets: 0666 less the process's umask, read from
+// /proc/self/status (umask(2) cannot be read without changing it, which would race
+// with other threads). 0600 where that is unavailable.
+mode_t new_file_mode() {
+  std::ifstream status("/proc/self/status");
+  std::string line;
+  while (std::getline(status, line)) {
+    if (line.rfind("Umask:", 0) != 0) continue;
+    try {
+      return static_cast<mode_t>(0666 & ~std::stoul(line.substr(6), nullptr, 8));
+    } catch (const std::exception&) {
+      break;
+    }
+  }
+  return 0600;
+}
+
 // Writes to an existing file that is not a regular one (a character device such as
 // /dev/null, a FIFO): in place, as a shell redirection would, since a rename would
 // replace the device by a regular file.
 void write_in_place(const std::string& path, const fs::path& target, const std::string& contents) {
-  std::FILE* f = std::fopen(target.c_str(), "wb");
-  if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
-  int failure = 0;  // errno of the first step that failed
-  auto step = [&failure](bool done) {
-    if (!done && failure == 0) failure = errno != 0 ? errno : EIO;
-  };
-  step(std::fwrite(contents.data(), 1, contents.size(), f) == contents.size());
-  step(std::fflush(f) == 0);
-  step(std::fclose(f) == 0);
+  const int fd = ::open(target.c_str(), O_WRONLY | O_CREAT | O_TRUNC | O_CLOEXEC, 0666);
+  if (fd < 0) throw Error(path + ": cannot write: " + std::strerror(errno));
+  const int failure = write_and_close(fd, contents, false);
   if (failure != 0) throw Error(path + ": cannot write: " + std::strerror(failure));
 }
 
@@ -183,8 +238,7 @@ void write_in_place(const std::string& path, const fs::path& target, const std::
 
 void check_output_path(const std::string& path) {
   const fs::path target = resolve_links(path);
-  std::error_code ec;
-  const fs::file_status st = fs::status(target, ec);
+  const fs::file_status st = status_for_writing(path, target);
   if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
   if (fs::exists(st)) {
     if (!fs::is_regular_file(st)) {
@@ -194,43 +248,46 @@ void check_output_path(const std::string& path) {
     }
   }
   const fs::path dir = directory_of(target);
-  const fs::file_status ds = fs::status(dir, ec);
-  if (!fs::exists(ds)) throw InputError(path, "directory " + dir.string() + " does not exist");
-  if (!fs::is_directory(ds)) throw InputError(path, dir.string() + " is not a directory");
+  check_directory(path, dir);
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw Error(path + ": cannot write in directory " + dir.string() + ": " + std::strerror(errno));
 }
 
 void write_file_atomically(const std::string& path, const std::string& contents) {
   const fs::path target = resolve_links(path);
-  std::error_code ec;
-  const fs::file_status st = fs::status(target, ec);
+  const fs::file_status st = status_for_writing(path, target);
   if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
   if (fs::exists(st) && !fs::is_regular_file(st)) {
     write_in_place(path, target, contents);
     return;
   }
   const fs::path dir = directory_of(target);
-  const fs::file_status ds = fs::status(dir, ec);
-  if (!fs::exists(ds)) throw InputError(path, "directory " + dir.string() + " does not exist");
-  if (!fs::is_directory(ds)) throw InputError(path, dir.string() + " is not a directory");
+  check_directory(path, dir);
 
+  // The temporary file is made by this call alone (O_EXCL: never an existing file, nor
+  // one a symbolic link points to) and readable by its owner only until it has the
+  // final permission bits: those of the file it replaces, or a new file's default. Only
+  // then are the contents written.
+  const mode_t mode =
+      fs::is_regular_file(st) ? static_cast<mode_t>(st.permissions()) & 07777 : new_file_mode();
   static std::atomic_uint counter{0};  // two writers in one process never share a name
-  const fs::path tmp = dir / ("." + target.filename().string() + ".tmp." +
-                              std::to_string(::getpid()) + "." + std::to_string(counter++));
-  std::FILE* f = std::fopen(tmp.c_str(), "wb");
-  if (!f) throw Error(path + ": cannot write: " + std::strerror(errno));
-  int failure = 0;  // errno of the first step that failed
-  auto step = [&failure](bool done) {
-    if (!done && failure == 0) failure = errno != 0 ? errno : EIO;
-  };
-  step(std::fwrite(contents.data(), 1, contents.size(), f) == contents.size());
-  step(std::fflush(f) == 0);
-  // A file replaced keeps its permission bits.
-  if (fs::is_regular_file(st))
-    step(::fchmod(::fileno(f), static_cast<mode_t>(st.permissions()) & 07777) == 0);
-  step(::fsync(::fileno(f)) == 0);
-  step(std::fclose(f) == 0);
+  fs::path tmp;
+  int fd = -1;
+  for (int attempt = 0; attempt < 1000 && fd < 0; ++attempt) {
+    tmp = dir / ("." + target.filename().string() + ".tmp." + std::to_string(::getpid()) + "." +
+                 std::to_string(counter++));
+    fd = ::open(tmp.c_str(), O_WRONLY | O_CREAT | O_EXCL | O_CLOEXEC, 0600);
+    if (fd < 0 && errno != EEXIST) break;  // a name that exists: try the next one
+  }
+  if (fd < 0) throw Error(path + ": cannot write: " + std::strerror(errno));
+  int failure = 0;
+  if (::fchmod(fd, mode) != 0) {
+    failure = errno;
+    ::close(fd);
+  } else {
+    failure = write_and_close(fd, contents, true);
+  }
+  std::error_code ec;
   if (failure != 0) {
     fs::remove(tmp, ec);
     throw Error(path + ": cannot write: " + std::strerror(failure));

@@ -3,7 +3,10 @@
 #include <cstdint>
 #include <cstring>
 #include <sstream>
+#include <utility>
 #include <vector>
+
+#include "medspheres/mesh_generators.h"
 
 namespace medspheres::test {
 
@@ -191,6 +194,21 @@ std::string to_gltf(const TriangleMesh& m, const std::vector<Eigen::Vector3d>& o
     << R"({"bufferView":1,"componentType":5125,"count":)" << 3 * m.triangles.size()
     << R"(,"type":"SCALAR"}]})";
   return s.str();
+}
+
+TriangleMesh cube_mesh(double lo, double hi) {
+  TriangleMesh m = make_box(Eigen::Vector3d::Constant((hi - lo) / 2));
+  for (auto& v : m.vertices) v += Eigen::Vector3d::Constant((hi + lo) / 2);
+  return m;
+}
+
+void append_mesh(TriangleMesh& to, const TriangleMesh& m, bool inward) {
+  const int off = static_cast<int>(to.vertices.size());
+  to.vertices.insert(to.vertices.end(), m.vertices.begin(), m.vertices.end());
+  for (auto t : m.triangles) {
+    if (inward) std::swap(t[1], t[2]);
+    to.triangles.push_back({t[0] + off, t[1] + off, t[2] + off});
+  }
 }
 
 }  // namespace medspheres::test
