@@ -6,7 +6,7 @@
 // (about 8 neighbours) is the density of a sampled medial sphere set; "heavy" (about 30)
 // is a deliberately crowded set. Each row is the best of three runs.
 //
-// Targets (issue 4): 10^4 balls in at most 0.5 s and 10^5 balls in at most 5 s.
+// Targets: 10^4 balls in at most 0.5 s and 10^5 balls in at most 5 s.
 //
 // Usage: bench_union_volume [max_n]   (default 100000)
 

@@ -1,6 +1,7 @@
 #include <algorithm>
 #include <cmath>
 #include <cstring>
+#include <optional>
 #include <random>
 
 #include <catch2/catch.hpp>
@@ -12,6 +13,7 @@
 #include "medspheres/mesh_generators.h"
 #include "medspheres/mesh_io.h"
 #include "medspheres/mesh_query.h"
+#include "support/point_triangle_oracle.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
@@ -21,40 +23,15 @@ namespace {
 
 constexpr double kPi = 3.14159265358979323846;
 
-// Distance from p to the mesh by brute force over all triangles, through a
-// construction independent of the library's (projection, else nearest edge).
-double brute_distance(const TriangleMesh& m, const Eigen::Vector3d& p) {
-  double best = std::numeric_limits<double>::infinity();
-  auto seg = [&](const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-    const Eigen::Vector3d d = b - a;
-    const double dd = d.squaredNorm();
-    const double t = dd > 0 ? std::clamp((p - a).dot(d) / dd, 0.0, 1.0) : 0.0;
-    return (p - (a + t * d)).norm();
-  };
-  for (std::size_t t = 0; t < m.triangles.size(); ++t) {
-    const Eigen::Vector3d &a = m.corner(t, 0), &b = m.corner(t, 1), &c = m.corner(t, 2);
-    const Eigen::Vector3d n = (b - a).cross(c - a);
-    double d = std::min({seg(a, b), seg(b, c), seg(c, a)});
-    if (n.squaredNorm() > 0) {
-      const Eigen::Vector3d q = p - n * (n.dot(p - a) / n.squaredNorm());
-      if (n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 &&
-          n.dot((a - c).cross(q - c)) >= 0)
-        d = std::min(d, (p - q).norm());
-    }
-    best = std::min(best, d);
-  }
-  return best;
-}
-
 // Every sphere lies inside the solid: centre inside (exact winding number), radius at
-// most the brute-force distance from the centre to the surface.
+// most the oracle's distance from the centre to the surface.
 void check_internal(const TriangleMesh& m, const BakeResult& r) {
   const MeshQuery q(m);
   REQUIRE(r.spheres.size() > 0);
   REQUIRE(r.samples.size() == r.spheres.size());
   for (const Sphere& s : r.spheres.spheres) {
     CHECK(s.radius > 0.0);
-    CHECK(s.radius <= brute_distance(m, s.center));
+    CHECK(s.radius <= test::oracle_mesh_distance(m, s.center));
     CHECK(q.winding_number_exact(s.center) > 0.5);
   }
 }
@@ -75,47 +52,6 @@ bool bit_identical(const SphereSet& a, const SphereSet& b) {
     if (std::memcmp(&a.spheres[i].radius, &b.spheres[i].radius, sizeof(double)) != 0) return false;
   }
   return true;
-}
-
-// Distance from p to triangle (a, b, c) in long double, by a construction of its own:
-// the foot of the perpendicular when it falls inside (same-side tests against each
-// edge), otherwise the nearest of the three edges. Differences of the double inputs are
-// formed in long double first (exactly, for points within a box of a few units), so the
-// result is good to a few long-double ulps of the distance, far below the rounding of
-// double coordinates a million units from the origin.
-long double ld_distance(const Eigen::Vector3d& pd, const Eigen::Vector3d& ad,
-                        const Eigen::Vector3d& bd, const Eigen::Vector3d& cd) {
-  using V = Eigen::Matrix<long double, 3, 1>;
-  auto rel = [&](const Eigen::Vector3d& x) {
-    V v;
-    for (int k = 0; k < 3; ++k) v[k] = static_cast<long double>(x[k]) - pd[k];
-    return v;
-  };
-  const V a = rel(ad), b = rel(bd), c = rel(cd);  // p is the origin
-  auto segment = [](const V& s, const V& e) {
-    const V d = e - s;
-    const long double dd = d.squaredNorm();
-    long double t = dd > 0 ? -s.dot(d) / dd : 0.0L;
-    t = std::clamp(t, 0.0L, 1.0L);
-    return (s + t * d).norm();
-  };
-  long double best = std::min({segment(a, b), segment(b, c), segment(c, a)});
-  const V n = (b - a).cross(c - a);
-  const long double nn = n.squaredNorm();
-  if (nn > 0) {
-    const V q = n * (n.dot(a) / nn);  // foot of the perpendicular from the origin
-    if (n.dot((b - a).cross(q - a)) >= 0 && n.dot((c - b).cross(q - b)) >= 0 &&
-        n.dot((a - c).cross(q - c)) >= 0)
-      best = std::min(best, q.norm());
-  }
-  return best;
-}
-
-long double ld_mesh_distance(const TriangleMesh& m, const Eigen::Vector3d& p) {
-  long double best = std::numeric_limits<long double>::infinity();
-  for (std::size_t t = 0; t < m.triangles.size(); ++t)
-    best = std::min(best, ld_distance(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)));
-  return best;
 }
 
 TriangleMesh translated(TriangleMesh m, const Eigen::Vector3d& offset) {
@@ -260,8 +196,9 @@ TEST_CASE("an error target the resolution cannot reach stops where doubling stop
   try {
     bake_target_error(q, 0.5, flat);
     FAIL("an unreachable target must throw");
-  } catch (const Error& e) {
-    CHECK_THAT(e.what(), Contains("stopped reducing"));
+  } catch (const InputError& e) {
+    CHECK(e.source() == "--target-error");
+    CHECK_THAT(e.what(), Contains("0.5") && Contains("stopped reducing"));
   }
   // Start 28, one doubling to 56: two distinct resolutions, each measured once.
   CHECK(calls == 2);
@@ -279,7 +216,7 @@ TEST_CASE("an error target picks the smallest resolution that meets it", "[bake]
   BakeOptions o;
   o.resolution = r.stats.resolution - 1;
   CHECK(inverse_count(bake(q, o).spheres) > 1.0 / 300.0);
-  CHECK_THROWS_AS(bake_target_error(q, 1e-9, inverse_count, {}, 16), Error);
+  CHECK_THROWS_AS(bake_target_error(q, 1e-9, inverse_count, {}, 16), InputError);
   CHECK_THROWS_AS(bake_target_error(q, 0.0, inverse_count), std::invalid_argument);
 }
 
@@ -295,14 +232,31 @@ TEST_CASE("nonsense options are rejected by name", "[bake]") {
   CHECK_THROWS_WITH(bake(m, with([](BakeOptions& o) { o.resolution = -4; })),
                     Contains("resolution"));
   CHECK_THROWS_WITH(bake(m, with([](BakeOptions& o) { o.object_angle = -0.1; })),
-                    Contains("object angle"));
+                    Contains("object_angle"));
   CHECK_THROWS_WITH(bake(m, with([](BakeOptions& o) { o.object_angle = 4.0; })),
-                    Contains("object angle"));
+                    Contains("object_angle"));
   CHECK_THROWS_WITH(bake(m, with([](BakeOptions& o) { o.medial_tolerance = -1; })),
                     Contains("tolerance"));
   CHECK_THROWS_WITH(bake(m, with([](BakeOptions& o) { o.medial_tolerance = std::nan(""); })),
                     Contains("tolerance"));
   CHECK_THROWS_WITH(bake(m, with([](BakeOptions& o) { o.threads = -1; })), Contains("threads"));
+  // The problem names the field as BakeOptions spells it (the CLI's flags follow it), and
+  // the exception says the same.
+  CHECK_FALSE(bake_options_problem(BakeOptions{}));
+  const auto field_of = [&](auto set) {
+    const std::optional<OptionProblem> p = bake_options_problem(with(set));
+    REQUIRE(p);
+    CHECK_THROWS_WITH(validate_bake_options(with(set)), p->option + " " + p->problem);
+    return p->option;
+  };
+  CHECK(field_of([](BakeOptions& o) { o.resolution = 4097; }) == "resolution");
+  CHECK(field_of([](BakeOptions& o) { o.object_angle = 0.0; }) == "object_angle");
+  CHECK(field_of([](BakeOptions& o) { o.medial_tolerance = -1e-3; }) == "medial_tolerance");
+  CHECK(field_of([](BakeOptions& o) { o.threads = kMaxThreads + 1; }) == "threads");
+  CHECK_FALSE(medial_tolerance_problem(0.0, 2.0, 10));
+  CHECK_FALSE(medial_tolerance_problem(0.1, 2.0, 10));
+  CHECK_THAT(*medial_tolerance_problem(0.2, 2.0, 10),
+             Contains("[2e-09, 0.2)") && Contains("L = 2") && Contains("got 0.2"));
 }
 
 TEST_CASE("meshes without interior give a clear error", "[bake]") {
@@ -347,8 +301,8 @@ TEST_CASE("baked spheres are inside every closed shared mesh", "[bake][shared]")
 
 TEST_CASE("every sphere is inside meshes far from the origin", "[bake]") {
   // The radius shrink must cover the rounding of the distance at the mesh's coordinates,
-  // not only at its size: 1e-12 L alone left a third of a torus's spheres sticking out
-  // by a few ulps at an offset of 1e5. The oracle is an independent long-double distance.
+  // not only at its size: at an offset of 1e5 that rounding is about 2e-11 L, above the
+  // 1e-12 L term alone. The oracle is the 113-bit distance of point_triangle_oracle.h.
   for (const double offset : {0.0, 1e3, 1e5, 1e6}) {
     for (const TriangleMesh& base : {make_torus(1.0, 0.3, 48, 24), make_box({1.0, 0.6, 0.3}, 2),
                                      make_capsule(0.3, 0.8, 24, 6)}) {
@@ -359,7 +313,7 @@ TEST_CASE("every sphere is inside meshes far from the origin", "[bake]") {
       REQUIRE(r.spheres.size() > 0);
       std::size_t outside = 0;
       for (const Sphere& sp : r.spheres.spheres) {
-        outside += static_cast<long double>(sp.radius) > ld_mesh_distance(m, sp.center);
+        outside += sp.radius > test::oracle_mesh_distance(m, sp.center);
         CHECK(q.winding_number_exact(sp.center) > 0.5);
       }
       CHECK(outside == 0);
@@ -378,12 +332,13 @@ TEST_CASE("medial tolerance: from 1e-9 L to below the cell size, and searches th
     return o;
   };
   const double h = L / 20;
-  // Out of range: below the rounding scale (a tolerance of 1e-18 once never ended), or a
-  // cell or more (1e300, 10 and 0.5 once gave garbage sets without a word).
+  // Out of range: below the rounding scale (halving stops shrinking a bracket at about
+  // 1e-15 L, so 1e-18 is never reached), or a cell or more (the bracket then no longer
+  // says which cell the medial point is in).
   for (const double bad : {1e-18, 0.99e-9 * L, h, 0.5, 10.0, 1e300}) {
     INFO("tolerance " << bad);
     CHECK_THROWS_WITH(bake(q, with(bad)),
-                      Contains("medial tolerance") && Contains("[") && Contains("cell size"));
+                      Contains("medial_tolerance") && Contains("[") && Contains("cell size"));
   }
   const ToleranceRange range = medial_tolerance_range(L, 20);
   CHECK(range.lo == 1e-9 * L);
@@ -394,18 +349,18 @@ TEST_CASE("medial tolerance: from 1e-9 L to below the cell size, and searches th
     const BakeResult r = bake(q, with(good));
     CHECK(r.stats.medial_tolerance == good);
     for (const Sphere& sp : r.spheres.spheres)
-      CHECK(static_cast<long double>(sp.radius) <= ld_mesh_distance(m, sp.center));
+      CHECK(sp.radius <= test::oracle_mesh_distance(m, sp.center));
   }
   // The default: 1e-3 L, kept below half a cell.
   CHECK(bake(q, with(0.0, 28)).stats.medial_tolerance == 1e-3 * L);
   // A search must keep the tolerance below the cell of the finest resolution it may bake.
-  CHECK_THROWS_WITH(bake_max_spheres(q, 100, with(L / 400)), Contains("medial tolerance"));
-  CHECK_THROWS_WITH(bake_max_spheres(q, 100, with(L / 50), 64), Contains("medial tolerance"));
+  CHECK_THROWS_WITH(bake_max_spheres(q, 100, with(L / 400)), Contains("medial_tolerance"));
+  CHECK_THROWS_WITH(bake_max_spheres(q, 100, with(L / 50), 64), Contains("medial_tolerance"));
   CHECK(bake_max_spheres(q, 100, with(L / 600)).spheres.size() <= 100);
 }
 
 TEST_CASE("thread counts are capped at kMaxThreads", "[bake]") {
-  // 100000 threads once crashed the OpenMP runtime (exit 139).
+  // 100000 threads would crash the OpenMP runtime (threads.h): an error instead.
   const TriangleMesh m = make_icosphere(1.0, 2);
   const MeshQuery q(m);
   for (const int threads : {kMaxThreads + 1, 100000, -1}) {
@@ -433,7 +388,7 @@ TEST_CASE("a sphere budget: empty bakes are too coarse, and counts are not monot
     return bake(q, o).spheres.size();
   };
   // knot1 gives 2 spheres at resolution 3, none at 4 and 5 (and no inside vertex at 2),
-  // 14 at 6. An empty bake once counted as within the budget, and was returned.
+  // 14 at 6. An empty bake counts as too coarse, never as an answer within the budget.
   const BakeResult five = bake_max_spheres(q, 5);
   CHECK(five.stats.resolution == 3);
   CHECK(five.spheres.size() == 2);
@@ -496,8 +451,8 @@ TEST_CASE("an error target: empty bakes never meet it and are never measured", "
 TEST_CASE("spheres of an open mesh stay inside its solid: no ball leaks through a hole", "[bake]") {
   // A box [-1, 1]^3 with its bottom face (z = -1) removed. Its winding-number solid is
   // the box: across the planar hole the level set 1/2 is the hole itself. Without caps
-  // the radius of a ball near the hole was its distance to the walls, and it reached
-  // through the bottom.
+  // the radius of a ball near the hole would be its distance to the walls, and the ball
+  // would reach through the bottom.
   TriangleMesh open = make_box(Eigen::Vector3d(1, 1, 1), 4);
   std::vector<std::array<int, 3>> kept;
   for (std::size_t t = 0; t < open.triangles.size(); ++t) {

@@ -52,8 +52,8 @@ nlohmann::json bake_knot_at(int resolution, const std::string& out) {
 TEST_CASE("bake --medial-tolerance outside its range: exit 2 naming the range", "[cli][bake]") {
   TempDir dir;
   const std::string out = dir.file("t.json");
-  // 1e-18 once never ended (the bisection below the double spacing); 1e300, 10 and 0.5,
-  // a cell or more, once wrote garbage sets with exit 0.
+  // 1e-18 is below the double spacing, which no bisection gets under; 1e300, 10 and 0.5
+  // are a cell or more, which no longer says which cell a medial point is in.
   for (const std::string t : {"1e-18", "1e-10", "1e300", "10", "0.5", "0.0358"}) {
     INFO(t);
     const CommandResult r = cli(
@@ -81,7 +81,7 @@ TEST_CASE("bake --medial-tolerance outside its range: exit 2 naming the range", 
 }
 
 TEST_CASE("bake and eval cap --threads at 1024", "[cli][bake]") {
-  // 100000 once crashed both (exit 139).
+  // More threads than the system can create would crash the OpenMP runtime.
   TempDir dir;
   const std::string spheres = dir.write("s.json", R"({"spheres": [[0, 0, 0, 0.05]]})");
   for (const std::string n : {"1025", "100000"}) {
@@ -98,7 +98,8 @@ TEST_CASE("bake and eval cap --threads at 1024", "[cli][bake]") {
 }
 
 TEST_CASE("eval of a set with a subnormal radius works", "[cli][eval]") {
-  // A radius of 1e-320 once made eval crash in its grid over the spheres (exit 139).
+  // A subnormal radius (1e-320) must not make a degenerate cell of eval's grid over the
+  // spheres.
   TempDir dir;
   for (const std::string set : {R"({"spheres": [[0, 0, 0, 1e-320]]})",
                                 R"({"spheres": [[0.1, 0, 0, 1e-320], [0, 0, 0, 0.05]]})"}) {
@@ -116,22 +117,24 @@ TEST_CASE("eval of a set with a subnormal radius works", "[cli][eval]") {
 TEST_CASE("bake --max-spheres with small and exact budgets", "[cli][bake]") {
   TempDir dir;
   const std::string out = dir.file("k.json");
-  // Resolution 3 gives 2 spheres; 4 and 5 none. An empty bake once counted as within the
-  // budget and ended the run with "no medial sphere was found at resolution 5".
+  // Resolution 3 gives 2 spheres; 4 and 5 none. An empty bake is too coarse, never the
+  // answer within the budget (which would end the run with "no medial sphere was found").
   CommandResult r =
       cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --max-spheres 5");
   REQUIRE(r.exit_code == 0);
   nlohmann::json st = stats_of(out);
   CHECK(st["count"] == 2);
   CHECK(st["resolution"] == 3);
-  // No resolution gives a single sphere: said plainly, with the fewest found.
+  // No resolution gives a single sphere: said plainly, naming the option and the mesh,
+  // with the fewest found.
   r = cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(dir.file("one.json")) +
           " --max-spheres 1");
   CHECK(r.exit_code == 2);
-  CHECK_THAT(r.err, Contains("--max-spheres") && Contains("between 1 and 1 spheres") &&
+  CHECK_THAT(r.err, Contains("--max-spheres: for " + kKnot) &&
+                        Contains("between 1 and 1 spheres") &&
                         Contains("the fewest found is 2 at resolution 3"));
   CHECK_FALSE(std::filesystem::exists(dir.file("one.json")));
-  // 84 spheres at 13, 112 at 14, exactly 100 at 15: the search once stopped at 13.
+  // 84 spheres at 13, 112 at 14, exactly 100 at 15: the search must look past 13.
   r = cli("bake " + shell_quote(kKnot) + " -o " + shell_quote(out) + " --max-spheres 100");
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("chosen for max_spheres 100") && Contains("the whole search"));
@@ -187,6 +190,22 @@ TEST_CASE("bake --target-error picks the smallest resolution and says which set 
   CHECK(dilated["nerr_kind"] == "lower_bound");
   CHECK_THAT(r.out, Contains("internal S_D") && Contains("met by this internal set") &&
                         Contains("S+: union"));
+}
+
+TEST_CASE("bake --target-error no resolution meets: exit 2 naming the option and the mesh",
+          "[cli][bake]") {
+  // A ball's medial surface is its centre: every resolution finds about the same single
+  // sphere, and doubling the resolution stops reducing the error far above 1e-6.
+  TempDir dir;
+  const std::string ball =
+      dir.write("ball.off", medspheres::test::to_off(medspheres::make_icosphere(1.0, 3)));
+  const std::string out = dir.file("ball.json");
+  const CommandResult r =
+      cli("bake -q " + shell_quote(ball) + " -o " + shell_quote(out) + " --target-error 1e-6");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("--target-error: for " + ball) && Contains("target error 1e-06") &&
+                        Contains("the best error is") && Contains("stopped reducing"));
+  CHECK_FALSE(std::filesystem::exists(out));
 }
 
 TEST_CASE("bake of an open mesh writes nerr null and nerr_kind undefined", "[cli][bake]") {
@@ -247,7 +266,8 @@ TEST_CASE("bake -o: links are followed, devices written in place, failures exit 
   CHECK(fs::is_regular_file(fs::symlink_status(target)));
   CHECK(medspheres::load_sphere_set(target).size() > 0);
 
-  // /dev/null stays the character device it is (as root a rename once replaced it).
+  // /dev/null stays the character device it is (as root, renaming a temporary over it
+  // would replace it with a regular file).
   struct stat before {};
   REQUIRE(::stat("/dev/null", &before) == 0);
   REQUIRE(S_ISCHR(before.st_mode));

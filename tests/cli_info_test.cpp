@@ -1,4 +1,4 @@
-// medspheres info, and eval on a self-intersecting mesh, run as a user runs them.
+// medspheres info, and eval and bake on a self-intersecting mesh, run as a user runs them.
 #include <string>
 
 #include <catch2/catch.hpp>
@@ -84,4 +84,20 @@ TEST_CASE("eval on a self-intersecting mesh: nerr approximate, a warning names t
   REQUIRE(text.exit_code == 0);
   CHECK_THAT(text.out, Contains("approximate: the mesh intersects itself") &&
                            Contains("warning: the mesh self-intersects"));
+}
+
+TEST_CASE("bake --target-error on a self-intersecting mesh says its nerr is approximate",
+          "[cli][info][bake]") {
+  TempDir dir;
+  const std::string crossing = write_crossing_boxes(dir);
+  const std::string out = dir.file("t.json");
+  const CommandResult r =
+      run_cli("bake " + shell_quote(crossing) + " -o " + shell_quote(out) + " --target-error 0.5");
+  REQUIRE(r.exit_code == 0);
+  const auto stats = nlohmann::json::parse(medspheres::load_sphere_set(out).metadata_json)["stats"];
+  CHECK(stats["nerr_kind"] == "approximate");
+  CHECK(stats["nerr"].get<double>() <= 0.5);
+  CHECK_THAT(r.out, Contains("chosen for target_error 0.5") &&
+                        Contains("(by an approximate nerr: the mesh intersects itself)") &&
+                        Contains("self-intersecting ("));
 }

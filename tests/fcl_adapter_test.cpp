@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <map>
 #include <random>
 #include <set>
@@ -113,6 +114,16 @@ TEST_CASE("SphereSetGeometry: construction, identity and the guard box", "[fcl]"
   CHECK_THROWS_AS(g.computeVolume(), std::logic_error);
   CHECK_THROWS_AS(g.computeCOM(), std::logic_error);
   CHECK_THROWS_AS(g.computeMomentofInertia(), std::logic_error);
+  // Far out: |coordinate| + radius is finite (validate_sphere_set accepts it) but twice it
+  // is not. The side is then the largest finite double, never infinite.
+  const double big = 0.75 * std::numeric_limits<double>::max();
+  SphereSet far;
+  far.spheres = {{Eigen::Vector3d(big, 0, 0), 1.0}, {Eigen::Vector3d(0, -2, 0), 1.0}};
+  const SphereSetGeometry gf(far);
+  CHECK(gf.side.allFinite());
+  CHECK(gf.side.x() == std::numeric_limits<double>::max());
+  CHECK(0.5 * gf.side.y() >= 3.0);
+  CHECK(0.5 * gf.side.z() >= 1.0);
 }
 
 TEST_CASE("SphereSetGeometry: computeLocalAABB is correct for rotated objects", "[fcl]") {
@@ -293,18 +304,8 @@ TEST_CASE("abs_err and rel_err prune sphere set pairs within FCL's guarantee", "
   // Over seeded scenes apart: with both tolerances binding, some answers exceed the exact
   // minimum d*; every answer keeps d* <= d <= min(d* + abs_err, (1 + rel_err) d*) and is
   // the value of the pair it reports; one tolerance alone leaves the answer exact (FCL's
-  // rule then prunes as with none). 1e6 stands for a tolerance that never binds.
-  struct Mode {
-    const char* name;
-    double abs_err;  // a fraction of d*, unless 1e6
-    double rel_err;
-    bool loose;
-  };
-  const std::vector<Mode> modes = {{"exact", 0, 0, false},
-                                   {"rel_err 0.5", 1e6, 0.5, true},
-                                   {"abs_err 0.5 d*", 0.5, 1e6, true},
-                                   {"rel_err alone", 0, 0.5, false},
-                                   {"abs_err alone", 0.5, 0, false}};
+  // rule then prunes as with none).
+  const std::vector<mt::ToleranceMode>& modes = mt::kToleranceModes;
   std::vector<int> inexact(modes.size(), 0);
   int scenes = 0;
   for (const Scene& s : random_scenes(18, 80)) {
@@ -314,7 +315,7 @@ TEST_CASE("abs_err and rel_err prune sphere set pairs within FCL's guarantee", "
     const double tol = 1e-9;
     for (std::size_t m = 0; m < modes.size(); ++m) {
       INFO(modes[m].name);
-      const double abs_err = modes[m].abs_err * (modes[m].abs_err < 1e6 ? exact : 1.0);
+      const double abs_err = modes[m].abs_err_for(exact);
       for (bool is_signed : {false, true}) {
         fcl::DistanceRequestd req(true, is_signed, modes[m].rel_err, abs_err);
         fcl::DistanceResultd res;
@@ -335,10 +336,7 @@ TEST_CASE("abs_err and rel_err prune sphere set pairs within FCL's guarantee", "
   CHECK(scenes >= 20);
   for (std::size_t m = 0; m < modes.size(); ++m) {
     INFO(modes[m].name << ": " << inexact[m] << " inexact answers over " << scenes);
-    if (modes[m].loose)
-      CHECK(inexact[m] > 0);
-    else
-      CHECK(inexact[m] == 0);
+    CHECK((inexact[m] > 0) == modes[m].loose);  // only loose modes prune
   }
 }
 
@@ -591,6 +589,18 @@ TEST_CASE("Sphere sets against unsupported geometries throw instead of reaching 
   points.endModel();
   CHECK_THROWS_AS(medspheres::fcl::distance(g.get(), I, &points, I, dreq, dres),
                   std::invalid_argument);
+  CHECK_THROWS_WITH(medspheres::fcl::collide(&points, I, g.get(), I, creq, cres),
+                    Catch::Matchers::Contains("BVHModel of points"));
+  fcl::BVHModel<fcl::AABBd> unfinished;
+  unfinished.beginModel();
+  unfinished.addTriangle(Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(1, 0, 0),
+                         Eigen::Vector3d(0, 1, 0));
+  CHECK_THROWS_WITH(medspheres::fcl::distance(&unfinished, I, g.get(), I, dreq, dres),
+                    Catch::Matchers::Contains("not finished"));
+  CHECK_THROWS_WITH(medspheres::fcl::collide(g.get(), I, &unfinished, I, creq, cres),
+                    Catch::Matchers::Contains("not finished"));
+  CHECK_THROWS_WITH(medspheres::fcl::collide(g.get(), I, &triangle, I, creq, cres),
+                    Catch::Matchers::Contains("is not supported"));
 }
 
 TEST_CASE("Many threads query one SphereSetGeometry", "[fcl]") {

@@ -9,6 +9,7 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <utility>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -75,6 +76,19 @@ void check_same_contact(const fcl::Contactd& got, const fcl::Contactd& expected)
   CHECK(got.penetration_depth == expected.penetration_depth);
   CHECK(got.normal == expected.normal);
   CHECK(got.pos == expected.pos);
+}
+
+// The contacts a manager's callback gave for the pair of objects are those of a direct
+// call on the pair, in the same order.
+void check_same_as_direct(const std::vector<std::unique_ptr<fcl::CollisionObjectd>>& objects,
+                          const std::pair<std::size_t, std::size_t>& pair,
+                          const std::vector<fcl::Contactd>& contacts,
+                          const fcl::CollisionRequestd& request) {
+  fcl::CollisionResultd direct;
+  medspheres::fcl::collide(objects[pair.first].get(), objects[pair.second].get(), request, direct);
+  REQUIRE(direct.numContacts() == contacts.size());
+  for (std::size_t k = 0; k < contacts.size(); ++k)
+    check_same_contact(contacts[k], direct.getContact(k));
 }
 
 // A distance result of a manager against the direct call on its two objects in the
@@ -166,12 +180,7 @@ TEST_CASE("DynamicAABBTreeCollisionManagerd gives the same answers as direct cal
       CHECK(managed_pairs
                 .insert({std::min(pair.first, pair.second), std::max(pair.first, pair.second)})
                 .second);  // each pair once, in one order
-      fcl::CollisionResultd direct;
-      medspheres::fcl::collide(objects[pair.first].get(), objects[pair.second].get(), all.request,
-                               direct);
-      REQUIRE(direct.numContacts() == contacts.size());
-      for (std::size_t k = 0; k < contacts.size(); ++k)
-        check_same_contact(contacts[k], direct.getContact(k));
+      check_same_as_direct(objects, pair, contacts, all.request);
     }
     CHECK(managed_pairs == direct_pairs);
     (direct_pairs.empty() ? separated_scenes : colliding_scenes)++;
@@ -234,12 +243,7 @@ TEST_CASE("DynamicAABBTreeCollisionManagerd gives the same answers as direct cal
     for (const auto& [pair, contacts] : probed) {
       REQUIRE(((pair.first == probe_index) != (pair.second == probe_index)));
       CHECK(probed_hits.insert(pair.first == probe_index ? pair.second : pair.first).second);
-      fcl::CollisionResultd direct;
-      medspheres::fcl::collide(objects[pair.first].get(), objects[pair.second].get(), pc.request,
-                               direct);
-      REQUIRE(direct.numContacts() == contacts.size());
-      for (std::size_t k = 0; k < contacts.size(); ++k)
-        check_same_contact(contacts[k], direct.getContact(k));
+      check_same_as_direct(objects, pair, contacts, pc.request);
     }
     CHECK(probed_hits == probe_hits);
   }

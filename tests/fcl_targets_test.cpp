@@ -562,7 +562,7 @@ TEST_CASE("abs_err and rel_err reach the sphere tree against every target kind",
   // Over seeded scenes apart: with both tolerances binding some answers exceed the exact
   // minimum d*, every answer keeps d* <= d <= min(d* + abs_err, (1 + rel_err) d*) and is
   // the value of the pair it reports; one tolerance alone leaves the answer exact (FCL's
-  // rule then prunes as with none). 1e6 stands for a tolerance that never binds.
+  // rule then prunes as with none).
   const medspheres::TriangleMesh mesh = mt::bumpy_sphere(9, 13, 1.0);
   std::mt19937 rng(24);
   const RandomOctree octree = random_octree(rng);
@@ -577,17 +577,7 @@ TEST_CASE("abs_err and rel_err reach the sphere tree against every target kind",
       {"capsule", std::make_shared<fcl::Capsuled>(0.3, 0.9)},
       {"octree", octree.octree},
   };
-  struct Mode {
-    const char* name;
-    double abs_err;  // a fraction of d*
-    double rel_err;
-    bool loose;
-  };
-  const std::vector<Mode> modes = {{"exact", 0, 0, false},
-                                   {"rel_err 0.5", 1e6, 0.5, true},
-                                   {"abs_err 0.5 d*", 0.5, 1e6, true},
-                                   {"rel_err alone", 0, 0.5, false},
-                                   {"abs_err alone", 0.5, 0, false}};
+  const std::vector<mt::ToleranceMode>& modes = mt::kToleranceModes;
   for (const Target& target : targets) {
     INFO(target.name);
     std::vector<int> inexact(modes.size(), 0);
@@ -609,7 +599,7 @@ TEST_CASE("abs_err and rel_err reach the sphere tree against every target kind",
       for (std::size_t m = 0; m < modes.size(); ++m) {
         INFO(modes[m].name);
         for (bool sphere_first : {true, false}) {
-          const double abs_err = modes[m].abs_err * (modes[m].abs_err < 1e6 ? exact : 1.0);
+          const double abs_err = modes[m].abs_err_for(exact);
           fcl::DistanceRequestd req(true, false, modes[m].rel_err, abs_err);
           fcl::DistanceResultd res;
           const double d =
@@ -633,10 +623,7 @@ TEST_CASE("abs_err and rel_err reach the sphere tree against every target kind",
     CHECK(scenes >= 10);
     for (std::size_t m = 0; m < modes.size(); ++m) {
       INFO(modes[m].name << ": " << inexact[m] << " inexact answers over " << scenes);
-      if (modes[m].loose)
-        CHECK(inexact[m] > 0);
-      else
-        CHECK(inexact[m] == 0);
+      CHECK((inexact[m] > 0) == modes[m].loose);  // only loose modes prune
     }
   }
 }

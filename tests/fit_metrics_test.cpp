@@ -293,9 +293,9 @@ TEST_CASE("point coverage agrees with brute force, near and far", "[fit_metrics]
 }
 
 TEST_CASE("point coverage copes with any finite radii: subnormal, tiny and huge", "[fit_metrics]") {
-  // The grid's cell size once came from the median radius alone: a subnormal radius made
-  // 1 / h infinite and the cell indices garbage (a crash). Any valid set must work, and
-  // agree with brute force.
+  // A cell size taken from the median radius alone would be subnormal here, with 1 / h
+  // infinite and the cell indices garbage. Any valid set must work, and agree with brute
+  // force.
   const double sub = 1e-320, tiny = 1e-300, huge = 1e300;
   const std::vector<std::vector<Sphere>> sets = {
       {{Vector3d::Zero(), sub}},
@@ -520,7 +520,7 @@ TEST_CASE("bad input is rejected by name", "[fit_metrics]") {
   o.threads = -1;
   CHECK_THROWS_WITH(fit.evaluate(one, o), Contains("threads"));
   CHECK_THROWS_AS(fit.volume_error(one, -2), std::invalid_argument);
-  // Thread counts are capped (threads.h): 100000 once crashed the OpenMP runtime.
+  // Thread counts are capped (threads.h): asking OpenMP for 100000 threads crashes it.
   for (const int threads : {kMaxThreads + 1, 100000}) {
     o.threads = threads;
     CHECK_THROWS_WITH(fit.evaluate(one, o), Contains("threads") && Contains("1024"));

@@ -18,9 +18,9 @@ namespace {
 // returned point's distance to its triangle, are within kTolerance u S, with u = 2^-53
 // and S = |p| + |p - a| + L for the nearest triangle (a a corner, L its longest edge).
 // The library measures a few u S (at most ~13 u S, near the degenerate threshold); 32
-// leaves room without hiding the errors of the old barycentric face test, which reach
-// 1e10 u S and more on slivers. The oracle is test::oracle_distance: 113-bit arithmetic
-// and a different construction (support/point_triangle_oracle.h).
+// leaves room and still catches a face point taken from barycentric coordinates, whose
+// error reaches 1e10 u S and more on slivers. The oracle is test::oracle_distance: 113-bit
+// arithmetic and a different construction (support/point_triangle_oracle.h).
 constexpr double kU = 0x1p-53;
 constexpr double kTolerance = 32.0;
 
@@ -154,8 +154,8 @@ void check_one_triangle(const MeshQuery& q, const Eigen::Vector3d& p) {
 }  // namespace
 
 TEST_CASE("closest points on slivers and needles match the 113-bit oracle", "[mesh_query]") {
-  // The audit's case: points exactly in the plane of a sliver, inside it, came back at
-  // distance 6.5e-12 (w = 1e-3) to 6.5e-6 (w = 1e-6) from the barycentric face test.
+  // Points exactly in the plane of a sliver, inside it: a face point from barycentric
+  // coordinates would be 6.5e-12 (w = 1e-3) to 6.5e-6 (w = 1e-6) away from them.
   std::mt19937_64 rng(31);
   std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
   for (const double w : {1e-2, 1e-3, 1e-4, 1e-5, 1e-6, 1e-7, 1e-8, 1e-9}) {
@@ -232,8 +232,9 @@ TEST_CASE("closest points on slivers and needles match the 113-bit oracle", "[me
 }
 
 TEST_CASE("closest points far from the mesh are finite and exact", "[mesh_query]") {
-  // Float box distances used to overflow beyond 1.8e19 from the mesh, and squared
-  // distances beyond 1.3e154: every box or triangle was pruned and triangle -1 read.
+  // Float box distances overflow beyond 1.8e19 from the mesh, and squared distances
+  // beyond 1.3e154; the search must still return a triangle (not prune every box or
+  // triangle and leave triangle -1) and the exact distance.
   TriangleMesh tetra;
   tetra.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {0, 0, 1}};
   tetra.triangles = {{0, 2, 1}, {0, 1, 3}, {0, 3, 2}, {1, 2, 3}};
@@ -290,7 +291,7 @@ TEST_CASE("closest points far from the mesh are finite and exact", "[mesh_query]
 
 TEST_CASE("closest points on tiny and huge meshes", "[mesh_query]") {
   // The float boxes are scaled to the mesh's size, so that they neither underflow on a
-  // tiny mesh (where pruning used to stop) nor overflow on a huge one. Scaling the mesh
+  // tiny mesh (which would stop all pruning) nor overflow on a huge one. Scaling the mesh
   // and the queries by a power of two scales every answer exactly and leaves the
   // traversal's work unchanged.
   const TriangleMesh unit = make_torus(1.0, 0.3, 40, 20);

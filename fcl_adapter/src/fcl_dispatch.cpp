@@ -11,6 +11,7 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 #include <utility>
 #include <vector>
 
@@ -122,14 +123,8 @@ Rss rss_of(const ::fcl::KDOP<double, N>& bv) {
 template <class BV>
 class BvhTarget final : public ProximityTarget {
  public:
-  explicit BvhTarget(const ::fcl::BVHModel<BV>& model) : model_(model) {
-    if (model.getModelType() == ::fcl::BVH_MODEL_POINTCLOUD)
-      throw std::invalid_argument("medspheres::fcl: a BVHModel of points is not supported");
-    if (model.getModelType() == ::fcl::BVH_MODEL_TRIANGLES &&
-        model.build_state != ::fcl::BVH_BUILD_STATE_PROCESSED &&
-        model.build_state != ::fcl::BVH_BUILD_STATE_UPDATED)
-      throw std::invalid_argument("medspheres::fcl: the BVHModel is not finished (endModel())");
-  }
+  // The model must have no bvh_problem (checked by the dispatch).
+  explicit BvhTarget(const ::fcl::BVHModel<BV>& model) : model_(model) {}
 
   std::optional<TargetNode> root() const override {
     if (model_.getModelType() != ::fcl::BVH_MODEL_TRIANGLES || model_.getNumBVs() == 0)
@@ -318,33 +313,40 @@ std::string node_type_name(::fcl::NODE_TYPE type) {
   return "FCL node type " + std::to_string(static_cast<int>(type));
 }
 
-// Calls f(target) with the ProximityTarget view of a geometry that is not a sphere set.
-template <class F>
-auto with_target(const ::fcl::CollisionGeometryd& g, const Narrowphase& np, F&& f) {
+// What visit_geometry passes for a primitive the dispatch supports, and for a geometry it
+// does not support.
+struct Shape {
+  const ::fcl::CollisionGeometryd& geometry;
+};
+struct Unsupported {
+  ::fcl::NODE_TYPE type;
+};
+
+// The one list of the geometries a sphere set is answered against: calls v with the
+// fcl::BVHModel<BV> of a BVH of a supported BV type, Shape for a supported primitive, the
+// fcl::OcTree of an octree, or Unsupported.
+template <class V>
+auto visit_geometry(const ::fcl::CollisionGeometryd& g, V&& v) {
   const ::fcl::NODE_TYPE type = g.getNodeType();
   switch (g.getObjectType()) {
     case ::fcl::OT_BVH:
       switch (type) {
         case ::fcl::BV_AABB:
-          return f(BvhTarget<::fcl::AABBd>(static_cast<const ::fcl::BVHModel<::fcl::AABBd>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::AABBd>&>(g));
         case ::fcl::BV_OBB:
-          return f(BvhTarget<::fcl::OBBd>(static_cast<const ::fcl::BVHModel<::fcl::OBBd>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::OBBd>&>(g));
         case ::fcl::BV_RSS:
-          return f(BvhTarget<::fcl::RSSd>(static_cast<const ::fcl::BVHModel<::fcl::RSSd>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::RSSd>&>(g));
         case ::fcl::BV_kIOS:
-          return f(BvhTarget<::fcl::kIOSd>(static_cast<const ::fcl::BVHModel<::fcl::kIOSd>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::kIOSd>&>(g));
         case ::fcl::BV_OBBRSS:
-          return f(
-              BvhTarget<::fcl::OBBRSSd>(static_cast<const ::fcl::BVHModel<::fcl::OBBRSSd>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::OBBRSSd>&>(g));
         case ::fcl::BV_KDOP16:
-          return f(BvhTarget<::fcl::KDOP<double, 16>>(
-              static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 16>>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 16>>&>(g));
         case ::fcl::BV_KDOP18:
-          return f(BvhTarget<::fcl::KDOP<double, 18>>(
-              static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 18>>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 18>>&>(g));
         case ::fcl::BV_KDOP24:
-          return f(BvhTarget<::fcl::KDOP<double, 24>>(
-              static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 24>>&>(g)));
+          return v(static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 24>>&>(g));
         default:
           break;
       }
@@ -360,20 +362,85 @@ auto with_target(const ::fcl::CollisionGeometryd& g, const Narrowphase& np, F&& 
         case ::fcl::GEOM_CONVEX:
         case ::fcl::GEOM_PLANE:
         case ::fcl::GEOM_HALFSPACE:
-          return f(ShapeTarget(g, np));
+          return v(Shape{g});
         default:
           break;
       }
       break;
 #if FCL_HAVE_OCTOMAP
     case ::fcl::OT_OCTREE:
-      return f(OctreeTarget(static_cast<const ::fcl::OcTreed&>(g), np));
+      return v(static_cast<const ::fcl::OcTreed&>(g));
 #endif
     default:
       break;
   }
-  throw std::invalid_argument("medspheres::fcl: a sphere set against " + node_type_name(type) +
-                              " is not supported");
+  return v(Unsupported{type});
+}
+
+// Why a BVHModel cannot be a target (a model of points, or one not finished), or an empty
+// string when it can.
+template <class BV>
+std::string bvh_problem(const ::fcl::BVHModel<BV>& model) {
+  if (model.getModelType() == ::fcl::BVH_MODEL_POINTCLOUD)
+    return "medspheres::fcl: a BVHModel of points is not supported";
+  if (model.getModelType() == ::fcl::BVH_MODEL_TRIANGLES &&
+      model.build_state != ::fcl::BVH_BUILD_STATE_PROCESSED &&
+      model.build_state != ::fcl::BVH_BUILD_STATE_UPDATED)
+    return "medspheres::fcl: the BVHModel is not finished (endModel())";
+  return {};
+}
+
+std::string unsupported_problem(const Unsupported& u) {
+  return "medspheres::fcl: a sphere set against " + node_type_name(u.type) + " is not supported";
+}
+
+// Why a sphere set cannot be answered against g (not a sphere set) on its sphere tree, as
+// the dispatch's std::invalid_argument says it, or an empty string when it can.
+struct TargetProblem {
+  template <class BV>
+  std::string operator()(const ::fcl::BVHModel<BV>& model) const {
+    return bvh_problem(model);
+  }
+  std::string operator()(const Shape&) const { return {}; }
+#if FCL_HAVE_OCTOMAP
+  std::string operator()(const ::fcl::OcTreed&) const {
+    return {};
+  }
+#endif
+  std::string operator()(const Unsupported& u) const {
+    return unsupported_problem(u);
+  }
+};
+
+// Calls f with the ProximityTarget view of the geometry visited; throws
+// std::invalid_argument with TargetProblem's message where there is none.
+template <class F>
+struct TargetCall {
+  using Result = std::invoke_result_t<F&, const ProximityTarget&>;
+  const Narrowphase& np;
+  F& f;
+
+  template <class BV>
+  Result operator()(const ::fcl::BVHModel<BV>& model) const {
+    const std::string problem = bvh_problem(model);
+    if (!problem.empty()) throw std::invalid_argument(problem);
+    return f(BvhTarget<BV>(model));
+  }
+  Result operator()(const Shape& shape) const { return f(ShapeTarget(shape.geometry, np)); }
+#if FCL_HAVE_OCTOMAP
+  Result operator()(const ::fcl::OcTreed& tree) const {
+    return f(OctreeTarget(tree, np));
+  }
+#endif
+  Result operator()(const Unsupported& u) const {
+    throw std::invalid_argument(unsupported_problem(u));
+  }
+};
+
+// Calls f(target) with the ProximityTarget view of a geometry that is not a sphere set.
+template <class F>
+auto with_target(const ::fcl::CollisionGeometryd& g, const Narrowphase& np, F&& f) {
+  return visit_geometry(g, TargetCall<F>{np, f});
 }
 
 bool finite_pose(const ::fcl::Transform3d& X) {
@@ -427,13 +494,7 @@ bool answered_on_spheres(const ::fcl::CollisionGeometryd* o1, const ::fcl::Trans
   if (s1 == nullptr && s2 == nullptr) return false;
   if (!finite_pose(tf1) || !finite_pose(tf2)) return false;
   if (s1 != nullptr && s2 != nullptr) return true;
-  // Building the target view is what checks the other geometry (and is cheap).
-  try {
-    return with_target(s1 == nullptr ? *o1 : *o2, Narrowphase{},
-                       [](const ProximityTarget&) { return true; });
-  } catch (const std::invalid_argument&) {
-    return false;
-  }
+  return visit_geometry(s1 == nullptr ? *o1 : *o2, TargetProblem{}).empty();
 }
 
 }  // namespace detail

@@ -18,13 +18,18 @@ const SphereSet& checked(const SphereSet& set) {
 }
 
 // The side lengths of the box centred on the origin of the set's frame that encloses every
-// sphere: twice the largest |coordinate| + radius along each axis, rounded up.
+// sphere: twice the largest |coordinate| + radius along each axis, rounded up, and at most
+// the largest finite double. (validate_sphere_set keeps |coordinate| + radius finite, but
+// twice it, or its widening, may overflow: the largest finite side is then the largest
+// box there is, where an infinite one would give libfcl infinite and NaN extents.)
 ::fcl::Vector3d guard_box_sides(const SphereSet& set) {
   Eigen::Vector3d half = Eigen::Vector3d::Zero();
   for (const Sphere& s : set.spheres)
     half = half.cwiseMax(s.center.cwiseAbs() + Eigen::Vector3d::Constant(s.radius));
   // Rounding of the sums: widen by a few ulps of the extent.
-  return 2.0 * (half + Eigen::Vector3d::Constant(16 * kEps * half.maxCoeff()));
+  const Eigen::Vector3d sides =
+      2.0 * (half + Eigen::Vector3d::Constant(16 * kEps * half.maxCoeff()));
+  return sides.cwiseMin(std::numeric_limits<double>::max());
 }
 
 }  // namespace

@@ -69,6 +69,7 @@
 #include <cstddef>
 #include <cstdint>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
@@ -87,8 +88,8 @@ inline constexpr int kMinResolution = 2;
 inline constexpr int kMaxResolution = 4096;
 /// The smallest medial_tolerance accepted, as a fraction of L (the box's largest side).
 /// Below a few eps L (about 1e-15 L) halving the bracket no longer moves the probe point
-/// of a mesh near the origin (farther out, sooner), and a bracket that cannot shrink
-/// below the tolerance once made the search run forever. 1e-9 L keeps well clear of
+/// of a mesh near the origin (farther out, sooner): a smaller tolerance could never be
+/// reached, and every search would run to kMaxBisections. 1e-9 L keeps well clear of
 /// that up to coordinates of about 1e6 L, and is a million times finer than the default.
 inline constexpr double kMinMedialTolerance = 1e-9;
 /// The default medial_tolerance, as a fraction of L; it is also kept below half a cell.
@@ -107,7 +108,7 @@ inline constexpr int kResolutionSearchWindow = 4;
 
 struct BakeOptions {
   /// h = L / resolution: resolution + 1 cells along the longest side; in [2, 4096]. 28
-  /// gives a median of 428 spheres on the 23 closed classic shared test meshes (half of
+  /// gives a median of 428 spheres on the 23 closed classic test meshes (half of
   /// them 243 to 461), from 1 for a sphere and 88 for a torus to 838 for the bunny and
   /// 1129 for fandisk (flat faces grow many sheets).
   int resolution = 28;
@@ -130,10 +131,29 @@ struct ToleranceRange {
 };
 ToleranceRange medial_tolerance_range(double longest, int resolution);
 
-/// Checks the options that do not depend on the mesh: resolution in [2, 4096], object
-/// angle in (0, pi), medial tolerance finite and >= 0, threads in [0, kMaxThreads].
-/// \throws std::invalid_argument naming the option, the allowed range and the value.
+/// An option out of range: the BakeOptions field, by its name in the struct
+/// ("object_angle"), and what is wrong with it ("must be in (0, pi) radians, got 4").
+struct OptionProblem {
+  std::string option;
+  std::string problem;
+};
+
+/// The first of the options that do not depend on the mesh that is out of range, or none:
+/// resolution in [2, 4096], object_angle in (0, pi), medial_tolerance finite and >= 0,
+/// threads in [0, kMaxThreads]. The one source of these ranges (the CLI names its flags
+/// after the fields).
+std::optional<OptionProblem> bake_options_problem(const BakeOptions& options);
+
+/// \throws std::invalid_argument "<option> <problem>" for bake_options_problem(options),
+///   e.g. "resolution must be in [2, 4096], got 1".
 void validate_bake_options(const BakeOptions& options);
+
+/// What is wrong with an explicit medial_tolerance for a mesh whose bounding box has
+/// largest side \p longest, baked at resolutions up to \p resolution (outside
+/// medial_tolerance_range(longest, resolution): the range, L and the value), or none.
+/// 0, the default, always fits.
+std::optional<std::string> medial_tolerance_problem(double tolerance, double longest,
+                                                    int resolution);
 
 /// What one medial sphere was made from (kept beside each sphere).
 struct MedialSample {
@@ -243,8 +263,9 @@ using ErrorFn = std::function<double(const SphereSet&)>;
 /// Doubling stops early when it does not reduce the error. stats.search lists every
 /// resolution baked with its error.
 /// \throws std::invalid_argument if target <= 0 or no ErrorFn, or as bake_max_spheres;
-///   Error if no resolution tried up to max_resolution meets the target (the message
-///   gives the best error).
+///   InputError (source "--target-error") when no resolution tried up to max_resolution
+///   meets the target (the message gives the best error found); InputError (source
+///   "mesh") as bake_max_spheres.
 BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorFn& error,
                              const BakeOptions& options = {},
                              int max_resolution = kMaxSearchResolution);

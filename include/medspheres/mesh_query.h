@@ -30,9 +30,9 @@
 /// open, self-intersecting or multi-part meshes. It is evaluated hierarchically (Barill
 /// et al. 2018): a subtree whose triangles all lie within radius r of their
 /// area-weighted centre c is replaced by its Taylor expansion to second order when
-/// |p - c| > beta * r; otherwise its triangles are summed exactly (Van Oosterom and
-/// Strackee's solid angle). inside(p) is winding_number(p) > 0.5. On the surface itself
-/// the answer is unspecified.
+/// |p - c| > beta * r; otherwise its triangles' solid angles (Van Oosterom and
+/// Strackee's) are summed directly, with no far-field approximation. inside(p) is
+/// winding_number(p) > 0.5. On the surface itself the answer is unspecified.
 ///
 /// Thread safety: every const member may be called from many threads at once.
 
@@ -138,8 +138,9 @@ class MeshQuery {
   bool inside(const Eigen::Vector3d& p) const { return winding_number(p) > 0.5; }
 
   /// Batch forms: result i belongs to point i. They use \p threads threads (0: all
-  /// cores) and give bit-identical answers for every thread count. closest_points
-  /// throws std::invalid_argument if a point is not finite.
+  /// cores; threads.h) and give bit-identical answers for every thread count. Both throw
+  /// std::invalid_argument for threads outside [0, kMaxThreads], closest_points also if
+  /// a point is not finite.
   std::vector<ClosestPoint> closest_points(const std::vector<Eigen::Vector3d>& points,
                                            int threads = 0) const;
   std::vector<double> winding_numbers(const std::vector<Eigen::Vector3d>& points,

@@ -38,7 +38,10 @@
 ///
 /// Method. Bounding boxes of the non-degenerate triangles (closed boxes, so touching
 /// boxes are candidates), candidate pairs from CGAL's box_self_intersection_d, then the
-/// exact test above on each candidate with OpenMP threads. The reference is CGAL's
+/// exact test above on each candidate with OpenMP threads, 2^20 candidates at a time:
+/// memory stays linear in the triangles (plus the pairs found) even where the candidates
+/// are quadratic, as in a fan of n triangles around one vertex (the way CAD tools cap a
+/// cylinder), whose n^2 / 2 triangle pairs all have meeting boxes. The reference is CGAL's
 /// Polygon_mesh_processing::self_intersections, whose test for triangles sharing one or
 /// two corners this is; it is not used because CGAL 5.5 offers it only for halfedge
 /// meshes, which cannot hold non-manifold edges (the meshes medspheres must accept have
@@ -46,8 +49,10 @@
 ///
 /// Cost: the box search is sequential (CGAL runs it in parallel only with TBB, which
 /// medspheres does not use) and takes most of the time; the exact tests are parallel. On
-/// one core about 0.17 s for the 100k-triangle Stanford dragon (690k candidate pairs) and
-/// 0.2 s for a 43k-triangle gear assembly with 55k intersecting pairs.
+/// one core about 0.17 s for the 100k-triangle Stanford dragon (690k candidate pairs),
+/// 0.2 s for a 43k-triangle gear assembly with 55k intersecting pairs, and 4 s for a flat
+/// fan of 20k triangles around one vertex (2e8 candidate pairs, most settled by comparing
+/// the boxes of an edge and a triangle before any exact predicate).
 ///
 /// Determinism: the pairs are listed in increasing order, the same for every thread
 /// count.

@@ -6,6 +6,10 @@
 /// 100000 from asking the OpenMP runtime for more threads than the system can create
 /// (which crashes it); 1024 is far above the cores of any machine this runs on, and
 /// results are bit-identical for every count anyway.
+///
+/// check_threads is header-only; thread_count is defined in medspheres::mesh (and so
+/// available to medspheres::bake), the component that brings OpenMP, so that this header
+/// does not include <omp.h>.
 
 #include <stdexcept>
 #include <string>
@@ -15,12 +19,25 @@ namespace medspheres {
 /// The largest explicit thread count accepted.
 inline constexpr int kMaxThreads = 1024;
 
+/// What is wrong with \p threads as a thread count, "must be in [0, 1024] (0: all cores),
+/// got N", or an empty string when 0 <= threads <= kMaxThreads.
+inline std::string threads_problem(int threads) {
+  if (threads >= 0 && threads <= kMaxThreads) return {};
+  return "must be in [0, " + std::to_string(kMaxThreads) + "] (0: all cores), got " +
+         std::to_string(threads);
+}
+
 /// \throws std::invalid_argument "threads must be in [0, 1024] (0: all cores), got N"
 ///   unless 0 <= threads <= kMaxThreads.
 inline void check_threads(int threads) {
-  if (threads < 0 || threads > kMaxThreads)
-    throw std::invalid_argument("threads must be in [0, " + std::to_string(kMaxThreads) +
-                                "] (0: all cores), got " + std::to_string(threads));
+  const std::string problem = threads_problem(threads);
+  if (!problem.empty()) throw std::invalid_argument("threads " + problem);
 }
+
+/// The size of the thread team a `threads` option asks for: \p threads itself when it is
+/// 1 to kMaxThreads, and for 0 OpenMP's default team size (omp_get_max_threads(), at most
+/// kMaxThreads). Every parallel loop of medspheres takes its team size from here.
+/// \throws std::invalid_argument as check_threads.
+int thread_count(int threads);
 
 }  // namespace medspheres

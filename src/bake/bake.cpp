@@ -4,7 +4,6 @@
 #include <atomic>
 #include <chrono>
 #include <cmath>
-#include <cstdio>
 #include <limits>
 #include <map>
 #include <optional>
@@ -13,10 +12,9 @@
 #include <tuple>
 #include <utility>
 
-#include <omp.h>
-
 #include "medspheres/error.h"
 #include "medspheres/mesh_report.h"
+#include "number_text.h"
 
 namespace medspheres {
 
@@ -113,24 +111,11 @@ struct Counters {
 constexpr double kConfidentWinding = 0.75;
 constexpr double kMinConfidentShare = 0.7;
 
-std::string number(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", v);
-  return buffer;
-}
-
 // An explicit medial tolerance against the range for this box and the finest resolution
 // that will be baked.
 void check_tolerance(double tolerance, double longest, int resolution) {
-  if (tolerance == 0.0) return;
-  const ToleranceRange range = medial_tolerance_range(longest, resolution);
-  if (!(tolerance >= range.lo && tolerance < range.hi))
-    throw std::invalid_argument(
-        "medial tolerance must be in [" + number(range.lo) + ", " + number(range.hi) +
-        ") for this mesh at resolution " + std::to_string(resolution) +
-        " (from 1e-9 of the bounding box's largest side up to, not including, the cell "
-        "size), got " +
-        number(tolerance));
+  if (const auto problem = medial_tolerance_problem(tolerance, longest, resolution))
+    throw std::invalid_argument("medial_tolerance " + *problem);
 }
 
 // Radius shrink s = 1e-12 L + 4 eps (X + L) of step 5 (bake.h gives the derivation).
@@ -153,8 +138,7 @@ class Baker {
                      : std::min(kDefaultMedialTolerance * longest_, 0.5 * grid_.h);
     shrink_ = radius_shrink(box);
     gamma_ = std::sqrt(3.0) * grid_.h / std::sin(options.object_angle / 2.0);
-    threads_ =
-        options.threads == 0 ? std::min(omp_get_max_threads(), kMaxThreads) : options.threads;
+    threads_ = thread_count(options.threads);
     const MeshReport report = analyze_mesh(query.mesh());
     closed_ = report.closed && report.inconsistent_edges == 0;
   }
@@ -576,18 +560,37 @@ ToleranceRange medial_tolerance_range(double longest, int resolution) {
   return {kMinMedialTolerance * longest, longest / resolution};
 }
 
-void validate_bake_options(const BakeOptions& o) {
+std::optional<std::string> medial_tolerance_problem(double tolerance, double longest,
+                                                    int resolution) {
+  if (tolerance == 0.0) return std::nullopt;
+  const ToleranceRange range = medial_tolerance_range(longest, resolution);
+  if (tolerance >= range.lo && tolerance < range.hi) return std::nullopt;
+  return "must be in [" + number_text(range.lo) + ", " + number_text(range.hi) +
+         ") at resolution " + std::to_string(resolution) +
+         ": from 1e-9 of the mesh's bounding box's largest side L = " + number_text(longest) +
+         " up to, not including, the cell size L / " + std::to_string(resolution) + ", got " +
+         number_text(tolerance);
+}
+
+std::optional<OptionProblem> bake_options_problem(const BakeOptions& o) {
   if (o.resolution < kMinResolution || o.resolution > kMaxResolution)
-    throw std::invalid_argument("resolution must be in [" + std::to_string(kMinResolution) + ", " +
-                                std::to_string(kMaxResolution) + "], got " +
-                                std::to_string(o.resolution));
+    return OptionProblem{"resolution", "must be in [" + std::to_string(kMinResolution) + ", " +
+                                           std::to_string(kMaxResolution) + "], got " +
+                                           std::to_string(o.resolution)};
   if (!(o.object_angle > 0.0) || !(o.object_angle < kPi))
-    throw std::invalid_argument("object angle must be in (0, pi) radians, got " +
-                                number(o.object_angle));
+    return OptionProblem{"object_angle",
+                         "must be in (0, pi) radians, got " + number_text(o.object_angle)};
   if (!(o.medial_tolerance >= 0.0) || !std::isfinite(o.medial_tolerance))
-    throw std::invalid_argument("medial tolerance must be finite and >= 0 (0: default), got " +
-                                number(o.medial_tolerance));
-  check_threads(o.threads);
+    return OptionProblem{"medial_tolerance", "must be finite and >= 0 (0: the default), got " +
+                                                 number_text(o.medial_tolerance)};
+  if (std::string problem = threads_problem(o.threads); !problem.empty())
+    return OptionProblem{"threads", std::move(problem)};
+  return std::nullopt;
+}
+
+void validate_bake_options(const BakeOptions& o) {
+  if (const auto p = bake_options_problem(o))
+    throw std::invalid_argument(p->option + " " + p->problem);
 }
 
 BakeResult bake(const MeshQuery& query, const BakeOptions& options) {
@@ -778,10 +781,13 @@ BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorF
       error_of);
   if (!found.best) {
     if (!found.any_interior && found.no_interior) throw *found.no_interior;
-    throw Error(
-        "target error " + number(target) + " not reached: best error " + number(best_error) +
-        " up to resolution " + std::to_string(highest) +
-        (highest < max_resolution ? ", where doubling the resolution stopped reducing it" : ""));
+    throw InputError(
+        "--target-error",
+        "no resolution tried reaches the target error " + number_text(target) +
+            ": the best error is " + number_text(best_error) + ", up to resolution " +
+            std::to_string(highest) +
+            (highest < max_resolution ? ", where doubling the resolution stopped reducing it"
+                                      : ""));
   }
   return finish(std::move(found), t0);
 }

@@ -10,8 +10,6 @@
 #include <stdexcept>
 #include <string>
 
-#include <omp.h>
-
 #include "medspheres/error.h"
 #include "medspheres/fit_metrics.h"
 #include "medspheres/threads.h"
@@ -82,9 +80,14 @@ class SphereMaker {
  private:
   // The largest sphere on the ray u + s dir, s in [0, reach], to within 2% of `step` in s,
   // step = cap + tolerance (at least 1e-6 reach). f(0) <= tolerance, so s doubles from
-  // step while f stays within the tolerance, then bisection narrows the last bracket. The
-  // spheres are mostly small beside the diagonal: about ten evaluations instead of the 24
-  // of a bisection over [0, reach].
+  // step while f stays within the tolerance, then bisection narrows the last bracket.
+  // Evaluations of f (a closest point and a winding number each): a doubling that stops
+  // at 2^J step leaves a bracket of 2^(J-1) step, which J + 5 halvings take down to 2% of
+  // step, so 2J + 6 in all (7 for J = 0). The spheres are mostly small beside the
+  // diagonal (J of 1 or 2): about ten evaluations instead of the 24 of a bisection over
+  // [0, reach]. The worst case is a step at its floor of 1e-6 reach and a sphere about as
+  // large as the reach: 21 evaluations doubling up to the reach, then 25 halvings of a
+  // bracket of about half the reach, 46 in all (and one more for the radius).
   Sphere along(const Eigen::Vector3d& u, const Eigen::Vector3d& dir, double reach) const {
     const auto f = [&](double s) { return s - depth(u + s * dir) - cap_; };
     const double step = std::max(cap_ + tolerance_, 1e-6 * reach);
@@ -126,6 +129,7 @@ std::size_t add_touching_spheres(std::vector<Sphere>& spheres, std::size_t base,
                                  const std::vector<Eigen::Vector3d>& points,
                                  const std::vector<PointCoverage>& coverage, double tolerance,
                                  std::size_t cap, const SphereMaker& maker, int threads) {
+  const int nt = thread_count(threads);
   std::vector<std::size_t> order;
   for (std::size_t i = 0; i < points.size(); ++i)
     if (coverage[i].outside > tolerance) order.push_back(i);
@@ -153,8 +157,7 @@ std::size_t add_touching_spheres(std::vector<Sphere>& spheres, std::size_t base,
     }
     candidate.assign(batch.size(), Sphere{});
     const long long n = static_cast<long long>(batch.size());
-#pragma omp parallel for schedule(dynamic, 1) \
-    num_threads(threads == 0 ? omp_get_max_threads() : threads)
+#pragma omp parallel for schedule(dynamic, 1) num_threads(nt)
     for (long long k = 0; k < n; ++k) {
       const std::size_t i = batch[static_cast<std::size_t>(k)];
       const Sphere& s = spheres[static_cast<std::size_t>(coverage[i].ball)];

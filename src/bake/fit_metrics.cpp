@@ -6,17 +6,15 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
 #include <limits>
 #include <stdexcept>
 #include <string>
 #include <utility>
 
-#include <omp.h>
-
 #include "medspheres/error.h"
 #include "medspheres/mesh_report.h"
 #include "medspheres/threads.h"
+#include "number_text.h"
 #include "union_grid.h"
 
 namespace medspheres {
@@ -30,11 +28,6 @@ using Clock = std::chrono::steady_clock;
 
 double seconds_since(Clock::time_point t0) {
   return std::chrono::duration<double>(Clock::now() - t0).count();
-}
-
-int resolve_threads(int threads) {
-  check_threads(threads);
-  return threads == 0 ? std::min(omp_get_max_threads(), kMaxThreads) : threads;
 }
 
 void require_balls(const std::vector<Sphere>& balls) {
@@ -258,12 +251,6 @@ std::optional<double> volume_of(const MeshReport& report) {
   return v;
 }
 
-std::string fmt(double v) {
-  char buffer[32];
-  std::snprintf(buffer, sizeof buffer, "%.6g", v);
-  return buffer;
-}
-
 }  // namespace
 
 const char* to_string(NerrKind kind) {
@@ -287,7 +274,7 @@ std::optional<double> solid_volume(const TriangleMesh& mesh) {
 std::vector<double> sphere_protrusions(const MeshQuery& query, const std::vector<Sphere>& balls,
                                        int threads) {
   require_balls(balls);
-  return protrusions_of(query, balls, resolve_threads(threads));
+  return protrusions_of(query, balls, thread_count(threads));
 }
 
 SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count, std::uint64_t seed) {
@@ -332,7 +319,7 @@ SurfaceSamples sample_surface(const TriangleMesh& mesh, std::size_t count, std::
 std::vector<PointCoverage> point_coverage(const std::vector<Sphere>& balls,
                                           const std::vector<Eigen::Vector3d>& points, int threads) {
   require_balls(balls);
-  const int nt = resolve_threads(threads);
+  const int nt = thread_count(threads);
   return coverage_on(detail::UnionGrid(balls), points, nt);
 }
 
@@ -413,7 +400,7 @@ VolumeError FitEvaluator::combine(const std::vector<Sphere>& balls, UnionMeasure
 
 VolumeError FitEvaluator::volume_error(const std::vector<Sphere>& balls, int threads) const {
   require_balls(balls);
-  const int nt = resolve_threads(threads);
+  const int nt = thread_count(threads);
   return combine(balls, measure_union(balls), protrusions_of(query_, balls, nt));
 }
 
@@ -422,7 +409,7 @@ FitReport FitEvaluator::evaluate(const std::vector<Sphere>& balls,
   const auto start = Clock::now();
   if (options.volume_samples < 1) throw std::invalid_argument("volume_samples must be >= 1");
   if (options.surface_samples < 1) throw std::invalid_argument("surface_samples must be >= 1");
-  const int nt = resolve_threads(options.threads);
+  const int nt = thread_count(options.threads);
   require_balls(balls);
   // The Monte-Carlo box B holds the mesh and the balls; its volume must be finite.
   Eigen::AlignedBox3d reach = query_.mesh().bounds();
@@ -473,8 +460,8 @@ FitReport FitEvaluator::evaluate(const std::vector<Sphere>& balls,
     if (r.monte_carlo.multiple_volume > 0.0) {
       const MonteCarloError& mc = r.monte_carlo;
       r.warnings.push_back(
-          "components of the mesh overlap or nest: a volume of about " + fmt(mc.multiple_volume) +
-          " +- " + fmt(mc.multiple_volume_sigma) +
+          "components of the mesh overlap or nest: a volume of about " +
+          number_text(mc.multiple_volume) + " +- " + number_text(mc.multiple_volume_sigma) +
           " (Monte Carlo) lies in more than one of them, and the mesh volume counts it as often; "
           "nerr, which divides by the mesh volume, is off by about that over the volume");
     }

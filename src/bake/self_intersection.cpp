@@ -11,7 +11,6 @@
 #include <CGAL/Bbox_3.h>
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
-#include <omp.h>
 
 #include "medspheres/threads.h"
 
@@ -32,6 +31,10 @@ using Box =
 // CGAL's cutoff between the streamed segment tree and brute force, as in its
 // Polygon_mesh_processing::self_intersections.
 constexpr std::ptrdiff_t kBoxCutoff = 2000;
+
+// Candidate pairs tested at a time: 8 MiB of pairs (and 1 MiB of flags), enough for the
+// parallel tests to outweigh a fork and join of the threads by far.
+constexpr std::size_t kCandidateBuffer = std::size_t{1} << 20;
 
 void check_mesh(const TriangleMesh& mesh) {
   if (mesh.triangles.size() > static_cast<std::size_t>(std::numeric_limits<int>::max()))
@@ -73,6 +76,15 @@ std::vector<int> canonical_vertices(const TriangleMesh& mesh) {
   return canonical;
 }
 
+// Whether the segment ab meets the triangle t. Boxes first: comparing coordinates is exact
+// and cheap, and settles most of the candidates of a fan (triangles around one vertex,
+// whose boxes all meet there), which CGAL's test would otherwise take to its exact
+// arithmetic when the triangles are coplanar.
+bool segment_meets(const Point& a, const Point& b, const std::array<Point, 3>& t) {
+  if (!CGAL::do_overlap(a.bbox() + b.bbox(), t[0].bbox() + t[1].bbox() + t[2].bbox())) return false;
+  return CGAL::do_intersect(Triangle(t[0], t[1], t[2]), Segment(a, b));
+}
+
 // The exact test of the file comment for two non-degenerate triangles, given their
 // corners and the canonical vertex of each corner.
 bool intersect_beyond_shared(const std::array<Point, 3>& t, const std::array<int, 3>& tv,
@@ -92,12 +104,10 @@ bool intersect_beyond_shared(const std::array<Point, 3>& t, const std::array<int
       const int i = static_cast<int>(
           std::find_if(match.begin(), match.end(), [](int m) { return m >= 0; }) - match.begin());
       const int j = match[static_cast<std::size_t>(i)];
-      const Segment t_opposite(t[static_cast<std::size_t>((i + 1) % 3)],
-                               t[static_cast<std::size_t>((i + 2) % 3)]);
-      const Segment u_opposite(u[static_cast<std::size_t>((j + 1) % 3)],
-                               u[static_cast<std::size_t>((j + 2) % 3)]);
-      return CGAL::do_intersect(Triangle(u[0], u[1], u[2]), t_opposite) ||
-             CGAL::do_intersect(Triangle(t[0], t[1], t[2]), u_opposite);
+      return segment_meets(t[static_cast<std::size_t>((i + 1) % 3)],
+                           t[static_cast<std::size_t>((i + 2) % 3)], u) ||
+             segment_meets(u[static_cast<std::size_t>((j + 1) % 3)],
+                           u[static_cast<std::size_t>((j + 2) % 3)], t);
     }
     case 2: {
       // a, b: the shared corners; c, d: the third corners of t and u.
@@ -116,15 +126,10 @@ bool intersect_beyond_shared(const std::array<Point, 3>& t, const std::array<int
   }
 }
 
-int resolve_threads(int threads) {
-  check_threads(threads);
-  return threads == 0 ? std::min(omp_get_max_threads(), kMaxThreads) : threads;
-}
-
 }  // namespace
 
 SelfIntersections find_self_intersections(const TriangleMesh& mesh, int threads) {
-  const int nt = resolve_threads(threads);
+  const int nt = thread_count(threads);
   check_mesh(mesh);
   const std::vector<int> canonical = canonical_vertices(mesh);
   const std::size_t n = mesh.triangles.size();
@@ -151,31 +156,40 @@ SelfIntersections find_self_intersections(const TriangleMesh& mesh, int threads)
     boxes.emplace_back(c[0].bbox() + c[1].bbox() + c[2].bbox(), static_cast<int>(t));
   }
 
-  // Candidates: pairs of boxes that meet (closed boxes, so touching ones too).
+  // Candidates: pairs of boxes that meet (closed boxes, so touching ones too). They are
+  // tested a full buffer at a time, in parallel, and only the hits are kept: a fan of n
+  // triangles around one vertex (a CAD cylinder's cap) has a box pair for every pair of
+  // its triangles, n^2 / 2 in all, which are never held at once.
+  std::vector<std::array<int, 2>> candidates;
+  std::vector<char> hit;
+  const auto test_candidates = [&] {
+    hit.assign(candidates.size(), 0);
+    const long long nc = static_cast<long long>(candidates.size());
+#pragma omp parallel for schedule(dynamic, 256) num_threads(nt)
+    for (long long c = 0; c < nc; ++c) {
+      const std::array<int, 2>& pr = candidates[static_cast<std::size_t>(c)];
+      const std::size_t i = static_cast<std::size_t>(pr[0]), j = static_cast<std::size_t>(pr[1]);
+      hit[static_cast<std::size_t>(c)] =
+          intersect_beyond_shared(corners[i], ids[i], corners[j], ids[j]);
+    }
+    for (std::size_t c = 0; c < candidates.size(); ++c)
+      if (hit[c]) out.pairs.push_back(candidates[c]);
+    candidates.clear();
+  };
   std::vector<const Box*> box_pointers;
   box_pointers.reserve(boxes.size());
   for (const Box& b : boxes) box_pointers.push_back(&b);
-  std::vector<std::array<int, 2>> candidates;
   CGAL::box_self_intersection_d<CGAL::Sequential_tag>(
       box_pointers.begin(), box_pointers.end(),
-      [&candidates](const Box* a, const Box* b) {
+      [&](const Box* a, const Box* b) {
         const int i = a->info(), j = b->info();
         candidates.push_back(i < j ? std::array<int, 2>{i, j} : std::array<int, 2>{j, i});
+        if (candidates.size() == kCandidateBuffer) test_candidates();
       },
       kBoxCutoff);
-
-  // The exact test on every candidate, in parallel; then the hits in order.
-  std::vector<char> hit(candidates.size(), 0);
-  const long long nc = static_cast<long long>(candidates.size());
-#pragma omp parallel for schedule(dynamic, 256) num_threads(nt)
-  for (long long c = 0; c < nc; ++c) {
-    const std::array<int, 2>& pr = candidates[static_cast<std::size_t>(c)];
-    const std::size_t i = static_cast<std::size_t>(pr[0]), j = static_cast<std::size_t>(pr[1]);
-    hit[static_cast<std::size_t>(c)] =
-        intersect_beyond_shared(corners[i], ids[i], corners[j], ids[j]);
-  }
-  for (std::size_t c = 0; c < candidates.size(); ++c)
-    if (hit[c]) out.pairs.push_back(candidates[c]);
+  test_candidates();
+  // The box search reports pairs in an order of its own: sorted, the result is the same
+  // for every thread count (and every buffer size).
   std::sort(out.pairs.begin(), out.pairs.end());
   return out;
 }

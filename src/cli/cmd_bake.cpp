@@ -17,7 +17,6 @@
 #include "medspheres/fit_metrics.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh_io.h"
-#include "medspheres/threads.h"
 
 namespace medspheres::cli {
 
@@ -76,48 +75,42 @@ std::string default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + ".spheres.json";
 }
 
-// The numeric options whose range does not depend on the mesh, named as the user typed
-// them (the library's own checks say the same in its words).
+// The flag of a BakeOptions field: "object_angle" is --object-angle.
+std::string flag_of(std::string field) {
+  std::replace(field.begin(), field.end(), '_', '-');
+  return "--" + field;
+}
+
+// The numeric options whose range does not depend on the mesh. The library's
+// bake_options_problem holds the ranges of BakeOptions; the CLI names its flags.
 BakeOptions bake_options(const BakeArgs& a) {
   BakeOptions o;
-  if (a.resolution < kMinResolution || a.resolution > kMaxResolution)
-    throw InputError("--resolution", "must be in [" + std::to_string(kMinResolution) + ", " +
-                                         std::to_string(kMaxResolution) + "], got " +
-                                         std::to_string(a.resolution));
-  if (!(a.object_angle > 0.0 && a.object_angle < 3.141592653589793))
-    throw InputError("--object-angle", "must be in (0, pi) radians, got " + fmt(a.object_angle));
-  if (!(a.medial_tolerance >= 0.0) || !std::isfinite(a.medial_tolerance))
-    throw InputError("--medial-tolerance", "must be a finite length > 0 (or 0: the default), got " +
-                                               fmt(a.medial_tolerance));
-  if (a.threads < 0 || a.threads > kMaxThreads)
-    throw InputError("--threads", "must be in [0, " + std::to_string(kMaxThreads) +
-                                      "] (0: all cores), got " + std::to_string(a.threads));
-  if (a.max_spheres && *a.max_spheres < 1)
-    throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*a.max_spheres));
-  if (a.target_error && !(*a.target_error > 0.0 && *a.target_error < 1.0))
-    throw InputError("--target-error", "must be in (0, 1), got " + fmt(*a.target_error));
   o.resolution = a.resolution;
   o.object_angle = a.object_angle;
   o.medial_tolerance = a.medial_tolerance;
   o.threads = a.threads;
+  if (const std::optional<OptionProblem> p = bake_options_problem(o))
+    throw InputError(flag_of(p->option), p->problem);
+  if (a.max_spheres && *a.max_spheres < 1)
+    throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*a.max_spheres));
+  if (a.target_error && !(*a.target_error > 0.0 && *a.target_error < 1.0))
+    throw InputError("--target-error", "must be in (0, 1), got " + fmt(*a.target_error));
   return o;
 }
 
 // An explicit --medial-tolerance against the mesh's box: at least 1e-9 L, below the cell
 // of the finest resolution that will be baked.
 void check_medial_tolerance(const BakeArgs& a, const MeshReport& report) {
-  if (a.medial_tolerance == 0.0) return;
   const bool search = a.max_spheres || a.target_error;
   const int finest = search ? kMaxSearchResolution : a.resolution;
   const double longest = (report.bbox_max - report.bbox_min).maxCoeff();
-  const ToleranceRange range = medial_tolerance_range(longest, finest);
-  if (a.medial_tolerance >= range.lo && a.medial_tolerance < range.hi) return;
-  throw InputError("--medial-tolerance",
-                   "must be in [" + fmt(range.lo) + ", " + fmt(range.hi) + ") for " + a.mesh +
-                       ": from 1e-9 of its bounding box's largest side L = " + fmt(longest) +
-                       " up to, not including, the cell size L / " + std::to_string(finest) +
-                       (search ? " of the finest resolution the search may bake" : "") + ", got " +
-                       fmt(a.medial_tolerance));
+  const std::optional<std::string> problem =
+      medial_tolerance_problem(a.medial_tolerance, longest, finest);
+  if (!problem) return;
+  const std::string where =
+      search ? a.mesh + " (a search may bake up to resolution " + std::to_string(finest) + ")"
+             : a.mesh;
+  throw InputError("--medial-tolerance", "for " + where + ", " + *problem);
 }
 
 // What the summary says of a nerr of this kind.
@@ -166,7 +159,7 @@ int run_bake(const BakeArgs& args) {
       std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
   check_medial_tolerance(args, loaded.report);
   // Orients (a no-op after the loader), builds the mesh query and computes the volume.
-  const FitEvaluator fit(loaded.mesh);
+  const FitEvaluator fit(loaded.mesh, args.threads);
   if (args.target_error && !fit.volume())
     throw InputError("--target-error", args.mesh +
                                            " is not a closed, outward-wound mesh, so its "
@@ -195,8 +188,11 @@ int run_bake(const BakeArgs& args) {
       result = bake(query, options);
     }
   } catch (const InputError& e) {
-    // The library speaks of "the mesh"; the user knows it by its file name.
+    // The library speaks of "the mesh"; the user knows it by its file name. A search that
+    // finds no resolution for its option names the option and the mesh.
     if (e.source() == "mesh") throw InputError(args.mesh, e.problem());
+    if (e.source() == "--max-spheres" || e.source() == "--target-error")
+      throw InputError(e.source(), "for " + args.mesh + ", " + e.problem());
     throw;
   }
   bar.finish();
@@ -259,6 +255,10 @@ int run_bake(const BakeArgs& args) {
     if (mode != "resolution")
       std::cout << ", chosen for " << mode << " " << fmt(target) << " among " << s.search.size()
                 << " resolutions baked";
+    // The set the error target was measured on: S_D when dilated, else the one written.
+    const std::optional<VolumeError>& measured = internal ? internal : volume;
+    if (mode == "target_error" && measured && measured->kind == NerrKind::kApproximate)
+      std::cout << " (by an approximate nerr: the mesh intersects itself)";
     std::cout << "\n"
               << "  spheres       " << s.spheres << ", radius " << fmt(s.min_radius, 4) << " .. "
               << fmt(s.max_radius, 4) << "\n";

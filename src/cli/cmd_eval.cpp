@@ -156,9 +156,8 @@ int run_eval(const EvalArgs& args) {
   if (args.surface_samples < 1)
     throw InputError("--surface-samples",
                      "must be >= 1, got " + std::to_string(args.surface_samples));
-  if (args.threads < 0 || args.threads > kMaxThreads)
-    throw InputError("--threads", "must be in [0, " + std::to_string(kMaxThreads) +
-                                      "] (0: all cores), got " + std::to_string(args.threads));
+  if (const std::string problem = threads_problem(args.threads); !problem.empty())
+    throw InputError("--threads", problem);
   FitOptions options;
   options.volume_samples = static_cast<std::size_t>(args.samples);
   options.surface_samples = static_cast<std::size_t>(args.surface_samples);

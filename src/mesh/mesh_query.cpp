@@ -7,12 +7,12 @@
 #include <stdexcept>
 #include <string>
 
-#include <omp.h>
 #if defined(__SSE2__)
 #include <emmintrin.h>
 #endif
 
 #include "medspheres/mesh_report.h"
+#include "medspheres/threads.h"
 #include "mesh_bvh.h"
 
 namespace medspheres {
@@ -623,15 +623,15 @@ ClosestPoint MeshQuery::closest_point(const Eigen::Vector3d& p, int hint_triangl
 
 namespace {
 
-// f applied to every point, result i from point i, on `threads` threads (0: all cores).
-// Each result depends on its point alone, so the output is the same for any thread count.
+// f applied to every point, result i from point i, on `threads` threads (threads.h: 0 for
+// all cores, at most kMaxThreads). Each result depends on its point alone, so the output
+// is the same for any thread count.
 template <typename T, typename F>
 std::vector<T> map_points(const std::vector<Eigen::Vector3d>& points, int threads, F f) {
-  if (threads < 0) throw std::invalid_argument("thread count must be >= 0 (0: all cores)");
+  const int nt = thread_count(threads);
   std::vector<T> out(points.size());
   const long long n = static_cast<long long>(points.size());
-#pragma omp parallel for schedule(dynamic, 256) \
-    num_threads(threads == 0 ? omp_get_max_threads() : threads)
+#pragma omp parallel for schedule(dynamic, 256) num_threads(nt)
   for (long long i = 0; i < n; ++i) out[i] = f(points[i]);
   return out;
 }

@@ -1,8 +1,8 @@
 #pragma once
 // FCL-side oracles for the adapter tests: one sphere of a set answered by FCL's own
-// narrowphase (an fcl::Sphere against the other geometry) and BVHModels built from a
-// TriangleMesh. Header-only. Inside namespace medspheres, ::fcl must be spelled out:
-// medspheres::fcl is the adapter's namespace.
+// narrowphase (an fcl::Sphere against the other geometry), BVHModels built from a
+// TriangleMesh, and the tolerance settings of the abs_err / rel_err tests. Header-only. Inside
+// namespace medspheres, ::fcl must be spelled out: medspheres::fcl is the adapter's namespace.
 
 #include <cmath>
 #include <limits>
@@ -106,5 +106,24 @@ inline Eigen::Vector3d documented_contact_position(const Eigen::Vector3d& c, dou
                                                    const Eigen::Vector3d& n) {
   return c + (r - 0.5 * depth) * n;
 }
+
+/// One setting of a DistanceRequest's tolerances for the abs_err / rel_err tests. abs_err
+/// is a fraction of the scene's exact distance d*, or 1e6, which stands for a tolerance
+/// that never binds. `loose` when both bind: FCL's rule then prunes, and some answers
+/// exceed d* (within the guarantee); with one tolerance alone the answer stays exact.
+struct ToleranceMode {
+  const char* name;
+  double abs_err;
+  double rel_err;
+  bool loose;
+  /// The request's abs_err for a scene whose exact distance is \p exact.
+  double abs_err_for(double exact) const { return abs_err < 1e6 ? abs_err * exact : abs_err; }
+};
+
+inline const std::vector<ToleranceMode> kToleranceModes = {{"exact", 0, 0, false},
+                                                           {"rel_err 0.5", 1e6, 0.5, true},
+                                                           {"abs_err 0.5 d*", 0.5, 1e6, true},
+                                                           {"rel_err alone", 0, 0.5, false},
+                                                           {"abs_err alone", 0.5, 0, false}};
 
 }  // namespace medspheres::test

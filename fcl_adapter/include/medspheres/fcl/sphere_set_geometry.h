@@ -47,7 +47,9 @@
 /// derives from fcl::CollisionGeometry<double> through fcl::Box<double>, and presents
 /// itself to libfcl as a box centred on the origin of its frame that encloses all its
 /// spheres: getNodeType() is GEOM_BOX, getObjectType() OT_GEOM, `side` twice the largest
-/// |coordinate| + radius along each axis. libfcl then answers exactly as for that
+/// |coordinate| + radius along each axis (rounded up; at most the largest finite double,
+/// so a set reaching beyond half of it from the origin gets the largest finite box, which
+/// then cannot hold all of it). libfcl then answers exactly as for that
 /// fcl::Box: wherever it supports a box, it never misses a collision of the spheres, may
 /// report collisions they do not have, and reports distances no larger than theirs.
 /// Where libfcl does not support a box it does what it does for its own box: it prints
