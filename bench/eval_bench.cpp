@@ -70,10 +70,11 @@ int main(int argc, char** argv) {
       options.volume_samples, options.surface_samples,
       static_cast<unsigned long long>(options.seed));
   std::printf(
-      "nerr: exact (every set is internal); MC: Monte-Carlo symmetric-difference error / vol(mesh) "
+      "nerr: exact (every set is internal), marked ~ where the mesh intersects itself and nerr is "
+      "approximate;\nMC: Monte-Carlo symmetric-difference error / vol(mesh) "
       "with its 95%% Wilson interval;\nprot: largest protrusion; uncovered: distance of surface "
       "points outside the union, absolute and in %% of L (the bbox's largest side)\n\n");
-  std::printf("%-34s %6s %5s %7s %-26s %20s %17s %17s %17s\n", "mesh", "tris", "sph", "nerr",
+  std::printf("%-34s %6s %5s %8s %-26s %20s %17s %17s %17s\n", "mesh", "tris", "sph", "nerr",
               "MC [95% interval]", "max prot (%L)", "uncov max (%L)", "uncov mean (%L)",
               "uncov p95 (%L)");
   for (const Row& r : rows) {
@@ -82,8 +83,10 @@ int main(int argc, char** argv) {
     char interval[64];
     std::snprintf(interval, sizeof interval, "%.4f [%.4f, %.4f]", mc.estimate, mc.lo, mc.hi);
     std::printf(
-        "%-34s %6zu %5zu %7.4f %-26s %9.2g (%8.1e) %9.3g (%5.2f) %9.3g (%5.2f) %9.3g (%5.2f)\n",
-        r.name.c_str(), r.triangles, f.balls, f.volume.nerr, interval, f.volume.max_protrusion,
+        "%-34s %6zu %5zu %1s%7.4f %-26s %9.2g (%8.1e) %9.3g (%5.2f) %9.3g (%5.2f) %9.3g (%5.2f)\n",
+        r.name.c_str(), r.triangles, f.balls,
+        f.volume.kind == medspheres::NerrKind::kApproximate ? "~" : "", f.volume.nerr, interval,
+        f.volume.max_protrusion,
         percent(f.volume.max_protrusion, r.longest), f.coverage.max,
         percent(f.coverage.max, r.longest), f.coverage.mean, percent(f.coverage.mean, r.longest),
         f.coverage.p95, percent(f.coverage.p95, r.longest));

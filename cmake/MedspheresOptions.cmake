@@ -16,6 +16,13 @@ endif()
 # medspheres_configure_target(<target>): C++17, warnings, the include layout.
 function(medspheres_configure_target target)
   target_compile_features(${target} PUBLIC cxx_std_17)
+  # Debian's libfcl is built as C++11/14, so the Eigen-holding FCL classes it allocates
+  # (BVNode, BVHModel, ...) come from Eigen's class-specific aligned operator new. Under
+  # C++17 Eigen drops those operators, and a C++17 translation unit would release such
+  # objects with the global operator delete: a mismatch AddressSanitizer reports, and an
+  # ODR difference between libfcl and its users. Keeping Eigen's pre-C++17 operators makes
+  # every medspheres target, and every consumer of one (PUBLIC), agree with libfcl.
+  target_compile_definitions(${target} PUBLIC EIGEN_HAS_CXX17_OVERALIGN=0)
   set_target_properties(${target} PROPERTIES CXX_EXTENSIONS OFF)
   if(CMAKE_CXX_COMPILER_ID MATCHES "GNU|Clang")
     target_compile_options(${target} PRIVATE -Wall -Wextra -Wpedantic -Wshadow

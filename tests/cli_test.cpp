@@ -1,4 +1,5 @@
 // The medspheres command-line tool, run as a user runs it: exit codes, output, errors.
+#include <algorithm>
 #include <filesystem>
 #include <fstream>
 #include <sstream>
@@ -192,7 +193,9 @@ TEST_CASE("bake rejects nonsense with exit 2 and leaves no output behind", "[cli
         "--target-error 0", "--target-error 1.5", "--max-spheres 10 --target-error 0.1",
         "--vertex-tolerance 0.01", "--dilate --vertex-tolerance 0",
         "--dilate --vertex-tolerance -1", "--dilate --max-protrusion -0.1", "--max-protrusion 0.1",
-        "--cover 0", "--cover -1", "--dilate --seed x"}) {
+        "--cover 0", "--cover -1", "--dilate --seed x", "--cover 0.003x", "--cover L",
+        "--cover -0.001L", "--cover 0L", "--dilate --max-protrusion nanL",
+        "--dilate --vertex-tolerance 1e400L"}) {
     INFO(bad);
     const CommandResult r =
         cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(out) + " " + bad);
@@ -241,4 +244,21 @@ TEST_CASE("bake --dilate writes S+ and records the dilation", "[cli][bake]") {
   CHECK(meta["stats"]["dilation"]["input_spheres"] == sd.size());
   CHECK(meta["stats"]["nerr_kind"] == "lower_bound");
   CHECK(meta["stats"]["max_protrusion"].get<double>() > 0.0);
+
+  // Lengths may be given as multiples of the bounding box's largest side L.
+  const std::string relative = dir.file("relative.json");
+  REQUIRE(cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(relative) +
+              " --dilate --max-protrusion 0.002L --cover 0.003L --vertex-tolerance 0.01L")
+              .exit_code == 0);
+  const auto rel = nlohmann::json::parse(medspheres::load_sphere_set(relative).metadata_json);
+  const auto& bmin = rel["source"]["bbox_min"];
+  const auto& bmax = rel["source"]["bbox_max"];
+  double longest = 0.0;
+  for (int k = 0; k < 3; ++k)
+    longest = std::max(longest, bmax[k].get<double>() - bmin[k].get<double>());
+  const auto& d = rel["generator"]["params"]["dilation"];
+  CHECK(d["max_protrusion"].get<double>() == Approx(0.002 * longest));
+  CHECK(d["cover_tolerance"].get<double>() == Approx(0.003 * longest));
+  CHECK(d["vertex_tolerance"].get<double>() == Approx(0.01 * longest));
+  CHECK(rel["stats"]["max_protrusion"].get<double>() <= 0.002 * longest * (1 + 1e-9));
 }

@@ -430,6 +430,13 @@ class DescriptorLimit {
 
 TEST_CASE("an import process that cannot be started is an error naming the file",
           "[mesh_io][isolation]") {
+#if defined(__SANITIZE_ADDRESS__) || defined(__SANITIZE_THREAD__)
+  // The sanitizer runtimes open pipes of their own (UBSan's vptr check probes memory
+  // through one), so under a descriptor limit they report errors that are theirs, not
+  // ours. The plain build runs this test.
+  WARN("skipped under sanitizers: their runtime needs free file descriptors");
+  return;
+#endif
   TempDir dir;
   const std::string path = dir.write("box.obj", test::to_obj(make_box({1, 1, 1})));
   // One free descriptor: enough to open the file, not for the pipe to the child.

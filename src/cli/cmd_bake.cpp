@@ -31,16 +31,68 @@ struct BakeArgs {
   std::optional<int> max_spheres;
   std::optional<double> target_error;
   bool dilate = false;
-  std::optional<double> vertex_tolerance;
-  std::optional<double> max_protrusion;
-  std::optional<double> cover;
+  // Lengths: a number in the mesh's units, or a number followed by L (see Length).
+  std::optional<std::string> vertex_tolerance;
+  std::optional<std::string> max_protrusion;
+  std::optional<std::string> cover;
   std::uint64_t seed = DilateOptions{}.seed;
   int threads = 0;
   bool quiet = false;
 };
 
-// The dilation options, checked before any work is done.
-std::optional<DilateOptions> dilation_options(const BakeArgs& a) {
+// A length option: a number in the mesh's units, or a number followed by "L", a multiple
+// of the largest side of the mesh's bounding box (0.003L is 0.3% of it).
+struct Length {
+  double value = 0.0;
+  bool relative = false;
+  double in(double longest) const { return relative ? value * longest : value; }
+};
+
+// \p text as a Length that satisfies \p ok (described by \p range), or InputError naming
+// \p flag.
+Length parse_length(const std::string& text, const char* flag, bool (*ok)(double),
+                    const char* range) {
+  Length l;
+  std::string number = text;
+  if (!number.empty() && (number.back() == 'L' || number.back() == 'l')) {
+    l.relative = true;
+    number.pop_back();
+  }
+  std::size_t used = 0;
+  try {
+    l.value = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (number.empty() || used != number.size() || !ok(l.value))
+    throw InputError(flag, std::string("must be ") + range +
+                               ": a length in the mesh's units, or a multiple of the bounding "
+                               "box's largest side written with an L (0.003L), got '" +
+                               text + "'");
+  return l;
+}
+
+bool positive(double x) {
+  return x > 0.0 && std::isfinite(x);
+}
+bool non_negative(double x) {
+  return x >= 0.0 && std::isfinite(x);
+}
+
+// The dilation options, checked before any work is done; lengths are set once the mesh's
+// box is known (resolve_lengths).
+struct Dilation {
+  DilateOptions options;
+  std::optional<Length> vertex_tolerance, max_protrusion, cover;
+
+  void resolve_lengths(double longest) {
+    if (vertex_tolerance) options.vertex_tolerance = vertex_tolerance->in(longest);
+    if (max_protrusion) options.max_protrusion = max_protrusion->in(longest);
+    if (cover) options.cover_tolerance = cover->in(longest);
+  }
+};
+
+std::optional<Dilation> dilation_options(const BakeArgs& a) {
   if (!a.dilate && !a.cover) {
     if (a.vertex_tolerance)
       throw InputError("--vertex-tolerance", "applies only with --dilate or --cover");
@@ -48,27 +100,17 @@ std::optional<DilateOptions> dilation_options(const BakeArgs& a) {
       throw InputError("--max-protrusion", "applies only with --dilate or --cover");
     return std::nullopt;
   }
-  DilateOptions o;
-  o.seed = a.seed;
-  o.threads = a.threads;
-  if (a.vertex_tolerance) {
-    if (!(*a.vertex_tolerance > 0.0) || !std::isfinite(*a.vertex_tolerance))
-      throw InputError("--vertex-tolerance",
-                       "must be a finite length > 0, got " + fmt(*a.vertex_tolerance));
-    o.vertex_tolerance = *a.vertex_tolerance;
-  }
-  if (a.max_protrusion) {
-    if (!(*a.max_protrusion >= 0.0) || !std::isfinite(*a.max_protrusion))
-      throw InputError("--max-protrusion",
-                       "must be a finite length >= 0, got " + fmt(*a.max_protrusion));
-    o.max_protrusion = *a.max_protrusion;
-  }
-  if (a.cover) {
-    if (!(*a.cover > 0.0) || !std::isfinite(*a.cover))
-      throw InputError("--cover", "must be a finite length > 0, got " + fmt(*a.cover));
-    o.cover_tolerance = *a.cover;
-  }
-  return o;
+  Dilation d;
+  d.options.seed = a.seed;
+  d.options.threads = a.threads;
+  if (a.vertex_tolerance)
+    d.vertex_tolerance =
+        parse_length(*a.vertex_tolerance, "--vertex-tolerance", positive, "a finite length > 0");
+  if (a.max_protrusion)
+    d.max_protrusion =
+        parse_length(*a.max_protrusion, "--max-protrusion", non_negative, "a finite length >= 0");
+  if (a.cover) d.cover = parse_length(*a.cover, "--cover", positive, "a finite length > 0");
+  return d;
 }
 
 std::string default_output(const std::string& mesh) {
@@ -149,7 +191,7 @@ int run_bake(const BakeArgs& args) {
   // Options first: nonsense is reported before any work is done, and so is an output
   // path that cannot be written.
   BakeOptions options = bake_options(args);
-  const std::optional<DilateOptions> dilation = dilation_options(args);
+  std::optional<Dilation> dilation = dilation_options(args);
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_output_path(out);
 
@@ -158,6 +200,7 @@ int run_bake(const BakeArgs& args) {
     for (const std::string& w : loaded.warnings)
       std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
   check_medial_tolerance(args, loaded.report);
+  if (dilation) dilation->resolve_lengths((loaded.report.bbox_max - loaded.report.bbox_min).maxCoeff());
   // Orients (a no-op after the loader), builds the mesh query and computes the volume.
   const FitEvaluator fit(loaded.mesh, args.threads);
   if (args.target_error && !fit.volume())
@@ -212,9 +255,9 @@ int run_bake(const BakeArgs& args) {
   std::optional<VolumeError> internal;  // S_D's, when dilated
   if (dilation) {
     if (fit.volume()) internal = fit.volume_error(result.spheres.spheres, args.threads);
-    const DilateResult dilated = dilate(query, result.spheres, *dilation);
+    const DilateResult dilated = dilate(query, result.spheres, dilation->options);
     output = dilated.spheres;
-    record.dilation_options = dilation;
+    record.dilation_options = dilation->options;
     record.dilation_stats = dilated.stats;
     double lo = output.spheres.front().radius, hi = lo;
     for (const Sphere& sp : output.spheres) {
@@ -267,7 +310,7 @@ int run_bake(const BakeArgs& args) {
       std::cout << "  dilated       " << output.size() << " spheres: " << d.grown
                 << " grown (by up to " << fmt(d.max_growth, 4) << "), " << d.added_vertex
                 << " added at vertices";
-      if (dilation->cover_tolerance >= 0.0)
+      if (dilation->options.cover_tolerance >= 0.0)
         std::cout << ", " << d.added_cover << " added in " << d.cover_rounds << " cover round(s); "
                   << "uncovered " << fmt(d.uncovered_max, 4)
                   << (d.cover_reached ? " (within --cover)" : " (caps reached before --cover)");
@@ -327,14 +370,14 @@ Runner register_bake(CLI::App& app) {
   sub->add_flag("--dilate", a->dilate,
                 "Dilate the spheres until they hug the surface (paper section 5.1); writes S+");
   sub->add_option("--vertex-tolerance", a->vertex_tolerance,
-                  "Dilation: cover every mesh vertex within this length (default: 0.5% of the "
-                  "box's largest side)");
+                  "Dilation: cover every mesh vertex within this length, in the mesh's units or "
+                  "a multiple of the box's largest side L written 0.005L (default: 0.005L)");
   sub->add_option("--max-protrusion", a->max_protrusion,
                   "Dilation: let no grown or added sphere stick out of the solid by more than "
-                  "this length (default: no cap, as in the paper)");
+                  "this length, e.g. 0.002L (default: no cap, as in the paper)");
   sub->add_option("--cover", a->cover,
                   "Dilate, then add spheres until no surface sample is farther than this "
-                  "length outside (implies --dilate)");
+                  "length outside, e.g. 0.003L (implies --dilate)");
   sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
