@@ -58,7 +58,7 @@ int main(int argc, char** argv) {
     Row row;
     row.name = name;
     row.triangles = loaded.mesh.triangles.size();
-    row.longest = (loaded.report.bbox_max - loaded.report.bbox_min).maxCoeff();
+    row.longest = loaded.report.largest_side();
     row.report = fit.evaluate(baked.spheres.spheres, options);
     rows.push_back(std::move(row));
     std::fprintf(stderr, "%s done\n", name.c_str());
@@ -86,8 +86,7 @@ int main(int argc, char** argv) {
         "%-34s %6zu %5zu %1s%7.4f %-26s %9.2g (%8.1e) %9.3g (%5.2f) %9.3g (%5.2f) %9.3g (%5.2f)\n",
         r.name.c_str(), r.triangles, f.balls,
         f.volume.kind == medspheres::NerrKind::kApproximate ? "~" : "", f.volume.nerr, interval,
-        f.volume.max_protrusion,
-        percent(f.volume.max_protrusion, r.longest), f.coverage.max,
+        f.volume.max_protrusion, percent(f.volume.max_protrusion, r.longest), f.coverage.max,
         percent(f.coverage.max, r.longest), f.coverage.mean, percent(f.coverage.mean, r.longest),
         f.coverage.p95, percent(f.coverage.p95, r.longest));
   }

@@ -15,6 +15,7 @@
 #include "medspheres/mesh_query.h"
 #include "support/point_triangle_oracle.h"
 #include "support/shared_meshes.h"
+#include "support/temp_dir.h"
 
 using namespace medspheres;
 using Catch::Matchers::Contains;
@@ -59,7 +60,7 @@ TriangleMesh translated(TriangleMesh m, const Eigen::Vector3d& offset) {
   return m;
 }
 
-const std::string kKnot = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off";
+const std::string kKnot = medspheres::test::example_mesh("knot1.off");
 
 }  // namespace
 
@@ -129,8 +130,7 @@ TEST_CASE("sphere, capsule and torus: centres on the known medial axis", "[bake]
 }
 
 TEST_CASE("sphere count grows with resolution", "[bake]") {
-  const TriangleMesh knot =
-      load_mesh(std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off").mesh;
+  const TriangleMesh knot = load_mesh(kKnot).mesh;
   const MeshQuery q(knot);
   std::size_t prev = 0;
   for (int res : {12, 16, 24, 32, 48}) {
@@ -144,8 +144,7 @@ TEST_CASE("sphere count grows with resolution", "[bake]") {
 }
 
 TEST_CASE("output is bit-identical for every thread count", "[bake]") {
-  const TriangleMesh m =
-      load_mesh(std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off").mesh;
+  const TriangleMesh m = load_mesh(medspheres::test::example_mesh("eight.off")).mesh;
   const BakeResult one = bake_at(m, 40, 1);
   REQUIRE(one.spheres.size() > 10);
   for (int threads : {2, 3, 4}) {
@@ -156,8 +155,7 @@ TEST_CASE("output is bit-identical for every thread count", "[bake]") {
 }
 
 TEST_CASE("a sphere budget picks the largest resolution within it", "[bake]") {
-  const TriangleMesh m =
-      load_mesh(std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off").mesh;
+  const TriangleMesh m = load_mesh(kKnot).mesh;
   const MeshQuery q(m);
   for (std::size_t budget : {50u, 200u}) {
     const BakeResult r = bake_max_spheres(q, budget);

@@ -25,8 +25,8 @@ using medspheres::test::TempDir;
 
 namespace {
 
-const std::string kKnot = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off";
-const std::string kEight = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off";
+const std::string kKnot = medspheres::test::example_mesh("knot1.off");
+const std::string kEight = medspheres::test::example_mesh("eight.off");
 
 // The CLI under a time limit, so that a run that never ends fails the test (exit 124)
 // instead of hanging the suite.

@@ -19,7 +19,7 @@ using medspheres::test::TempDir;
 namespace {
 
 constexpr double kPi = 3.141592653589793238462643383279502884;
-const std::string kEightMesh = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off";
+const std::string kEightMesh = medspheres::test::example_mesh("eight.off");
 const std::string kFast = " --samples 100000 --surface-samples 5000";
 
 CommandResult eval(const std::string& args) {

@@ -19,7 +19,7 @@ using medspheres::test::TempDir;
 
 namespace {
 
-const std::string kEight = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off";
+const std::string kEight = medspheres::test::example_mesh("eight.off");
 
 // Two [-1, 1]^3 boxes, the second moved by (1, 0.3, 0.2): their faces cross.
 std::string write_crossing_boxes(const TempDir& dir) {

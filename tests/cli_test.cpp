@@ -1,8 +1,6 @@
 // The medspheres command-line tool, run as a user runs it: exit codes, output, errors.
 #include <algorithm>
 #include <filesystem>
-#include <fstream>
-#include <sstream>
 
 #include <sys/stat.h>
 
@@ -20,6 +18,7 @@
 
 using Catch::Matchers::Contains;
 using medspheres::test::CommandResult;
+using medspheres::test::read_file;
 using medspheres::test::run_command;
 using medspheres::test::shell_quote;
 using medspheres::test::TempDir;
@@ -30,7 +29,7 @@ CommandResult cli(const std::string& args) {
   return medspheres::test::run_cli(args);
 }
 
-const std::string kExample = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off";
+const std::string kExample = medspheres::test::example_mesh("knot1.off");
 
 }  // namespace
 
@@ -126,14 +125,7 @@ TEST_CASE("info --json agrees with MANIFEST.tsv on every shared mesh", "[cli][sh
 #endif
 
 namespace {
-const std::string kEight = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off";
-
-std::string read_file(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
+const std::string kEight = medspheres::test::example_mesh("eight.off");
 }  // namespace
 
 TEST_CASE("bake writes a valid sphere-set file with provenance", "[cli][bake]") {

@@ -15,6 +15,7 @@
 #include "medspheres/mesh_query.h"
 #include "medspheres/sphere_tree.h"
 #include "support/shared_meshes.h"
+#include "support/temp_dir.h"
 
 using namespace medspheres;
 using Catch::Matchers::Contains;
@@ -43,8 +44,7 @@ Case baked(TriangleMesh mesh, int resolution) {
 }
 
 const Case& knot() {
-  static const Case c =
-      baked(load_mesh(std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/knot1.off").mesh, 24);
+  static const Case c = baked(load_mesh(medspheres::test::example_mesh("knot1.off")).mesh, 24);
   return c;
 }
 

@@ -4,7 +4,6 @@
 #include <fstream>
 #include <limits>
 #include <random>
-#include <sstream>
 
 #include <sys/stat.h>
 #include <sys/wait.h>
@@ -20,6 +19,7 @@ using Catch::Matchers::Contains;
 using medspheres::InputError;
 using medspheres::Sphere;
 using medspheres::SphereSet;
+using medspheres::test::read_file;
 using medspheres::test::TempDir;
 
 namespace {
@@ -112,10 +112,7 @@ TEST_CASE("saving is atomic: failures leave no file and no temporary behind", "[
   SphereSet bad = good;
   bad.spheres[1].radius = -2.0;
   CHECK_THROWS_AS(medspheres::save_sphere_set(bad, path), InputError);
-  std::ifstream in(path);
-  std::stringstream content;
-  content << in.rdbuf();
-  CHECK(content.str() == before);
+  CHECK(read_file(path) == before);
 
   // A directory that does not exist: an error, and nothing created.
   CHECK_THROWS_AS(medspheres::save_sphere_set(good, dir.file("missing/out.json")),
@@ -127,17 +124,6 @@ TEST_CASE("saving is atomic: failures leave no file and no temporary behind", "[
   }
   CHECK(entries == 1);  // only out.spheres.json
 }
-
-namespace {
-
-std::string read_text(const std::string& path) {
-  std::ifstream in(path, std::ios::binary);
-  std::stringstream s;
-  s << in.rdbuf();
-  return s.str();
-}
-
-}  // namespace
 
 TEST_CASE("saving through a symbolic link writes its target and keeps the link", "[io]") {
   namespace fs = std::filesystem;
@@ -163,8 +149,8 @@ TEST_CASE("saving through a symbolic link writes its target and keeps the link",
     medspheres::save_sphere_set(s, link.string());
     CHECK(fs::is_symlink(fs::symlink_status(link)));
     CHECK(fs::is_regular_file(fs::symlink_status(target)));
-    CHECK(read_text(target) == expected);
-    CHECK(read_text(link.string()) == expected);
+    CHECK(read_file(target) == expected);
+    CHECK(read_file(link.string()) == expected);
     // The file replaced keeps its permission bits.
     CHECK((fs::status(target).permissions() & fs::perms::all) ==
           (fs::perms::owner_read | fs::perms::owner_write | fs::perms::group_read));
@@ -174,7 +160,7 @@ TEST_CASE("saving through a symbolic link writes its target and keeps the link",
   fs::create_symlink("real/new.json", dangling);
   medspheres::save_sphere_set(s, dangling.string());
   CHECK(fs::is_symlink(fs::symlink_status(dangling)));
-  CHECK(read_text((dir.path() / "real/new.json").string()) == expected);
+  CHECK(read_file((dir.path() / "real/new.json").string()) == expected);
   // Only the files made here remain: no temporaries.
   std::size_t entries = 0;
   for (const auto& e : fs::directory_iterator(dir.path() / "real")) {
@@ -239,7 +225,7 @@ TEST_CASE("an output path that cannot be a file is bad input, found before writi
     }
   }
   CHECK(std::filesystem::is_directory(dir.path()));
-  CHECK(read_text(parent_file) == "x");
+  CHECK(read_file(parent_file) == "x");
   CHECK_NOTHROW(medspheres::check_output_path(dir.file("new.json")));
   CHECK_FALSE(std::filesystem::exists(dir.file("new.json")));
 }
@@ -340,9 +326,9 @@ TEST_CASE("the temporary file is always created anew and no existing file or lin
     fs::create_symlink(victim, dir.path() / (".out.json.tmp." + std::to_string(::getpid()) + "." +
                                              std::to_string(i)));
   medspheres::save_sphere_set(s, target);
-  CHECK(read_text(victim) == "victim");
+  CHECK(read_file(victim) == "victim");
   CHECK(fs::is_regular_file(fs::symlink_status(target)));
-  CHECK(read_text(target) == medspheres::sphere_set_to_json(s));
+  CHECK(read_file(target) == medspheres::sphere_set_to_json(s));
   std::size_t entries = 0;
   for (const auto& e : fs::directory_iterator(dir.path())) {
     (void)e;

@@ -69,6 +69,9 @@ struct MeshReport {
   Eigen::Vector3d bbox_max = Eigen::Vector3d::Zero();
   std::vector<ComponentReport> component_reports;  ///< in order of first triangle index
 
+  /// The largest side of the bounding box (L, the scale of every relative length).
+  double largest_side() const { return (bbox_max - bbox_min).maxCoeff(); }
+
   /// True when every component is closed and wound outward, or inward as the wall of a
   /// cavity: the precondition for an exact enclosed volume and an exact inside test.
   bool is_closed_outward() const;

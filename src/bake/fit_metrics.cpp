@@ -359,7 +359,7 @@ FitEvaluator::FitEvaluator(const TriangleMesh& mesh, int threads)
   const MeshReport report = analyze_mesh(query_.mesh());
   closed_ = report.closed;
   volume_ = volume_of(report);
-  tolerance_ = kProtrusionTolerance * (report.bbox_max - report.bbox_min).maxCoeff();
+  tolerance_ = kProtrusionTolerance * report.largest_side();
   self_intersections_ = find_self_intersections(query_.mesh(), threads);
 }
 

@@ -145,7 +145,7 @@ BakeOptions bake_options(const BakeArgs& a) {
 void check_medial_tolerance(const BakeArgs& a, const MeshReport& report) {
   const bool search = a.max_spheres || a.target_error;
   const int finest = search ? kMaxSearchResolution : a.resolution;
-  const double longest = (report.bbox_max - report.bbox_min).maxCoeff();
+  const double longest = report.largest_side();
   const std::optional<std::string> problem =
       medial_tolerance_problem(a.medial_tolerance, longest, finest);
   if (!problem) return;
@@ -200,7 +200,7 @@ int run_bake(const BakeArgs& args) {
     for (const std::string& w : loaded.warnings)
       std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
   check_medial_tolerance(args, loaded.report);
-  if (dilation) dilation->resolve_lengths((loaded.report.bbox_max - loaded.report.bbox_min).maxCoeff());
+  if (dilation) dilation->resolve_lengths(loaded.report.largest_side());
   // Orients (a no-op after the loader), builds the mesh query and computes the volume.
   const FitEvaluator fit(loaded.mesh, args.threads);
   if (args.target_error && !fit.volume())

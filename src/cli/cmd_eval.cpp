@@ -177,7 +177,7 @@ int run_eval(const EvalArgs& args) {
   std::vector<std::string> warnings;
   for (const std::string& w : loaded.warnings) warnings.push_back(args.mesh + ": " + w);
   for (const std::string& w : report.warnings) warnings.push_back(w);
-  const double longest = (loaded.report.bbox_max - loaded.report.bbox_min).maxCoeff();
+  const double longest = loaded.report.largest_side();
   if (args.json)
     print_json(args, report, longest, warnings);
   else

@@ -1,9 +1,11 @@
 #pragma once
-// A fresh temporary directory per test, removed when the object dies.
+// Files for tests: a fresh temporary directory per test, removed when the object dies;
+// reading a whole file; the bundled example meshes.
 
 #include <atomic>
 #include <filesystem>
 #include <fstream>
+#include <sstream>
 #include <string>
 
 #include <unistd.h>
@@ -40,5 +42,20 @@ class TempDir {
  private:
   std::filesystem::path path_;
 };
+
+/// The whole content of \p path, byte for byte (empty if it cannot be read).
+inline std::string read_file(const std::string& path) {
+  std::ifstream in(path, std::ios::binary);
+  std::stringstream s;
+  s << in.rdbuf();
+  return s.str();
+}
+
+#ifdef MEDSPHERES_SOURCE_DIR
+/// The path of a bundled example mesh, e.g. example_mesh("eight.off").
+inline std::string example_mesh(const std::string& name) {
+  return std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/" + name;
+}
+#endif
 
 }  // namespace medspheres::test
