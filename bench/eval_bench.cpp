@@ -10,9 +10,9 @@
 #include <string>
 #include <vector>
 
-#include "medspheres/bake.h"
-#include "medspheres/fit_metrics.h"
-#include "medspheres/mesh_io.h"
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
 
 namespace {

@@ -23,9 +23,9 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "support/shared_meshes.h"
 
 namespace {

@@ -94,12 +94,12 @@
 #include <fcl/fcl.h>
 
 #include "bench_util.h"
-#include "medspheres/bake.h"
-#include "medspheres/dilate.h"
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/dilate.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/io.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "support/shared_meshes.h"
 
 namespace {

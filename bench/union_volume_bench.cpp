@@ -23,11 +23,11 @@
 #include <string>
 #include <vector>
 
-#include "medspheres/bake.h"
-#include "medspheres/dilate.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/mesh_query.h"
-#include "medspheres/union_volume.h"
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/dilate.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/bake/union_volume.h"
 #include "support/shared_meshes.h"
 
 namespace {

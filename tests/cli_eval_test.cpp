@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "medspheres/io.h"
-#include "medspheres/mesh_generators.h"
+#include "medspheres/mesh/mesh_generators.h"
 #include "support/mesh_writers.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"

@@ -6,13 +6,13 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake.h"
-#include "medspheres/dilate.h"
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/dilate.h"
 #include "medspheres/error.h"
-#include "medspheres/fit_metrics.h"
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/mesh_query.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "medspheres/sphere_tree.h"
 #include "support/shared_meshes.h"
 #include "support/temp_dir.h"

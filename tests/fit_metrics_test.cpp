@@ -8,11 +8,11 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake.h"
+#include "medspheres/bake/bake.h"
 #include "medspheres/error.h"
-#include "medspheres/fit_metrics.h"
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;

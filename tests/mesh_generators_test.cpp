@@ -2,8 +2,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_report.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_report.h"
 
 using namespace medspheres;
 

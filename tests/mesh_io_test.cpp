@@ -17,8 +17,8 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/error.h"
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
 #include "support/mesh_writers.h"
 #include "support/temp_dir.h"
 

@@ -4,9 +4,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "support/point_triangle_oracle.h"
 #include "support/shared_meshes.h"
 

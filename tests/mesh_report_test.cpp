@@ -3,9 +3,9 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/error.h"
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/mesh_report.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_report.h"
 #include "support/mesh_writers.h"
 #include "support/shared_meshes.h"
 

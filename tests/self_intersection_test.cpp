@@ -1,7 +1,7 @@
 // Self-intersecting triangle pairs: each case of the definition on two triangles, meshes
 // whose pairs are known by construction, brute force over all pairs, and the manifest of
 // the shared meshes.
-#include "medspheres/self_intersection.h"
+#include "medspheres/bake/self_intersection.h"
 
 #include <algorithm>
 #include <array>
@@ -17,8 +17,8 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_io.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
 
 using Eigen::Vector3d;

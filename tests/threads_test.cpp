@@ -8,9 +8,9 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/mesh_generators.h"
-#include "medspheres/mesh_query.h"
-#include "medspheres/threads.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/mesh/threads.h"
 
 using namespace medspheres;
 

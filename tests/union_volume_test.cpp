@@ -13,7 +13,7 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/error.h"
-#include "medspheres/union_volume.h"
+#include "medspheres/bake/union_volume.h"
 
 using Catch::Matchers::Contains;
 using Eigen::Vector3d;

@@ -3,9 +3,9 @@
 #include <cstdio>
 #include <exception>
 
-#include <medspheres/bake.h>
+#include <medspheres/bake/bake.h>
 #include <medspheres/io.h>
-#include <medspheres/mesh_io.h>
+#include <medspheres/mesh/mesh_io.h>
 #include <medspheres/version.h>
 
 int main(int argc, char** argv) {

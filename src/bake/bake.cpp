@@ -1,4 +1,4 @@
-#include "medspheres/bake.h"
+#include "medspheres/bake/bake.h"
 
 #include <algorithm>
 #include <atomic>
@@ -13,7 +13,7 @@
 #include <utility>
 
 #include "medspheres/error.h"
-#include "medspheres/mesh_report.h"
+#include "medspheres/mesh/mesh_report.h"
 #include "number_text.h"
 
 namespace medspheres {

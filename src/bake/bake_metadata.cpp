@@ -1,4 +1,4 @@
-#include "medspheres/bake_metadata.h"
+#include "medspheres/bake/bake_metadata.h"
 
 #include <cmath>
 

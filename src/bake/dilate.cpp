@@ -1,4 +1,4 @@
-#include "medspheres/dilate.h"
+#include "medspheres/bake/dilate.h"
 
 #include <algorithm>
 #include <array>
@@ -11,9 +11,9 @@
 #include <string>
 
 #include "medspheres/error.h"
-#include "medspheres/fit_metrics.h"
-#include "medspheres/threads.h"
-#include "medspheres/union_volume.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/mesh/threads.h"
+#include "medspheres/bake/union_volume.h"
 
 namespace medspheres {
 

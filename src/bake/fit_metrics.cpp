@@ -1,5 +1,5 @@
 // Fit metrics of a sphere set against a mesh; see fit_metrics.h for the definitions.
-#include "medspheres/fit_metrics.h"
+#include "medspheres/bake/fit_metrics.h"
 
 #include <algorithm>
 #include <array>
@@ -12,8 +12,8 @@
 #include <utility>
 
 #include "medspheres/error.h"
-#include "medspheres/mesh_report.h"
-#include "medspheres/threads.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/threads.h"
 #include "number_text.h"
 #include "union_grid.h"
 

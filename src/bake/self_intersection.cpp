@@ -1,5 +1,5 @@
 // Self-intersecting triangle pairs; see self_intersection.h for the definitions.
-#include "medspheres/self_intersection.h"
+#include "medspheres/bake/self_intersection.h"
 
 #include <algorithm>
 #include <limits>
@@ -12,7 +12,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
 
-#include "medspheres/threads.h"
+#include "medspheres/mesh/threads.h"
 
 namespace medspheres {
 

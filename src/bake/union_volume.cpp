@@ -18,7 +18,7 @@
 // boundary of the dual face) counts as meeting; it changes no measure. Because a simplex
 // with a coface in K is in K, K is a simplicial complex whatever the ties.
 
-#include "medspheres/union_volume.h"
+#include "medspheres/bake/union_volume.h"
 
 #include <algorithm>
 #include <array>

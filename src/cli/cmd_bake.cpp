@@ -10,13 +10,13 @@
 #include <vector>
 
 #include "cli_common.h"
-#include "medspheres/bake.h"
-#include "medspheres/bake_metadata.h"
-#include "medspheres/dilate.h"
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/bake_metadata.h"
+#include "medspheres/bake/dilate.h"
 #include "medspheres/error.h"
-#include "medspheres/fit_metrics.h"
+#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/io.h"
-#include "medspheres/mesh_io.h"
+#include "medspheres/mesh/mesh_io.h"
 
 namespace medspheres::cli {
 

@@ -8,10 +8,10 @@
 
 #include "cli_common.h"
 #include "medspheres/error.h"
-#include "medspheres/fit_metrics.h"
+#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/io.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/threads.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/threads.h"
 
 namespace medspheres::cli {
 

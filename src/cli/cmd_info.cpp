@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "medspheres/mesh_io.h"
-#include "medspheres/self_intersection.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/bake/self_intersection.h"
 
 namespace medspheres::cli {
 

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "point_triangle.h"
 
 namespace medspheres::detail {

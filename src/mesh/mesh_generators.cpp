@@ -1,4 +1,4 @@
-#include "medspheres/mesh_generators.h"
+#include "medspheres/mesh/mesh_generators.h"
 
 #include <cmath>
 #include <map>

@@ -1,4 +1,4 @@
-#include "medspheres/mesh_io.h"
+#include "medspheres/mesh/mesh_io.h"
 
 #include <algorithm>
 #include <cerrno>

@@ -1,4 +1,4 @@
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_query.h"
 
 #include <algorithm>
 #include <cmath>
@@ -11,8 +11,8 @@
 #include <emmintrin.h>
 #endif
 
-#include "medspheres/mesh_report.h"
-#include "medspheres/threads.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/threads.h"
 #include "mesh_bvh.h"
 
 namespace medspheres {

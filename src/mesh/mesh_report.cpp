@@ -1,4 +1,4 @@
-#include "medspheres/mesh_report.h"
+#include "medspheres/mesh/mesh_report.h"
 
 #include <algorithm>
 #include <cmath>

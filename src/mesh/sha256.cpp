@@ -8,7 +8,7 @@
 #include <string>
 
 #include "medspheres/error.h"
-#include "medspheres/mesh_io.h"
+#include "medspheres/mesh/mesh_io.h"
 
 namespace medspheres {
 

@@ -1,5 +1,5 @@
 // thread_count (threads.h): here because this component brings OpenMP.
-#include "medspheres/threads.h"
+#include "medspheres/mesh/threads.h"
 
 #include <algorithm>
 

@@ -6,7 +6,7 @@
 #include <utility>
 #include <vector>
 
-#include "medspheres/mesh_generators.h"
+#include "medspheres/mesh/mesh_generators.h"
 
 namespace medspheres::test {
 

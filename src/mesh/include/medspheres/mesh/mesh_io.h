@@ -61,7 +61,7 @@
 #include <string>
 #include <vector>
 
-#include "medspheres/mesh_report.h"
+#include "medspheres/mesh/mesh_report.h"
 #include "medspheres/triangle_mesh.h"
 
 namespace medspheres {

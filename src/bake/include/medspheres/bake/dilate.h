@@ -44,7 +44,7 @@
 #include <limits>
 #include <vector>
 
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "medspheres/sphere_set.h"
 
 namespace medspheres {

@@ -105,12 +105,12 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "medspheres/mesh_query.h"
-#include "medspheres/self_intersection.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/bake/self_intersection.h"
 #include "medspheres/sphere_set.h"
-#include "medspheres/threads.h"
+#include "medspheres/mesh/threads.h"
 #include "medspheres/triangle_mesh.h"
-#include "medspheres/union_volume.h"
+#include "medspheres/bake/union_volume.h"
 
 namespace medspheres {
 

@@ -7,9 +7,9 @@
 #include <optional>
 #include <string>
 
-#include "medspheres/bake.h"
-#include "medspheres/dilate.h"
-#include "medspheres/mesh_report.h"
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/dilate.h"
+#include "medspheres/mesh/mesh_report.h"
 
 namespace medspheres {
 

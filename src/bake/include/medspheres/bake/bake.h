@@ -73,9 +73,9 @@
 #include <string>
 #include <vector>
 
-#include "medspheres/mesh_query.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "medspheres/sphere_set.h"
-#include "medspheres/threads.h"
+#include "medspheres/mesh/threads.h"
 
 namespace medspheres {
 
