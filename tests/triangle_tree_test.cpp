@@ -1,5 +1,5 @@
 // TriangleTree and the sphere-set-to-mesh queries, against brute force over all
-// sphere x triangle pairs.
+// sphere x triangle pairs with the 113-bit point-triangle oracle.
 
 #include <algorithm>
 #include <cmath>
@@ -12,6 +12,7 @@
 
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_tree.h"
+#include "support/point_triangle_oracle.h"
 #include "support/sphere_fixtures.h"
 
 using medspheres::BallProximity;
@@ -24,52 +25,6 @@ using medspheres::TreeDistance;
 using medspheres::TriangleMesh;
 using medspheres::TriangleTree;
 namespace mt = medspheres::test;
-
-namespace {
-
-constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-// Projection onto a convex set: q is the nearest point of triangle T to p iff q is in T
-// and (p - q) . (x - q) <= 0 for every x in T, enough to check at the corners.
-void check_projection(const Eigen::Vector3d& p, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                      const Eigen::Vector3d& c, const Eigen::Vector3d& q) {
-  const double scale = 1 + p.norm() + a.norm() + b.norm() + c.norm();
-  const double tol = 1e-12 * scale * scale;
-  for (const Eigen::Vector3d& x : {a, b, c}) CHECK((p - q).dot(x - q) <= tol);
-  // q is a convex combination of the corners (least squares in the triangle's plane,
-  // or on the segment for a degenerate triangle).
-  const Eigen::Vector3d n = (b - a).cross(c - a);
-  if (n.norm() > 1e-9 * scale) {
-    const double area = n.squaredNorm();
-    const double l1 = (c - b).cross(q - b).dot(n) / area;
-    const double l2 = (a - c).cross(q - c).dot(n) / area;
-    const double l3 = (b - a).cross(q - a).dot(n) / area;
-    CHECK(l1 >= -1e-9);
-    CHECK(l2 >= -1e-9);
-    CHECK(l3 >= -1e-9);
-    CHECK(std::abs(n.normalized().dot(q - a)) <= 1e-12 * scale);
-  }
-}
-
-}  // namespace
-
-TEST_CASE("closest_point_on_triangle is the projection", "[triangle_tree]") {
-  std::mt19937 rng(5);
-  std::uniform_real_distribution<double> u(-2, 2);
-  auto rnd = [&] { return Eigen::Vector3d(u(rng), u(rng), u(rng)); };
-  for (int k = 0; k < 20000; ++k) {
-    const Eigen::Vector3d a = rnd(), b = rnd(), c = rnd(), p = rnd();
-    check_projection(p, a, b, c, medspheres::closest_point_on_triangle(p, a, b, c));
-  }
-  // Degenerate triangles: a segment and a point.
-  for (int k = 0; k < 2000; ++k) {
-    const Eigen::Vector3d a = rnd(), b = rnd(), p = rnd();
-    const Eigen::Vector3d q = medspheres::closest_point_on_triangle(p, a, b, 0.5 * (a + b));
-    const double t = std::clamp((p - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
-    CHECK((q - (a + t * (b - a))).norm() <= 1e-12 * (1 + p.norm() + a.norm() + b.norm()));
-    CHECK(medspheres::closest_point_on_triangle(p, a, a, a) == a);
-  }
-}
 
 TEST_CASE("ball_triangle_proximity follows the BallProximity convention", "[triangle_tree]") {
   const Eigen::Vector3d a(0, 0, 0), b(2, 0, 0), c(0, 2, 0);
@@ -147,9 +102,9 @@ TEST_CASE("Sphere tree to triangle mesh queries match brute force", "[triangle_t
     for (std::size_t i = 0; i < set.size(); ++i) {
       const Eigen::Vector3d c = X_WA * set.spheres[i].center;
       for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
-        const Eigen::Vector3d q = medspheres::closest_point_on_triangle(
-            c, X_WB * mesh.corner(t, 0), X_WB * mesh.corner(t, 1), X_WB * mesh.corner(t, 2));
-        const double sd = (q - c).norm() - set.spheres[i].radius;
+        const double sd = mt::oracle_distance(c, X_WB * mesh.corner(t, 0), X_WB * mesh.corner(t, 1),
+                                              X_WB * mesh.corner(t, 2)) -
+                          set.spheres[i].radius;
         best = std::min(best, sd);
         if (sd <= 0.0)
           overlaps.insert({static_cast<std::intptr_t>(i), static_cast<std::intptr_t>(t)});
@@ -162,10 +117,11 @@ TEST_CASE("Sphere tree to triangle mesh queries match brute force", "[triangle_t
     const Sphere& s = set.spheres[static_cast<std::size_t>(sd.sphere_a)];
     const Eigen::Vector3d c = X_WA * s.center;
     const std::size_t t = static_cast<std::size_t>(sd.primitive_b);
-    const Eigen::Vector3d q = medspheres::closest_point_on_triangle(
-        c, X_WB * mesh.corner(t, 0), X_WB * mesh.corner(t, 1), X_WB * mesh.corner(t, 2));
-    CHECK((q - c).norm() - s.radius == Approx(best).margin(tol));
-    CHECK((sd.p_WPb - q).norm() <= tol);
+    const Eigen::Vector3d t0 = X_WB * mesh.corner(t, 0), t1 = X_WB * mesh.corner(t, 1),
+                          t2 = X_WB * mesh.corner(t, 2);
+    CHECK(mt::oracle_distance(c, t0, t1, t2) - s.radius == Approx(best).margin(tol));
+    CHECK(mt::oracle_distance(sd.p_WPb, t0, t1, t2) <= tol);  // on the triangle
+    CHECK((sd.p_WPb - c).norm() == Approx(s.radius + best).margin(tol));
     CHECK((sd.p_WPa - c).norm() == Approx(s.radius).margin(tol));
     const TreeDistance d = medspheres::distance(spheres, X_WA, tree, X_WB);
     if (best > tol) {

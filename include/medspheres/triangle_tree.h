@@ -1,20 +1,15 @@
 #pragma once
 /// \file
-/// TriangleTree: an RSS hierarchy over the triangles of a TriangleMesh, built like
-/// SphereTree's (each triangle is fitted as its three corners, split by its centroid,
-/// one triangle per leaf), so that a SphereTree can be queried against a mesh.
+/// TriangleTree: an RSS hierarchy over the triangles of a TriangleMesh (built like
+/// SphereTree's: each triangle fitted as its three corners, split by centroid, one per
+/// leaf), so that a SphereTree can be queried against a mesh. Frame and units: the mesh's
+/// own, called B in queries (sphere_tree.h). Primitive ids are triangle indices.
 ///
-/// Frame and units: the mesh's own frame, called B in queries (see sphere_tree.h).
-///
-/// The mesh is a surface, not a solid: a triangle's answer to a ball is the distance from
-/// the ball's centre to the triangle minus its radius, which is never below minus the
-/// radius. A sphere set entirely inside a closed mesh, touching no triangle, neither
-/// collides with it nor has a negative distance to it; this is also how FCL treats a
-/// BVHModel. Degenerate triangles (zero area) count as the segment or point they are.
-/// Primitive ids in results are triangle indices.
-///
-/// Thread safety: immutable once built; every const member may be called from many
-/// threads at once.
+/// The mesh is a surface, not a solid: a triangle answers a ball as
+/// ball_triangle_proximity does (never below minus the radius), so spheres inside a
+/// closed mesh touching no triangle neither collide with it nor have a negative distance
+/// (as FCL treats a BVHModel). Every closest point comes from point_triangle.h, the
+/// kernel MeshQuery uses too. Immutable once built; const members are thread-safe.
 
 #include <array>
 #include <cstddef>
@@ -23,22 +18,17 @@
 
 #include <Eigen/Core>
 
+#include "medspheres/point_triangle.h"
 #include "medspheres/proximity_target.h"
 #include "medspheres/rss.h"
 #include "medspheres/triangle_mesh.h"
 
 namespace medspheres {
 
-/// The point of triangle (a, b, c) nearest to p (Ericson, Real-Time Collision Detection,
-/// §5.1.5). For a degenerate triangle, the nearest point of its three edges.
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c);
-
-/// The answer of triangle (a, b, c), as a surface, to the ball (centre, radius): distance
-/// |q - centre| - radius with q = closest_point_on_triangle(centre, a, b, c), and normal
-/// (q - centre) / |q - centre|. When the centre lies on the triangle the normal is
-/// -(b - a) x (c - a) normalized (into the solid for an outward-wound mesh), or the x
-/// axis when the triangle is degenerate.
+/// The answer of triangle (a, b, c), as a surface, to the ball (centre, radius):
+/// distance |q - centre| - radius, q = closest_point_on_triangle(centre, a, b, c), normal
+/// (q - centre) / |q - centre|; for a centre on the triangle, -(b - a) x (c - a)
+/// normalized (into an outward-wound solid), or the x axis if that is zero.
 BallProximity ball_triangle_proximity(const Eigen::Vector3d& center, double radius,
                                       const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                       const Eigen::Vector3d& c);
@@ -76,6 +66,8 @@ class TriangleTree final : public ProximityTarget {
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::vector<int> order_;  ///< triangle indices in tree order
+  std::vector<detail::QueryTriangle> prepared_;  ///< per triangle (point_triangle.h)
+  std::vector<Eigen::Vector3d> normals_;         ///< per triangle: its TrianglePlane's
   std::vector<Node> nodes_;
 };
 

@@ -7,7 +7,7 @@
 #include <vector>
 
 #include "medspheres/mesh/mesh_query.h"
-#include "point_triangle.h"
+#include "medspheres/point_triangle.h"
 
 namespace medspheres::detail {
 

@@ -1,3 +1,26 @@
+// MeshQuery (mesh_query.h): a 4-wide bounding volume hierarchy over the triangles, with
+// exact leaf tests by the point-triangle kernel (medspheres/point_triangle.h).
+//
+// Closest point. The hierarchy prunes only boxes that are provably farther than the best
+// triangle found so far: its boxes are single precision, scaled to the mesh's size and
+// rounded outward, and pruning allows a slack of 8 float ulps (see closest()); every
+// surviving triangle goes through the kernel in double precision, after the cheaper
+// plane bound (TrianglePlane). Far queries: once the float boxes no longer tell
+// triangles apart, the search visits most of the tree (README gives the distance), and
+// when |p - centre| + the mesh's size exceeds 2^200 it is a brute-force search in
+// coordinates scaled by a power of two (closest_far), so that every finite query point
+// gets a finite distance and a valid triangle.
+//
+// Winding numbers (winding_number.cpp). A subtree whose triangles all lie within radius
+// r of their area-weighted centre c is replaced by its Taylor expansion to second order
+// when |p - c| > beta r; otherwise its triangles' solid angles (Van Oosterom and
+// Strackee) are summed directly. The error of one expanded subtree falls like beta^-5
+// and errors of different subtrees add up (README: measured totals).
+//
+// Hole caps. An open mesh's solid is where its winding number exceeds 1/2; across a
+// planar hole the boundary of that solid is the hole itself, which a fan from the
+// centroid covers exactly when the hole is convex. With the caps, distances to the
+// solid's boundary include the holes.
 #include "medspheres/mesh/mesh_query.h"
 
 #include <algorithm>
@@ -271,8 +294,9 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
   for (std::size_t i = 0; i < original.size(); ++i) {
     const int t = original[i];
     const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
-    triangles[i] = QueryTriangle::from(a, b, c);
-    planes[i] = TrianglePlane::from(a, b, c, triangles[i]);
+    const PreparedTriangle prepared = prepare_triangle(a, b, c);
+    triangles[i] = prepared.triangle;
+    planes[i] = prepared.plane;
   }
 
   // Far-field expansions. Each node's moments are summed over its own triangles,

@@ -11,7 +11,7 @@
 
 #include "medspheres/error.h"
 #include "mesh_topology.h"
-#include "point_triangle.h"
+#include "solid_angle.h"
 
 namespace medspheres {
 

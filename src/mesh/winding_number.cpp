@@ -2,6 +2,7 @@
 #include <cmath>
 
 #include "mesh_bvh.h"
+#include "solid_angle.h"
 
 namespace medspheres {
 

@@ -9,63 +9,10 @@
 namespace medspheres {
 namespace {
 
-Eigen::Vector3d closest_point_on_segment(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                         const Eigen::Vector3d& b) {
-  const Eigen::Vector3d ab = b - a;
-  const double len2 = ab.squaredNorm();
-  if (!(len2 > 0.0)) return a;
-  const double t = std::clamp((p - a).dot(ab) / len2, 0.0, 1.0);
-  return a + ab * t;
-}
-
-}  // namespace
-
-Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
-                                          const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  // Voronoi regions of the vertices, then of the edges, then the face.
-  const Eigen::Vector3d ab = b - a, ac = c - a, ap = p - a;
-  const double d1 = ab.dot(ap), d2 = ac.dot(ap);
-  if (d1 <= 0.0 && d2 <= 0.0) return a;
-  const Eigen::Vector3d bp = p - b;
-  const double d3 = ab.dot(bp), d4 = ac.dot(bp);
-  if (d3 >= 0.0 && d4 <= d3) return b;
-  const double vc = d1 * d4 - d3 * d2;
-  if (vc <= 0.0 && d1 >= 0.0 && d3 <= 0.0) {
-    const double denom = d1 - d3;
-    if (denom > 0.0) return a + ab * (d1 / denom);
-  }
-  const Eigen::Vector3d cp = p - c;
-  const double d5 = ab.dot(cp), d6 = ac.dot(cp);
-  if (d6 >= 0.0 && d5 <= d6) return c;
-  const double vb = d5 * d2 - d1 * d6;
-  if (vb <= 0.0 && d2 >= 0.0 && d6 <= 0.0) {
-    const double denom = d2 - d6;
-    if (denom > 0.0) return a + ac * (d2 / denom);
-  }
-  const double va = d3 * d6 - d5 * d4;
-  if (va <= 0.0 && (d4 - d3) >= 0.0 && (d5 - d6) >= 0.0) {
-    const double denom = (d4 - d3) + (d5 - d6);
-    if (denom > 0.0) return b + (c - b) * ((d4 - d3) / denom);
-  }
-  const double sum = va + vb + vc;
-  if (sum > 0.0 && va >= 0.0 && vb >= 0.0 && vc >= 0.0) {
-    const Eigen::Vector3d q = a + ab * (vb / sum) + ac * (vc / sum);
-    if (q.allFinite()) return q;
-  }
-  // Degenerate triangle (or rounding at a region boundary): the nearest edge point.
-  const Eigen::Vector3d q0 = closest_point_on_segment(p, a, b);
-  const Eigen::Vector3d q1 = closest_point_on_segment(p, b, c);
-  const Eigen::Vector3d q2 = closest_point_on_segment(p, c, a);
-  const double e0 = (p - q0).squaredNorm(), e1 = (p - q1).squaredNorm(),
-               e2 = (p - q2).squaredNorm();
-  if (e0 <= e1 && e0 <= e2) return q0;
-  return e1 <= e2 ? q1 : q2;
-}
-
-BallProximity ball_triangle_proximity(const Eigen::Vector3d& center, double radius,
-                                      const Eigen::Vector3d& a, const Eigen::Vector3d& b,
-                                      const Eigen::Vector3d& c) {
-  const Eigen::Vector3d q = closest_point_on_triangle(center, a, b, c);
+// The ball's answer given q, the triangle's point nearest to its centre.
+BallProximity ball_answer(const Eigen::Vector3d& center, double radius, const Eigen::Vector3d& q,
+                          const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                          const Eigen::Vector3d& c) {
   const Eigen::Vector3d diff = q - center;
   const double len = diff.norm();
   BallProximity out;
@@ -80,20 +27,40 @@ BallProximity ball_triangle_proximity(const Eigen::Vector3d& center, double radi
   return out;
 }
 
-TriangleTree::TriangleTree(const TriangleMesh& mesh)
-    : vertices_(mesh.vertices), triangles_(mesh.triangles) {
-  for (std::size_t i = 0; i < vertices_.size(); ++i) {
-    if (!vertices_[i].allFinite())
+void check_mesh(const TriangleMesh& mesh) {
+  for (std::size_t i = 0; i < mesh.vertices.size(); ++i) {
+    if (!mesh.vertices[i].allFinite())
       throw std::invalid_argument("TriangleTree: vertex " + std::to_string(i) +
                                   " has a non-finite coordinate");
   }
-  const int nv = static_cast<int>(vertices_.size());
-  for (std::size_t t = 0; t < triangles_.size(); ++t) {
-    for (int k : triangles_[t]) {
+  const int nv = static_cast<int>(mesh.vertices.size());
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
+    for (int k : mesh.triangles[t]) {
       if (k < 0 || k >= nv)
         throw std::invalid_argument("TriangleTree: triangle " + std::to_string(t) +
                                     " has vertex index " + std::to_string(k) + " out of range");
     }
+  }
+}
+
+}  // namespace
+
+BallProximity ball_triangle_proximity(const Eigen::Vector3d& center, double radius,
+                                      const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                      const Eigen::Vector3d& c) {
+  return ball_answer(center, radius, closest_point_on_triangle(center, a, b, c), a, b, c);
+}
+
+TriangleTree::TriangleTree(const TriangleMesh& mesh)
+    : vertices_(mesh.vertices), triangles_(mesh.triangles) {
+  check_mesh(mesh);
+  prepared_.reserve(triangles_.size());
+  normals_.reserve(triangles_.size());
+  for (std::size_t t = 0; t < triangles_.size(); ++t) {
+    const detail::PreparedTriangle p =
+        detail::prepare_triangle(mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
+    prepared_.push_back(p.triangle);
+    normals_.push_back(p.plane.normal);
   }
   detail::BuildInput input;
   const std::size_t n = triangles_.size();
@@ -165,10 +132,12 @@ int TriangleTree::children(const TargetNode& node, TargetNode* out) const {
 
 BallProximity TriangleTree::ball_proximity(const TargetNode& leaf, const Eigen::Vector3d& p_BC,
                                            double radius) const {
-  const std::array<int, 3>& t = triangles_[static_cast<std::size_t>(leaf.primitive)];
-  return ball_triangle_proximity(p_BC, radius, vertices_[static_cast<std::size_t>(t[0])],
-                                 vertices_[static_cast<std::size_t>(t[1])],
-                                 vertices_[static_cast<std::size_t>(t[2])]);
+  const auto t = static_cast<std::size_t>(leaf.primitive);
+  const Eigen::Vector3d q = detail::closest_on_triangle(p_BC, prepared_[t], normals_[t]);
+  const std::array<int, 3>& c = triangles_[t];
+  return ball_answer(p_BC, radius, q, vertices_[static_cast<std::size_t>(c[0])],
+                     vertices_[static_cast<std::size_t>(c[1])],
+                     vertices_[static_cast<std::size_t>(c[2])]);
 }
 
 }  // namespace medspheres

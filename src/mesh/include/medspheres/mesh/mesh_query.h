@@ -1,38 +1,18 @@
 #pragma once
 /// \file
-/// MeshQuery: exact closest points and a robust inside test on a triangle mesh. This is
-/// the hot loop of baking.
+/// MeshQuery: exact closest points and a robust inside test on a triangle mesh, the hot
+/// loop of baking. Queries and results are in the mesh's frame M and units.
 ///
-/// Frames and units: queries and results are in the mesh's frame M and units.
+/// closest_point(p): the nearest point of the mesh over all triangles (a degenerate one
+/// counts as its segment or point), its distance and its triangle. Exact to the
+/// kernel's bound (medspheres/point_triangle.h) for every finite p, however far;
+/// TriangleTree uses the same kernel and gives the same answers. Ties: the triangle the
+/// traversal finds first, which depends only on the mesh and p, never on threads.
 ///
-/// Closest point. closest_point(p) returns the point of the mesh nearest to p (over all
-/// triangles, degenerate ones included: a zero-area triangle is treated as the segment
-/// or point it is), its distance, and the index of the triangle it lies on. The answer
-/// is exact to a few units of double rounding for every shape of triangle, slivers and
-/// needles included: the distance, and the returned point's distance to its triangle,
-/// are within 32 u (|p| + |p - a| + L) of the truth, where u = 2^-53, a is a corner and
-/// L the longest edge of the nearest triangle (src/mesh/point_triangle.h derives the
-/// bound; the tests check it against a 113-bit oracle). The bounding volume hierarchy
-/// prunes only boxes that are provably farther than the best triangle found so far,
-/// with float boxes scaled to the mesh's size and rounded outward and a pruning slack of
-/// 8 float ulps (see mesh_query.cpp), and every surviving triangle is tested in double
-/// precision. Every finite query point gets a finite distance and a valid triangle,
-/// however far it is: from about 1e7 mesh sizes away the float boxes no longer tell
-/// triangles apart and the search visits most of the tree, and when |p - centre| + the
-/// mesh's size exceeds 2^200 (1.6e60) it is a brute-force search in coordinates scaled
-/// by a power of two. Ties: when several triangles are at exactly the same distance, the
-/// one found first by the traversal is kept; which one that is depends only on the mesh
-/// and the query point, never on threads.
-///
-/// Inside test. winding_number(p) is the generalized winding number of the mesh at p
-/// (Jacobson et al. 2013): the signed solid angle of the mesh seen from p over 4 pi. It
-/// is 1 inside and 0 outside a closed, outward-wound mesh, and degrades gracefully on
-/// open, self-intersecting or multi-part meshes. It is evaluated hierarchically (Barill
-/// et al. 2018): a subtree whose triangles all lie within radius r of their
-/// area-weighted centre c is replaced by its Taylor expansion to second order when
-/// |p - c| > beta * r; otherwise its triangles' solid angles (Van Oosterom and
-/// Strackee's) are summed directly, with no far-field approximation. inside(p) is
-/// winding_number(p) > 0.5. On the surface itself the answer is unspecified.
+/// winding_number(p): the generalized winding number (Jacobson et al. 2013), 1 inside
+/// and 0 outside a closed outward-wound mesh, graceful on open or self-intersecting ones;
+/// evaluated hierarchically (Barill et al. 2018, second order, see winding_beta).
+/// inside(p) is winding_number(p) > 0.5; on the surface itself it is unspecified.
 ///
 /// Thread safety: every const member may be called from many threads at once.
 
@@ -47,21 +27,15 @@
 namespace medspheres {
 
 struct MeshQueryOptions {
-  /// Hierarchical winding numbers: expand a subtree when the query is farther than
-  /// beta times the subtree's radius. The expansion runs to second order, so the error
-  /// of one expanded subtree falls like beta^-5. Errors of different subtrees add up;
-  /// the tests bound the total by 1e-2 on generated and real meshes, far from the 0.5
-  /// the inside test compares with. Larger is more exact and slower.
+  /// Hierarchical winding numbers: a subtree of radius r is replaced by its expansion
+  /// when the query is farther than beta r from its centre (error per subtree ~ beta^-5).
+  /// Larger is more exact and slower; must be finite and > 1.
   double winding_beta = 2.0;
-  /// Close the holes of an open mesh for the closest-point queries (not for the winding
-  /// number): each chain of boundary_loops() gets a fan of triangles from the centroid
-  /// of its vertices, and closest_point() answers for the triangles and these caps
-  /// together. An open mesh's solid is where its winding number exceeds 1/2; across a
-  /// planar hole the boundary of that solid is the hole itself, which the fan covers
-  /// exactly (for a convex hole; a fan over a non-convex or non-planar loop only
-  /// approximates it). Distances to the solid's boundary then include the holes, so that
-  /// a ball sized by them does not leak out through a hole. No effect on a mesh without
-  /// boundary edges.
+  /// Close the holes of an open mesh for closest_point() (not for the winding number):
+  /// each chain of boundary_loops() gets a fan of triangles from its vertices' centroid,
+  /// numbered after the mesh's triangles (cap_mesh()), so that a ball sized by the
+  /// distance does not leak out through a hole. Exact for convex planar holes, an
+  /// approximation otherwise; no effect on a mesh without boundary edges.
   bool cap_holes = false;
 };
 
