@@ -14,7 +14,6 @@
 #include <cmath>
 #include <cstdio>
 #include <cstring>
-#include <random>
 #include <string>
 #include <vector>
 
@@ -26,6 +25,7 @@
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "support/random_points.h"
 #include "support/shared_meshes.h"
 
 namespace {
@@ -50,43 +50,6 @@ struct Workload {
   std::string name;
   medspheres::TriangleMesh mesh;
 };
-
-std::vector<Eigen::Vector3d> interior_points(const medspheres::MeshQuery& q, std::size_t n,
-                                             unsigned seed) {
-  const Eigen::AlignedBox3d box = q.mesh().bounds();
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0);
-  std::vector<Eigen::Vector3d> pts;
-  std::size_t tries = 0;
-  while (pts.size() < n && tries < 200 * n) {
-    ++tries;
-    const Eigen::Vector3d p =
-        box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
-    if (q.winding_number(p) > 0.5) pts.push_back(p);
-  }
-  return pts;
-}
-
-std::vector<Eigen::Vector3d> near_points(const medspheres::TriangleMesh& m, std::size_t n,
-                                         unsigned seed) {
-  std::mt19937_64 rng(seed);
-  std::uniform_real_distribution<double> u(0.0, 1.0), s(-1.0, 1.0);
-  std::uniform_int_distribution<std::size_t> pick(0, m.triangles.size() - 1);
-  const double off = 1e-3 * m.bounds().sizes().norm();
-  std::vector<Eigen::Vector3d> pts;
-  for (std::size_t i = 0; i < n; ++i) {
-    const std::size_t t = pick(rng);
-    double a = u(rng), b = u(rng);
-    if (a + b > 1) {
-      a = 1 - a;
-      b = 1 - b;
-    }
-    const Eigen::Vector3d on = m.corner(t, 0) + a * (m.corner(t, 1) - m.corner(t, 0)) +
-                               b * (m.corner(t, 2) - m.corner(t, 0));
-    pts.push_back(on + off * Eigen::Vector3d(s(rng), s(rng), s(rng)));
-  }
-  return pts;
-}
 
 struct Row {
   std::string mesh, kind;
@@ -187,8 +150,10 @@ int main(int argc, char** argv) {
     tree.accelerate_distance_queries();
     tree.squared_distance(K::Point_3(0, 0, 0));  // force both lazy builds before timing
 
-    const auto interior = interior_points(q, npoints, 1);
-    const auto near = near_points(w.mesh, npoints, 2);
+    const auto interior = medspheres::test::points_inside(
+        w.mesh.bounds(), npoints, 1, [&q](const Eigen::Vector3d& p) { return q.inside(p); });
+    const auto near = medspheres::test::near_surface_points(w.mesh, npoints, 2,
+                                                            1e-3 * w.mesh.bounds().sizes().norm());
     for (const auto& [kind, pts] : {std::make_pair(std::string("interior"), interior),
                                     std::make_pair(std::string("near"), near)}) {
       if (pts.empty()) continue;

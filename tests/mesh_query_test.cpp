@@ -7,14 +7,18 @@
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/point_triangle.h"
+#include "medspheres/sphere_tree.h"
+#include "medspheres/triangle_tree.h"
 #include "support/point_triangle_oracle.h"
+#include "support/random_points.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
 
 namespace {
 
-// The accuracy MeshQuery promises (src/mesh/point_triangle.h): the distance, and the
+// The accuracy MeshQuery promises (medspheres/point_triangle.h): the distance, and the
 // returned point's distance to its triangle, are within kTolerance u S, with u = 2^-53
 // and S = |p| + |p - a| + L for the nearest triangle (a a corner, L its longest edge).
 // The library measures a few u S (at most ~13 u S, near the degenerate threshold); 32
@@ -35,7 +39,7 @@ std::vector<Eigen::Vector3d> query_points(const TriangleMesh& m, std::size_t n, 
   const Eigen::AlignedBox3d box = m.bounds();
   const Eigen::Vector3d c = box.center(), h = box.sizes() / 2;
   const double size = box.sizes().maxCoeff();
-  std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
   std::uniform_int_distribution<std::size_t> pick(0, m.triangles.size() - 1);
   std::vector<Eigen::Vector3d> pts;
   for (std::size_t i = 0; i < n; ++i) {
@@ -44,13 +48,8 @@ std::vector<Eigen::Vector3d> query_points(const TriangleMesh& m, std::size_t n, 
       pts.push_back(c + 1.5 * Eigen::Vector3d(u(rng) * h.x(), u(rng) * h.y(), u(rng) * h.z()));
     } else if (kind == 1) {
       const std::size_t t = pick(rng);
-      double s = u01(rng), r = u01(rng);
-      if (s + r > 1) {
-        s = 1 - s;
-        r = 1 - r;
-      }
-      const Eigen::Vector3d on = m.corner(t, 0) + s * (m.corner(t, 1) - m.corner(t, 0)) +
-                                 r * (m.corner(t, 2) - m.corner(t, 0));
+      const Eigen::Vector3d on =
+          test::random_point_on_triangle(m.corner(t, 0), m.corner(t, 1), m.corner(t, 2), rng);
       pts.push_back(on + 1e-3 * size * Eigen::Vector3d(u(rng), u(rng), u(rng)));
     } else {
       pts.push_back(c + 20.0 * size * Eigen::Vector3d(u(rng), u(rng), u(rng)));
@@ -88,6 +87,62 @@ TEST_CASE("closest points agree with brute force on generated closed meshes", "[
   TriangleMesh shifted = make_torus(1.0, 0.3, 30, 12);
   for (auto& v : shifted.vertices) v += Eigen::Vector3d(1e6, -2e6, 3e5);
   check_closest_points(shifted, 300, 5);
+}
+
+namespace {
+
+// MeshQuery and TriangleTree share one point-triangle kernel, so they agree to the bit:
+// on the triangle MeshQuery returns, TriangleTree's leaf test gives the same distance
+// and closest_point_on_triangle the same point; and TriangleTree's own search (a sphere
+// tree of one tiny ball at p) ends on a triangle at exactly MeshQuery's distance.
+void check_same_as_triangle_tree(const TriangleMesh& m, std::size_t n, unsigned seed) {
+  const MeshQuery q(m);
+  const TriangleTree tree(m);
+  const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
+  const auto leaf = [](int t) {
+    TargetNode node;
+    node.is_leaf = true;
+    node.primitive = t;
+    return node;
+  };
+  for (const Eigen::Vector3d& p : query_points(m, n, seed)) {
+    const ClosestPoint cp = q.closest_point(p);
+    const std::size_t t = static_cast<std::size_t>(cp.triangle);
+    INFO("p = " << p.transpose() << ", triangle " << t);
+    REQUIRE(closest_point_on_triangle(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)) ==
+            cp.point);
+    REQUIRE(tree.ball_proximity(leaf(cp.triangle), p, 0.0).distance == cp.distance());
+    // A radius far below every distance's ulp: |q - p| - r rounds to |q - p|.
+    SphereSet one;
+    one.spheres.push_back({p, 1e-300});
+    const TreeDistance d = distance(SphereTree(one), I, tree, I);
+    REQUIRE(d.found());
+    CHECK(tree.ball_proximity(leaf(static_cast<int>(d.primitive_b)), p, 0.0).distance ==
+          cp.distance());
+  }
+}
+
+}  // namespace
+
+TEST_CASE("MeshQuery and TriangleTree give identical closest points", "[mesh_query]") {
+  check_same_as_triangle_tree(make_torus(1.0, 0.3, 40, 20), 300, 21);
+  check_same_as_triangle_tree(make_icosphere(2.0, 3), 300, 22);
+  TriangleMesh shifted = make_capsule(0.4, 1.5, 24, 6);
+  for (auto& v : shifted.vertices) v += Eigen::Vector3d(1e6, -2e6, 3e5);
+  check_same_as_triangle_tree(shifted, 300, 23);
+  // Slivers and degenerate triangles take the kernel's other paths.
+  TriangleMesh odd;
+  std::mt19937_64 rng(24);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < 120; ++i) {
+    const Eigen::Vector3d a(u(rng), u(rng), u(rng)), d(u(rng), u(rng), u(rng)),
+        e(u(rng), u(rng), u(rng));
+    const double thin = i % 4 == 3 ? 0.0 : std::pow(10.0, -2.0 - 14.0 * (i % 5) / 4.0);
+    const int base = static_cast<int>(odd.vertices.size());
+    odd.vertices.insert(odd.vertices.end(), {a, a + d, a + 0.37 * d + thin * e});
+    odd.triangles.push_back({base, base + 1, base + 2});
+  }
+  check_same_as_triangle_tree(odd, 300, 25);
 }
 
 TEST_CASE("closest points on degenerate and single triangles", "[mesh_query]") {
@@ -164,12 +219,9 @@ TEST_CASE("closest points on slivers and needles match the 113-bit oracle", "[me
     m.triangles = {{0, 1, 2}};
     const MeshQuery q(m);
     for (int i = 0; i < 200; ++i) {
-      double s = u01(rng), r = u01(rng);
-      if (s + r > 1) {
-        s = 1 - s;
-        r = 1 - r;
-      }
-      const Eigen::Vector3d p(s + 0.5 * r, w * r, 0.0);  // in the plane, inside up to rounding
+      // In the plane, inside up to rounding.
+      const Eigen::Vector3d p =
+          test::random_point_on_triangle(m.vertices[0], m.vertices[1], m.vertices[2], rng);
       const double d = q.closest_point(p).distance();
       INFO("w = " << w << ", p = " << p.transpose() << ", distance " << d);
       CHECK(d <= kTolerance * kU * (2.0 * p.norm() + 1.0));  // S = |p| + |p - a| + L, a = 0
@@ -198,12 +250,7 @@ TEST_CASE("closest points on slivers and needles match the 113-bit oracle", "[me
     const Eigen::Vector3d v[3] = {m.vertices[0], m.vertices[1], m.vertices[2]};
     const Eigen::Vector3d normal = (v[1] - v[0]).cross(v[2] - v[0]).normalized();
     for (int j = 0; j < 24; ++j) {
-      double s = u01(rng), r = u01(rng);
-      if (s + r > 1) {
-        s = 1 - s;
-        r = 1 - r;
-      }
-      Eigen::Vector3d p = v[0] + s * (v[1] - v[0]) + r * (v[2] - v[0]);  // on, to rounding
+      Eigen::Vector3d p = test::random_point_on_triangle(v[0], v[1], v[2], rng);  // on, to rounding
       const Eigen::Vector3d random(u(rng), u(rng), u(rng));
       const double tiny = std::pow(10.0, -16.0 + 8.0 * u01(rng));
       const int e = j % 3;
@@ -449,17 +496,12 @@ TEST_CASE("points on the slivers of a CAD mesh are at distance zero to rounding"
   const TriangleMesh m = load_mesh(row->path).mesh;
   const MeshQuery q(m);
   std::mt19937_64 rng(61);
-  std::uniform_real_distribution<double> u(-1.0, 1.0), u01(0.0, 1.0);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double size = m.bounds().sizes().maxCoeff();
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     const Eigen::Vector3d &a = m.corner(t, 0), &b = m.corner(t, 1), &c = m.corner(t, 2);
     for (int k = 0; k < 3; ++k) {
-      double s = u01(rng), r = u01(rng);
-      if (s + r > 1) {
-        s = 1 - s;
-        r = 1 - r;
-      }
-      Eigen::Vector3d p = a + s * (b - a) + r * (c - a);  // on the triangle, to rounding
+      Eigen::Vector3d p = test::random_point_on_triangle(a, b, c, rng);  // on, to rounding
       if (k == 2) p += 1e-6 * size * Eigen::Vector3d(u(rng), u(rng), u(rng));
       const ClosestPoint cp = q.closest_point(p);
       const double want = test::oracle_mesh_distance(m, p);
