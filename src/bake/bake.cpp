@@ -14,7 +14,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_report.h"
-#include "number_text.h"
+#include "medspheres/number_text.h"
 
 namespace medspheres {
 

@@ -14,7 +14,7 @@
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/threads.h"
-#include "number_text.h"
+#include "medspheres/number_text.h"
 #include "union_grid.h"
 
 namespace medspheres {

@@ -2,7 +2,6 @@
 
 #include <chrono>
 #include <cstdio>
-#include <sstream>
 #include <string>
 
 #include <unistd.h>
@@ -39,13 +38,6 @@ void ProgressBar::finish() {
   std::fprintf(stderr, "\r%*s\r", 70, "");
   std::fflush(stderr);
   drawn_ = false;
-}
-
-std::string fmt(double v, int digits) {
-  std::ostringstream s;
-  s.precision(digits);
-  s << v;
-  return s.str();
 }
 
 }  // namespace medspheres::cli

@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "medspheres/number_text.h"
+
 namespace medspheres::cli {
 
 /// Exit codes: 0 ok, 2 bad usage or bad input, 1 any other failure.
@@ -38,8 +40,5 @@ class ProgressBar {
 
 /// True when stderr is a terminal (progress bars are drawn only then).
 bool stderr_is_terminal();
-
-/// Formats a double for humans: up to \p digits significant digits.
-std::string fmt(double v, int digits = 6);
 
 }  // namespace medspheres::cli

@@ -136,7 +136,7 @@ BakeOptions bake_options(const BakeArgs& a) {
   if (a.max_spheres && *a.max_spheres < 1)
     throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*a.max_spheres));
   if (a.target_error && !(*a.target_error > 0.0 && *a.target_error < 1.0))
-    throw InputError("--target-error", "must be in (0, 1), got " + fmt(*a.target_error));
+    throw InputError("--target-error", "must be in (0, 1), got " + number_text(*a.target_error));
   return o;
 }
 
@@ -242,7 +242,7 @@ int run_bake(const BakeArgs& args) {
   if (result.spheres.empty())
     throw InputError(args.mesh, "no medial sphere was found at resolution " +
                                     std::to_string(result.stats.resolution) +
-                                    " with object angle " + fmt(args.object_angle) +
+                                    " with object angle " + number_text(args.object_angle) +
                                     "; try a higher --resolution or a smaller --object-angle");
 
   BakeRecord record;
@@ -294,50 +294,52 @@ int run_bake(const BakeArgs& args) {
               << "  mesh          " << loaded.report.triangles << " triangles, "
               << mesh_description(loaded.report, fit.self_intersections().count()) << "\n"
               << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
-              << " x " << s.grid[2] << ", cell " << fmt(s.cell_size, 4) << ")";
+              << " x " << s.grid[2] << ", cell " << number_text(s.cell_size, 4) << ")";
     if (mode != "resolution")
-      std::cout << ", chosen for " << mode << " " << fmt(target) << " among " << s.search.size()
-                << " resolutions baked";
+      std::cout << ", chosen for " << mode << " " << number_text(target) << " among "
+                << s.search.size() << " resolutions baked";
     // The set the error target was measured on: S_D when dilated, else the one written.
     const std::optional<VolumeError>& measured = internal ? internal : volume;
     if (mode == "target_error" && measured && measured->kind == NerrKind::kApproximate)
       std::cout << " (by an approximate nerr: the mesh intersects itself)";
     std::cout << "\n"
-              << "  spheres       " << s.spheres << ", radius " << fmt(s.min_radius, 4) << " .. "
-              << fmt(s.max_radius, 4) << "\n";
+              << "  spheres       " << s.spheres << ", radius " << number_text(s.min_radius, 4)
+              << " .. " << number_text(s.max_radius, 4) << "\n";
     if (record.dilation_stats) {
       const DilateStats& d = *record.dilation_stats;
       std::cout << "  dilated       " << output.size() << " spheres: " << d.grown
-                << " grown (by up to " << fmt(d.max_growth, 4) << "), " << d.added_vertex
+                << " grown (by up to " << number_text(d.max_growth, 4) << "), " << d.added_vertex
                 << " added at vertices";
       if (dilation->options.cover_tolerance >= 0.0)
         std::cout << ", " << d.added_cover << " added in " << d.cover_rounds << " cover round(s); "
-                  << "uncovered " << fmt(d.uncovered_max, 4)
+                  << "uncovered " << number_text(d.uncovered_max, 4)
                   << (d.cover_reached ? " (within --cover)" : " (caps reached before --cover)");
-      std::cout << ", " << fmt(d.seconds, 3) << " s\n";
+      std::cout << ", " << number_text(d.seconds, 3) << " s\n";
       if (volume)
-        std::cout << "  protrusion    " << fmt(volume->max_protrusion, 4)
+        std::cout << "  protrusion    " << number_text(volume->max_protrusion, 4)
                   << " (the most a sphere sticks out of the solid)\n";
     }
     if (internal)
-      std::cout << "  internal S_D  nerr " << fmt(internal->nerr, 4) << " ("
+      std::cout << "  internal S_D  nerr " << number_text(internal->nerr, 4) << " ("
                 << nerr_note(internal->kind) << ")"
                 << (mode == "target_error"
-                        ? ": --target-error " + fmt(target) +
+                        ? ": --target-error " + number_text(target) +
                               " was met by this internal set; the written S+ is measured below"
                         : std::string())
                 << "\n";
     if (volume) {
       std::cout << "  volume        " << (internal ? "S+: " : "") << "union "
-                << fmt(volume->union_measures.volume, 6) << " of mesh " << fmt(*fit.volume(), 6)
-                << ", nerr " << fmt(volume->nerr, 4) << " (" << nerr_note(volume->kind) << ")\n";
+                << number_text(volume->union_measures.volume, 6) << " of mesh "
+                << number_text(*fit.volume(), 6) << ", nerr " << number_text(volume->nerr, 4)
+                << " (" << nerr_note(volume->kind) << ")\n";
     } else {
       std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
     }
     std::cout << "  work          " << s.closest_point_queries << " closest-point and "
-              << s.winding_queries << " winding-number queries, " << fmt(s.seconds, 3) << " s";
+              << s.winding_queries << " winding-number queries, " << number_text(s.seconds, 3)
+              << " s";
     if (mode != "resolution")
-      std::cout << " (the whole search: " << fmt(s.total_seconds, 3) << " s)";
+      std::cout << " (the whole search: " << number_text(s.total_seconds, 3) << " s)";
     std::cout << "\n";
   }
   return kExitOk;

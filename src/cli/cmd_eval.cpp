@@ -40,7 +40,7 @@ nlohmann::ordered_json estimate_json(const Estimate95& e) {
 }
 
 std::string percent_of(double v, double length) {
-  return fmt(100.0 * v / length, 3) + "% of L";
+  return number_text(100.0 * v / length, 3) + "% of L";
 }
 
 void print_json(const EvalArgs& args, const FitReport& r, double longest,
@@ -101,51 +101,52 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
   std::cout << "eval " << args.spheres << " against " << args.mesh << "\n";
   std::cout << "  mesh          " << loaded.report.triangles << " triangles, ";
   if (v.mesh_volume)
-    std::cout << "closed, volume " << fmt(*v.mesh_volume) << "\n";
+    std::cout << "closed, volume " << number_text(*v.mesh_volume) << "\n";
   else
     std::cout << "open: its volume, and so nerr, is not defined\n";
   std::cout << "  spheres       " << r.balls << " (" << v.union_measures.hidden.size()
             << " hidden, " << v.union_measures.duplicates.size() << " duplicate), union volume "
-            << fmt(v.union_measures.volume) << ", area " << fmt(v.union_measures.area) << "\n";
-  std::cout << "  protrusion    max " << fmt(v.max_protrusion, 4) << " (sphere "
+            << number_text(v.union_measures.volume) << ", area "
+            << number_text(v.union_measures.area) << "\n";
+  std::cout << "  protrusion    max " << number_text(v.max_protrusion, 4) << " (sphere "
             << v.max_protrusion_ball << ", " << percent_of(v.max_protrusion, longest) << "); "
-            << v.protruding << " sphere(s) beyond the tolerance " << fmt(v.protrusion_tolerance, 3)
-            << "\n";
+            << v.protruding << " sphere(s) beyond the tolerance "
+            << number_text(v.protrusion_tolerance, 3) << "\n";
   std::cout << "  nerr          ";
   switch (v.kind) {
     case NerrKind::kExact:
-      std::cout << fmt(v.nerr, 5) << " (exact: no sphere sticks out)\n";
+      std::cout << number_text(v.nerr, 5) << " (exact: no sphere sticks out)\n";
       break;
     case NerrKind::kLowerBound:
-      std::cout << ">= " << fmt(v.nerr, 5) << " (lower bound: spheres stick out)\n";
+      std::cout << ">= " << number_text(v.nerr, 5) << " (lower bound: spheres stick out)\n";
       break;
     case NerrKind::kApproximate:
-      std::cout << "~ " << fmt(v.nerr, 5) << " (approximate: the mesh intersects itself)\n";
+      std::cout << "~ " << number_text(v.nerr, 5) << " (approximate: the mesh intersects itself)\n";
       break;
     case NerrKind::kUndefined:
       std::cout << "not defined\n";
       break;
   }
-  std::cout << "  Monte Carlo   error " << fmt(mc.error.estimate, 5) << ", 95% interval ["
-            << fmt(mc.error.lo, 5) << ", " << fmt(mc.error.hi, 5) << "] ("
+  std::cout << "  Monte Carlo   error " << number_text(mc.error.estimate, 5) << ", 95% interval ["
+            << number_text(mc.error.lo, 5) << ", " << number_text(mc.error.hi, 5) << "] ("
             << (mc.normalized_by_volume
                     ? "Wilson, of vol(mesh)"
                     : "delta method, of the winding-number solid's estimated volume " +
-                          fmt(mc.solid_volume.estimate, 5))
+                          number_text(mc.solid_volume.estimate, 5))
             << "; " << mc.samples << " points, seed " << mc.seed << ")\n"
             << "                volume of the spheres outside the mesh "
-            << fmt(mc.outside_volume, 4) << ", of the mesh outside the spheres "
-            << fmt(mc.uncovered_volume, 4) << "\n";
-  std::cout << "  uncovered     surface outside the spheres by max " << fmt(c.max, 4) << " ("
-            << percent_of(c.max, longest) << "), mean " << fmt(c.mean, 4) << ", p95 "
-            << fmt(c.p95, 4) << " (" << percent_of(c.p95, longest) << ")\n"
+            << number_text(mc.outside_volume, 4) << ", of the mesh outside the spheres "
+            << number_text(mc.uncovered_volume, 4) << "\n";
+  std::cout << "  uncovered     surface outside the spheres by max " << number_text(c.max, 4)
+            << " (" << percent_of(c.max, longest) << "), mean " << number_text(c.mean, 4)
+            << ", p95 " << number_text(c.p95, 4) << " (" << percent_of(c.p95, longest) << ")\n"
             << "                over " << c.area_samples << " area-weighted points and "
-            << c.vertices << " vertices (L = " << fmt(longest, 4) << ")\n";
+            << c.vertices << " vertices (L = " << number_text(longest, 4) << ")\n";
   const FitSeconds& s = r.seconds;
-  std::cout << "  time          " << fmt(s.total, 3) << " s: union " << fmt(s.union_volume, 3)
-            << ", protrusion " << fmt(s.protrusion, 3) << ", grid " << fmt(s.grid, 3)
-            << ", Monte Carlo " << fmt(s.monte_carlo, 3) << ", coverage " << fmt(s.coverage, 3)
-            << "\n";
+  std::cout << "  time          " << number_text(s.total, 3) << " s: union "
+            << number_text(s.union_volume, 3) << ", protrusion " << number_text(s.protrusion, 3)
+            << ", grid " << number_text(s.grid, 3) << ", Monte Carlo "
+            << number_text(s.monte_carlo, 3) << ", coverage " << number_text(s.coverage, 3) << "\n";
   for (const std::string& w : warnings) std::cout << "  warning: " << w << "\n";
 }
 

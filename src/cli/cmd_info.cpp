@@ -77,15 +77,16 @@ int run_info(const InfoArgs& args) {
                            : std::string("no"))
             << "\n"
             << "  closed              " << (r.closed ? "yes" : "no") << "\n"
-            << "  volume              " << fmt(r.signed_volume)
+            << "  volume              " << number_text(r.signed_volume)
             << (!r.is_closed_outward() ? "  (not a closed outward solid: indicative only)"
                 : self.any()
                     ? "  (the surface intersects itself: overlaps may count more than once)"
                     : "")
             << "\n"
-            << "  bbox                [" << fmt(r.bbox_min.x()) << ", " << fmt(r.bbox_min.y())
-            << ", " << fmt(r.bbox_min.z()) << "] .. [" << fmt(r.bbox_max.x()) << ", "
-            << fmt(r.bbox_max.y()) << ", " << fmt(r.bbox_max.z()) << "]\n";
+            << "  bbox                [" << number_text(r.bbox_min.x()) << ", "
+            << number_text(r.bbox_min.y()) << ", " << number_text(r.bbox_min.z()) << "] .. ["
+            << number_text(r.bbox_max.x()) << ", " << number_text(r.bbox_max.y()) << ", "
+            << number_text(r.bbox_max.z()) << "]\n";
   for (const std::string& w : loaded.warnings) std::cout << "  warning: " << w << "\n";
   return kExitOk;
 }

@@ -8,9 +8,7 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <iomanip>
 #include <new>
-#include <sstream>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -20,6 +18,7 @@
 
 #include "isolated_call.h"
 #include "medspheres/error.h"
+#include "medspheres/number_text.h"
 #include "scene_import.h"
 
 namespace medspheres {
@@ -78,14 +77,9 @@ std::string lower_extension(const std::string& path) {
 
 constexpr double kMiB = 1024.0 * 1024.0;
 
-// "30", "2.5": whole seconds from 10 s up, three digits below.
+// "30", "2.5": whole seconds from 10 s up (rounded as "%.0f" rounds), three digits below.
 std::string seconds_text(double s) {
-  std::ostringstream o;
-  if (s >= 10.0)
-    o << std::fixed << std::setprecision(0) << s;
-  else
-    o << std::setprecision(3) << s;
-  return o.str();
+  return s >= 10.0 ? number_text(std::nearbyint(s), 17) : number_text(s, 3);
 }
 
 // The import in a child process, its outcome turned into a FlatScene or an error.
@@ -179,11 +173,9 @@ bool import_memory_limit_enforced() noexcept {
 
 LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   if (options.import_timeout_seconds && !(*options.import_timeout_seconds >= 0.0)) {
-    std::ostringstream got;
-    got << *options.import_timeout_seconds;
     throw std::invalid_argument(
         "MeshLoadOptions::import_timeout_seconds must be unset, >= 0 or +infinity, not " +
-        got.str());
+        number_text(*options.import_timeout_seconds));
   }
 
   // stat, not open: opening a FIFO blocks until a writer comes, and opening a device

@@ -1,7 +1,6 @@
 #include "scene_import.h"
 
 #include <cmath>
-#include <cstdio>
 #include <cstring>
 #include <fstream>
 #include <functional>
@@ -18,6 +17,7 @@
 #include <assimp/Importer.hpp>
 
 #include "medspheres/error.h"
+#include "medspheres/number_text.h"
 
 namespace medspheres::detail {
 
@@ -116,14 +116,6 @@ bool is_off_keyword(std::string_view t, bool* dimension) {
   *dimension = !t.empty() && t.front() == 'n';
   if (*dimension) t.remove_prefix(1);
   return t == "OFF";
-}
-
-// A coordinate as a stream would print it ("%g"). snprintf, not a stream: this runs in
-// the import child, where a stream's locale may wait for a lock (mesh_io.h, "Threads").
-std::string coordinate_text(float x) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%g", static_cast<double>(x));
-  return buf;
 }
 
 std::string plural(long long n, const char* one, const char* many) {
@@ -225,8 +217,8 @@ FlatScene import_flat(const std::string& path) {
       throw InputError(path, "vertex " + std::to_string(v) + " of mesh " + std::to_string(mi) +
                                  " (counted from 0, as assimp reads the file) has a "
                                  "non-finite coordinate (" +
-                                 coordinate_text(p.x) + ", " + coordinate_text(p.y) + ", " +
-                                 coordinate_text(p.z) + ")");
+                                 number_text(p.x) + ", " + number_text(p.y) + ", " +
+                                 number_text(p.z) + ")");
     }
   }
 

@@ -1,0 +1,14 @@
+#pragma once
+/// \file
+/// number_text: the one way medspheres writes a number for people (messages, CLI output).
+
+#include <string>
+
+namespace medspheres {
+
+/// \p v with up to \p digits significant digits, as printf's "%.<digits>g" in the "C"
+/// locale ("0.25", "1e-09", "inf", "nan"). Thread-safe and lock-free (no stream, no
+/// locale), so it may run where streams may not (mesh_io.h, "Threads").
+std::string number_text(double v, int digits = 6);
+
+}  // namespace medspheres
