@@ -58,6 +58,23 @@ std::vector<Eigen::Vector3d> query_points(const TriangleMesh& m, std::size_t n, 
   return pts;
 }
 
+// \p count random slivers (a, a + d, a + 0.37 d + w e, widths w from 1e-4 down to 1e-16),
+// every eighth exactly collinear (w = 0) when \p collinear.
+TriangleMesh random_slivers(int count, unsigned seed, bool collinear) {
+  TriangleMesh m;
+  std::mt19937_64 rng(seed);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  for (int i = 0; i < count; ++i) {
+    const Eigen::Vector3d a(u(rng), u(rng), u(rng)), d(u(rng), u(rng), u(rng)),
+        e(u(rng), u(rng), u(rng));
+    const double w = collinear && i % 8 == 7 ? 0.0 : std::pow(10.0, -4.0 - 12.0 * (i % 7) / 6.0);
+    const int base = static_cast<int>(m.vertices.size());
+    m.vertices.insert(m.vertices.end(), {a, a + d, a + 0.37 * d + w * e});
+    m.triangles.push_back({base, base + 1, base + 2});
+  }
+  return m;
+}
+
 void check_closest_points(const TriangleMesh& m, std::size_t n, unsigned seed) {
   const MeshQuery q(m);
   for (const Eigen::Vector3d& p : query_points(m, n, seed)) {
@@ -131,18 +148,7 @@ TEST_CASE("MeshQuery and TriangleTree give identical closest points", "[mesh_que
   for (auto& v : shifted.vertices) v += Eigen::Vector3d(1e6, -2e6, 3e5);
   check_same_as_triangle_tree(shifted, 300, 23);
   // Slivers and degenerate triangles take the kernel's other paths.
-  TriangleMesh odd;
-  std::mt19937_64 rng(24);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int i = 0; i < 120; ++i) {
-    const Eigen::Vector3d a(u(rng), u(rng), u(rng)), d(u(rng), u(rng), u(rng)),
-        e(u(rng), u(rng), u(rng));
-    const double thin = i % 4 == 3 ? 0.0 : std::pow(10.0, -2.0 - 14.0 * (i % 5) / 4.0);
-    const int base = static_cast<int>(odd.vertices.size());
-    odd.vertices.insert(odd.vertices.end(), {a, a + d, a + 0.37 * d + thin * e});
-    odd.triangles.push_back({base, base + 1, base + 2});
-  }
-  check_same_as_triangle_tree(odd, 300, 25);
+  check_same_as_triangle_tree(random_slivers(120, 24, true), 300, 25);
 }
 
 TEST_CASE("closest points on degenerate and single triangles", "[mesh_query]") {
@@ -160,20 +166,7 @@ TEST_CASE("closest points on degenerate and single triangles", "[mesh_query]") {
 
   // Slivers: nearly collinear corners make the computed normal ill-conditioned, which
   // the plane bound used for pruning must survive.
-  TriangleMesh slivers;
-  std::mt19937_64 rng(8);
-  std::uniform_real_distribution<double> u(-1.0, 1.0);
-  for (int i = 0; i < 200; ++i) {
-    const Eigen::Vector3d a(u(rng), u(rng), u(rng)), d(u(rng), u(rng), u(rng)),
-        e(u(rng), u(rng), u(rng));
-    const double thin = std::pow(10.0, -4.0 - 12.0 * (i % 7) / 6.0);  // 1e-4 .. 1e-16
-    const int base = static_cast<int>(slivers.vertices.size());
-    slivers.vertices.push_back(a);
-    slivers.vertices.push_back(a + d);
-    slivers.vertices.push_back(a + 0.37 * d + thin * e);
-    slivers.triangles.push_back({base, base + 1, base + 2});
-  }
-  check_closest_points(slivers, 600, 9);
+  check_closest_points(random_slivers(200, 8, false), 600, 9);
 
   TriangleMesh one;
   one.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}};
