@@ -9,6 +9,15 @@ namespace medspheres::bench {
 
 Args::Args(const std::string& name, const std::string& description) : app_(description, name) {}
 
+CLI::Validator Args::not_negative() {
+  return CLI::Validator(
+      [](std::string& text) {
+        return text.find('-') == std::string::npos ? std::string()
+                                                   : "must not be negative, got " + text;
+      },
+      "");
+}
+
 CLI::Option* Args::add_meshes(std::string& dir) {
   return add("--meshes", dir, "folder with MANIFEST.tsv")->type_name("DIR");
 }

@@ -25,7 +25,7 @@ class Args {
   template <class T>
   CLI::Option* add(const std::string& flag, T& value, const std::string& description) {
     CLI::Option* option = app_.add_option(flag, value, description)->capture_default_str();
-    if constexpr (std::is_unsigned_v<T>) option->check(CLI::NonNegativeNumber);
+    if constexpr (std::is_unsigned_v<T>) option->check(not_negative());
     return option;
   }
 
@@ -37,6 +37,8 @@ class Args {
   void parse(int argc, char** argv);
 
  private:
+  static CLI::Validator not_negative();
+
   CLI::App app_;
 };
 

@@ -627,7 +627,7 @@ CLI::Validator length_check(bool positive, bool off) {
           return "";
         return "must be " + what + (off ? ", or off" : "") + ", not '" + text + "'";
       },
-      what + (off ? " or off" : ""));
+      positive ? (off ? "LENGTH>0 or off" : "LENGTH>0") : "LENGTH>=0");
 }
 
 Options parse(int argc, char** argv) {
@@ -645,7 +645,13 @@ Options parse(int argc, char** argv) {
           CLI::Validator([](std::string& v) { return v.empty() ? "needs a folder" : ""; }, "DIR"));
   args.add("--max-spheres", opt.max_spheres,
            "bake S_D at the largest resolution giving at most this many spheres")
-      ->check(CLI::PositiveNumber);
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            std::size_t n = 0;
+            return CLI::detail::lexical_cast(text, n) && n >= 1 ? std::string()
+                                                                : "must be at least 1";
+          },
+          ""));
   args.add("--max-protrusion", opt.max_protrusion,
            "DilateOptions::max_protrusion on scale 10; inf: the paper's uncapped rule")
       ->check(length_check(false, false));
