@@ -10,11 +10,12 @@
 // Target: median bake <= 1.0 s on 2 cores for meshes up to 30k triangles, at a
 // resolution giving 200-500 spheres; <= 3 s for the 100k-triangle dragon.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
+#include "bench_timing.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
@@ -23,11 +24,7 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
-
-struct Entry {
-  std::string name, path;
-};
+using medspheres::bench::Clock;
 
 double time_bake(const medspheres::MeshQuery& q, medspheres::BakeOptions o, int repeats,
                  medspheres::BakeResult* last) {
@@ -35,7 +32,7 @@ double time_bake(const medspheres::MeshQuery& q, medspheres::BakeOptions o, int 
   for (int i = 0; i < repeats; ++i) {
     const auto t0 = Clock::now();
     *last = medspheres::bake(q, o);
-    t.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    t.push_back(medspheres::bench::seconds_since(t0));
   }
   std::sort(t.begin(), t.end());
   return t[t.size() / 2];
@@ -47,29 +44,14 @@ int main(int argc, char** argv) {
   std::string dir = medspheres::test::shared_meshes_dir();
   std::size_t min_spheres = 200, max_spheres = 500;
   std::string only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--meshes" && i + 1 < argc)
-      dir = argv[++i];
-    else if (a == "--min" && i + 1 < argc)
-      min_spheres = std::stoul(argv[++i]);
-    else if (a == "--max" && i + 1 < argc)
-      max_spheres = std::stoul(argv[++i]);
-    else if (a == "--only" && i + 1 < argc)
-      only = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: %s [--meshes DIR] [--min N] [--max N] [--only SUBSTRING]\n",
-                   argv[0]);
-      return 2;
-    }
-  }
-  std::vector<Entry> meshes;
-  const std::string ex = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/";
-  meshes.push_back({"examples/knot1.off", ex + "knot1.off"});
-  meshes.push_back({"examples/eight.off", ex + "eight.off"});
-  if (!dir.empty())
-    for (const medspheres::test::SharedMesh& m : medspheres::test::read_manifest(dir))
-      if (m.closed) meshes.push_back({m.file, m.path});
+  medspheres::bench::Args args("bench_bake", "Bake time and quality per mesh (paper, Table 1)");
+  args.add_meshes(dir);
+  args.add("--min", min_spheres, "note the meshes left with fewer spheres than this");
+  args.add("--max", max_spheres, "bake at the largest resolution giving at most this many spheres");
+  args.add_only(only);
+  args.parse(argc, argv);
+  const std::vector<medspheres::bench::MeshFile> meshes =
+      medspheres::bench::bench_meshes(dir, false);
 
   std::printf("Medial sphere baking (paper section 3), resolution = largest with <= %zu spheres\n",
               max_spheres);
@@ -82,8 +64,8 @@ int main(int argc, char** argv) {
               "s(2t)", "s(1t)", "cpq", "wq", "nerr", "note");
   std::vector<double> small_times;
   double dragon = -1;
-  for (const Entry& e : meshes) {
-    if (!only.empty() && e.name.find(only) == std::string::npos) continue;
+  for (const medspheres::bench::MeshFile& e : meshes) {
+    if (!medspheres::bench::selected(e.name, only)) continue;
     const medspheres::LoadedMesh m = medspheres::load_mesh(e.path);
     const medspheres::MeshQuery q(m.mesh);
     medspheres::BakeOptions o;

@@ -13,12 +13,12 @@
 // Target: dilation <= 0.5 s for sets of up to 1,000 spheres on meshes of up to 30k
 // triangles (the paper: 1-5 s).
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
-#include <filesystem>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
+#include "bench_timing.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/bake/fit_metrics.h"
@@ -46,23 +46,12 @@ Measures measure(const FitEvaluator& fit, const TriangleMesh& mesh, const Sphere
 int main(int argc, char** argv) {
   std::size_t max_spheres = 1000;
   std::string only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--max" && i + 1 < argc)
-      max_spheres = std::stoul(argv[++i]);
-    else if (a == "--only" && i + 1 < argc)
-      only = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: %s [--max N] [--only SUBSTRING]\n", argv[0]);
-      return 2;
-    }
-  }
-  std::vector<std::pair<std::string, std::string>> meshes;
-  const std::string ex = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/";
-  meshes.push_back({"examples/knot1.off", ex + "knot1.off"});
-  meshes.push_back({"examples/eight.off", ex + "eight.off"});
-  for (const test::SharedMesh& m : test::shared_meshes())
-    if (m.closed && m.classic()) meshes.push_back({m.file, m.path});
+  bench::Args args("bench_dilate", "Conservative dilation (paper section 5.1) per mesh");
+  args.add("--max", max_spheres,
+           "bake S_D at the largest resolution giving at most this many spheres");
+  args.add_only(only);
+  args.parse(argc, argv);
+  const std::vector<bench::MeshFile> meshes = bench::bench_meshes(test::shared_meshes_dir(), true);
 
   std::printf(
       "Dilation (paper section 5.1): S_D baked with at most %zu spheres, dilated with the "
@@ -81,7 +70,7 @@ int main(int argc, char** argv) {
   };
   std::vector<Later> later;
   for (const auto& [name, path] : meshes) {
-    if (!only.empty() && name.find(only) == std::string::npos) continue;
+    if (!bench::selected(name, only)) continue;
     const TriangleMesh mesh = load_mesh(path).mesh;
     const FitEvaluator fit(mesh);
     const MeshQuery& q = fit.query();
@@ -94,9 +83,9 @@ int main(int argc, char** argv) {
     std::vector<double> t;
     DilateResult d;
     for (int i = 0; i < 3; ++i) {
-      const auto t0 = std::chrono::steady_clock::now();
+      const auto t0 = bench::Clock::now();
       d = dilate(q, sd, o);
-      t.push_back(std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+      t.push_back(bench::seconds_since(t0));
     }
     std::sort(t.begin(), t.end());
     const Measures a = measure(fit, mesh, sd, L), b = measure(fit, mesh, d.spheres, L);

@@ -27,7 +27,6 @@
 // (sphere distance - exact mesh distance) / L, in percent; the baker puts every sphere
 // inside the solid, so it is not expected to be negative.
 #include <algorithm>
-#include <chrono>
 #include <cmath>
 #include <cstdio>
 #include <memory>
@@ -38,6 +37,8 @@
 
 #include <fcl/fcl.h>
 
+#include "bench_args.h"
+#include "bench_timing.h"
 #include "bench_util.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
@@ -48,9 +49,9 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using medspheres::SphereSet;
 using medspheres::TriangleMesh;
+using medspheres::bench::Clock;
 using medspheres::bench::make_bvh;
 using medspheres::bench::percentile;
 
@@ -161,8 +162,7 @@ std::vector<double> time_poses(std::size_t n, F&& f) {
     for (std::size_t k = 0; k < n; ++k) {
       const Clock::time_point t0 = Clock::now();
       f(k);
-      best[k] =
-          std::min(best[k], std::chrono::duration<double, std::micro>(Clock::now() - t0).count());
+      best[k] = std::min(best[k], medspheres::bench::micros_since(t0));
     }
   }
   return best;
@@ -280,25 +280,16 @@ int main(int argc, char** argv) {
   std::size_t max_spheres = 800;
   int leaf = medspheres::SphereTreeOptions{}.max_leaf_size;
   std::string dir = medspheres::test::shared_meshes_dir(), only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--poses" && i + 1 < argc)
-      num_poses = std::stoi(argv[++i]);
-    else if (a == "--meshes" && i + 1 < argc)
-      dir = argv[++i];
-    else if (a == "--only" && i + 1 < argc)
-      only = argv[++i];
-    else if (a == "--max-spheres" && i + 1 < argc)
-      max_spheres = std::stoul(argv[++i]);
-    else if (a == "--leaf" && i + 1 < argc)
-      leaf = std::stoi(argv[++i]);
-    else {
-      std::fprintf(stderr,
-                   "usage: %s [--poses N] [--meshes DIR] [--only S] [--max-spheres M] [--leaf L]\n",
-                   argv[0]);
-      return 2;
-    }
-  }
+  medspheres::bench::Args args("bench_distance",
+                               "Distance queries between two copies of a mesh (paper Table 2)");
+  args.add("--poses", num_poses, "poses per mesh (at least 2 are run)");
+  args.add_meshes(dir)->description(
+      "folder with MANIFEST.tsv; empty: generated meshes instead of shared ones");
+  args.add_only(only);
+  args.add("--max-spheres", max_spheres,
+           "bake at the largest resolution giving at most this many spheres");
+  args.add("--leaf", leaf, "max_leaf_size of the sphere trees");
+  args.parse(argc, argv);
   if (num_poses < 2) num_poses = 2;
   const std::vector<Workload> workloads =
       dir.empty() ? generated_workloads(only) : shared_workloads(dir, only);

@@ -10,6 +10,7 @@
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
@@ -32,26 +33,16 @@ double percent(double v, double length) {
 
 int main(int argc, char** argv) {
   std::string only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--only" && i + 1 < argc) {
-      only = argv[++i];
-    } else {
-      std::fprintf(stderr, "usage: %s [--only SUBSTRING]\n", argv[0]);
-      return 2;
-    }
-  }
-  std::vector<std::pair<std::string, std::string>> meshes;
-  const std::string ex = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/";
-  meshes.emplace_back("examples/knot1.off", ex + "knot1.off");
-  meshes.emplace_back("examples/eight.off", ex + "eight.off");
-  for (const auto& m : medspheres::test::shared_meshes())
-    if (m.closed) meshes.emplace_back(m.file, m.path);
+  medspheres::bench::Args args("bench_eval", "Fit metrics of baked sphere sets per mesh");
+  args.add_only(only);
+  args.parse(argc, argv);
+  const std::vector<medspheres::bench::MeshFile> meshes =
+      medspheres::bench::bench_meshes(medspheres::test::shared_meshes_dir(), false);
 
   const medspheres::FitOptions options;
   std::vector<Row> rows;
   for (const auto& [name, path] : meshes) {
-    if (!only.empty() && name.find(only) == std::string::npos) continue;
+    if (!medspheres::bench::selected(name, only)) continue;
     const medspheres::LoadedMesh loaded = medspheres::load_mesh(path);
     const medspheres::FitEvaluator fit(loaded.mesh);
     const medspheres::BakeResult baked = medspheres::bake(fit.query());

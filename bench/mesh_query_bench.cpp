@@ -22,6 +22,7 @@
 #include <CGAL/AABB_triangle_primitive.h>
 #include <CGAL/Simple_cartesian.h>
 
+#include "bench_args.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
@@ -103,19 +104,12 @@ Row measure(const std::string& name, const std::string& kind, const medspheres::
 int main(int argc, char** argv) {
   std::size_t npoints = 20000;
   std::string dir = medspheres::test::shared_meshes_dir(), only;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--points" && i + 1 < argc)
-      npoints = std::stoul(argv[++i]);
-    else if (a == "--meshes" && i + 1 < argc)
-      dir = argv[++i];
-    else if (a == "--only" && i + 1 < argc)
-      only = argv[++i];
-    else {
-      std::fprintf(stderr, "usage: %s [--points N] [--meshes DIR] [--only SUBSTRING]\n", argv[0]);
-      return 2;
-    }
-  }
+  medspheres::bench::Args args("bench_mesh_query",
+                               "Closest-point throughput of MeshQuery against CGAL's AABB_tree");
+  args.add("--points", npoints, "queries per kind and mesh");
+  args.add_meshes(dir);
+  args.add_only(only);
+  args.parse(argc, argv);
 
   std::vector<Workload> work;
   work.push_back({"torus-100k (generated)", medspheres::make_torus(1.0, 0.4, 250, 200)});

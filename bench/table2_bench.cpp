@@ -76,7 +76,6 @@
 #include <algorithm>
 #include <array>
 #include <cctype>
-#include <chrono>
 #include <cmath>
 #include <cstdint>
 #include <cstdio>
@@ -87,12 +86,13 @@
 #include <random>
 #include <stdexcept>
 #include <string>
-#include <type_traits>
 #include <vector>
 
 #include <btBulletDynamicsCommon.h>
 #include <fcl/fcl.h>
 
+#include "bench_args.h"
+#include "bench_timing.h"
 #include "bench_util.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
@@ -104,11 +104,9 @@
 
 namespace {
 
-using Clock = std::chrono::steady_clock;
 using medspheres::SphereSet;
 using medspheres::TriangleMesh;
-using medspheres::bench::make_bvh;
-using medspheres::bench::percentile;
+namespace mb = medspheres::bench;
 
 constexpr double kScale = 10.0;          // largest bounding-box side after scaling
 constexpr double kGravity = 40.0;        // magnitude, scale-10 units per s^2
@@ -380,10 +378,6 @@ struct MeshRow {
   std::string csv;
 };
 
-double elapsed_micros(Clock::time_point t0) {
-  return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
-}
-
 MeshRow run_mesh(const Workload& w, const Options& opt, const std::string& out_dir) {
   MeshRow row;
   row.name = w.name;
@@ -429,7 +423,7 @@ MeshRow run_mesh(const Workload& w, const Options& opt, const std::string& out_d
   row.splus.size = splus.size();
 
   // The representations measured, all in M.
-  const auto exact = make_bvh<fcl::OBBRSSd>(mesh);
+  const auto exact = mb::make_bvh<fcl::OBBRSSd>(mesh);
   medspheres::SphereTreeOptions rss, ball;
   ball.kind = medspheres::BoundingVolumeKind::ball;
   const medspheres::fcl::SphereSetGeometry splus_rssh(splus, rss), splus_sh(splus, ball),
@@ -468,13 +462,13 @@ MeshRow run_mesh(const Workload& w, const Options& opt, const std::string& out_d
         const int m = (j + round) % kMethods;
         fcl::DistanceRequestd request(true);
         fcl::DistanceResultd result;
-        const Clock::time_point t0 = Clock::now();
+        const mb::Clock::time_point t0 = mb::Clock::now();
         const double d =
             m == 0 ? fcl::distance(geometry[0], X_WA, geometry[0], X_WB, request, result)
                    : medspheres::fcl::distance(geometry[static_cast<std::size_t>(m)], X_WA,
                                                geometry[static_cast<std::size_t>(m)], X_WB, request,
                                                result);
-        const double us = elapsed_micros(t0);
+        const double us = mb::micros_since(t0);
         frame.distance[static_cast<std::size_t>(m)] = d;
         frame.micros[static_cast<std::size_t>(m)] =
             std::min(frame.micros[static_cast<std::size_t>(m)], us);
@@ -525,12 +519,12 @@ MeshRow run_mesh(const Workload& w, const Options& opt, const std::string& out_d
       s.err_min = std::min(s.err_min, e);
     }
     s.err_average = sum / static_cast<double>(err.size());
-    s.sh_ms = percentile(sh, 0.5) / 1000.0;
-    s.rssh_ms = percentile(rssh, 0.5) / 1000.0;
+    s.sh_ms = mb::percentile(sh, 0.5) / 1000.0;
+    s.rssh_ms = mb::percentile(rssh, 0.5) / 1000.0;
   };
   fill(row.splus, err_splus, micros[2], micros[1]);
   fill(row.sd, err_sd, micros[4], micros[3]);
-  if (!micros[0].empty()) row.fcl_ms = percentile(micros[0], 0.5) / 1000.0;
+  if (!micros[0].empty()) row.fcl_ms = mb::percentile(micros[0], 0.5) / 1000.0;
 
   // Per-frame CSV.
   row.csv = slug(w.name) + ".csv";
@@ -620,78 +614,55 @@ std::string shell_quote(const std::string& s) {
 
 // --- command line ------------------------------------------------------------------------
 
-constexpr const char* kUsage =
-    "usage: %s [--frames N] [--seed S] [--only SUBSTRING] [--out DIR]\n"
-    "       [--max-spheres M] [--max-protrusion LEN] [--vertex-tolerance LEN] [--cover TOL]\n";
-
-[[noreturn]] void usage(const char* argv0, const std::string& problem) {
-  if (!problem.empty()) std::fprintf(stderr, "bench_table2: %s\n", problem.c_str());
-  std::fprintf(stderr, kUsage, argv0);
-  std::exit(2);
-}
-
-// The whole of \p text as a number, or usage().
-template <class T>
-T parse_number(const char* argv0, const std::string& option, const std::string& text) {
-  try {
-    std::size_t used = 0;
-    if constexpr (std::is_floating_point_v<T>) {
-      const double value = std::stod(text, &used);
-      if (used == text.size()) return static_cast<T>(value);
-    } else {
-      const bool digits = !text.empty() && std::all_of(text.begin(), text.end(), [](char c) {
-        return std::isdigit(static_cast<unsigned char>(c)) != 0;
-      });
-      const unsigned long long value = digits ? std::stoull(text, &used) : 0;
-      if (digits && value <= std::numeric_limits<T>::max()) return static_cast<T>(value);
-    }
-  } catch (const std::exception&) {
-  }
-  usage(argv0, option + " needs a number, not '" + text + "'");
+// A length on scale 10: a number >= 0, inf included; with `positive`, a finite number > 0;
+// with `off`, also the word "off".
+CLI::Validator length_check(bool positive, bool off) {
+  const std::string what = positive ? "a length > 0" : "a length >= 0";
+  return CLI::Validator(
+      [=](std::string& text) -> std::string {
+        double v = 0.0;
+        if (off && text == "off") return "";
+        if (CLI::detail::lexical_cast(text, v) &&
+            (positive ? v > 0.0 && std::isfinite(v) : v >= 0.0))
+          return "";
+        return "must be " + what + (off ? ", or off" : "") + ", not '" + text + "'";
+      },
+      positive ? (off ? "LENGTH>0 or off" : "LENGTH>0") : "LENGTH>=0");
 }
 
 Options parse(int argc, char** argv) {
   Options opt;
-  for (int i = 1; i < argc; ++i) {
-    const std::string a = argv[i];
-    if (a == "--help" || a == "-h") {
-      std::printf(kUsage, argv[0]);
-      std::printf(
-          "The experiment of the paper's Table 2; see the comment at the top of "
-          "bench/table2_bench.cpp.\n");
-      std::exit(0);
-    }
-    if (i + 1 >= argc) usage(argv[0], "unknown option or missing value: " + a);
-    const std::string value = argv[++i];
-    if (a == "--frames") {
-      const auto n = parse_number<unsigned long long>(argv[0], a, value);
-      if (n < 1 || n > 10000000) usage(argv[0], "--frames must be in [1, 10000000]");
-      opt.frames = static_cast<int>(n);
-    } else if (a == "--seed") {
-      opt.seed = parse_number<std::uint64_t>(argv[0], a, value);
-    } else if (a == "--only") {
-      opt.only = value;
-    } else if (a == "--out") {
-      if (value.empty()) usage(argv[0], "--out needs a folder");
-      opt.out = value;
-    } else if (a == "--max-spheres") {
-      opt.max_spheres = parse_number<std::size_t>(argv[0], a, value);
-      if (opt.max_spheres < 1) usage(argv[0], "--max-spheres must be at least 1");
-    } else if (a == "--cover") {
-      opt.cover = value == "off" ? -1.0 : parse_number<double>(argv[0], a, value);
-      if (value != "off" && (!(opt.cover > 0.0) || !std::isfinite(opt.cover)))
-        usage(argv[0], "--cover must be a length > 0, or off");
-    } else if (a == "--max-protrusion") {
-      opt.max_protrusion = parse_number<double>(argv[0], a, value);
-      if (!(opt.max_protrusion >= 0.0)) usage(argv[0], "--max-protrusion must be a length >= 0");
-    } else if (a == "--vertex-tolerance") {
-      opt.vertex_tolerance = parse_number<double>(argv[0], a, value);
-      if (!(opt.vertex_tolerance > 0.0) || !std::isfinite(opt.vertex_tolerance))
-        usage(argv[0], "--vertex-tolerance must be a length > 0");
-    } else {
-      usage(argv[0], "unknown option: " + a);
-    }
-  }
+  std::string cover = "0.03";
+  mb::Args args("bench_table2",
+                "The experiment of the paper's Table 2; see the comment at the top of "
+                "bench/table2_bench.cpp.");
+  args.add("--frames", opt.frames, "frames simulated per mesh, 60 per second")
+      ->check(CLI::Range(1, 10000000));
+  args.add("--seed", opt.seed, "seed of the start poses, the gravity schedule and the dilation");
+  args.add_only(opt.only);
+  args.add("--out", opt.out, "folder for the CSV files and the plots")
+      ->check(
+          CLI::Validator([](std::string& v) { return v.empty() ? "needs a folder" : ""; }, "DIR"));
+  args.add("--max-spheres", opt.max_spheres,
+           "bake S_D at the largest resolution giving at most this many spheres")
+      ->check(CLI::Validator(
+          [](std::string& text) {
+            std::size_t n = 0;
+            return CLI::detail::lexical_cast(text, n) && n >= 1 ? std::string()
+                                                                : "must be at least 1";
+          },
+          ""));
+  args.add("--max-protrusion", opt.max_protrusion,
+           "DilateOptions::max_protrusion on scale 10; inf: the paper's uncapped rule")
+      ->check(length_check(false, false));
+  args.app()
+      .add_option("--vertex-tolerance", opt.vertex_tolerance,
+                  "DilateOptions::vertex_tolerance on scale 10 (default: dilate's, 0.5% of L)")
+      ->check(length_check(true, false));
+  args.add("--cover", cover, "DilateOptions::cover_tolerance on scale 10, or off")
+      ->check(length_check(true, true));
+  args.parse(argc, argv);
+  opt.cover = cover == "off" ? -1.0 : std::stod(cover);
   return opt;
 }
 
@@ -702,11 +673,16 @@ int main(int argc, char** argv) {
   try {
     std::vector<std::string> notes;
     const std::vector<Workload> meshes = workloads(opt.only, notes);
-    if (meshes.empty()) usage(argv[0], "no mesh matches --only '" + opt.only + "'");
+    if (meshes.empty()) {
+      std::fprintf(stderr, "bench_table2: no mesh matches --only '%s'\n", opt.only.c_str());
+      return 2;
+    }
     std::error_code ec;
     std::filesystem::create_directories(opt.out, ec);
-    if (ec || !std::filesystem::is_directory(opt.out))
-      usage(argv[0], "cannot create the output folder " + opt.out);
+    if (ec || !std::filesystem::is_directory(opt.out)) {
+      std::fprintf(stderr, "bench_table2: cannot create the output folder %s\n", opt.out.c_str());
+      return 2;
+    }
 
     const medspheres::BakeOptions bake_defaults;
     const auto length = [](double v) {
@@ -745,10 +721,10 @@ int main(int argc, char** argv) {
 
     std::vector<MeshRow> rows;
     for (const Workload& w : meshes) {
-      const Clock::time_point t0 = Clock::now();
+      const mb::Clock::time_point t0 = mb::Clock::now();
       rows.push_back(run_mesh(w, opt, opt.out));
       std::fprintf(stderr, "bench_table2: %s done in %.1f s\n", w.name.c_str(),
-                   elapsed_micros(t0) / 1e6);
+                   mb::micros_since(t0) / 1e6);
     }
 
     std::printf("\n%52s%27s%24s\n", "", "Timings (ms per query)", "Error (scale 10)");

@@ -12,22 +12,24 @@
 //
 // Targets: 10^4 balls in at most 0.5 s and 10^5 balls in at most 5 s.
 //
-// Usage: bench_union_volume [max_n]   (default 100000)
+// Usage: bench_union_volume [max_n] [--only SUBSTRING]
+//   max_n   the largest random set (default 100000)
+//   --only  only the baked sets of meshes whose name contains SUBSTRING
 
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <random>
 #include <string>
 #include <vector>
 
+#include "bench_args.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
+#include "medspheres/bake/union_volume.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
-#include "medspheres/bake/union_volume.h"
 #include "support/shared_meshes.h"
 
 namespace {
@@ -91,17 +93,14 @@ Timed best_of_three(const std::vector<medspheres::Sphere>& balls) {
   return best;
 }
 
-void baked_sets() {
-  std::vector<std::pair<std::string, std::string>> meshes;
-  const std::string ex = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/";
-  meshes.emplace_back("examples/knot1.off", ex + "knot1.off");
-  meshes.emplace_back("examples/eight.off", ex + "eight.off");
-  for (const auto& m : medspheres::test::shared_meshes())
-    if (m.closed && m.classic()) meshes.emplace_back(m.file, m.path);
+void baked_sets(const std::string& only) {
+  const std::vector<medspheres::bench::MeshFile> meshes =
+      medspheres::bench::bench_meshes(medspheres::test::shared_meshes_dir(), true);
   std::printf("\nBaked sets: S_D at the default bake, S+ with cap 0.2%% and cover 0.3%% of L\n");
   std::printf("%-34s %-4s %6s %6s %7s %8s %8s %8s %7s\n", "mesh", "set", "balls", "hidden",
               "K.vert", "K.edges", "K.tris", "K.tets", "total s");
   for (const auto& [name, path] : meshes) {
+    if (!medspheres::bench::selected(name, only)) continue;
     const medspheres::TriangleMesh mesh = medspheres::load_mesh(path).mesh;
     const medspheres::MeshQuery query(mesh);
     const medspheres::BakeResult sd = medspheres::bake(query);
@@ -110,8 +109,8 @@ void baked_sets() {
     d.max_protrusion = 0.002 * longest;
     d.cover_tolerance = 0.003 * longest;
     const medspheres::SphereSet splus = medspheres::dilate(query, sd.spheres, d).spheres;
-    for (const auto& [set, balls] : {std::make_pair("S_D", &sd.spheres.spheres),
-                                     std::make_pair("S+", &splus.spheres)}) {
+    for (const auto& [set, balls] :
+         {std::make_pair("S_D", &sd.spheres.spheres), std::make_pair("S+", &splus.spheres)}) {
       const Timed t = best_of_three(*balls);
       std::printf("%-34s %-4s %6zu %6zu %7zu %8zu %8zu %8zu %7.3f\n", name.c_str(), set,
                   balls->size(), t.measures.hidden.size(), t.measures.vertices, t.measures.edges,
@@ -123,7 +122,13 @@ void baked_sets() {
 }  // namespace
 
 int main(int argc, char** argv) {
-  const int max_n = argc > 1 ? std::atoi(argv[1]) : 100000;
+  int max_n = 100000;
+  medspheres::bench::Args args("bench_union_volume",
+                               "Exact union volume on random ball sets and on baked sets");
+  args.add("max_n", max_n, "largest number of random balls (sizes 1000, 10000, ... up to it)");
+  std::string only;
+  args.add_only(only)->description("only baked sets of meshes whose name contains SUBSTRING");
+  args.parse(argc, argv);
   std::printf(
       "bench_union_volume: exact volume of a union of random balls, one thread, best of 3\n");
   std::printf("%-7s %7s %4s %6s %7s %8s %8s %8s %7s %7s %7s %7s %7s  %s\n", "overlap", "balls",
@@ -151,6 +156,6 @@ int main(int argc, char** argv) {
                   best.classification, best.measures, best_total, target_text, verdict.c_str());
     }
   }
-  baked_sets();
+  baked_sets(only);
   return 0;
 }

@@ -42,3 +42,11 @@ function(medspheres_add_library name alias)
   medspheres_configure_target(${name})
   set_property(GLOBAL APPEND PROPERTY MEDSPHERES_EXPORTED_TARGETS ${name})
 endfunction()
+
+# medspheres_export_headers(<target> <dir>): <dir>/medspheres/ holds <target>'s public
+# headers: <dir> is on the include path of <target> and its users, and is installed.
+function(medspheres_export_headers target dir)
+  target_include_directories(${target} PUBLIC $<BUILD_INTERFACE:${dir}>
+                                              $<INSTALL_INTERFACE:${CMAKE_INSTALL_INCLUDEDIR}>)
+  install(DIRECTORY ${dir}/medspheres DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
+endfunction()

@@ -22,6 +22,7 @@
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "support/fcl_fixtures.h"
 #include "support/sphere_fixtures.h"
+#include "support/tolerance_checks.h"
 
 using medspheres::Sphere;
 using medspheres::SphereSet;
@@ -338,6 +339,34 @@ std::shared_ptr<fcl::Convexd> tetrahedron() {
   return std::make_shared<fcl::Convexd>(verts, 4, faces, true);
 }
 
+// Seeded scenes for check_against: `count` random sets of 1 to max_spheres spheres
+// (mt::random_sphere_set with spread, r_min, r_max) posed within pose_a of the origin,
+// against the target posed within pose_b.
+struct Scenes {
+  int count;
+  unsigned max_spheres;
+  double spread, r_min, r_max, pose_a, pose_b;
+};
+
+// Runs check_against on every scene, the oracle's answers from answers_for(set, X_WA,
+// X_WB), and checks that the scenes had both outcomes (more than 2 of each).
+template <class Answers>
+void check_scenes(std::mt19937& rng, const fcl::CollisionGeometryd* target, const Scenes& sc,
+                  double tol, double point_tol, Answers&& answers_for) {
+  int separated = 0, colliding = 0;
+  for (int k = 0; k < sc.count; ++k) {
+    const SphereSet set =
+        mt::random_sphere_set(rng, 1 + rng() % sc.max_spheres, sc.spread, sc.r_min, sc.r_max);
+    auto g = std::make_shared<SphereSetGeometry>(set);
+    const fcl::Transform3d X_WA = mt::random_pose(rng, sc.pose_a);
+    const fcl::Transform3d X_WB = mt::random_pose(rng, sc.pose_b);
+    check_against(g, X_WA, target, X_WB, tol, point_tol, answers_for(set, X_WA, X_WB), separated,
+                  colliding);
+  }
+  CHECK(separated > 2);
+  CHECK(colliding > 2);
+}
+
 // A random octree of cells of side 0.125 (some free), with FCL's view of it.
 struct RandomOctree {
   std::shared_ptr<octomap::OcTree> tree;
@@ -395,17 +424,11 @@ TEST_CASE("Sphere set against every FCL primitive matches FCL's sphere narrowpha
     const fcl::NODE_TYPE t = shape.g->getNodeType();
     const bool gjk = t == fcl::GEOM_ELLIPSOID || t == fcl::GEOM_CONE || t == fcl::GEOM_CONVEX;
     const double tol = gjk ? 1e-4 : 1e-9;
-    int separated = 0, colliding = 0;
-    for (int k = 0; k < 24; ++k) {
-      const SphereSet set = mt::random_sphere_set(rng, 1 + rng() % 25, 0.5, 0.05, 0.25);
-      auto g = std::make_shared<SphereSetGeometry>(set);
-      const fcl::Transform3d X_WA = mt::random_pose(rng, 1.0);
-      const fcl::Transform3d X_WB = mt::random_pose(rng, 1.0);
-      check_against(g, X_WA, shape.g.get(), X_WB, tol, gjk ? 5e-3 : 1e-9,
-                    primitive_answers(set, X_WA, *shape.g, X_WB), separated, colliding);
-    }
-    CHECK(separated > 2);
-    CHECK(colliding > 2);
+    check_scenes(
+        rng, shape.g.get(), {24, 25, 0.5, 0.05, 0.25, 1.0, 1.0}, tol, gjk ? 5e-3 : 1e-9,
+        [&](const SphereSet& set, const fcl::Transform3d& X_WA, const fcl::Transform3d& X_WB) {
+          return primitive_answers(set, X_WA, *shape.g, X_WB);
+        });
   }
 }
 
@@ -420,17 +443,9 @@ TEST_CASE("Sphere set against BVHModels of every BV type matches sphere x triang
   std::mt19937 rng(22);
   for (const auto& model : models) {
     INFO("node type " << model->getNodeType());
-    int separated = 0, colliding = 0;
-    for (int k = 0; k < 16; ++k) {
-      const SphereSet set = mt::random_sphere_set(rng, 1 + rng() % 40, 0.6, 0.05, 0.3);
-      auto g = std::make_shared<SphereSetGeometry>(set);
-      const fcl::Transform3d X_WA = mt::random_pose(rng, 1.4);
-      const fcl::Transform3d X_WB = mt::random_pose(rng, 1.4);
-      check_against(g, X_WA, model.get(), X_WB, 1e-9, 1e-9, mesh_answers(set, X_WA, mesh, X_WB),
-                    separated, colliding);
-    }
-    CHECK(separated > 2);
-    CHECK(colliding > 2);
+    check_scenes(rng, model.get(), {16, 40, 0.6, 0.05, 0.3, 1.4, 1.4}, 1e-9, 1e-9,
+                 [&](const SphereSet& set, const fcl::Transform3d& X_WA,
+                     const fcl::Transform3d& X_WB) { return mesh_answers(set, X_WA, mesh, X_WB); });
   }
 }
 
@@ -439,17 +454,11 @@ TEST_CASE("Sphere set against an octree matches its occupied cells, ids included
   std::mt19937 rng(23);
   const RandomOctree o = random_octree(rng);
   REQUIRE(o.cells.size() > 50);
-  int separated = 0, colliding = 0;
-  for (int k = 0; k < 20; ++k) {
-    const SphereSet set = mt::random_sphere_set(rng, 1 + rng() % 20, 0.4, 0.03, 0.15);
-    auto g = std::make_shared<SphereSetGeometry>(set);
-    const fcl::Transform3d X_WA = mt::random_pose(rng, 1.2);
-    const fcl::Transform3d X_WB = mt::random_pose(rng, 0.3);
-    check_against(g, X_WA, o.octree.get(), X_WB, 1e-9, 1e-9,
-                  octree_answers(set, X_WA, o.cells, X_WB), separated, colliding);
-  }
-  CHECK(separated > 2);
-  CHECK(colliding > 2);
+  check_scenes(
+      rng, o.octree.get(), {20, 20, 0.4, 0.03, 0.15, 1.2, 0.3}, 1e-9, 1e-9,
+      [&](const SphereSet& set, const fcl::Transform3d& X_WA, const fcl::Transform3d& X_WB) {
+        return octree_answers(set, X_WA, o.cells, X_WB);
+      });
 }
 
 TEST_CASE("Touching a primitive, a mesh or an octree cell is a collision, exactly",
@@ -607,24 +616,19 @@ TEST_CASE("abs_err and rel_err reach the sphere tree against every target kind",
                   ? medspheres::fcl::distance(g.get(), X_WA, target.g.get(), X_WB, req, res)
                   : medspheres::fcl::distance(target.g.get(), X_WB, g.get(), X_WA, req, res);
           const double tol = 1e-9;
-          CHECK(d >= exact - tol);
-          CHECK(d <= std::min(exact + abs_err, (1 + modes[m].rel_err) * exact) + tol);
+          const bool above = mt::check_within_tolerance(modes[m], abs_err, exact, d, tol);
+          if (sphere_first && above) ++inexact[m];
           const intptr_t s = sphere_first ? res.b1 : res.b2;
           const intptr_t id = sphere_first ? res.b2 : res.b1;
           REQUIRE(s >= 0);
           const auto& by_id = answers[static_cast<std::size_t>(s)].by_id;
           REQUIRE(by_id.count(id) == 1);
           CHECK(by_id.at(id) == Approx(d).margin(tol));
-          if (!modes[m].loose) CHECK(d == Approx(exact).margin(tol));
-          if (sphere_first && d > exact + tol) ++inexact[m];
         }
       }
     }
     CHECK(scenes >= 10);
-    for (std::size_t m = 0; m < modes.size(); ++m) {
-      INFO(modes[m].name << ": " << inexact[m] << " inexact answers over " << scenes);
-      CHECK((inexact[m] > 0) == modes[m].loose);  // only loose modes prune
-    }
+    mt::check_only_loose_modes_prune(inexact, scenes);
   }
 }
 

@@ -9,10 +9,11 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/bake/bake.h"
-#include "medspheres/error.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "support/ball_formulas.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
@@ -21,17 +22,10 @@ using Eigen::Vector3d;
 
 namespace {
 
-constexpr double kPi = 3.141592653589793238462643383279502884;
+using test::ball_volume;
+using test::cap_volume;
+using test::kPi;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-double ball_volume(double r) {
-  return 4.0 / 3.0 * kPi * r * r * r;
-}
-
-// Volume of the part of a ball of radius r beyond a plane at distance r - h from its centre.
-double cap_volume(double r, double h) {
-  return kPi * h * h * (3.0 * r - h) / 3.0;
-}
 
 FitOptions quick(std::size_t volume_samples = 200000, std::size_t surface_samples = 20000) {
   FitOptions o;

@@ -12,8 +12,9 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
-#include "medspheres/error.h"
 #include "medspheres/bake/union_volume.h"
+#include "medspheres/error.h"
+#include "support/ball_formulas.h"
 
 using Catch::Matchers::Contains;
 using Eigen::Vector3d;
@@ -23,27 +24,12 @@ using medspheres::UnionOfBalls;
 
 namespace {
 
-constexpr double kPi = 3.141592653589793238462643383279502884;
+using medspheres::test::ball_volume;
+using medspheres::test::cap_area;
+using medspheres::test::kPi;
+using medspheres::test::lens_volume;
+using medspheres::test::sphere_area;
 constexpr double kEps = std::numeric_limits<double>::epsilon();
-
-double ball_volume(double r) {
-  return 4.0 / 3.0 * kPi * r * r * r;
-}
-double sphere_area(double r) {
-  return 4.0 * kPi * r * r;
-}
-
-// Volume of the lens of two balls whose spheres cross, in the textbook form
-// pi (r1 + r2 - d)^2 (d^2 + 2 d (r1 + r2) - 3 (r1 - r2)^2) / (12 d); the library sums two caps.
-double lens_volume(double r1, double r2, double d) {
-  const double o = r1 + r2 - d;
-  return kPi * o * o * (d * d + 2.0 * d * (r1 + r2) - 3.0 * (r1 - r2) * (r1 - r2)) / (12.0 * d);
-}
-
-// Area of sphere 1 inside ball 2 (Archimedes: 2 pi r1 times the height of the cap).
-double cap_area(double r1, double r2, double d) {
-  return 2.0 * kPi * r1 * (r2 * r2 - (d - r1) * (d - r1)) / (2.0 * d);
-}
 
 // Rounding bound of the inclusion-exclusion sum. The measure of a k-simplex of K is a sum
 // of k + 1 sphere terms r^3 Omega / 3 (area: r^2 Omega), |Omega| <= 4 pi, and of edge and

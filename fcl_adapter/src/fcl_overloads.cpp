@@ -3,6 +3,16 @@
 // FCL's templates in libfcl, exactly as without this header (a sphere set against a
 // geometry medspheres does not support then meets libfcl as its guard box), so that these
 // functions, like libfcl's, do not throw for a pair they cannot answer.
+//
+// Why they work: C++ prefers a non-template function to a template with the same
+// parameters, so a call compiled with fcl_overloads.h picks these, and FCL's header-only
+// default callbacks (fcl::DefaultCollisionFunction, fcl::DefaultDistanceFunction) find
+// them by argument-dependent lookup from their unqualified calls. Null geometries throw
+// where libfcl would dereference them; FCL's default callbacks do not catch, hence no
+// other exception. Why every translation unit needs the header: one without it calls
+// libfcl directly, which sees a sphere set as its enclosing box; and FCL's inline callback
+// templates, compiled one way in some units and the other way in others, break the
+// one-definition rule, so that the linker may keep either version for the whole program.
 
 #include "medspheres/fcl/fcl_overloads.h"
 

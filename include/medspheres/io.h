@@ -1,22 +1,11 @@
 #pragma once
 /// \file
-/// Reading and writing sphere-set files.
-///
-/// The file is JSON:
-/// \code{.json}
-/// {
-///   "format": "medspheres.sphere_set",
-///   "version": 1,
-///   "spheres": [[x, y, z, r], ...],
-///   "source": {"mesh": "link1.stl", "sha256": "...", "triangles": 3000,
-///              "bbox_min": [0, 0, 0], "bbox_max": [1, 1, 1]},
-///   "generator": {"method": "medial", "version": "0.1.0", "params": {}},
-///   "stats": {"nerr": 0.034, "nerr_kind": "exact", "bake_seconds": 0.41}
-/// }
-/// \endcode
-/// A reader needs only "spheres"; "format" and "version", when present, must be the
-/// values above. Every other key is provenance: it is kept in
-/// SphereSet::metadata_json and written back unchanged. Unknown keys are not errors.
+/// Reading and writing sphere-set files: JSON with "format": "medspheres.sphere_set",
+/// "version": 1, "spheres": [[x, y, z, r], ...] and provenance keys ("source",
+/// "generator", "stats"; README, "The sphere-set file"). A reader needs only "spheres";
+/// "format" and "version", when present, must be the values below. Every other key is
+/// kept in SphereSet::metadata_json and written back unchanged; unknown keys are not
+/// errors.
 
 #include <string>
 
@@ -48,25 +37,19 @@ std::string sphere_set_to_json(const SphereSet& set);
 void save_sphere_set(const SphereSet& set, const std::string& path);
 
 /// Writes \p contents to \p path, atomically wherever a file is replaced:
-/// - \p path is first followed through symbolic links; the link stays, and its final
-///   target (which need not exist yet) is what gets written;
-/// - a regular file, or a new one, is written to a temporary file in the target's
-///   directory, flushed to disk and renamed over the target: readers see the old file
-///   or the whole new one, and on failure the temporary file is removed and the target
-///   is untouched. The temporary file is created by this call (O_EXCL: an existing file
-///   or symbolic link at its name is never written through), with mode 0600, and given
-///   its final permission bits before any contents are written: those of the file it
-///   replaces, or 0666 less the umask for a new file. Only the permission bits are
-///   kept: the new file belongs to this process's user and group, whoever owned the
-///   file it replaces, and extended attributes and ACLs are not copied;
-/// - an existing file that is not a regular file (a character device such as
-///   /dev/null, a FIFO) is written in place, as a shell redirection would: renaming
-///   over it would replace the device by a regular file.
-/// \throws InputError naming \p path when it is a directory, when its directory does
-///   not exist or is not a directory, or for a symbolic-link loop or a name too long
-///   (bad usage); Error naming \p path when the path cannot be looked up for another
-///   reason (no search permission on a directory on the way, ...) or a step of writing
-///   fails (permissions, a read-only file system, a full disk, ...).
+/// - symbolic links are followed: the link stays, its final target (which need not exist)
+///   is written;
+/// - a regular or new file is written to a temporary file beside it (created O_EXCL, mode
+///   0600), flushed and renamed over it: readers see the old file or the whole new one,
+///   and on failure the target is untouched and the temporary removed. The new file gets
+///   the permission bits of the one it replaces (0666 less the umask if new) before any
+///   contents, and belongs to this process's user and group; owner, extended attributes
+///   and ACLs of the old file are not kept;
+/// - an existing file that is not regular (/dev/null, a FIFO) is written in place.
+/// \throws InputError naming \p path when it is a directory, its directory is missing or
+///   not a directory, or for a symbolic-link loop or a name too long (bad usage); Error
+///   naming \p path when it cannot be looked up otherwise (no search permission, ...) or
+///   a step of writing fails (permissions, read-only file system, full disk, ...).
 void write_file_atomically(const std::string& path, const std::string& contents);
 
 /// The checks write_file_atomically makes before writing, without writing: run before a

@@ -1,10 +1,8 @@
 #pragma once
 /// \file
-/// SphereSet: a finite set of closed balls, the object every other part of
-/// medspheres produces or consumes.
-///
-/// Frame and units: centres and radii are in the frame and the units of the mesh the
-/// set approximates (frame M). Nothing here rescales or moves them.
+/// SphereSet: a finite set of closed balls, the object every part of medspheres produces
+/// or consumes. Frame and units: those of the mesh the set approximates (frame M);
+/// nothing here rescales or moves them.
 
 #include <cstddef>
 #include <string>
@@ -42,7 +40,7 @@ struct SphereSet {
 
 /// Checks that every ball has finite coordinates, a finite radius > 0 (however small:
 /// subnormal radii are valid), and a finite bounding box (|centre coordinate| + radius
-/// finite, so that nothing computed from the box overflows to infinity).
+/// finite).
 /// \param source the name used in the error message (a file name, or "sphere set").
 /// \throws InputError "<source>: sphere 17 has radius -0.5 (must be > 0)" and the like.
 void validate_sphere_set(const SphereSet& set, const std::string& source);

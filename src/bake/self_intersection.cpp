@@ -128,6 +128,31 @@ bool intersect_beyond_shared(const std::array<Point, 3>& t, const std::array<int
 
 }  // namespace
 
+// Method. Bounding boxes of the non-degenerate triangles (closed boxes, so touching boxes
+// are candidates), candidate pairs from CGAL's box_self_intersection_d, then the exact
+// test on each candidate with OpenMP threads, 2^20 candidates at a time: memory stays
+// linear in the triangles (plus the pairs found) even where the candidates are quadratic,
+// as in a fan of n triangles around one vertex (the way CAD tools cap a cylinder), whose
+// n^2 / 2 triangle pairs all have meeting boxes. The reference is CGAL's
+// Polygon_mesh_processing::self_intersections, whose test for triangles sharing one or two
+// corners this is; it is not used because CGAL 5.5 offers it only for halfedge meshes,
+// which cannot hold non-manifold edges (the meshes medspheres must accept have them), and
+// it reports each degenerate triangle as a pair with itself.
+//
+// Why the definitions (self_intersection.h). One shared corner p: for non-degenerate
+// triangles, "some point other than p is common" is equivalent to "the edge of t opposite
+// p meets u, or the edge of u opposite p meets t". Two shared corners: triangles that
+// share an edge and are not coplanar meet only along it. Three: the same triangle wound
+// alike doubles the surface, as where two overlapping solids share part of a face, and
+// the enclosed volume counts the region behind it twice; wound oppositely it is the face
+// two glued solids share (two tetrahedra joined by a face), and the volume and the winding
+// number are those of their union. So two boxes pressed face to face intersect where their
+// faces overlap, unless the faces are triangulated alike.
+//
+// Cost: the box search is sequential (CGAL runs it in parallel only with TBB, which
+// medspheres does not use) and takes most of the time; the exact tests are parallel, and
+// most candidates of a fan are settled by comparing the boxes of an edge and a triangle
+// before any exact predicate. Figures in the README.
 SelfIntersections find_self_intersections(const TriangleMesh& mesh, int threads) {
   const int nt = thread_count(threads);
   check_mesh(mesh);

@@ -171,6 +171,32 @@ bool import_memory_limit_enforced() noexcept {
 #endif
 }
 
+// Why the import is isolated. assimp (5.2.5, Debian 12's) can crash, loop forever or
+// allocate without bound on malformed files: a binary PLY with a misspelled end_header
+// segfaults, the same in ASCII loops, a stray letter inside a COLLADA <p> list loops while
+// allocating. So by default step 1 runs in a child process (isolated_call.h): the child
+// reads the file with assimp under RLIMIT_AS and sends back the transformed coordinates
+// and triangles of each placed mesh through a pipe; the caller waits with a wall-clock
+// timeout, kills the child at the deadline and welds, checks and orients itself. A child
+// that crashes, times out or runs out of memory becomes an InputError saying so. The
+// child leaves with _exit (no atexit handlers, no stdio flush) and is always reaped,
+// through a pidfd where the kernel has one (see isolated_call.cpp). The cost is a fork
+// and a copy of the mesh through the pipe (figures in the README).
+//
+// Threads. The child of a fork holds only the calling thread, and a lock another thread
+// held at the moment of the fork stays locked in the child for ever. So the child does as
+// little as it can: the checks of the file and options, the OFF pre-scan and the limits
+// are done here before the fork, and the child uses no C++ streams; glibc makes its
+// malloc and stdio safe after fork. What remains is assimp and the parts of the C++
+// runtime it uses (its logger, locale-dependent parsing in some importers, function-local
+// statics): if another thread holds one of their locks at the fork, the child waits for
+// ever and the import ends at the timeout, with the timeout's error, although the file
+// may be fine. Hence isolate_import = false for callers that run assimp or change the
+// global locale on other threads.
+//
+// The OFF pre-scan (check_off_faces): assimp clamps an out-of-range face index to the
+// last vertex and reads a negative one as 0, silently, and drops faces of more than 9
+// vertices; the pre-scan rejects such files instead, naming the face.
 LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   if (options.import_timeout_seconds && !(*options.import_timeout_seconds >= 0.0)) {
     throw std::invalid_argument(

@@ -278,6 +278,12 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
   return r;
 }
 
+// Cavities. A hollow solid (a ball with a spherical void) has an inner shell wound
+// inward: its negative volume is what makes the total the solid's volume. So a closed,
+// consistently wound component at nesting depth 0 (outermost), 2, ... bounds material and
+// must face out; at odd depth it bounds a cavity and already faces the right way. The
+// containment test sums the solid angles of D's triangles directly, with no far-field
+// approximation, and takes the absolute value, so D's own orientation does not matter.
 OrientationFix orient_mesh(TriangleMesh& mesh) {
   detail::check_indices(mesh);
   OrientationFix fix;

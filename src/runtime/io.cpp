@@ -253,6 +253,12 @@ void check_output_path(const std::string& path) {
     throw Error(path + ": cannot write in directory " + dir.string() + ": " + std::strerror(errno));
 }
 
+// The temporary file is created by this call with O_EXCL, so an existing file or symbolic
+// link at its name is never written through, and it gets its final permission bits
+// before any contents are written, so the contents are never readable more widely than
+// the file they replace. A file that is not regular (a character device such as
+// /dev/null, a FIFO) is written in place, as a shell redirection would: renaming over it
+// would replace the device by a regular file.
 void write_file_atomically(const std::string& path, const std::string& contents) {
   const fs::path target = resolve_links(path);
   const fs::file_status st = status_for_writing(path, target);

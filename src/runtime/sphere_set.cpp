@@ -17,6 +17,8 @@ Eigen::AlignedBox3d SphereSet::bounds() const {
   return box;
 }
 
+// The bounding box must be finite (|centre coordinate| + radius finite) so that nothing
+// computed from the box overflows to infinity.
 void validate_sphere_set(const SphereSet& set, const std::string& source) {
   for (std::size_t i = 0; i < set.spheres.size(); ++i) {
     const Sphere& s = set.spheres[i];

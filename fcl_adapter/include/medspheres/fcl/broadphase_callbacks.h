@@ -13,9 +13,9 @@
 /// medspheres::fcl::rethrow_if_failed(data);
 /// \endcode
 ///
-/// Errors. An exception must not cross an FCL broadphase manager. A callback that
-/// catches one stores it in data.error, sets data.done and asks the manager to stop;
-/// call rethrow_if_failed(data) after the manager returns.
+/// Errors: a callback catches every exception (none may cross an FCL manager), stores
+/// it in data.error, sets data.done and asks the manager to stop; call
+/// rethrow_if_failed(data) after the manager returns.
 
 #include <exception>
 

@@ -13,51 +13,32 @@
 /// double d = medspheres::fcl::distance(&a, &b, req, res);
 /// \endcode
 ///
-/// Why our own entry points. libfcl dispatches fcl::distance and fcl::collide through
-/// tables indexed by its closed NODE_TYPE enum, built into the shared library; no one can
-/// add a row for a new geometry. medspheres::fcl::distance and collide therefore run
-/// every pair that involves a SphereSetGeometry on its sphere tree (SphereTree, see
-/// medspheres/sphere_tree.h), against
+/// Pairs with a SphereSetGeometry run on its sphere tree (medspheres/sphere_tree.h)
+/// against
 ///   - another SphereSetGeometry;
-///   - an fcl::BVHModel of triangles, of any BV type (AABB, OBB, RSS, kIOS, OBBRSS,
-///     KDOP16/18/24): the model's own hierarchy is traversed, its leaves are triangles,
-///     treated as surfaces (as FCL does: a sphere set inside a closed mesh touching no
-///     triangle does not collide with it). The model must be finished (endModel()) and
-///     its bounding volumes in the model's frame, as endModel() leaves them (not after
+///   - an fcl::BVHModel of triangles of any BV type (AABB, OBB, RSS, kIOS, OBBRSS,
+///     KDOP16/18/24), traversing the model's own hierarchy. Triangles are surfaces, as in
+///     FCL (a sphere set inside a closed mesh touching no triangle does not collide). The
+///     model must be finished (endModel()), its BVs in the model's frame (not after
 ///     makeParentRelative());
-///   - every FCL primitive: Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex,
-///     Plane and Halfspace. Each sphere is answered by FCL's own narrowphase for an
-///     fcl::Sphere: fcl::distance when apart, else the depth and normal of fcl::collide's
-///     contact; for Ellipsoid, Cone and Convex that is libccd's GJK/EPA, within the
-///     request's distance_tolerance and gjk_tolerance (in the tests its distances move by
-///     up to 1e-4 between two frames of one configuration). Plane and Halfspace are
-///     answered in closed form with FCL's own collision conventions (libfcl's
-///     sphere-plane and sphere-halfspace distance is not usable);
-///   - an fcl::OcTree: its occupied cells, as boxes, with FCL's rules (a cell counts when
-///     it is occupied; free and uncertain subtrees are skipped).
-/// Every other pair goes unchanged to fcl::distance or fcl::collide, so its result is
-/// exactly libfcl's. A sphere set against anything else (fcl::TriangleP, a BVHModel of
-/// points, a user-defined geometry) throws std::invalid_argument rather than being
-/// forwarded: libfcl would report it as "no collision".
+///   - every FCL primitive (Box, Sphere, Ellipsoid, Capsule, Cone, Cylinder, Convex, Plane,
+///     Halfspace): each sphere gets FCL's own fcl::Sphere narrowphase answer (fcl::distance
+///     when apart, else fcl::collide's depth and normal; for Ellipsoid, Cone and Convex,
+///     libccd's GJK/EPA within the request's distance_tolerance and gjk_tolerance); Plane
+///     and Halfspace in closed form with FCL's collision conventions;
+///   - an fcl::OcTree: its occupied cells as boxes, with FCL's rules (free and uncertain
+///     subtrees skipped).
+/// Every other pair goes unchanged to fcl::distance or fcl::collide (libfcl's result). A
+/// sphere set against anything else (fcl::TriangleP, a BVHModel of points, a user-defined
+/// geometry) throws std::invalid_argument.
 ///
-/// Guard: a sphere set that reaches libfcl by mistake. Code that calls fcl::distance or
-/// fcl::collide directly (or FCL's default broadphase callbacks, compiled without
-/// fcl_overloads.h) sends a SphereSetGeometry to libfcl, which has no node type for it;
-/// a geometry of unknown type is reported as "no collision". So SphereSetGeometry
-/// derives from fcl::CollisionGeometry<double> through fcl::Box<double>, and presents
-/// itself to libfcl as a box centred on the origin of its frame that encloses all its
-/// spheres: getNodeType() is GEOM_BOX, getObjectType() OT_GEOM, `side` twice the largest
-/// |coordinate| + radius along each axis (rounded up; at most the largest finite double,
-/// so a set reaching beyond half of it from the origin gets the largest finite box, which
-/// then cannot hold all of it). libfcl then answers exactly as for that
-/// fcl::Box: wherever it supports a box, it never misses a collision of the spheres, may
-/// report collisions they do not have, and reports distances no larger than theirs.
-/// Where libfcl does not support a box it does what it does for its own box: it prints
-/// "... is not supported" and reports no collision (against fcl::TriangleP) or a
-/// distance of the largest double (distance against a BVHModel of AABB, OBB or KDOP
-/// nodes), and libfcl 0.7's distance against fcl::Plane or fcl::Halfspace crashes for a
-/// box as for every shape. (A box was chosen over a tighter fcl::Convex because libfcl
-/// 0.7 also crashes in collide() between a Convex and a Plane.) Identify a sphere set
+/// Guard: to libfcl (a direct fcl::distance or fcl::collide call, or FCL's default
+/// callbacks without fcl_overloads.h) a SphereSetGeometry is an fcl::Box: GEOM_BOX,
+/// OT_GEOM, centred on the origin of its frame, `side` twice the largest |coordinate| +
+/// radius per axis (rounded up, at most the largest finite double). Where libfcl supports
+/// a box it then never misses a collision of the spheres, may report collisions they do
+/// not have, and reports distances no larger than theirs; where it does not, it does what
+/// it does for a box (sphere_set_geometry.cpp lists the cases). Identify a sphere set
 /// with as_sphere_set(), not with getNodeType().
 ///
 /// Frames and units: tf1, tf2 and the CollisionObjects' transforms pose the geometries
@@ -65,33 +46,30 @@
 /// medspheres, FCL's namespace must be written ::fcl, since medspheres::fcl is this one.
 ///
 /// Result conventions (FCL's):
-///   - nearest points and contact positions are in world coordinates;
-///   - result.o1 and result.o2 are the caller's geometries in the caller's order, and
-///     b1, b2 are the primitive ids: the sphere's index in its SphereSet for a sphere
-///     set, the triangle index for a BVHModel, the query cell id for an octree
-///     (fcl::OcTree::getNodeByQueryCellId), Contact::NONE (-1) for a primitive;
-///   - a contact normal points from o1 to o2; penetration_depth >= 0; the position is
-///     the midpoint of the two objects' deepest points (see medspheres/sphere_tree.h);
-///   - a preset result.min_distance is respected: only a pair strictly closer replaces
-///     it, and it prunes the search (MoveIt presets it as a threshold);
-///   - enable_nearest_points: the points are written only when set. They are the
-///     witness points of the reported pair (see medspheres/sphere_tree.h): for a sphere
-///     and a primitive, p_sphere = c + r n and p_other = p_sphere + d n, with d the
-///     distance and n the unit direction from FCL's answer;
-///   - enable_signed_distance: when the objects overlap, min_distance is minus the
-///     largest penetration depth over all overlapping pairs, and the nearest points are
-///     the two deepest points. When it is not set and the objects overlap, the search
-///     stops at the first overlapping pair and min_distance is that pair's signed
-///     distance (<= 0, FCL's "implementation defined" negative value);
-///   - abs_err and rel_err prune as in FCL's BVH distance (see sphere_tree.h for the
-///     guarantee, and for ties);
-///   - num_max_contacts caps result.numContacts() (contacts already in the result
-///     count, as in FCL); with enable_contact false, contacts carry only o1, o2, b1, b2;
-///     num_max_contacts == 0 returns 0 at once; the return value is
-///     result.numContacts(), and a request already satisfied returns at once;
-///   - a geometry that is not occupied (fcl::CollisionGeometry::isOccupied()) collides
-///     with nothing; enable_cost is ignored (no cost sources for sphere sets).
-/// Touching is collision, as in FCL's sphere tests.
+///   - points in W; result.o1, o2 are the caller's geometries in the caller's order; b1, b2
+///     the primitive ids: the sphere's index in its SphereSet, the triangle index of a
+///     BVHModel, the query cell id of an octree (fcl::OcTree::getNodeByQueryCellId),
+///     Contact::NONE (-1) for a primitive;
+///   - a contact normal points from o1 to o2; penetration_depth >= 0; the position is the
+///     midpoint of the two objects' deepest points (sphere_tree.h). Touching is collision;
+///   - a preset result.min_distance is respected: only a strictly closer pair replaces it,
+///     and it prunes the search (MoveIt presets it as a threshold);
+///   - enable_nearest_points: points written only when set. They are the witness points
+///     of the reported pair (sphere_tree.h); for a sphere and a primitive, p_sphere =
+///     c + r n and p_other = p_sphere + d n, d the distance, n the unit direction of FCL's
+///     answer;
+///   - enable_signed_distance: when the objects overlap, min_distance is minus the largest
+///     penetration depth over all overlapping pairs, at the two deepest points. Unset, the
+///     search stops at the first overlapping pair, min_distance its signed distance (<= 0,
+///     FCL's "implementation defined" negative value);
+///   - abs_err and rel_err prune as in FCL's BVH distance (guarantee and ties:
+///     sphere_tree.h);
+///   - num_max_contacts caps result.numContacts(), contacts already in the result
+///     included; 0 returns 0 at once, and a request already satisfied returns at once;
+///     the return value is result.numContacts(); with enable_contact false, contacts carry
+///     only o1, o2, b1, b2;
+///   - a geometry that is not occupied (isOccupied()) collides with nothing; enable_cost
+///     is ignored (sphere sets have no cost sources).
 ///
 /// Thread safety: distance() and collide() only read the geometries; any number of
 /// threads may query the same geometries at once. Building an fcl::CollisionObject calls

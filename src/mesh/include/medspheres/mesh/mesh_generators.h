@@ -1,12 +1,9 @@
 #pragma once
 /// \file
-/// Closed, outward-oriented triangle meshes of simple solids, generated in code.
-/// Tests, benchmarks and examples use them where the exact shape (and so the exact
-/// medial surface, volume and distance field of the ideal solid) is known.
-///
-/// Every mesh is watertight: each edge is shared by exactly two triangles, vertices
-/// are shared, not duplicated, and triangles run counter-clockwise seen from outside.
-/// Vertices lie on the ideal surface; the mesh is inscribed in the ideal solid.
+/// Closed, outward-oriented triangle meshes of simple solids whose ideal shape (medial
+/// surface, volume, distance field) is known. Every mesh is watertight (each edge shared
+/// by exactly two triangles, vertices shared), wound counter-clockwise seen from outside,
+/// and inscribed in the ideal solid (vertices on its surface).
 
 #include "medspheres/triangle_mesh.h"
 

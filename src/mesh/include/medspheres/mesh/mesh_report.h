@@ -1,26 +1,20 @@
 #pragma once
 /// \file
 /// Validation of a triangle mesh: what it is made of, whether it bounds a solid, and
-/// the repairs medspheres is willing to make (orientation only).
+/// the one repair medspheres makes (orientation).
 ///
-/// Definitions (all exact, on vertex indices; no tolerance is applied, so two vertices
-/// at the same position count as one only if the loader merged them, see mesh_io.h):
-/// - an edge is an unordered pair of distinct vertex indices used by some triangle;
-/// - a boundary edge is used by exactly one triangle, a non-manifold edge by three or
-///   more;
-/// - a degenerate triangle has a repeated vertex index or zero area in double
-///   precision (|(b - a) x (c - a)| == 0);
-/// - a collapsed triangle (one with a repeated vertex index) is not a surface element:
-///   it has no edges and belongs to no component. A zero-area triangle with three
-///   distinct vertices is a sliver of the surface and counts like any other;
+/// Definitions, exact on vertex indices (no tolerance: two vertices at one position are
+/// one only if the loader merged them, see mesh_io.h):
+/// - an edge is an unordered pair of distinct vertex indices used by some triangle; a
+///   boundary edge is used by exactly one triangle, a non-manifold edge by three or more;
+/// - a degenerate triangle has a repeated vertex index (collapsed: no edges, in no
+///   component) or zero area in double (|(b - a) x (c - a)| == 0; such a sliver with
+///   three distinct vertices counts like any other triangle);
 /// - components are the classes of non-collapsed triangles connected through shared
-///   edges;
-/// - a component is closed when none of its edges is a boundary or non-manifold edge;
-///   the mesh is closed when every component is.
-///
-/// Signed volume is (1/6) sum over triangles of a . (b x c) (divergence theorem); it is
-/// the enclosed volume for a closed, consistently outward-wound component, and merely a
-/// number otherwise.
+///   edges; a component is closed when none of its edges is boundary or non-manifold,
+///   and the mesh is closed when every component is;
+/// - signed volume is (1/6) sum over triangles of a . (b x c): the enclosed volume of a
+///   closed, consistently outward-wound component, merely a number otherwise.
 
 #include <cstddef>
 #include <string>
@@ -91,19 +85,12 @@ struct OrientationFix {
 
 /// Makes the winding of each edge-manifold component consistent (flipping the smaller
 /// set of triangles), then turns closed components with negative signed volume outward,
-/// except cavities. Components with non-manifold edges are left alone. Deterministic.
-///
-/// Cavities. A hollow solid (a ball with a spherical void) has an inner shell wound
-/// inward: its negative volume is what makes the total the solid's volume. So a closed,
-/// consistently wound component C with negative signed volume is flipped only when an
-/// even number of the other closed, consistently wound components contain it: C at
-/// nesting depth 0 (outermost), 2, ... bounds material and must face out; at odd depth
-/// it bounds a cavity and already faces the right way. "D contains C" means
-/// |winding number of D alone| > 0.5 at the centroid of C's largest triangle (its solid
-/// angles summed directly over D's triangles, with no far-field approximation; D's
-/// orientation does not matter). Components of positive volume are
-/// never flipped, even at odd depth. Nesting is assumed to be proper (shells do not
-/// cross); for crossing shells the test point decides.
+/// except cavities: such a component C is flipped only when an even number (0, 2, ...)
+/// of the other closed, consistently wound components contain it, where "D contains C"
+/// means |winding number of D alone| > 0.5 at the centroid of C's largest triangle.
+/// Components of positive volume are never flipped; components with non-manifold edges
+/// are left alone. Nesting is assumed proper (for crossing shells the test point
+/// decides). Deterministic.
 OrientationFix orient_mesh(TriangleMesh& mesh);
 
 /// The boundary of the mesh as chains of vertex indices: every boundary edge (used by

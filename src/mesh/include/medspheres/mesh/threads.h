@@ -2,21 +2,15 @@
 /// \file
 /// The thread count every `threads` option of medspheres takes (BakeOptions,
 /// DilateOptions, FitOptions, the CLI's --threads): 0 for all cores (OpenMP's default
-/// team size), or an explicit count from 1 to kMaxThreads. The cap keeps a typo such as
-/// 100000 from asking the OpenMP runtime for more threads than the system can create
-/// (which crashes it); 1024 is far above the cores of any machine this runs on, and
-/// results are bit-identical for every count anyway.
-///
-/// check_threads is header-only; thread_count is defined in medspheres::mesh (and so
-/// available to medspheres::bake), the component that brings OpenMP, so that this header
-/// does not include <omp.h>.
+/// team size), or an explicit count from 1 to kMaxThreads. Results are bit-identical for
+/// every count.
 
 #include <stdexcept>
 #include <string>
 
 namespace medspheres {
 
-/// The largest explicit thread count accepted.
+/// The largest explicit thread count accepted (why 1024: threads.cpp).
 inline constexpr int kMaxThreads = 1024;
 
 /// What is wrong with \p threads as a thread count, "must be in [0, 1024] (0: all cores),
