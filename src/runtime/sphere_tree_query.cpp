@@ -3,6 +3,24 @@
 // node types (traversal_sphere_pair.h, traversal_point.h, traversal_target.h) and an
 // accumulator (traversal_accumulators.h), and runs the one traversal (traversal.h).
 // Everything is computed in the first tree's frame A and converted to W at the end.
+//
+// The walk is depth first, the nearer child pair first; of two internal nodes the one
+// with the larger ball is opened. A node pair's lower bound is the gap between the two
+// balls, raised for RSS nodes to the gap between the two RSS along the line through the
+// ball centres (proximity_bounds.h), and for signed queries to at least minus the sum of
+// the two largest radii below: no two spheres below can overlap deeper.
+//
+// Tolerances. A pair whose lower bound c satisfies c >= best - abs_err and
+// c (1 + rel_err) >= best is pruned (Threshold). A pruned pair holds no pair closer than
+// c, so when the objects are apart the reported d and the minimum d* satisfy
+// d* <= d <= min(d* + abs_err, (1 + rel_err) d*); with either tolerance zero the rule
+// is c >= best and the answer is exact. When best < 0, best / (1 + rel_err) >= best, so
+// the rule prunes no pair with c < best, none that could hold a deeper pair: a negative
+// signed distance is always exact.
+//
+// Contacts are placed at the midpoint of the two witness points, FCL's convention for
+// sphere-box; FCL's own sphere-sphere uses a radius-weighted point instead, which agrees
+// with the midpoint when the radii are equal.
 
 #include <cmath>
 #include <limits>
