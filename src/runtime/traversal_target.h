@@ -83,34 +83,19 @@ class TargetNodes {
 
   // Distance: every sphere of A's leaf against the target's primitive.
   void leaf(const Pair& p, ClosestPair& acc) const {
-    const N& a = na_[p.i];
-    for (std::int32_t k = a.first; k < a.first + a.count; ++k) {
-      const PackedSphere& s = sa_[k];
-      ++acc.stats.leaf_tests;
-      const Eigen::Vector3d c = load(s.c);
-      const BallProximity ans = leaf_answer(p.t.node, c, s.r);
-      if (ans.distance < acc.value()) {
-        const Eigen::Vector3d pa = c + ans.normal * s.r;
+    each_answer(p, acc, [&](std::int32_t k, const Eigen::Vector3d& pa, const BallProximity& ans) {
+      if (ans.distance < acc.value())
         acc.offer(ans.distance, k, p.t.node.primitive, pa, pa + ans.normal * ans.distance);
-        if (acc.done()) return;
-      }
-    }
+    });
   }
 
   // Collision: every sphere of A's leaf that the primitive's answer puts at <= 0.
   void leaf(const Pair& p, ContactList& acc) const {
-    const N& a = na_[p.i];
-    for (std::int32_t k = a.first; k < a.first + a.count; ++k) {
-      const PackedSphere& s = sa_[k];
-      ++acc.stats.leaf_tests;
-      const Eigen::Vector3d c = load(s.c);
-      const BallProximity ans = leaf_answer(p.t.node, c, s.r);
-      if (ans.distance > 0.0) continue;
-      const Eigen::Vector3d pa = c + ans.normal * s.r;
-      acc.offer(ans.distance, k, p.t.node.primitive, pa, pa + ans.normal * ans.distance,
-                ans.normal);
-      if (acc.done()) return;
-    }
+    each_answer(p, acc, [&](std::int32_t k, const Eigen::Vector3d& pa, const BallProximity& ans) {
+      if (!(ans.distance > 0.0))
+        acc.offer(ans.distance, k, p.t.node.primitive, pa, pa + ans.normal * ans.distance,
+                  ans.normal);
+    });
   }
 
  private:
@@ -129,6 +114,21 @@ class TargetNodes {
           std::sqrt(item.view.h0 * item.view.h0 + item.view.h1 * item.view.h1) + item.view.r;
     }
     return item;
+  }
+
+  // Calls f(k, p_a, answer) for each sphere k of A's leaf, in order, with the target
+  // leaf's answer and the witness point p_a on the sphere, until acc is done.
+  template <class Acc, class F>
+  void each_answer(const Pair& p, Acc& acc, F&& f) const {
+    const N& a = na_[p.i];
+    for (std::int32_t k = a.first; k < a.first + a.count; ++k) {
+      const PackedSphere& s = sa_[k];
+      ++acc.stats.leaf_tests;
+      const Eigen::Vector3d c = load(s.c);
+      const BallProximity ans = leaf_answer(p.t.node, c, s.r);
+      f(k, Eigen::Vector3d(c + ans.normal * s.r), ans);
+      if (acc.done()) return;
+    }
   }
 
   // A ball of A (centre in A) against a target leaf, answered in A.

@@ -67,16 +67,21 @@ inline Rss box_bounds(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) {
   return b;
 }
 
-/// One solid box [lo, hi]; the root is its only primitive.
-class BoxTarget final : public ProximityTarget {
+/// A target of one primitive: the root is a leaf.
+class LonePrimitiveTarget : public ProximityTarget {
  public:
-  BoxTarget(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) : lo_(lo), hi_(hi) {}
   std::optional<TargetNode> root() const override {
     TargetNode n;
     n.is_leaf = true;
     return n;
   }
   int children(const TargetNode&, TargetNode*) const override { return 0; }
+};
+
+/// One solid box [lo, hi].
+class BoxTarget final : public LonePrimitiveTarget {
+ public:
+  BoxTarget(const Eigen::Vector3d& lo, const Eigen::Vector3d& hi) : lo_(lo), hi_(hi) {}
   BallProximity ball_proximity(const TargetNode&, const Eigen::Vector3d& c,
                                double r) const override {
     return ball_box_proximity(lo_, hi_, c, r);
@@ -87,15 +92,9 @@ class BoxTarget final : public ProximityTarget {
 };
 
 /// The solid half-space {x : n . x <= offset}, n a unit vector.
-class HalfspaceTarget final : public ProximityTarget {
+class HalfspaceTarget final : public LonePrimitiveTarget {
  public:
   HalfspaceTarget(const Eigen::Vector3d& n, double offset) : n_(n.normalized()), offset_(offset) {}
-  std::optional<TargetNode> root() const override {
-    TargetNode node;
-    node.is_leaf = true;
-    return node;
-  }
-  int children(const TargetNode&, TargetNode*) const override { return 0; }
   BallProximity ball_proximity(const TargetNode&, const Eigen::Vector3d& c,
                                double r) const override {
     BallProximity out;
