@@ -1,88 +1,36 @@
 #pragma once
 /// \file
 /// SphereTree: a binary bounding-volume hierarchy over a SphereSet (paper §5.2), and the
-/// proximity queries that run on it: distance, collision and signed distance between two
-/// trees, between a tree and a point, and between a tree and a ProximityTarget (a
-/// TriangleTree here; an fcl::BVHModel, FCL primitive or octree in the FCL adapter).
+/// proximity queries on it: distance, signed distance and collision between two trees,
+/// between a tree and a point, and between a tree and a ProximityTarget.
 ///
-/// Construction. Top-down. At each node a linear least-squares (PCA) fit of the sphere
-/// centres below it gives three axes, the major one first. Every node stores the
-/// minimum enclosing ball of the spheres below it (computed as described at ball_slack),
-/// and its bounding volume is
-///   - BoundingVolumeKind::rss: an RSS (see rss.h) whose rectangle lies along the two
-///     major axes, with radius and extents fitted as in Larsen et al. so that every
-///     sphere below the node lies inside it; the ball serves as a cheaper first test;
-///   - BoundingVolumeKind::ball: the ball alone.
-/// The spheres are split by a plane normal to the major axis: sorted by the projection
-/// of their centres on it (ties by the sphere's index), the first k go to the first
-/// child, with k the smallest minimiser of k d_1 + (n - k) d_2, d_i the diagonal of the
-/// box (in the node's PCA frame) of child i's spheres, among the k that leave each child
-/// more than a tenth of the n spheres; this bounds the depth by log(n) / log(10/9).
-/// (The paper cuts at the mean centre. On dilated sets, which mix large and small
-/// spheres, the cost-chosen cut made near-contact distance queries visit up to a fifth
-/// fewer node pairs; see bench_distance and bench_table2.) A node with at most
-/// max_leaf_size spheres is a leaf.
+/// Frames (monogram notation, as FCL's sphere_box.h): A is a tree's frame (its
+/// SphereSet's), B the other object's, W the world. X_WA is the pose of A in W, a rigid
+/// transform with an orthonormal rotation; p_WQ is point Q measured and expressed in W.
+/// Results are in W, in the sphere set's units.
 ///
-/// Traversal. Depth first, the nearer child pair first; of two internal nodes the one
-/// with the larger ball is opened. The lower bound of a node pair is the gap between
-/// the two balls, raised for RSS nodes to the gap between the two RSS along the line
-/// through the ball centres (a few dot products; on baked sphere sets the traversal then
-/// visits under ten percent more node pairs than with a tight rectangle distance), and
-/// for signed queries to at least minus the sum of the two largest radii below.
+/// Pair values. Balls (a, r_a), (b, r_b): signed distance |b - a| - (r_a + r_b), unit
+/// normal n from a to b (W's x axis when a = b), witness points a + r_a n and b - r_b n.
+/// A target's primitive answers as BallProximity says. Touching is collision: a pair
+/// collides unless |b - a| > r_a + r_b (FCL's sphere-sphere comparison).
+/// Contact: position the midpoint of the witness points (FCL's sphere-box convention),
+/// normal n (from A to B), depth -(signed distance) >= 0.
 ///
-/// Frames and notation (monogram notation, as in FCL's sphere_box.h): A is the frame of
-/// a tree (the frame of the SphereSet it was built from), B the frame of the other
-/// object, W the world. X_WA is the pose of A in W, a rigid transform whose rotation
-/// must be orthonormal. p_WQ is the position of point Q measured and expressed in W.
-/// Every result is expressed in W. Units are those of the sphere set; nothing is
-/// rescaled.
+/// Tolerances: as FCL's DistanceRequest; with abs_err or rel_err zero (the default) the
+/// answer is exact, otherwise a separated answer d and the minimum d* satisfy
+/// d* <= d <= min(d* + abs_err, (1 + rel_err) d*); a negative signed distance is exact.
+/// Values carry double rounding: a few ulps of the coordinates' magnitude.
 ///
-/// Queries.
-///   - distance(): the smallest distance between a sphere of A and a sphere (or
-///     primitive) of B, with the two witness points and the indices of the pair. When
-///     the objects overlap it stops at the first overlapping pair found and reports that
-///     pair's signed distance (<= 0, and >= the true signed distance); ask
-///     signed_distance() for the deepest one.
-///   - signed_distance(): the same when separated; when the objects overlap, the
-///     negative of the maximum penetration depth over all overlapping pairs, with that
-///     pair's witness points (the deepest point of each object inside the other).
-///   - collide() and contacts(): whether any pair overlaps, or up to max_contacts
-///     overlapping pairs as contacts.
-/// Pair values. For balls (a, r_a) and (b, r_b) with centres in a common frame, the
-/// signed distance is |b - a| - (r_a + r_b). The unit normal n points from a to b; when
-/// the centres coincide it is the x axis of W. Witness points: p_Pa = a + r_a n and
-/// p_Pb = b - r_b n, so that p_Pb - p_Pa = (signed distance) n. For a primitive of a
-/// target see BallProximity.
-/// Touching is collision: a pair collides unless |b - a| > r_a + r_b, the comparison of
-/// FCL's sphere-sphere test (computed here with both centres in frame A).
-/// Contacts: position = the midpoint of the two witness points, normal = n (from A to
-/// B), depth = -(signed distance) >= 0. Midpoint is FCL's convention for sphere-box;
-/// FCL's own sphere-sphere uses a radius-weighted point instead, which agrees with the
-/// midpoint when the radii are equal.
+/// Ties: the pair found first is reported. The traversal order depends only on the two
+/// trees, the poses and the query, so answers are deterministic; swapping the objects
+/// may report another pair of a tie. Contacts come in traversal order, not by depth.
 ///
-/// Tolerances (DistanceOptions::abs_err and rel_err), as FCL's DistanceRequest: a pair of
-/// nodes whose lower bound c satisfies both c >= best - abs_err and c (1 + rel_err) >=
-/// best is pruned. So, for objects apart, the reported value d and the exact minimum d*
-/// satisfy
-///   d* <= d <= min(d* + abs_err, (1 + rel_err) d*),
-/// which means that the answer is exact when either tolerance is zero (the defaults).
-/// A negative signed_distance() is always exact: the rule never prunes a pair that could
-/// be deeper. The witness points and indices are those of the reported pair. On top of
-/// this, values carry the rounding of double arithmetic: a few units in the last place of
-/// the coordinates' magnitude.
+/// Errors and degenerate input: an empty tree finds nothing (TreeDistance::found() is
+/// false, collide() false, no contacts). Non-finite poses or points and negative or NaN
+/// tolerances throw std::invalid_argument. Coincident spheres and centres are handled.
 ///
-/// Ties. When several pairs share the minimum, the one found first is reported. The
-/// traversal order depends only on the two trees and the poses, so answers are
-/// deterministic, but swapping the two objects may report another pair of the tie.
-/// Contacts are reported in traversal order, not by depth.
-///
-/// Degenerate input. A tree may be empty (built from an empty set): distance queries
-/// then find nothing (TreeDistance::found() is false), collide() is false and contacts()
-/// adds none. Coincident spheres, zero-extent nodes and identical centres are handled.
-/// Non-finite poses or points and negative tolerances throw std::invalid_argument.
-///
-/// Thread safety. A tree is immutable once built; every query is a free function taking
-/// const references, and any number of threads may query the same trees at once.
+/// Threads: a tree is immutable once built and the queries are free functions on const
+/// references; any number of threads may query the same trees at once.
 
 #include <cstddef>
 #include <cstdint>
@@ -107,7 +55,7 @@ enum class BoundingVolumeKind {
 
 struct SphereTreeOptions {
   BoundingVolumeKind kind = BoundingVolumeKind::rss;  ///< node bounding volume
-  int max_leaf_size = 8;  ///< most spheres in a leaf, >= 1 (8 is fastest in bench_distance)
+  int max_leaf_size = 8;  ///< most spheres in a leaf, >= 1 (see README, Benchmarks)
 };
 
 /// Shape and size of a tree, reported next to timings.
@@ -124,20 +72,17 @@ struct SphereTreeStats {
 
 class SphereTree {
  public:
-  /// Relative excess, over the exact minimum, allowed for a node's bounding ball
-  /// (bounding_ball()). The ball is computed by a cutting-plane loop: the exact minimum ball
-  /// of a finite set P of points on the spheres (Welzl's move-to-front algorithm, as in
-  /// Gärtner 1999) is a lower bound R_P on the minimum R*; the farthest point of every
-  /// sphere from its centre is added to P until the ball of that centre enclosing every
-  /// sphere, R, satisfies R <= (1 + ball_slack) R_P. Hence R* <= R <= (1 + ball_slack) R*,
-  /// to rounding. Enclosure is then made exact: R is recomputed from the final centre as
-  /// max_i |c_i - C| + r_i, plus 16 eps (|C|_inf + R) for the rounding of that sum.
+  /// A node's bounding ball (bounding_ball()) has radius R with R* <= R <=
+  /// (1 + ball_slack) R*, R* the minimum enclosing ball's, to rounding, and encloses every
+  /// sphere below the node exactly (rounded up).
   static constexpr double ball_slack = 1e-9;
 
   /// An empty tree.
   SphereTree();
 
-  /// Builds the tree over \p set, which is copied (the tree does not refer to it).
+  /// Builds the tree over \p set, which is copied (the tree does not refer to it): top
+  /// down, each node split across its spheres' principal axis; a node of at most
+  /// max_leaf_size spheres is a leaf, and the depth is at most log(n) / log(10/9).
   /// \throws InputError (source "sphere set") if a sphere has a non-finite coordinate or
   ///   a radius that is not finite and > 0 (see validate_sphere_set).
   /// \throws std::invalid_argument if options.max_leaf_size < 1.
@@ -162,11 +107,8 @@ class SphereTree {
   std::size_t right_child(std::size_t node) const;
   /// The spheres below \p node, as indices into the original set, in tree order.
   std::vector<std::size_t> spheres_below(std::size_t node) const;
-  /// For BoundingVolumeKind::rss: the node's RSS, in frame A. Every sphere below the node
-  /// lies inside it: the distance from its centre to the rectangle plus its radius is at
-  /// most the RSS radius, which is the largest such value computed in double precision
-  /// plus 16 eps (|corner|_inf + length[0] + length[1] + radius), the rounding of the
-  /// computation.
+  /// For BoundingVolumeKind::rss: the node's RSS, in frame A, which contains every sphere
+  /// below the node (its radius rounded up).
   /// \throws std::invalid_argument for a BoundingVolumeKind::ball tree.
   Rss rss(std::size_t node) const;
   /// The minimum enclosing ball, in frame A, of the spheres below the node, within
@@ -224,13 +166,19 @@ struct TreeContact {
 
 // --- tree and tree ---------------------------------------------------------------------
 
+/// The smallest pair signed distance below options.upper_bound, with the pair and its
+/// witness points. When the trees overlap it stops at the first overlapping pair found:
+/// the value is <= 0 and >= the true signed distance.
 TreeDistance distance(const SphereTree& a, const Eigen::Isometry3d& X_WA, const SphereTree& b,
                       const Eigen::Isometry3d& X_WB, const DistanceOptions& options = {});
 
+/// As distance(), but when the trees overlap: minus the deepest pair's penetration depth,
+/// with that pair's witness points (the deepest point of each object inside the other).
 TreeDistance signed_distance(const SphereTree& a, const Eigen::Isometry3d& X_WA,
                              const SphereTree& b, const Eigen::Isometry3d& X_WB,
                              const DistanceOptions& options = {});
 
+/// Whether any pair of spheres touches or overlaps.
 bool collide(const SphereTree& a, const Eigen::Isometry3d& X_WA, const SphereTree& b,
              const Eigen::Isometry3d& X_WB, QueryStats* stats = nullptr);
 
@@ -251,6 +199,8 @@ TreeDistance distance(const SphereTree& a, const Eigen::Isometry3d& X_WA,
                       const Eigen::Vector3d& p_WQ, const DistanceOptions& options = {});
 
 // --- tree and target -------------------------------------------------------------------
+// As the tree-and-tree queries, with B's primitives (primitive_b: the primitive id of the
+// target's leaf) in place of B's spheres.
 
 TreeDistance distance(const SphereTree& a, const Eigen::Isometry3d& X_WA, const ProximityTarget& b,
                       const Eigen::Isometry3d& X_WB, const DistanceOptions& options = {});

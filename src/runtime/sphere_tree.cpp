@@ -52,6 +52,22 @@ const SphereTree::Layout* tree_layout(const SphereTree& tree) noexcept {
 
 SphereTree::SphereTree() = default;
 
+// Construction (bvh_build.cpp does the work). Top down: at each node a least-squares
+// (PCA) fit of the centres below gives three axes, the major one first. The spheres are
+// sorted by the projection of their centres on the major axis (ties by index) and the
+// first k go to the first child, k the smallest minimiser of k d_1 + (n - k) d_2 (d_i the
+// diagonal, in the node's PCA frame, of the box of child i's spheres) among the k that
+// leave each child more than a tenth of the n spheres, which bounds the depth by
+// log(n) / log(10/9). (The paper cuts at the mean centre; see cheapest_cut.) Every node
+// stores the minimum enclosing ball of its spheres, computed by cutting planes: the exact
+// ball of a finite set P of points on the spheres (Welzl's move-to-front, Gärtner 1999)
+// has radius R_P <= R*; the farthest point of each sphere from its centre joins P until
+// the ball of that centre enclosing every sphere, of radius R, has R <= (1 + ball_slack)
+// R_P. Enclosure is then made exact: R = max_i |c_i - C| + r_i + 16 eps (|C|_inf + R). An
+// RSS node's rectangle lies along the two major axes, its radius and extents fitted as
+// in Larsen et al. so that every sphere lies inside: the radius is the largest distance
+// from a centre to the rectangle plus that sphere's radius, computed in double, plus
+// 16 eps (|corner|_inf + length[0] + length[1] + radius) for its rounding.
 SphereTree::SphereTree(const SphereSet& set, const SphereTreeOptions& options) {
   if (options.max_leaf_size < 1)
     throw std::invalid_argument("SphereTreeOptions::max_leaf_size must be >= 1, not " +

@@ -1,0 +1,92 @@
+#pragma once
+// The one traversal of the runtime's proximity queries: a depth-first walk over pairs of
+// nodes of two hierarchies, in the manner of coal's distanceRecurse / collisionRecurse.
+// Private to the runtime target.
+//
+// What is walked is given by a node-pair adapter (sphere tree and sphere tree, sphere
+// tree and target, sphere tree and point; see traversal_*.h), which provides
+//   using Pair = ...;                       a pair of nodes, one of each hierarchy
+//   static constexpr int kMaxChildren;      most child pairs one opening yields
+//   Pair root() const;
+//   double bound(const Pair&, double prune_at) const;
+//       a lower bound on the signed distance of any two primitives below the pair; it
+//       may return any value >= prune_at once it knows the pair is pruned;
+//   bool is_leaf(const Pair&) const;        both nodes are leaves
+//   bool open_first(const Pair&) const;     which node to open, the first or the second
+//   int children(const Pair&, bool first, Pair* out) const;
+//       the pairs made by opening that node, in the hierarchy's child order;
+//   void leaf(const Pair&, Accumulator&) const;
+//       the leaf test: hands every primitive pair below to the accumulator.
+// What is gathered is given by the accumulator (traversal_accumulators.h), which provides
+//   QueryStats stats;                       the work done, counted by the walk and the
+//                                           leaf tests;
+//   double prune_at() const;                the level above which pairs are pruned: the
+//                                           adapter's bound may stop refining there;
+//   bool keeps(double lb) const;            whether a pair of bound lb is visited: for a
+//                                           distance lb < prune_at(), for a collision
+//                                           lb <= prune_at() (touching counts);
+//   bool done() const;                      whether the walk may stop.
+//
+// Order. At each opening, the child pairs' bounds are computed in child order and the
+// pairs are visited nearest first, ties in child order (a stable sort). A pruned pair is
+// pruned for the rest of the walk, since prune_at only decreases. So the order, and
+// with it every tie-break and QueryStats count, depends only on the two hierarchies,
+// the poses and the query.
+//
+// A new query mode is a new adapter (and, when it gathers something else, a new
+// accumulator): e.g. a pair made of one node of each of two nested sphere sets per
+// object, whose bound is the outer sets' and whose leaf test feeds the inner sets'
+// distances to the accumulator's prune_at.
+
+#include <utility>
+
+#include "medspheres/sphere_tree.h"
+
+namespace medspheres::detail {
+
+/// The child pairs of \p p, opened on the side the adapter chooses, with their bounds
+/// (each counted in stats.bv_tests), sorted nearest first, ties in child order.
+template <class Nodes>
+int open_pair(const Nodes& nodes, const typename Nodes::Pair& p, double prune_at, QueryStats& stats,
+              typename Nodes::Pair* next, double* lb) {
+  using Pair = typename Nodes::Pair;
+  const int n = nodes.children(p, nodes.open_first(p), next);
+  for (int k = 0; k < n; ++k) {
+    ++stats.bv_tests;
+    lb[k] = nodes.bound(next[k], prune_at);
+  }
+  for (int k = 1; k < n; ++k) {  // insertion sort: stable, and n is small
+    for (int m = k; m > 0 && lb[m] < lb[m - 1]; --m) {
+      std::swap(lb[m], lb[m - 1]);
+      Pair t = next[m];
+      next[m] = next[m - 1];
+      next[m - 1] = t;
+    }
+  }
+  return n;
+}
+
+template <class Nodes, class Acc>
+void recurse(const Nodes& nodes, const typename Nodes::Pair& p, Acc& acc) {
+  if (nodes.is_leaf(p)) {
+    nodes.leaf(p, acc);
+    return;
+  }
+  typename Nodes::Pair next[Nodes::kMaxChildren];
+  double lb[Nodes::kMaxChildren];
+  const int n = open_pair(nodes, p, acc.prune_at(), acc.stats, next, lb);
+  for (int k = 0; k < n; ++k) {
+    if (acc.keeps(lb[k])) recurse(nodes, next[k], acc);
+    if (acc.done()) return;
+  }
+}
+
+/// Walks, nearest first, every pair whose bound the accumulator keeps, until it is done.
+template <class Nodes, class Acc>
+void traverse(const Nodes& nodes, Acc& acc) {
+  const typename Nodes::Pair root = nodes.root();
+  ++acc.stats.bv_tests;
+  if (acc.keeps(nodes.bound(root, acc.prune_at()))) recurse(nodes, root, acc);
+}
+
+}  // namespace medspheres::detail
