@@ -45,13 +45,14 @@ Measures measure(const FitEvaluator& fit, const TriangleMesh& mesh, const Sphere
 
 int main(int argc, char** argv) {
   std::size_t max_spheres = 1000;
-  std::string only;
+  std::string dir = test::shared_meshes_dir(), only;
   bench::Args args("bench_dilate", "Conservative dilation (paper section 5.1) per mesh");
+  args.add_meshes(dir);
   args.add("--max", max_spheres,
            "bake S_D at the largest resolution giving at most this many spheres");
   args.add_only(only);
   args.parse(argc, argv);
-  const std::vector<bench::MeshFile> meshes = bench::bench_meshes(test::shared_meshes_dir(), true);
+  const std::vector<bench::MeshFile> meshes = bench::bench_meshes(dir, true);
 
   std::printf(
       "Dilation (paper section 5.1): S_D baked with at most %zu spheres, dilated with the "
