@@ -18,56 +18,21 @@
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_tree.h"
 #include "support/sphere_fixtures.h"
+#include "support/sphere_scenes.h"
 
-using medspheres::BoundingVolumeKind;
 using medspheres::DistanceOptions;
-using medspheres::Sphere;
 using medspheres::SphereSet;
 using medspheres::SphereTree;
-using medspheres::SphereTreeOptions;
 using medspheres::TreeContact;
 using medspheres::TreeDistance;
+namespace ms = medspheres;
 namespace mt = medspheres::test;
 
 namespace {
 
 constexpr double kEps = std::numeric_limits<double>::epsilon();
 
-struct Case {
-  SphereSet a, b;
-  Eigen::Isometry3d X_WA, X_WB;
-};
-
-// Random pairs of sets at random poses, from far apart to deeply overlapping.
-std::vector<Case> random_cases(unsigned seed, int count) {
-  std::mt19937 rng(seed);
-  std::vector<Case> cases;
-  for (int k = 0; k < count; ++k) {
-    Case c;
-    const std::size_t na = 1 + static_cast<std::size_t>(rng() % 120);
-    const std::size_t nb = 1 + static_cast<std::size_t>(rng() % 120);
-    c.a = (k % 3 == 0) ? mt::random_sheet_set(rng, na) : mt::random_sphere_set(rng, na);
-    c.b = (k % 4 == 0) ? mt::random_sheet_set(rng, nb) : mt::random_sphere_set(rng, nb);
-    const double spread = 0.5 + 0.5 * (k % 7);
-    c.X_WA = mt::random_pose(rng, spread);
-    c.X_WB = mt::random_pose(rng, spread);
-    cases.push_back(c);
-  }
-  return cases;
-}
-
-std::vector<SphereTreeOptions> all_options() {
-  std::vector<SphereTreeOptions> out;
-  for (BoundingVolumeKind kind : {BoundingVolumeKind::rss, BoundingVolumeKind::ball}) {
-    for (int leaf : {1, 4}) {
-      SphereTreeOptions o;
-      o.kind = kind;
-      o.max_leaf_size = leaf;
-      out.push_back(o);
-    }
-  }
-  return out;
-}
+using Case = mt::SetPairScene;
 
 double tolerance(const Case& c) {
   return 64 * kEps *
@@ -78,8 +43,8 @@ double tolerance(const Case& c) {
 // Checks a reported pair against its definition in sphere_tree.h.
 void check_reported_pair(const Case& c, const TreeDistance& d, double tol) {
   REQUIRE(d.found());
-  const Sphere& sa = c.a.spheres[static_cast<std::size_t>(d.sphere_a)];
-  const Sphere& sb = c.b.spheres[static_cast<std::size_t>(d.primitive_b)];
+  const ms::Sphere& sa = c.a.spheres[static_cast<std::size_t>(d.sphere_a)];
+  const ms::Sphere& sb = c.b.spheres[static_cast<std::size_t>(d.primitive_b)];
   const double pair = mt::pair_signed_distance(sa, c.X_WA, sb, c.X_WB);
   CHECK(d.distance == Approx(pair).margin(tol));
   const Eigen::Vector3d ca = c.X_WA * sa.center, cb = c.X_WB * sb.center;
@@ -104,9 +69,9 @@ std::set<std::pair<std::intptr_t, std::intptr_t>> brute_overlaps(const Case& c) 
 }  // namespace
 
 TEST_CASE("SphereTree distance and signed distance match brute force", "[sphere_tree][query]") {
-  const std::vector<Case> cases = random_cases(21, 60);
+  const std::vector<Case> cases = mt::random_set_pairs(21, 60);
   int separated = 0, overlapping = 0;
-  for (const SphereTreeOptions& options : all_options()) {
+  for (const ms::SphereTreeOptions& options : mt::all_tree_options()) {
     for (const Case& c : cases) {
       const SphereTree ta(c.a, options), tb(c.b, options);
       const mt::BrutePair brute = mt::brute_min(c.a, c.X_WA, c.b, c.X_WB);
@@ -136,8 +101,8 @@ TEST_CASE("SphereTree distance and signed distance match brute force", "[sphere_
 }
 
 TEST_CASE("SphereTree contacts are exactly the overlapping pairs", "[sphere_tree][query]") {
-  const std::vector<Case> cases = random_cases(5, 40);
-  for (const SphereTreeOptions& options : all_options()) {
+  const std::vector<Case> cases = mt::random_set_pairs(5, 40);
+  for (const ms::SphereTreeOptions& options : mt::all_tree_options()) {
     for (const Case& c : cases) {
       const SphereTree ta(c.a, options), tb(c.b, options);
       const auto expected = brute_overlaps(c);
@@ -148,8 +113,8 @@ TEST_CASE("SphereTree contacts are exactly the overlapping pairs", "[sphere_tree
       std::set<std::pair<std::intptr_t, std::intptr_t>> got;
       for (const TreeContact& k : all) {
         CHECK(got.insert({k.sphere_a, k.primitive_b}).second);  // no duplicates
-        const Sphere& sa = c.a.spheres[static_cast<std::size_t>(k.sphere_a)];
-        const Sphere& sb = c.b.spheres[static_cast<std::size_t>(k.primitive_b)];
+        const ms::Sphere& sa = c.a.spheres[static_cast<std::size_t>(k.sphere_a)];
+        const ms::Sphere& sb = c.b.spheres[static_cast<std::size_t>(k.primitive_b)];
         const Eigen::Vector3d ca = c.X_WA * sa.center, cb = c.X_WB * sb.center;
         const double sd = (cb - ca).norm() - (sa.radius + sb.radius);
         CHECK(k.depth == Approx(-sd).margin(tol));
@@ -188,7 +153,7 @@ TEST_CASE("SphereTree: touching counts as collision, exactly", "[sphere_tree][qu
   Eigen::Isometry3d X_WA = Eigen::Isometry3d::Identity();
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.linear() << 0, -1, 0, 1, 0, 0, 0, 0, 1;  // 90 degrees about z
-  for (const SphereTreeOptions& options : all_options()) {
+  for (const ms::SphereTreeOptions& options : mt::all_tree_options()) {
     const SphereTree ta(a, options), tb(b, options);
     X_WB.translation() = Eigen::Vector3d(3.0, 0, 0);  // |3 - 0| = 1 + 2: touching
     CHECK(medspheres::collide(ta, X_WA, tb, X_WB));
@@ -220,7 +185,7 @@ TEST_CASE("SphereTree: touching counts as collision, exactly", "[sphere_tree][qu
 }
 
 TEST_CASE("SphereTree distance is symmetric under swapping", "[sphere_tree][query]") {
-  for (const Case& c : random_cases(33, 40)) {
+  for (const Case& c : mt::random_set_pairs(33, 40)) {
     const SphereTree ta(c.a), tb(c.b);
     const double tol = tolerance(c);
     for (bool is_signed : {false, true}) {
@@ -241,9 +206,9 @@ TEST_CASE("SphereTree distance is symmetric under swapping", "[sphere_tree][quer
 }
 
 TEST_CASE("SphereTree: RSS and ball trees give the same distances", "[sphere_tree][query]") {
-  SphereTreeOptions rss, ball;
-  ball.kind = BoundingVolumeKind::ball;
-  for (const Case& c : random_cases(44, 50)) {
+  ms::SphereTreeOptions rss, ball;
+  ball.kind = ms::BoundingVolumeKind::ball;
+  for (const Case& c : mt::random_set_pairs(44, 50)) {
     const SphereTree ra(c.a, rss), rb(c.b, rss), ba(c.a, ball), bb(c.b, ball);
     const double tol = tolerance(c);
     const TreeDistance d_rr = medspheres::signed_distance(ra, c.X_WA, rb, c.X_WB);
@@ -257,7 +222,7 @@ TEST_CASE("SphereTree: RSS and ball trees give the same distances", "[sphere_tre
 }
 
 TEST_CASE("SphereTree tolerances keep FCL's guarantee", "[sphere_tree][query]") {
-  for (const Case& c : random_cases(55, 40)) {
+  for (const Case& c : mt::random_set_pairs(55, 40)) {
     const SphereTree ta(c.a), tb(c.b);
     const double exact = mt::brute_min(c.a, c.X_WA, c.b, c.X_WB).value;
     if (exact <= 0.0) continue;
@@ -361,10 +326,10 @@ void check_tolerance_totals(const ToleranceTotals& totals) {
 
 TEST_CASE("SphereTree tolerances prune tree-tree queries within FCL's guarantee",
           "[sphere_tree][query]") {
-  for (const SphereTreeOptions& options : all_options()) {
+  for (const ms::SphereTreeOptions& options : mt::all_tree_options()) {
     INFO("kind " << static_cast<int>(options.kind) << " leaf " << options.max_leaf_size);
     ToleranceTotals totals;
-    for (const Case& c : random_cases(56, 60)) {
+    for (const Case& c : mt::random_set_pairs(56, 60)) {
       const SphereTree ta(c.a, options), tb(c.b, options);
       const double exact = mt::brute_min(c.a, c.X_WA, c.b, c.X_WB).value;
       const double tol = tolerance(c);
@@ -397,7 +362,7 @@ TEST_CASE("SphereTree tolerances prune tree-mesh queries within FCL's guarantee"
   const medspheres::TriangleMesh mesh = mt::bumpy_sphere(12, 17, 1.0);
   const medspheres::TriangleTree target(mesh);
   std::mt19937 rng(57);
-  for (const SphereTreeOptions& options : all_options()) {
+  for (const ms::SphereTreeOptions& options : mt::all_tree_options()) {
     INFO("kind " << static_cast<int>(options.kind) << " leaf " << options.max_leaf_size);
     ToleranceTotals totals;
     for (int k = 0; k < 40; ++k) {
@@ -436,7 +401,7 @@ TEST_CASE("SphereTree tolerances prune tree-mesh queries within FCL's guarantee"
 }
 
 TEST_CASE("SphereTree honours a preset upper bound", "[sphere_tree][query]") {
-  for (const Case& c : random_cases(66, 30)) {
+  for (const Case& c : mt::random_set_pairs(66, 30)) {
     const SphereTree ta(c.a), tb(c.b);
     const double exact = mt::brute_min(c.a, c.X_WA, c.b, c.X_WB).value;
     if (exact <= 0.0) continue;
@@ -454,7 +419,7 @@ TEST_CASE("SphereTree honours a preset upper bound", "[sphere_tree][query]") {
 
 TEST_CASE("SphereTree point distance matches brute force", "[sphere_tree][query]") {
   std::mt19937 rng(77);
-  for (const SphereTreeOptions& options : all_options()) {
+  for (const ms::SphereTreeOptions& options : mt::all_tree_options()) {
     for (int k = 0; k < 30; ++k) {
       const SphereSet set = mt::random_sphere_set(rng, 1 + rng() % 150);
       const SphereTree tree(set, options);
@@ -465,13 +430,13 @@ TEST_CASE("SphereTree point distance matches brute force", "[sphere_tree][query]
                                    std::uniform_real_distribution<double>(-1.5, 1.5)(rng),
                                    std::uniform_real_distribution<double>(-1.5, 1.5)(rng));
         double best = std::numeric_limits<double>::infinity();
-        for (const Sphere& s : set.spheres)
+        for (const ms::Sphere& s : set.spheres)
           best = std::min(best, (p_WQ - X_WA * s.center).norm() - s.radius);
         const TreeDistance d = medspheres::distance(tree, X_WA, p_WQ);
         const double tol = 64 * kEps * (3 + X_WA.translation().norm());
         CHECK(d.distance == Approx(best).margin(tol));
         REQUIRE(d.found());
-        const Sphere& s = set.spheres[static_cast<std::size_t>(d.sphere_a)];
+        const ms::Sphere& s = set.spheres[static_cast<std::size_t>(d.sphere_a)];
         CHECK((p_WQ - X_WA * s.center).norm() - s.radius == Approx(best).margin(tol));
         CHECK((d.p_WPa - X_WA * s.center).norm() == Approx(s.radius).margin(tol));
         CHECK(d.p_WPb == p_WQ);

@@ -44,6 +44,41 @@ void node_links(const SphereTree::Layout& l, std::size_t node, std::int32_t& fir
   }
 }
 
+// Writes node k of the block at \p base: its bounding volume over \p balls (the spheres
+// below it), the largest radius below and its links.
+void write_node(BoundingVolumeKind kind, const Eigen::Matrix3d& axes,
+                const std::vector<detail::Ball>& balls, double max_r, std::int32_t first,
+                std::int32_t count, unsigned char* base, std::size_t k) {
+  const detail::Ball ball = detail::min_enclosing_ball(balls);
+  if (kind == BoundingVolumeKind::rss) {
+    const Rss rss = detail::fit_rss(axes, balls);
+    const Eigen::Vector3d offset = rss.center() - ball.center;
+    detail::RssNode node{};
+    for (int i = 0; i < 3; ++i) {
+      node.c[i] = ball.center[i];
+      node.o[i] = offset[i];
+      node.u[i] = rss.axis(i, 0);
+      node.v[i] = rss.axis(i, 1);
+    }
+    node.ball_r = ball.radius;
+    node.half[0] = 0.5 * rss.length[0];
+    node.half[1] = 0.5 * rss.length[1];
+    node.r = rss.radius;
+    node.max_r = max_r;
+    node.first = first;
+    node.count = count;
+    new (reinterpret_cast<detail::RssNode*>(base) + k) detail::RssNode(node);
+  } else {
+    detail::BallNode node{};
+    for (int i = 0; i < 3; ++i) node.c[i] = ball.center[i];
+    node.r = ball.radius;
+    node.max_r = max_r;
+    node.first = first;
+    node.count = count;
+    new (reinterpret_cast<detail::BallNode*>(base) + k) detail::BallNode(node);
+  }
+}
+
 }  // namespace
 
 const SphereTree::Layout* tree_layout(const SphereTree& tree) noexcept {
@@ -142,35 +177,7 @@ SphereTree::SphereTree(const SphereSet& set, const SphereTreeOptions& options) {
       stats.max_leaf_size = std::max(stats.max_leaf_size, size);
     }
     stats.depth = std::max(stats.depth, static_cast<std::size_t>(b.depth));
-    if (options.kind == BoundingVolumeKind::rss) {
-      const Rss rss = detail::fit_rss(b.axes, balls);
-      const detail::Ball ball = detail::min_enclosing_ball(balls);
-      const Eigen::Vector3d offset = rss.center() - ball.center;
-      detail::RssNode node{};
-      for (int i = 0; i < 3; ++i) {
-        node.c[i] = ball.center[i];
-        node.o[i] = offset[i];
-        node.u[i] = rss.axis(i, 0);
-        node.v[i] = rss.axis(i, 1);
-      }
-      node.ball_r = ball.radius;
-      node.half[0] = 0.5 * rss.length[0];
-      node.half[1] = 0.5 * rss.length[1];
-      node.r = rss.radius;
-      node.max_r = max_r;
-      node.first = first;
-      node.count = count;
-      new (reinterpret_cast<detail::RssNode*>(base) + k) detail::RssNode(node);
-    } else {
-      const detail::Ball ball = detail::min_enclosing_ball(balls);
-      detail::BallNode node{};
-      for (int i = 0; i < 3; ++i) node.c[i] = ball.center[i];
-      node.r = ball.radius;
-      node.max_r = max_r;
-      node.first = first;
-      node.count = count;
-      new (reinterpret_cast<detail::BallNode*>(base) + k) detail::BallNode(node);
-    }
+    write_node(options.kind, b.axes, balls, max_r, first, count, base, k);
   }
   stats.mean_leaf_size = stats.leaves == 0 ? 0.0 : static_cast<double>(n) / stats.leaves;
   stats.bytes = total + sizeof(SphereTree) + sizeof(Layout);

@@ -9,8 +9,8 @@
 //   static constexpr int kMaxChildren;      most child pairs one opening yields
 //   Pair root() const;
 //   double bound(const Pair&, double prune_at) const;
-//       a lower bound on the signed distance of any two primitives below the pair; it
-//       may return any value >= prune_at once it knows the pair is pruned;
+//       a lower bound on the signed distance of any two primitives below the pair; once
+//       it knows the bound is >= prune_at it may return any lower bound >= prune_at;
 //   bool is_leaf(const Pair&) const;        both nodes are leaves
 //   bool open_first(const Pair&) const;     which node to open, the first or the second
 //   int children(const Pair&, bool first, Pair* out) const;
@@ -34,9 +34,11 @@
 // the poses and the query.
 //
 // A new query mode is a new adapter (and, when it gathers something else, a new
-// accumulator): e.g. a pair made of one node of each of two nested sphere sets per
-// object, whose bound is the outer sets' and whose leaf test feeds the inner sets'
-// distances to the accumulator's prune_at.
+// accumulator). For instance, bounds certified by an inner and an outer sphere set of
+// each object: a Pair holds a node pair of the outer sets and one of the inner sets, the
+// bound is the outer pair's lower bound, and the leaf test feeds the inner sets' pair
+// distances to an accumulator whose prune_at() is the smallest of them (an upper bound
+// on the true distance), so that a pair is pruned when its outer lower bound exceeds it.
 
 #include <utility>
 
