@@ -225,10 +225,11 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
       return xrdf_text(per_link(doc, options), o);
     }
     case SphereFormat::kUrdf: {
-      const std::string& urdf = options.urdf_text.empty() ? doc.urdf_text : options.urdf_text;
-      if (urdf.empty())
+      const bool given = !options.urdf_text.empty();
+      if (!given && doc.urdf_text.empty())
         throw InputError("--urdf", "a spherized URDF is made from the robot's URDF; pass it");
-      return spherize_urdf(urdf, per_link(doc, options), "--urdf");
+      return spherize_urdf(given ? options.urdf_text : doc.urdf_text, per_link(doc, options),
+                           given ? options.urdf_source : "the input URDF");
     }
     case SphereFormat::kSrdf:
       return srdf_spheres_text(per_link(doc, options), robot_name(doc, options));

@@ -59,9 +59,10 @@ struct ReadOptions {
 };
 
 struct WriteOptions {
-  std::string link;        ///< the link a one-set output takes, or names a one-set input
-  std::string urdf_text;   ///< the URDF a spherized URDF is made from
-  std::string robot_name;  ///< the SRDF's robot name (default: the input's, or "robot")
+  std::string link;       ///< the link a one-set output takes, or names a one-set input
+  std::string urdf_text;  ///< the URDF a spherized URDF is made from
+  std::string urdf_source = "--urdf";  ///< its name in error messages (its path)
+  std::string robot_name;              ///< the SRDF's robot name (default: the input's, or "robot")
 };
 
 /// Reads \p path as \p format (nullopt: from the extension and, for ".json", the content).
