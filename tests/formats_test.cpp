@@ -7,10 +7,13 @@
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/foam_json.h"
 #include "medspheres/formats/sph_file.h"
+#include "medspheres/formats/sphere_document.h"
 #include "medspheres/formats/spherized_urdf.h"
 #include "medspheres/formats/srdf_spheres.h"
 #include "medspheres/formats/xrdf.h"
 #include "medspheres/io.h"
+#include "medspheres/robot_file.h"
+#include "support/robot_fixtures.h"
 #include "support/robot_spheres_fixtures.h"
 
 using Catch::Matchers::Contains;
@@ -179,3 +182,25 @@ TEST_CASE("cuRobo's own Unitree G1 configuration reads", "[formats][shared]") {
   CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s), "again"), s));
 }
 #endif
+
+TEST_CASE("a robot model's document writes every per-link format from its covering sets",
+          "[formats]") {
+  medspheres::RobotModel m = medspheres::test::three_link_arm();
+  CHECK_THROWS_WITH(robot_document(m, SphereChoice::kOuter, "", "arm"),
+                    Contains("arm") && Contains("no link has outer"));
+  m.links[2].spheres.outer.spheres = {{{0.1, 0.2, 0.3}, 0.05}};
+  m.links[2].spheres.inner.spheres = {{{0.1, 0.2, 0.3}, 0.01}};
+  const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
+  const RobotSpheres expected{{"l2", {{{0.1, 0.2, 0.3}, 0.05}}}};
+  // One link with spheres still makes foam's per-link database, not a one-mesh list.
+  CHECK(identical(parse_foam_robot_json(sphere_document_text(doc, SphereFormat::kFoam), "f"),
+                  expected));
+  const YAML::Node curobo = YAML::Load(sphere_document_text(doc, SphereFormat::kCurobo));
+  CHECK(curobo["robot_cfg"]["kinematics"]["base_link"].as<std::string>() == "base");
+  const YAML::Node xrdf = YAML::Load(sphere_document_text(doc, SphereFormat::kXrdf));
+  CHECK(xrdf["cspace"]["joint_names"].as<std::vector<std::string>>() ==
+        std::vector<std::string>{"j1", "j2"});
+  CHECK(medspheres::parse_robot(sphere_document_text(doc, SphereFormat::kRobot), "r")
+            .links[2]
+            .spheres.inner.size() == 1);
+}

@@ -56,19 +56,6 @@ SphereSet one_set(std::vector<Sphere> spheres) {
   return set;
 }
 
-SphereDocument read_robot_file(const std::string& path, SphereChoice choice) {
-  SphereDocument doc;
-  doc.model = load_robot(path);
-  doc.robot_name = doc.model->name;
-  doc.links = robot_spheres(*doc.model, choice);
-  if (doc.links.empty())
-    throw InputError(
-        path, std::string("no link has ") +
-                  (choice == SphereChoice::kOuter ? "outer (covering)" : "inner") + " spheres" +
-                  (choice == SphereChoice::kOuter ? " (pick the inner set instead)" : ""));
-  return doc;
-}
-
 std::string xml_robot_name(const std::string& text, const std::string& source) {
   tinyxml2::XMLDocument xml;
   parse_xml(xml, text, source);
@@ -77,6 +64,21 @@ std::string xml_robot_name(const std::string& text, const std::string& source) {
 }
 
 }  // namespace
+
+SphereDocument robot_document(const RobotModel& model, SphereChoice choice,
+                              const std::string& urdf_text, const std::string& source) {
+  SphereDocument doc;
+  doc.model = model;
+  doc.robot_name = model.name;
+  doc.urdf_text = urdf_text;
+  doc.links = robot_spheres(model, choice);
+  if (doc.links.empty())
+    throw InputError(
+        source, std::string("no link has ") +
+                    (choice == SphereChoice::kOuter ? "outer (covering)" : "inner") + " spheres" +
+                    (choice == SphereChoice::kOuter ? " (pick the inner set instead)" : ""));
+  return doc;
+}
 
 const char* sphere_format_name(SphereFormat format) {
   switch (format) {
@@ -135,7 +137,7 @@ SphereDocument read_sphere_document(const std::string& path, std::optional<Spher
       doc.set = parse_sphere_set(text, path);
       break;
     case SphereFormat::kRobot:
-      return read_robot_file(path, options.choice);
+      return robot_document(parse_robot(text, path), options.choice, "", path);
     case SphereFormat::kCurobo:
       doc.links = parse_curobo_yaml(text, path);
       break;
@@ -234,8 +236,7 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
     case SphereFormat::kSrdf:
       return srdf_spheres_text(per_link(doc, options), robot_name(doc, options));
     case SphereFormat::kFoam:
-      if (doc.set || !options.link.empty() || doc.links.size() == 1)
-        return foam_mesh_json(single_set(doc, options));
+      if (doc.set || !options.link.empty()) return foam_mesh_json(single_set(doc, options));
       return foam_robot_json(doc.links);
     case SphereFormat::kSph:
       return sph_text(single_set(doc, options));

@@ -19,9 +19,10 @@
 ///
 /// Conversion: a per-link file written to a one-set format takes the link that
 /// WriteOptions::link names (or its only link); a one-set file written to a per-link
-/// format becomes that one link. A robot file is written only from a robot file (it needs
-/// the kinematic tree); a spherized URDF needs the robot's URDF (the input's, or
-/// WriteOptions::urdf_text).
+/// format becomes that one link. foam output is foam's one-mesh list for a one-set input
+/// or when a link is named, its per-link database otherwise. A robot file is written only from a
+/// robot file (it needs the kinematic tree); a spherized URDF needs the robot's URDF (the input's,
+/// or WriteOptions::urdf_text).
 
 #include <optional>
 #include <string>
@@ -52,6 +53,12 @@ struct SphereDocument {
   std::string urdf_text;            ///< a URDF's text
   std::string robot_name;           ///< when the file names the robot
 };
+
+/// The document of a robot model: its chosen sets per link, the model itself, and the
+/// URDF it came from (for a spherized URDF). What the robot command writes each format from.
+/// \throws InputError naming \p source when no link has spheres of the chosen kind.
+SphereDocument robot_document(const RobotModel& model, SphereChoice choice,
+                              const std::string& urdf_text, const std::string& source);
 
 struct ReadOptions {
   SphereChoice choice = SphereChoice::kOuter;  ///< the set a robot file gives
