@@ -99,6 +99,17 @@ TEST_CASE("SRDF: a lone zero-radius sphere means no spheres, as in srdfdom", "[f
   const std::string text = srdf_spheres_text(s, "r");
   CHECK_THAT(text, Contains("radius=\"0\""));
   CHECK(identical(parse_srdf_spheres(text, "f"), s));
+  // Numbers as people write them: a leading plus sign, exponents, extra spaces.
+  const RobotSpheres hand = parse_srdf_spheres(
+      "<robot><link_sphere_approximation link=\"c\"><sphere center=\" +1  -2e0 3\" "
+      "radius=\"+5E-1\"/></link_sphere_approximation></robot>",
+      "f");
+  CHECK(identical(hand, {{"c", {{{1, -2, 3}, 0.5}}}}));
+  CHECK_THROWS_WITH(parse_srdf_spheres("<robot><link_sphere_approximation link=\"c\"><sphere "
+                                       "center=\"+-1 0 0\" radius=\"1\"/>"
+                                       "</link_sphere_approximation></robot>",
+                                       "f"),
+                    Contains("link \"c\" sphere 0"));
 }
 
 TEST_CASE("sph: every level of a spheretree file, unused nodes dropped", "[formats]") {

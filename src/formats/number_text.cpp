@@ -26,7 +26,7 @@ std::optional<std::vector<double>> parse_numbers(std::string_view text) {
   while (true) {
     while (p < end && space(*p)) ++p;
     if (p == end) return out;
-    if (*p == '+') ++p;  // from_chars takes no plus sign; URDF files sometimes have one
+    if (*p == '+' && ++p < end && *p == '-') return std::nullopt;  // from_chars takes no '+'
     double v = 0;
     const auto [next, ec] = std::from_chars(p, end, v);
     if (ec != std::errc() || (next < end && !space(*next))) return std::nullopt;
