@@ -1,0 +1,159 @@
+// Sphere sets to a small budget: covering sets (bake_cover) beside the inner set S_D
+// (bake_max_spheres) and its dilation S+ (dilate with cover rounds).
+//
+// Usage: bench_budget [--k 2,4,8,16,32,64] [--only SUBSTRING] [--no-classic] [--no-g1]
+//                     [--methods cover,sd,splus] [--samples N] [--threads T]
+//   Meshes: the closed classic meshes of ../shared/meshes/MANIFEST.tsv and every mesh of
+//   ../shared/robots/unitree_g1/meshes (link frames: the URDF's collision origins are the
+//   identity). Per mesh, K and method: the spheres made, whether the surface is certified
+//   covered (certify_cover), the excess volume (U - V) / V (exact for a set that contains
+//   the solid; for other sets see mc_out), the Monte-Carlo volume of the spheres outside
+//   the solid over V (mc_out), the max protrusion and the largest uncovered distance
+//   found by the certificate (% of the mesh's largest side L), the Monte-Carlo
+//   symmetric-difference error (fit_metrics.h), and the seconds the method took.
+// Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
+// cores.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/cover.h"
+#include "medspheres/bake/dilate.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/mesh/cover_certificate.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "support/shared_meshes.h"
+
+namespace {
+
+using namespace medspheres;
+
+struct Row {
+  std::size_t spheres = 0;
+  bool certified = false;
+  double excess = 0, mc_out = 0, protrusion = 0, uncovered = 0, mc_error = 0, seconds = 0;
+};
+
+Row measure(const FitEvaluator& fit, const SphereSet& set, double seconds, std::size_t samples,
+            int threads) {
+  Row r;
+  r.spheres = set.size();
+  r.seconds = seconds;
+  CoverCertificateOptions co;
+  co.threads = threads;
+  const CoverCertificate c = certify_cover(fit.query().mesh(), set.spheres, co);
+  r.certified = c.certified;
+  const double L = fit.query().mesh().bounds().sizes().maxCoeff();
+  r.uncovered = c.certified ? 0.0 : 100.0 * c.worst_distance / L;
+  FitOptions fo;
+  fo.volume_samples = samples;
+  fo.surface_samples = 1;
+  fo.threads = threads;
+  const FitReport f = fit.evaluate(set.spheres, fo);
+  const double V = fit.volume() ? *fit.volume() : f.monte_carlo.solid_volume.estimate;
+  r.excess = 100.0 * (f.volume.union_measures.volume - V) / V;
+  r.mc_out = 100.0 * f.monte_carlo.outside_volume / V;
+  r.protrusion = 100.0 * f.volume.max_protrusion / L;
+  r.mc_error = f.monte_carlo.error.estimate;
+  return r;
+}
+
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void print(const std::string& mesh, std::size_t k, const char* method, const Row& r) {
+  std::printf("%-34s %3zu %-6s %5zu %-4s %9.2f %8.2f %7.2f %7.3f %8.4f %7.3f\n", mesh.c_str(), k,
+              method, r.spheres, r.certified ? "yes" : "NO", r.excess, r.mc_out, r.protrusion,
+              r.uncovered, r.mc_error, r.seconds);
+  std::fflush(stdout);
+}
+
+void run_mesh(const std::string& name, const std::string& path, const std::vector<int>& ks,
+              const std::string& methods, std::size_t samples, int threads) {
+  const LoadedMesh loaded = load_mesh(path);
+  const FitEvaluator fit(loaded.mesh, threads);
+  for (int k : ks) {
+    const std::size_t K = static_cast<std::size_t>(k);
+    if (methods.find("cover") != std::string::npos) {
+      CoverOptions o;
+      o.threads = threads;
+      const auto t = std::chrono::steady_clock::now();
+      const CoverResult c = bake_cover(fit.query(), K, o);
+      print(name, K, "cover", measure(fit, c.spheres, since(t), samples, threads));
+    }
+    if (methods.find("sd") == std::string::npos && methods.find("splus") == std::string::npos)
+      continue;
+    BakeOptions bo;
+    bo.threads = threads;
+    auto t = std::chrono::steady_clock::now();
+    BakeResult sd;
+    try {
+      sd = bake_max_spheres(fit.query(), K, bo);
+    } catch (const std::exception& e) {
+      std::printf("%-34s %3d S_D    failed: %s\n", name.c_str(), k, e.what());
+      continue;
+    }
+    const double sd_seconds = since(t);
+    if (methods.find("sd") != std::string::npos)
+      print(name, K, "S_D", measure(fit, sd.spheres, sd_seconds, samples, threads));
+    if (methods.find("splus") != std::string::npos) {
+      DilateOptions d;
+      d.threads = threads;
+      d.cover_tolerance = 0.003 * loaded.report.largest_side();
+      t = std::chrono::steady_clock::now();
+      const DilateResult plus = dilate(fit.query(), sd.spheres, d);
+      print(name, K, "S+", measure(fit, plus.spheres, sd_seconds + since(t), samples, threads));
+    }
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Sphere sets to a small budget: covers, S_D and S+"};
+  std::vector<int> ks = {2, 4, 8, 16, 32, 64};
+  std::string only, methods = "cover,sd,splus";
+  bool no_classic = false, no_g1 = false;
+  std::size_t samples = 200000;
+  int threads = 2;
+  app.add_option("--k", ks, "Budgets")->delimiter(',');
+  app.add_option("--only", only, "Only meshes whose name contains this");
+  app.add_option("--methods", methods, "Any of cover, sd, splus, comma-separated");
+  app.add_flag("--no-classic", no_classic, "Skip the shared classic meshes");
+  app.add_flag("--no-g1", no_g1, "Skip the G1 links");
+  app.add_option("--samples", samples, "Monte-Carlo points per set");
+  app.add_option("--threads", threads, "Threads");
+  CLI11_PARSE(app, argc, argv);
+
+  std::vector<std::pair<std::string, std::string>> meshes;
+  if (!no_classic)
+    for (const test::SharedMesh& m : test::shared_meshes())
+      if (m.classic() && m.closed) meshes.emplace_back(m.file, m.path);
+  const std::filesystem::path g1 =
+      std::filesystem::path(MEDSPHERES_SOURCE_DIR) / ".." / "shared/robots/unitree_g1/meshes";
+  if (!no_g1 && std::filesystem::is_directory(g1)) {
+    std::vector<std::filesystem::path> links;
+    for (const auto& f : std::filesystem::directory_iterator(g1)) links.push_back(f.path());
+    std::sort(links.begin(), links.end());
+    for (const auto& p : links) meshes.emplace_back("g1/" + p.filename().string(), p.string());
+  }
+  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s\n", "mesh", "K", "method", "n",
+              "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec");
+  for (const auto& [name, path] : meshes) {
+    if (!only.empty() && name.find(only) == std::string::npos) continue;
+    try {
+      run_mesh(name, path, ks, methods, samples, threads);
+    } catch (const std::exception& e) {
+      std::printf("%-34s failed: %s\n", name.c_str(), e.what());
+    }
+  }
+  return 0;
+}

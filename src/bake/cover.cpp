@@ -1,0 +1,385 @@
+// The covering bake to a budget (cover.h).
+//
+// Why these steps. A covering ball must hold whole pieces of the surface; the least it can
+// stick out is set by the patch it holds, so the problem is one of partitioning the
+// surface into K patches and fitting each with its smallest ball: a k-center problem on
+// the surface, for which farthest-point sampling is the classical 2-approximation (step 2)
+// and alternating assignment and minimum-enclosing-ball refits the Lloyd-like local
+// improvement (step 3). Interior points join the patches so that a patch's ball is pulled
+// into the solid rather than centred on a flat face: a ball centred at depth t under a
+// flat patch of radius R sticks out by sqrt(R^2 + t^2) - t, less than the R of a ball
+// centred on the face. The elements are the pieces of the certificate's own midpoint
+// subdivision, so a ball that holds an element's three computed corners with a margin
+// above the certificate's rounding allowance certifies it (step 5 rarely has anything to
+// repair).
+#include "medspheres/bake/cover.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "../runtime/bvh_build.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/bake/union_volume.h"
+#include "medspheres/mesh/threads.h"
+
+namespace medspheres {
+
+namespace {
+
+constexpr int kMaxElementDepth = 5;
+
+// Constraint points and the elements made of them: elements [0, surface) are surface
+// pieces (three point indices), the rest interior points (one index, thrice).
+struct Elements {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> items;
+  std::vector<Eigen::Vector3d> centroids;
+  std::vector<double> reach;  // largest centroid-corner distance
+  std::size_t surface = 0;
+};
+
+void push_element(Elements& e, int a, int b, int c) {
+  e.items.push_back({a, b, c});
+  const Eigen::Vector3d g = (e.points[a] + e.points[b] + e.points[c]) / 3.0;
+  e.centroids.push_back(g);
+  e.reach.push_back(
+      std::max({(e.points[a] - g).norm(), (e.points[b] - g).norm(), (e.points[c] - g).norm()}));
+}
+
+// The lattice of midpoint subdivision at depth d: the points w0 a + w1 b + w2 c with
+// weights (n - i - j, i, j) / n, n = 2^d, and its n^2 triangles.
+void subdivide(Elements& e, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+               const Eigen::Vector3d& c, int d) {
+  const int n = 1 << d;
+  const int base = static_cast<int>(e.points.size());
+  std::vector<int> row_start(static_cast<std::size_t>(n) + 2);
+  for (int i = 0, k = base; i <= n; ++i) {
+    row_start[static_cast<std::size_t>(i)] = k;
+    for (int j = 0; i + j <= n; ++j, ++k) {
+      const double w1 = static_cast<double>(i) / n, w2 = static_cast<double>(j) / n;
+      const double w0 = static_cast<double>(n - i - j) / n;
+      e.points.push_back(a * w0 + b * w1 + c * w2);
+    }
+  }
+  auto at = [&](int i, int j) { return row_start[static_cast<std::size_t>(i)] + j; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      push_element(e, at(i, j), at(i + 1, j), at(i, j + 1));
+      if (i + j + 1 < n) push_element(e, at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+}
+
+Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOptions& o) {
+  const TriangleMesh& mesh = query.mesh();
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double L = box.sizes().maxCoeff();
+  const double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
+  Elements e;
+  e.points = mesh.vertices;
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+    const auto& tri = mesh.triangles[t];
+    const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
+    const double edge = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+    int d = 0;
+    while (d < kMaxElementDepth && edge > h * (1 << d)) ++d;
+    if (d == 0)
+      push_element(e, tri[0], tri[1], tri[2]);
+    else
+      subdivide(e, a, b, c, d);
+  }
+  e.surface = e.items.size();
+  if (o.interior_resolution <= 0) return e;
+  const double cell = L / o.interior_resolution;
+  std::vector<Eigen::Vector3d> grid;
+  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
+    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
+      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
+        grid.emplace_back(x, y, z);
+  const std::vector<double> w = query.winding_numbers(grid, o.threads);
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (!(w[i] > 0.5)) continue;
+    const int k = static_cast<int>(e.points.size());
+    e.points.push_back(grid[i]);
+    push_element(e, k, k, k);
+  }
+  return e;
+}
+
+// The growth ball (c, r) needs to hold element i: max over its points of |p - c| - r.
+double need(const Elements& e, std::size_t i, const detail::Ball& b) {
+  double m = 0.0;
+  for (int p : e.items[i])
+    m = std::max(m, (e.points[static_cast<std::size_t>(p)] - b.center).norm());
+  return m - b.radius;
+}
+
+// Each element to the centre whose farthest point of the element is nearest (ties: lowest
+// index), a Voronoi assignment of whole elements. (Assigning by the growth a ball needs,
+// which favours large balls, gave larger unions on most meshes tried.) The centroid
+// bounds the farthest distance within |g - c| +- reach, which skips most centres.
+void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vector<int>& owner,
+            int threads) {
+  const long long n = static_cast<long long>(e.items.size());
+  owner.resize(e.items.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> lo(balls.size());
+#pragma omp for schedule(static)
+    for (long long ii = 0; ii < n; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      double best_hi = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < balls.size(); ++j) {
+        const double g = (e.centroids[i] - balls[j].center).norm();
+        lo[j] = g - e.reach[i];
+        best_hi = std::min(best_hi, g + e.reach[i]);
+      }
+      double best = std::numeric_limits<double>::infinity();
+      int arg = 0;
+      for (std::size_t j = 0; j < balls.size(); ++j) {
+        if (lo[j] > best_hi || lo[j] >= best) continue;
+        const double v = need(e, i, balls[j]) + balls[j].radius;
+        if (v < best) {
+          best = v;
+          arg = static_cast<int>(j);
+        }
+      }
+      owner[i] = arg;
+    }
+  }
+}
+
+// Farthest-point sampling of the centroids: the first is the farthest from their mean.
+std::vector<detail::Ball> seeds(const Elements& e, std::size_t k) {
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& g : e.centroids) mean += g;
+  mean /= static_cast<double>(e.centroids.size());
+  std::vector<double> d(e.centroids.size());
+  for (std::size_t i = 0; i < d.size(); ++i) d[i] = (e.centroids[i] - mean).squaredNorm();
+  std::vector<detail::Ball> out;
+  while (out.size() < k) {
+    const std::size_t far =
+        static_cast<std::size_t>(std::max_element(d.begin(), d.end()) - d.begin());
+    if (!out.empty() && d[far] <= 0.0) break;  // fewer distinct centroids than k
+    out.push_back({e.centroids[far], 0.0});
+    for (std::size_t i = 0; i < d.size(); ++i)
+      d[i] = out.size() == 1 ? (e.centroids[i] - e.centroids[far]).squaredNorm()
+                             : std::min(d[i], (e.centroids[i] - e.centroids[far]).squaredNorm());
+  }
+  return out;
+}
+
+// The minimum enclosing ball of the points of the elements in \p members (each point once).
+detail::Ball fit(const Elements& e, const std::vector<std::size_t>& members,
+                 std::vector<char>& mark) {
+  std::vector<detail::Ball> pts;
+  for (std::size_t i : members)
+    for (int p : e.items[i])
+      if (!mark[static_cast<std::size_t>(p)]) {
+        mark[static_cast<std::size_t>(p)] = 1;
+        pts.push_back({e.points[static_cast<std::size_t>(p)], 0.0});
+      }
+  for (std::size_t i : members)
+    for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
+  return detail::min_enclosing_ball(pts);
+}
+
+std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k) {
+  std::vector<std::vector<std::size_t>> m(k);
+  for (std::size_t i = 0; i < owner.size(); ++i) m[static_cast<std::size_t>(owner[i])].push_back(i);
+  return m;
+}
+
+double union_volume(const std::vector<detail::Ball>& balls) {
+  std::vector<Sphere> s;
+  for (const detail::Ball& b : balls)
+    if (b.radius > 0.0) s.push_back({b.center, b.radius});
+  return measure_union(s).volume;
+}
+
+// Step 3. An empty cluster is reseeded at the element that needs the most growth.
+struct Clustering {
+  std::vector<detail::Ball> balls;
+  std::vector<int> owner;
+  int rounds = 0, best_round = 0;
+};
+
+Clustering lloyd(const Elements& e, std::size_t k, const CoverOptions& o, int threads) {
+  Clustering best;
+  std::vector<detail::Ball> balls = seeds(e, k);
+  std::vector<int> owner;
+  std::vector<char> mark(e.points.size(), 0);
+  double best_volume = std::numeric_limits<double>::infinity();
+  for (int round = 1; round <= o.rounds; ++round) {
+    const std::vector<int> previous = owner;
+    assign(e, balls, owner, threads);
+    const auto members = members_of(owner, balls.size());
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      if (!members[j].empty()) {
+        balls[j] = fit(e, members[j], mark);
+        continue;
+      }
+      std::size_t worst = 0;
+      double worst_need = -1.0;
+      for (std::size_t i = 0; i < e.items.size(); ++i) {
+        const double v = need(e, i, balls[static_cast<std::size_t>(owner[i])]);
+        if (v > worst_need) worst_need = v, worst = i;
+      }
+      balls[j] = {e.centroids[worst], 0.0};
+    }
+    const bool full =
+        std::none_of(members.begin(), members.end(), [](const auto& m) { return m.empty(); });
+    best.rounds = round;
+    if (full) {
+      const double v = union_volume(balls);
+      if (v < best_volume)
+        best_volume = v, best.balls = balls, best.owner = owner, best.best_round = round;
+    }
+    if (full && owner == previous) break;
+  }
+  if (best.balls.empty()) best.balls = balls, best.owner = owner;  // every round had a hole
+  return best;
+}
+
+}  // namespace
+
+namespace {
+
+bool holds(const Elements& e, std::size_t i, const detail::Ball& b) {
+  for (int p : e.items[i])
+    if ((e.points[static_cast<std::size_t>(p)] - b.center).norm() > b.radius) return false;
+  return true;
+}
+
+// Step 4. Ball j gives up the elements another ball holds (they move to the first such
+// ball) and is refitted to the rest, which never grows it; a ball left with nothing goes.
+// Every element stays held by its owner throughout.
+void shrink(const Elements& e, Clustering& c) {
+  std::vector<char> mark(e.points.size(), 0);
+  const std::size_t k = c.balls.size();
+  for (int pass = 0; pass < 4; ++pass) {
+    bool changed = false;
+    auto members = members_of(c.owner, k);
+    for (std::size_t j = 0; j < k; ++j) {
+      if (members[j].empty()) continue;
+      std::vector<std::size_t> keep;
+      for (std::size_t i : members[j]) {
+        std::size_t other = k;
+        for (std::size_t m = 0; m < k && other == k; ++m)
+          if (m != j && c.balls[m].radius > 0.0 && holds(e, i, c.balls[m])) other = m;
+        if (other == k) {
+          keep.push_back(i);
+        } else {
+          c.owner[i] = static_cast<int>(other);
+          members[other].push_back(i);
+        }
+      }
+      if (keep.size() == members[j].size()) continue;
+      members[j] = keep;
+      const double before = c.balls[j].radius;
+      c.balls[j] = keep.empty() ? detail::Ball{c.balls[j].center, 0.0} : fit(e, keep, mark);
+      changed = changed || c.balls[j].radius < before;
+    }
+    if (!changed) break;
+  }
+}
+
+// The margin added to every radius: far above the certificate's rounding allowance (a few
+// ulps of the coordinates), so that a ball holding an element's computed corners
+// certifies it.
+double radius_slack(double L, double coordinates) {
+  return 1e-9 * L + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+}
+
+// Step 5: grow, for each uncertified piece, the ball that needs the least growth to hold
+// its corners (ties: lowest index).
+std::size_t repair(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
+  std::size_t grown = 0;
+  for (const CoverPiece& piece : cert.uncertified_pieces) {
+    std::size_t arg = 0;
+    double best = std::numeric_limits<double>::infinity(), reach = 0.0;
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      double m = 0.0;
+      for (const Eigen::Vector3d& p : piece.corners) m = std::max(m, (p - balls[j].center).norm());
+      if (m - balls[j].radius < best) best = m - balls[j].radius, arg = j, reach = m;
+    }
+    const double r = reach + slack + 64.0 * std::numeric_limits<double>::epsilon() * reach;
+    if (r > balls[arg].radius) balls[arg].radius = r, ++grown;
+  }
+  return grown;
+}
+
+void check_cover_options(std::size_t budget, const CoverOptions& o) {
+  if (budget == 0) throw std::invalid_argument("budget must be >= 1, got 0");
+  if (o.rounds < 1)
+    throw std::invalid_argument("rounds must be >= 1, got " + std::to_string(o.rounds));
+  if (o.interior_resolution < 0 || o.interior_resolution > 256)
+    throw std::invalid_argument("interior_resolution must be in [0, 256], got " +
+                                std::to_string(o.interior_resolution));
+  if (o.repair_rounds < 1)
+    throw std::invalid_argument("repair_rounds must be >= 1, got " +
+                                std::to_string(o.repair_rounds));
+  if (o.certificate.max_depth < kMaxElementDepth)
+    throw std::invalid_argument(
+        "certificate.max_depth must be >= " + std::to_string(kMaxElementDepth) + ", got " +
+        std::to_string(o.certificate.max_depth));
+  check_threads(o.threads);
+}
+
+void measure(const MeshQuery& query, const std::vector<Sphere>& balls, int threads, CoverStats& s) {
+  s.union_volume = measure_union(balls).volume;
+  s.mesh_volume = solid_volume(query.mesh());
+  s.excess_volume = s.mesh_volume ? (s.union_volume - *s.mesh_volume) / *s.mesh_volume
+                                  : std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> p = sphere_protrusions(query, balls, threads);
+  s.max_protrusion = p.empty() ? 0.0 : *std::max_element(p.begin(), p.end());
+}
+
+}  // namespace
+
+CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  check_cover_options(budget, options);
+  const int threads = thread_count(options.threads);
+  const TriangleMesh& mesh = query.mesh();
+  CoverResult out;
+  CoverStats& s = out.stats;
+  s.budget = budget;
+  s.largest_side = mesh.bounds().sizes().maxCoeff();
+  const Elements e = make_elements(query, budget, options);
+  s.elements = e.surface;
+  s.interior_points = e.items.size() - e.surface;
+  Clustering c = lloyd(e, budget, options, threads);
+  shrink(e, c);
+  s.rounds_run = c.rounds;
+  s.best_round = c.best_round;
+  const double coordinates =
+      mesh.bounds().min().cwiseAbs().cwiseMax(mesh.bounds().max().cwiseAbs()).maxCoeff();
+  std::vector<Sphere>& balls = out.spheres.spheres;
+  for (const detail::Ball& b : c.balls)
+    if (b.radius > 0.0)
+      balls.push_back({b.center, b.radius + radius_slack(s.largest_side, coordinates + b.radius)});
+  CoverCertificateOptions co = options.certificate;
+  co.threads = options.threads;
+  for (int round = 0; round < options.repair_rounds; ++round) {
+    out.certificate = certify_cover(mesh, balls, co);
+    s.repair_rounds_run = round;
+    if (out.certificate.certified) break;
+    s.repaired +=
+        repair(balls, out.certificate, radius_slack(s.largest_side, coordinates + s.largest_side));
+  }
+  if (!out.certificate.certified && s.repaired > 0)
+    out.certificate = certify_cover(mesh, balls, co);
+  s.certified = out.certificate.certified;
+  s.spheres = balls.size();
+  measure(query, balls, options.threads, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace medspheres
