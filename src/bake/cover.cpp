@@ -154,22 +154,29 @@ void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vect
   }
 }
 
-// Farthest-point sampling of the centroids: the first is the farthest from their mean.
-std::vector<detail::Ball> seeds(const Elements& e, std::size_t k) {
-  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-  for (const Eigen::Vector3d& g : e.centroids) mean += g;
-  mean /= static_cast<double>(e.centroids.size());
-  std::vector<double> d(e.centroids.size());
-  for (std::size_t i = 0; i < d.size(); ++i) d[i] = (e.centroids[i] - mean).squaredNorm();
-  std::vector<detail::Ball> out;
+// Farthest-point sampling of the centroids up to k centres, starting from \p start (the
+// first of an empty start is the centroid farthest from their mean).
+std::vector<detail::Ball> seeds(const Elements& e, std::size_t k, std::vector<detail::Ball> start) {
+  std::vector<double> d(e.centroids.size(), std::numeric_limits<double>::infinity());
+  if (start.empty()) {
+    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+    for (const Eigen::Vector3d& g : e.centroids) mean += g;
+    mean /= static_cast<double>(e.centroids.size());
+    for (std::size_t i = 0; i < d.size(); ++i)
+      d[i] = -1.0 / (1.0 + (e.centroids[i] - mean).squaredNorm());
+  }
+  auto add = [&](const Eigen::Vector3d& c) {
+    for (std::size_t i = 0; i < d.size(); ++i)
+      d[i] = std::max(0.0, std::min(d[i], (e.centroids[i] - c).squaredNorm()));
+  };
+  for (const detail::Ball& b : start) add(b.center);
+  std::vector<detail::Ball> out = std::move(start);
   while (out.size() < k) {
     const std::size_t far =
         static_cast<std::size_t>(std::max_element(d.begin(), d.end()) - d.begin());
     if (!out.empty() && d[far] <= 0.0) break;  // fewer distinct centroids than k
     out.push_back({e.centroids[far], 0.0});
-    for (std::size_t i = 0; i < d.size(); ++i)
-      d[i] = out.size() == 1 ? (e.centroids[i] - e.centroids[far]).squaredNorm()
-                             : std::min(d[i], (e.centroids[i] - e.centroids[far]).squaredNorm());
+    add(e.centroids[far]);
   }
   return out;
 }
@@ -209,9 +216,9 @@ struct Clustering {
   int rounds = 0, best_round = 0;
 };
 
-Clustering lloyd(const Elements& e, std::size_t k, const CoverOptions& o, int threads) {
+Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const CoverOptions& o,
+                 int threads) {
   Clustering best;
-  std::vector<detail::Ball> balls = seeds(e, k);
   std::vector<int> owner;
   std::vector<char> mark(e.points.size(), 0);
   double best_volume = std::numeric_limits<double>::infinity();
@@ -256,6 +263,65 @@ bool holds(const Elements& e, std::size_t i, const detail::Ball& b) {
   return true;
 }
 
+// The distinct points of the elements in \p members.
+std::vector<Eigen::Vector3d> points_of(const Elements& e, const std::vector<std::size_t>& members,
+                                       std::vector<char>& mark) {
+  std::vector<Eigen::Vector3d> pts;
+  for (std::size_t i : members)
+    for (int p : e.items[i])
+      if (!mark[static_cast<std::size_t>(p)]) {
+        mark[static_cast<std::size_t>(p)] = 1;
+        pts.push_back(e.points[static_cast<std::size_t>(p)]);
+      }
+  for (std::size_t i : members)
+    for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
+  return pts;
+}
+
+// How far the ball centred at c that holds \p pts sticks out of the solid: its radius
+// minus the signed distance of c (positive inside).
+double protrusion_at(const MeshQuery& query, const std::vector<Eigen::Vector3d>& pts,
+                     const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (const Eigen::Vector3d& p : pts) r = std::max(r, (p - c).squaredNorm());
+  const double d = query.closest_point(c).distance();
+  return std::sqrt(r) - (query.inside(c) ? d : -d);
+}
+
+// Step 3b. The minimum enclosing ball is the smallest ball holding a patch, not the one
+// that sticks out least: under a flat patch a centre at depth t sticks out by sqrt(R^2 +
+// t^2) - t < R. A pattern search (the six axis steps, halved on failure, from a quarter
+// of the radius down to 1e-3 of it) moves each centre to lower its protrusion; the
+// radius is then the distance to the farthest point.
+void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads) {
+  const auto members = members_of(c.owner, c.balls.size());
+  const long long k = static_cast<long long>(c.balls.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<char> mark(e.points.size(), 0);
+#pragma omp for schedule(dynamic, 1)
+    for (long long jj = 0; jj < k; ++jj) {
+      const std::size_t j = static_cast<std::size_t>(jj);
+      if (members[j].empty()) continue;
+      const std::vector<Eigen::Vector3d> pts = points_of(e, members[j], mark);
+      Eigen::Vector3d x = c.balls[j].center;
+      double fx = protrusion_at(query, pts, x);
+      for (double step = 0.25 * c.balls[j].radius; step > 1e-3 * c.balls[j].radius;) {
+        bool moved = false;
+        for (int axis = 0; axis < 6 && !moved; ++axis) {
+          const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
+          const double fy = protrusion_at(query, pts, y);
+          if (fy < fx) x = y, fx = fy, moved = true;
+        }
+        if (!moved) step *= 0.5;
+      }
+      double r = 0.0;
+      for (const Eigen::Vector3d& p : pts) r = std::max(r, (p - x).norm());
+      c.balls[j] = {x, r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
+    }
+  }
+}
+
 // Step 4. Ball j gives up the elements another ball holds (they move to the first such
 // ball) and is refitted to the rest, which never grows it; a ball left with nothing goes.
 // Every element stays held by its owner throughout.
@@ -287,6 +353,15 @@ void shrink(const Elements& e, Clustering& c) {
     }
     if (!changed) break;
   }
+}
+
+// Steps 3 and 4 from the centres \p start.
+Clustering optimise(const MeshQuery& query, const Elements& e, std::vector<detail::Ball> start,
+                    const CoverOptions& o, int threads) {
+  Clustering c = lloyd(e, std::move(start), o, threads);
+  deepen(query, e, c, threads);
+  shrink(e, c);
+  return c;
 }
 
 // The margin added to every radius: far above the certificate's rounding allowance (a few
@@ -354,8 +429,18 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Elements e = make_elements(query, budget, options);
   s.elements = e.surface;
   s.interior_points = e.items.size() - e.surface;
-  Clustering c = lloyd(e, budget, options, threads);
-  shrink(e, c);
+  Clustering c = optimise(query, e, seeds(e, budget, {}), options, threads);
+  for (int refill = 0; refill < 2; ++refill) {
+    // Balls the shrink removed leave budget: reseed it where the surface is farthest
+    // from a centre, and keep the result if its union is smaller.
+    std::vector<detail::Ball> live;
+    for (const detail::Ball& b : c.balls)
+      if (b.radius > 0.0) live.push_back(b);
+    if (live.size() >= budget) break;
+    Clustering d = optimise(query, e, seeds(e, budget, live), options, threads);
+    if (!(union_volume(d.balls) < union_volume(c.balls))) break;
+    c = std::move(d);
+  }
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;
   const double coordinates =

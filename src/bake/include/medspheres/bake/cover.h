@@ -13,9 +13,13 @@
 /// 2. Start: K centres by farthest-point sampling of the element centroids.
 /// 3. Lloyd-like rounds: each element goes to the centre whose distance to the element's
 ///    farthest point is least; each ball becomes the minimum enclosing ball of its
-///    elements' points. The round of smallest exact union volume is kept.
+///    elements' points. The round of smallest exact union volume is kept. Then each
+///    centre moves (pattern search) to where the ball holding its elements sticks out of
+///    the solid least.
 /// 4. Shrink: a ball drops the elements some other ball already holds, and is refitted to
-///    the rest; repeated while it shrinks a ball. Coverage of every element is kept.
+///    the rest; repeated while it shrinks a ball. Coverage of every element is kept. When
+///    balls were dropped, steps 3 and 4 run again from the survivors plus farthest-point
+///    seeds up to K (twice at most), kept when the union is smaller.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
