@@ -323,7 +323,8 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
 }
 
 // Step 4. Ball j gives up the elements another ball holds (they move to the first such
-// ball) and is refitted to the rest, which never grows it; a ball left with nothing goes.
+// ball) and keeps its centre, its radius shrunk to the farthest point it still holds; a
+// ball left with nothing goes.
 // Every element stays held by its owner throughout.
 void shrink(const Elements& e, Clustering& c) {
   std::vector<char> mark(e.points.size(), 0);
@@ -348,7 +349,11 @@ void shrink(const Elements& e, Clustering& c) {
       if (keep.size() == members[j].size()) continue;
       members[j] = keep;
       const double before = c.balls[j].radius;
-      c.balls[j] = keep.empty() ? detail::Ball{c.balls[j].center, 0.0} : fit(e, keep, mark);
+      double r = 0.0;  // the same centre, just large enough for what it keeps
+      for (const Eigen::Vector3d& p : points_of(e, keep, mark))
+        r = std::max(r, (p - c.balls[j].center).norm());
+      c.balls[j].radius =
+          keep.empty() ? 0.0 : r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
       changed = changed || c.balls[j].radius < before;
     }
     if (!changed) break;
