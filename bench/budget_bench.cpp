@@ -2,7 +2,8 @@
 // (bake_max_spheres) and its dilation S+ (dilate with cover rounds).
 //
 // Usage: bench_budget [--k 2,4,8,16,32,64] [--only SUBSTRING] [--no-classic] [--no-g1]
-//                     [--methods cover,sd,splus] [--samples N] [--threads T]
+//                     [--methods cover,sd,splus | curobo] [--curobo YML] [--samples N]
+//                     [--threads T]
 //   Meshes: the closed classic meshes of ../shared/meshes/MANIFEST.tsv and every mesh of
 //   ../shared/robots/unitree_g1/meshes (link frames: the URDF's collision origins are the
 //   identity). Per mesh, K and method: the spheres made, whether the surface is certified
@@ -11,6 +12,11 @@
 //   the solid over V (mc_out), the max protrusion and the largest uncovered distance
 //   found by the certificate (% of the mesh's largest side L), the Monte-Carlo
 //   symmetric-difference error (fit_metrics.h), and the seconds the method took.
+//   --methods curobo: on each G1 link with cuRobo spheres (../shared/robots/unitree_g1/
+//   curobo_unitree_g1.yml, link = mesh stem without "_rev_1_0"), at cuRobo's own count K:
+//   cuRobo's spheres as shipped, the same grown by the largest uncovered distance (the
+//   naive fix), and bake_cover; then the share of links where the cover's max protrusion
+//   is at most a third of the grown set's and its excess volume at most half of it.
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
 // cores.
 #include <algorithm>
@@ -27,6 +33,7 @@
 #include "medspheres/bake/cover.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
@@ -115,6 +122,55 @@ void run_mesh(const std::string& name, const std::string& path, const std::vecto
   }
 }
 
+// The G1 link a mesh file belongs to: its stem without the "_rev_1_0" revision suffix.
+std::string link_of(const std::string& file) {
+  std::string stem = std::filesystem::path(file).stem().string();
+  const std::string rev = "_rev_1_0";
+  if (stem.size() > rev.size() && stem.compare(stem.size() - rev.size(), rev.size(), rev) == 0)
+    stem.resize(stem.size() - rev.size());
+  return stem;
+}
+
+struct CuroboTally {
+  int links = 0, protrusion_third = 0, excess_half = 0;
+};
+
+// cuRobo's spheres for the link as shipped; the same grown by the largest uncovered distance
+// (the certificate's upper bound on it, plus 1e-9 L: the naive fix that makes them cover);
+// and bake_cover at cuRobo's count.
+void run_curobo(const std::string& name, const std::string& path,
+                const formats::RobotSpheres& curobo, std::size_t samples, int threads,
+                CuroboTally& tally) {
+  const formats::LinkSphereList* link = formats::find_link_spheres(curobo, link_of(path));
+  if (!link || link->spheres.empty()) {
+    std::printf("%-34s no cuRobo spheres for link %s\n", name.c_str(), link_of(path).c_str());
+    return;
+  }
+  const LoadedMesh loaded = load_mesh(path);
+  const FitEvaluator fit(loaded.mesh, threads);
+  const double L = loaded.report.largest_side();
+  const std::size_t K = link->spheres.size();
+  SphereSet shipped;
+  shipped.spheres = link->spheres;
+  print(name, K, "cuRobo", measure(fit, shipped, 0.0, samples, threads));
+  CoverCertificateOptions co;
+  co.threads = threads;
+  const CoverCertificate c = certify_cover(loaded.mesh, shipped.spheres, co);
+  SphereSet grown = shipped;
+  for (Sphere& s : grown.spheres) s.radius += c.certified ? 0.0 : c.worst_bound + 1e-9 * L;
+  const Row g = measure(fit, grown, 0.0, samples, threads);
+  print(name, K, "grown", g);
+  CoverOptions o;
+  o.threads = threads;
+  const auto t = std::chrono::steady_clock::now();
+  const CoverResult cover = bake_cover(fit.query(), K, o);
+  const Row r = measure(fit, cover.spheres, since(t), samples, threads);
+  print(name, K, "cover", r);
+  ++tally.links;
+  tally.protrusion_third += r.protrusion <= g.protrusion / 3.0;
+  tally.excess_half += r.excess <= g.excess / 2.0;
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -131,7 +187,15 @@ int main(int argc, char** argv) {
   app.add_flag("--no-g1", no_g1, "Skip the G1 links");
   app.add_option("--samples", samples, "Monte-Carlo points per set");
   app.add_option("--threads", threads, "Threads");
+  std::string curobo_file =
+      std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
+  app.add_option("--curobo", curobo_file,
+                 "cuRobo configuration for the G1 comparison (methods: curobo)");
   CLI11_PARSE(app, argc, argv);
+  const bool curobo = methods.find("curobo") != std::string::npos;
+  formats::RobotSpheres curobo_spheres;
+  if (curobo) curobo_spheres = formats::load_curobo_yaml(curobo_file);
+  CuroboTally tally;
 
   std::vector<std::pair<std::string, std::string>> meshes;
   if (!no_classic)
@@ -150,10 +214,19 @@ int main(int argc, char** argv) {
   for (const auto& [name, path] : meshes) {
     if (!only.empty() && name.find(only) == std::string::npos) continue;
     try {
-      run_mesh(name, path, ks, methods, samples, threads);
+      if (curobo && name.rfind("g1/", 0) == 0)
+        run_curobo(name, path, curobo_spheres, samples, threads, tally);
+      else if (!curobo)
+        run_mesh(name, path, ks, methods, samples, threads);
     } catch (const std::exception& e) {
       std::printf("%-34s failed: %s\n", name.c_str(), e.what());
     }
   }
+  if (curobo && tally.links > 0)
+    std::printf(
+        "cover at cuRobo's counts on %d links: max protrusion <= 1/3 of the grown set's on "
+        "%d (%.0f%%), excess volume <= 1/2 of it on %d (%.0f%%)\n",
+        tally.links, tally.protrusion_third, 100.0 * tally.protrusion_third / tally.links,
+        tally.excess_half, 100.0 * tally.excess_half / tally.links);
   return 0;
 }

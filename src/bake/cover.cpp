@@ -33,6 +33,7 @@ namespace medspheres {
 namespace {
 
 constexpr int kMaxElementDepth = 5;
+constexpr double kElementCap = 40000.0;
 
 // Constraint points and the elements made of them: elements [0, surface) are surface
 // pieces (three point indices), the rest interior points (one index, thrice).
@@ -79,19 +80,35 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOp
   const TriangleMesh& mesh = query.mesh();
   const Eigen::AlignedBox3d box = mesh.bounds();
   const double L = box.sizes().maxCoeff();
-  const double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
+  // Element size: about L / (2 + 3 sqrt K), coarsened (by 1.5 at a time) until there are
+  // at most max(2 triangles, kElementCap) elements: beyond that, finer elements cost time
+  // and gain little.
+  std::vector<double> edge(mesh.num_triangles());
+  for (std::size_t t = 0; t < edge.size(); ++t) {
+    const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
+    edge[t] = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+  }
+  auto depth = [](double length, double size) {
+    int d = 0;
+    while (d < kMaxElementDepth && length > size * (1 << d)) ++d;
+    return d;
+  };
+  double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
+  const double cap = std::max(2.0 * static_cast<double>(mesh.num_triangles()), kElementCap);
+  for (;;) {
+    double count = 0.0;
+    for (double l : edge) count += std::pow(4.0, depth(l, h));
+    if (count <= cap) break;
+    h *= 1.5;
+  }
   Elements e;
   e.points = mesh.vertices;
   for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
-    const auto& tri = mesh.triangles[t];
-    const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
-    const double edge = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
-    int d = 0;
-    while (d < kMaxElementDepth && edge > h * (1 << d)) ++d;
+    const int d = depth(edge[t], h);
     if (d == 0)
-      push_element(e, tri[0], tri[1], tri[2]);
+      push_element(e, mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]);
     else
-      subdivide(e, a, b, c, d);
+      subdivide(e, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2), d);
   }
   e.surface = e.items.size();
   if (o.interior_resolution <= 0) return e;
@@ -181,19 +198,54 @@ std::vector<detail::Ball> seeds(const Elements& e, std::size_t k, std::vector<de
   return out;
 }
 
-// The minimum enclosing ball of the points of the elements in \p members (each point once).
-detail::Ball fit(const Elements& e, const std::vector<std::size_t>& members,
-                 std::vector<char>& mark) {
-  std::vector<detail::Ball> pts;
+// The distinct points of the elements in \p members.
+std::vector<Eigen::Vector3d> points_of(const Elements& e, const std::vector<std::size_t>& members,
+                                       std::vector<char>& mark) {
+  std::vector<Eigen::Vector3d> pts;
   for (std::size_t i : members)
     for (int p : e.items[i])
       if (!mark[static_cast<std::size_t>(p)]) {
         mark[static_cast<std::size_t>(p)] = 1;
-        pts.push_back({e.points[static_cast<std::size_t>(p)], 0.0});
+        pts.push_back(e.points[static_cast<std::size_t>(p)]);
       }
   for (std::size_t i : members)
     for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
-  return detail::min_enclosing_ball(pts);
+  return pts;
+}
+
+// The minimum enclosing ball of the points of the elements in \p members, by a core set:
+// the minimum ball of a subset (first the extreme points along the axes and the
+// diagonals) is the answer once it holds every point; otherwise the farthest points
+// outside join the subset. The subset stays small, so each exact solve is cheap.
+detail::Ball fit(const Elements& e, const std::vector<std::size_t>& members,
+                 std::vector<char>& mark) {
+  const std::vector<Eigen::Vector3d> pts = points_of(e, members, mark);
+  std::vector<detail::Ball> core;
+  static const double kDirections[13][3] = {
+      {1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
+      {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  for (const auto& d : kDirections) {
+    const Eigen::Vector3d dir(d[0], d[1], d[2]);
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i) {
+      if (pts[i].dot(dir) < pts[lo].dot(dir)) lo = i;
+      if (pts[i].dot(dir) > pts[hi].dot(dir)) hi = i;
+    }
+    core.push_back({pts[lo], 0.0});
+    core.push_back({pts[hi], 0.0});
+  }
+  for (;;) {
+    const detail::Ball b = detail::min_enclosing_ball(core);
+    std::vector<std::pair<double, std::size_t>> out;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double d = (pts[i] - b.center).norm();
+      if (d > b.radius) out.emplace_back(-d, i);
+    }
+    if (out.empty()) return b;
+    const std::size_t take = std::min<std::size_t>(out.size(), 32);
+    std::partial_sort(out.begin(), out.begin() + static_cast<long>(take), out.end());
+    for (std::size_t k = 0; k < take; ++k) core.push_back({pts[out[k].second], 0.0});
+  }
 }
 
 std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k) {
@@ -248,6 +300,7 @@ Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const Cover
         best_volume = v, best.balls = balls, best.owner = owner, best.best_round = round;
     }
     if (full && owner == previous) break;
+    if (round - best.best_round >= 4) break;  // no smaller union for four rounds
   }
   if (best.balls.empty()) best.balls = balls, best.owner = owner;  // every round had a hole
   return best;
@@ -258,24 +311,11 @@ Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const Cover
 namespace {
 
 bool holds(const Elements& e, std::size_t i, const detail::Ball& b) {
+  const double reach = b.radius + e.reach[i];
+  if ((e.centroids[i] - b.center).squaredNorm() > reach * reach) return false;
   for (int p : e.items[i])
     if ((e.points[static_cast<std::size_t>(p)] - b.center).norm() > b.radius) return false;
   return true;
-}
-
-// The distinct points of the elements in \p members.
-std::vector<Eigen::Vector3d> points_of(const Elements& e, const std::vector<std::size_t>& members,
-                                       std::vector<char>& mark) {
-  std::vector<Eigen::Vector3d> pts;
-  for (std::size_t i : members)
-    for (int p : e.items[i])
-      if (!mark[static_cast<std::size_t>(p)]) {
-        mark[static_cast<std::size_t>(p)] = 1;
-        pts.push_back(e.points[static_cast<std::size_t>(p)]);
-      }
-  for (std::size_t i : members)
-    for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
-  return pts;
 }
 
 // How far the ball centred at c that holds \p pts sticks out of the solid: its radius
@@ -435,16 +475,14 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   s.elements = e.surface;
   s.interior_points = e.items.size() - e.surface;
   Clustering c = optimise(query, e, seeds(e, budget, {}), options, threads);
-  for (int refill = 0; refill < 2; ++refill) {
-    // Balls the shrink removed leave budget: reseed it where the surface is farthest
-    // from a centre, and keep the result if its union is smaller.
-    std::vector<detail::Ball> live;
-    for (const detail::Ball& b : c.balls)
-      if (b.radius > 0.0) live.push_back(b);
-    if (live.size() >= budget) break;
+  // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
+  // centre, and keep the result if its union is smaller.
+  std::vector<detail::Ball> live;
+  for (const detail::Ball& b : c.balls)
+    if (b.radius > 0.0) live.push_back(b);
+  if (live.size() < budget) {
     Clustering d = optimise(query, e, seeds(e, budget, live), options, threads);
-    if (!(union_volume(d.balls) < union_volume(c.balls))) break;
-    c = std::move(d);
+    if (union_volume(d.balls) < union_volume(c.balls)) c = std::move(d);
   }
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;

@@ -6,7 +6,8 @@
 ///
 /// Method (derivation and choices in cover.cpp):
 /// 1. Constraint points. Every triangle is split by midpoint subdivision into elements no
-///    longer than about L / (2 + 3 sqrt K) (at most 4^5 per triangle); each element is
+///    longer than about L / (2 + 3 sqrt K) (at most 4^5 per triangle; coarser when that
+///    would make more than max(2 triangles, 40000) elements); each element is
 ///    the three corners of a piece the certificate also tests. Points of a grid inside the
 ///    solid (winding number > 1/2) are added as one-point elements, so that the balls also
 ///    fill the interior and centres sit inside; their coverage is not certified.
@@ -19,7 +20,7 @@
 /// 4. Shrink: a ball drops the elements some other ball already holds, and is refitted to
 ///    the rest; repeated while it shrinks a ball. Coverage of every element is kept. When
 ///    balls were dropped, steps 3 and 4 run again from the survivors plus farthest-point
-///    seeds up to K (twice at most), kept when the union is smaller.
+///    seeds up to K (once), kept when the union is smaller.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
