@@ -18,6 +18,7 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <limits>
 #include <stdexcept>
 #include <string>
@@ -171,31 +172,44 @@ void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vect
   }
 }
 
-// Farthest-point sampling of the centroids up to k centres, starting from \p start (the
-// first of an empty start is the centroid farthest from their mean).
-std::vector<detail::Ball> seeds(const Elements& e, std::size_t k, std::vector<detail::Ball> start) {
+// Farthest-point sampling of the centroids up to k centres, after the centres of \p start;
+// for an empty start the first centre is centroid \p first.
+std::vector<detail::Ball> seeds(const Elements& e, std::size_t k, std::vector<detail::Ball> start,
+                                std::size_t first) {
   std::vector<double> d(e.centroids.size(), std::numeric_limits<double>::infinity());
-  if (start.empty()) {
-    Eigen::Vector3d mean = Eigen::Vector3d::Zero();
-    for (const Eigen::Vector3d& g : e.centroids) mean += g;
-    mean /= static_cast<double>(e.centroids.size());
-    for (std::size_t i = 0; i < d.size(); ++i)
-      d[i] = -1.0 / (1.0 + (e.centroids[i] - mean).squaredNorm());
-  }
   auto add = [&](const Eigen::Vector3d& c) {
     for (std::size_t i = 0; i < d.size(); ++i)
-      d[i] = std::max(0.0, std::min(d[i], (e.centroids[i] - c).squaredNorm()));
+      d[i] = std::min(d[i], (e.centroids[i] - c).squaredNorm());
   };
+  if (start.empty()) start.push_back({e.centroids[first], 0.0});
   for (const detail::Ball& b : start) add(b.center);
   std::vector<detail::Ball> out = std::move(start);
   while (out.size() < k) {
     const std::size_t far =
         static_cast<std::size_t>(std::max_element(d.begin(), d.end()) - d.begin());
-    if (!out.empty() && d[far] <= 0.0) break;  // fewer distinct centroids than k
+    if (d[far] <= 0.0) break;  // fewer distinct centroids than k
     out.push_back({e.centroids[far], 0.0});
     add(e.centroids[far]);
   }
   return out;
+}
+
+// The first centre of start s: for s = 0 the centroid farthest from the mean of all; for
+// s > 0 one drawn by a hash of (seed, s).
+std::size_t first_seed(const Elements& e, std::uint64_t seed, int s) {
+  if (s > 0) {
+    std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(s);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;  // splitmix64 finaliser
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return static_cast<std::size_t>((z ^ (z >> 31)) % e.centroids.size());
+  }
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& g : e.centroids) mean += g;
+  mean /= static_cast<double>(e.centroids.size());
+  std::size_t far = 0;
+  for (std::size_t i = 1; i < e.centroids.size(); ++i)
+    if ((e.centroids[i] - mean).squaredNorm() > (e.centroids[far] - mean).squaredNorm()) far = i;
+  return far;
 }
 
 // The distinct points of the elements in \p members.
@@ -436,6 +450,8 @@ std::size_t repair(std::vector<Sphere>& balls, const CoverCertificate& cert, dou
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {
   if (budget == 0) throw std::invalid_argument("budget must be >= 1, got 0");
+  if (o.starts < 1)
+    throw std::invalid_argument("starts must be >= 1, got " + std::to_string(o.starts));
   if (o.rounds < 1)
     throw std::invalid_argument("rounds must be >= 1, got " + std::to_string(o.rounds));
   if (o.interior_resolution < 0 || o.interior_resolution > 256)
@@ -474,15 +490,22 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Elements e = make_elements(query, budget, options);
   s.elements = e.surface;
   s.interior_points = e.items.size() - e.surface;
-  Clustering c = optimise(query, e, seeds(e, budget, {}), options, threads);
-  // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
-  // centre, and keep the result if its union is smaller.
-  std::vector<detail::Ball> live;
-  for (const detail::Ball& b : c.balls)
-    if (b.radius > 0.0) live.push_back(b);
-  if (live.size() < budget) {
-    Clustering d = optimise(query, e, seeds(e, budget, live), options, threads);
-    if (union_volume(d.balls) < union_volume(c.balls)) c = std::move(d);
+  Clustering c;
+  double best = std::numeric_limits<double>::infinity();
+  for (int start = 0; start < options.starts; ++start) {
+    Clustering d = optimise(query, e, seeds(e, budget, {}, first_seed(e, options.seed, start)),
+                            options, threads);
+    // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
+    // centre, and keep the result if its union is smaller.
+    std::vector<detail::Ball> live;
+    for (const detail::Ball& b : d.balls)
+      if (b.radius > 0.0) live.push_back(b);
+    if (live.size() < budget) {
+      Clustering f = optimise(query, e, seeds(e, budget, live, 0), options, threads);
+      if (union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
+    }
+    const double v = union_volume(d.balls);
+    if (v < best) best = v, c = std::move(d);
   }
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;

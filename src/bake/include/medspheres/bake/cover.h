@@ -11,7 +11,9 @@
 ///    the three corners of a piece the certificate also tests. Points of a grid inside the
 ///    solid (winding number > 1/2) are added as one-point elements, so that the balls also
 ///    fill the interior and centres sit inside; their coverage is not certified.
-/// 2. Start: K centres by farthest-point sampling of the element centroids.
+/// 2. Start: K centres by farthest-point sampling of the element centroids, from the one
+///    farthest from their mean, and for further starts from centroids drawn with `seed`;
+///    steps 3 and 4 run from each start, and the smallest union is kept.
 /// 3. Lloyd-like rounds: each element goes to the centre whose distance to the element's
 ///    farthest point is least; each ball becomes the minimum enclosing ball of its
 ///    elements' points. The round of smallest exact union volume is kept. Then each
@@ -39,6 +41,7 @@
 /// option.
 
 #include <cstddef>
+#include <cstdint>
 #include <optional>
 #include <string>
 
@@ -50,6 +53,8 @@
 namespace medspheres {
 
 struct CoverOptions {
+  int starts = 3;  ///< steps 2 to 4 from this many first centres, >= 1; the smallest union wins
+  std::uint64_t seed = 1;               ///< draws the first centre of every start but the first
   int rounds = 24;                      ///< step 3 rounds at most, >= 1
   int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
   int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
