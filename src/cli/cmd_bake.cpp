@@ -12,9 +12,10 @@
 #include "cli_common.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/bake_metadata.h"
+#include "medspheres/bake/cover.h"
 #include "medspheres/bake/dilate.h"
-#include "medspheres/error.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 
@@ -30,6 +31,7 @@ struct BakeArgs {
   double medial_tolerance = 0.0;
   std::optional<int> max_spheres;
   std::optional<double> target_error;
+  std::optional<int> cover_budget;
   bool dilate = false;
   // Lengths: a number in the mesh's units, or a number followed by L (see Length).
   std::optional<std::string> vertex_tolerance;
@@ -187,6 +189,33 @@ std::string mesh_description(const MeshReport& report, std::size_t self_intersec
   return out + ": baked against its winding-number solid";
 }
 
+// bake --cover-budget K: a certified covering set of at most K spheres (cover.h).
+int run_cover_bake(const BakeArgs& args, const std::string& out) {
+  if (*args.cover_budget < 1)
+    throw InputError("--cover-budget", "must be >= 1, got " + std::to_string(*args.cover_budget));
+  if (args.dilate || args.cover)
+    throw InputError("--cover-budget", "makes a covering set itself; drop --dilate and --cover");
+  const LoadedMesh loaded = load_mesh(args.mesh);
+  const FitEvaluator fit(loaded.mesh, args.threads);
+  CoverOptions options;
+  options.threads = args.threads;
+  const CoverResult r =
+      bake_cover(fit.query(), static_cast<std::size_t>(*args.cover_budget), options);
+  SphereSet output = r.spheres;
+  output.metadata_json =
+      cover_metadata_json(cover_bake_record({args.mesh, file_sha256(args.mesh), loaded.report}, r));
+  save_sphere_set(output, out);
+  if (!args.quiet)
+    std::cout << "baked " << args.mesh << " -> " << out << "\n  cover         " << output.size()
+              << " spheres (budget " << *args.cover_budget << "), surface "
+              << (r.stats.certified ? "certified covered" : "NOT certified") << " ("
+              << r.certificate.pieces_tested << " pieces, depth " << r.certificate.max_depth_reached
+              << "), excess volume " << number_text(r.stats.excess_volume, 4)
+              << " of the solid's, max protrusion " << number_text(r.stats.max_protrusion, 4) << ", "
+              << number_text(r.stats.seconds, 3) << " s\n";
+  return r.stats.certified ? kExitOk : kExitFailure;
+}
+
 int run_bake(const BakeArgs& args) {
   // Options first: nonsense is reported before any work is done, and so is an output
   // path that cannot be written.
@@ -194,6 +223,7 @@ int run_bake(const BakeArgs& args) {
   std::optional<Dilation> dilation = dilation_options(args);
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_output_path(out);
+  if (args.cover_budget) return run_cover_bake(args, out);
 
   const LoadedMesh loaded = load_mesh(args.mesh);
   if (!args.quiet)
@@ -369,6 +399,11 @@ Runner register_bake(CLI::App& app) {
       sub->add_option("--target-error", a->target_error,
                       "Choose the smallest resolution whose normalized volume error is at most E");
   max->excludes(err);
+  sub->add_option("--cover-budget", a->cover_budget,
+                  "Bake a covering set instead: at most K spheres whose union contains the "
+                  "whole surface, certified")
+      ->excludes(max)
+      ->excludes(err);
   sub->add_flag("--dilate", a->dilate,
                 "Dilate the spheres until they hug the surface (paper section 5.1); writes S+");
   sub->add_option("--vertex-tolerance", a->vertex_tolerance,

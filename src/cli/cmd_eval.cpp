@@ -7,9 +7,10 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "medspheres/error.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/error.h"
 #include "medspheres/io.h"
+#include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/threads.h"
 
@@ -43,8 +44,25 @@ std::string percent_of(double v, double length) {
   return number_text(100.0 * v / length, 3) + "% of L";
 }
 
-void print_json(const EvalArgs& args, const FitReport& r, double longest,
-                const std::vector<std::string>& warnings) {
+// The certificate of surface coverage (cover_certificate.h), as JSON.
+nlohmann::ordered_json certificate_json(const CoverCertificate& c) {
+  nlohmann::ordered_json j = {{"certified", c.certified},
+                              {"triangles", c.triangles},
+                              {"uncertified_triangles", c.uncertified_triangles},
+                              {"proven_uncovered_triangles", c.proven_uncovered_triangles},
+                              {"pieces_tested", c.pieces_tested},
+                              {"max_depth", c.max_depth_reached},
+                              {"seconds", c.seconds}};
+  if (!c.certified) {
+    j["worst_uncovered_distance"] = c.worst_distance;
+    j["worst_uncovered_point"] = {c.worst_point.x(), c.worst_point.y(), c.worst_point.z()};
+    j["worst_uncovered_bound"] = c.worst_bound;
+  }
+  return j;
+}
+
+void print_json(const EvalArgs& args, const FitReport& r, const CoverCertificate& cert,
+                double longest, const std::vector<std::string>& warnings) {
   const VolumeError& v = r.volume;
   const MonteCarloError& mc = r.monte_carlo;
   nlohmann::ordered_json j;
@@ -80,6 +98,7 @@ void print_json(const EvalArgs& args, const FitReport& r, double longest,
   j["uncovered_mean"] = r.coverage.mean;
   j["uncovered_p95"] = r.coverage.p95;
   j["uncovered_max_at"] = {r.coverage.max_at.x(), r.coverage.max_at.y(), r.coverage.max_at.z()};
+  j["surface_certificate"] = certificate_json(cert);
   j["surface_samples"] = r.coverage.area_samples;
   j["vertices"] = r.coverage.vertices;
   j["bbox_largest_side"] = longest;
@@ -93,7 +112,8 @@ void print_json(const EvalArgs& args, const FitReport& r, double longest,
   std::cout << j.dump(2) << "\n";
 }
 
-void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport& r, double longest,
+void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport& r,
+                const CoverCertificate& cert, double longest,
                 const std::vector<std::string>& warnings) {
   const VolumeError& v = r.volume;
   const MonteCarloError& mc = r.monte_carlo;
@@ -142,6 +162,15 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
             << ", p95 " << number_text(c.p95, 4) << " (" << percent_of(c.p95, longest) << ")\n"
             << "                over " << c.area_samples << " area-weighted points and "
             << c.vertices << " vertices (L = " << number_text(longest, 4) << ")\n";
+  std::cout << "  certificate   surface "
+            << (cert.certified ? "certified covered" : "NOT certified covered") << ": "
+            << cert.pieces_tested << " pieces tested, depth " << cert.max_depth_reached << ", "
+            << cert.uncertified_triangles << " of " << cert.triangles << " triangles uncertified";
+  if (!cert.certified)
+    std::cout << "; worst point found " << number_text(cert.worst_distance, 4) << " outside ("
+              << percent_of(cert.worst_distance, longest) << ") at (" << number_text(cert.worst_point.x())
+              << ", " << number_text(cert.worst_point.y()) << ", " << number_text(cert.worst_point.z()) << ")";
+  std::cout << "\n";
   const FitSeconds& s = r.seconds;
   std::cout << "  time          " << number_text(s.total, 3) << " s: union "
             << number_text(s.union_volume, 3) << ", protrusion " << number_text(s.protrusion, 3)
@@ -168,8 +197,12 @@ int run_eval(const EvalArgs& args) {
   const LoadedMesh loaded = load_mesh(args.mesh);
   const SphereSet set = load_sphere_set(args.spheres);
   FitReport report;
+  CoverCertificate cert;
   try {
     report = FitEvaluator(loaded.mesh, options.threads).evaluate(set.spheres, options);
+    CoverCertificateOptions co;
+    co.threads = args.threads;
+    cert = certify_cover(loaded.mesh, set.spheres, co);
   } catch (const InputError& e) {
     // The library speaks of "the sphere set"; the user knows it by its file name.
     if (e.source() == "sphere set") throw InputError(args.spheres, e.problem());
@@ -180,9 +213,9 @@ int run_eval(const EvalArgs& args) {
   for (const std::string& w : report.warnings) warnings.push_back(w);
   const double longest = loaded.report.largest_side();
   if (args.json)
-    print_json(args, report, longest, warnings);
+    print_json(args, report, cert, longest, warnings);
   else
-    print_text(args, loaded, report, longest, warnings);
+    print_text(args, loaded, report, cert, longest, warnings);
   return kExitOk;
 }
 
@@ -191,7 +224,9 @@ int run_eval(const EvalArgs& args) {
 Runner register_eval(CLI::App& app) {
   auto a = std::make_shared<EvalArgs>();
   CLI::App* sub = app.add_subcommand(
-      "eval", "Measure how well a sphere set fits a mesh: nerr, protrusion, coverage");
+      "eval",
+      "Measure how well a sphere set fits a mesh: nerr, protrusion, coverage (sampled, and "
+      "certified for the surface)");
   sub->add_option("mesh", a->mesh, "Mesh file (STL, OBJ, PLY, OFF, DAE, glTF, ...)")->required();
   sub->add_option("spheres", a->spheres, "Sphere-set file (medspheres JSON)")->required();
   sub->add_flag("--json", a->json, "Print one JSON object instead of text");

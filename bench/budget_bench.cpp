@@ -1,0 +1,232 @@
+// Sphere sets to a small budget: covering sets (bake_cover) beside the inner set S_D
+// (bake_max_spheres) and its dilation S+ (dilate with cover rounds).
+//
+// Usage: bench_budget [--k 2,4,8,16,32,64] [--only SUBSTRING] [--no-classic] [--no-g1]
+//                     [--methods cover,sd,splus | curobo] [--curobo YML] [--samples N]
+//                     [--threads T]
+//   Meshes: the closed classic meshes of ../shared/meshes/MANIFEST.tsv and every mesh of
+//   ../shared/robots/unitree_g1/meshes (link frames: the URDF's collision origins are the
+//   identity). Per mesh, K and method: the spheres made, whether the surface is certified
+//   covered (certify_cover), the excess volume (U - V) / V (exact for a set that contains
+//   the solid; for other sets see mc_out), the Monte-Carlo volume of the spheres outside
+//   the solid over V (mc_out), the max protrusion and the largest uncovered distance
+//   found by the certificate (% of the mesh's largest side L), the Monte-Carlo
+//   symmetric-difference error (fit_metrics.h), and the seconds the method took.
+//   --methods curobo: on each G1 link with cuRobo spheres (../shared/robots/unitree_g1/
+//   curobo_unitree_g1.yml, link = mesh stem without "_rev_1_0"), at cuRobo's own count K:
+//   cuRobo's spheres as shipped, the same grown by the largest uncovered distance (the
+//   naive fix), and bake_cover; then the share of links where the cover's max protrusion
+//   is at most a third of the grown set's and its excess volume at most half of it.
+// Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
+// cores.
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+#include <string>
+#include <vector>
+
+#include <CLI/CLI.hpp>
+
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/cover.h"
+#include "medspheres/bake/dilate.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/mesh/cover_certificate.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "support/shared_meshes.h"
+
+namespace {
+
+using namespace medspheres;
+
+struct Row {
+  std::size_t spheres = 0;
+  bool certified = false;
+  double excess = 0, mc_out = 0, protrusion = 0, uncovered = 0, mc_error = 0, seconds = 0;
+};
+
+Row measure(const FitEvaluator& fit, const SphereSet& set, double seconds, std::size_t samples,
+            int threads) {
+  Row r;
+  r.spheres = set.size();
+  r.seconds = seconds;
+  CoverCertificateOptions co;
+  co.threads = threads;
+  const CoverCertificate c = certify_cover(fit.query().mesh(), set.spheres, co);
+  r.certified = c.certified;
+  const double L = fit.query().mesh().bounds().sizes().maxCoeff();
+  r.uncovered = c.certified ? 0.0 : 100.0 * c.worst_distance / L;
+  FitOptions fo;
+  fo.volume_samples = samples;
+  fo.surface_samples = 1;
+  fo.threads = threads;
+  const FitReport f = fit.evaluate(set.spheres, fo);
+  const double V = fit.volume() ? *fit.volume() : f.monte_carlo.solid_volume.estimate;
+  r.excess = 100.0 * (f.volume.union_measures.volume - V) / V;
+  r.mc_out = 100.0 * f.monte_carlo.outside_volume / V;
+  r.protrusion = 100.0 * f.volume.max_protrusion / L;
+  r.mc_error = f.monte_carlo.error.estimate;
+  return r;
+}
+
+double since(std::chrono::steady_clock::time_point t) {
+  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
+}
+
+void print(const std::string& mesh, std::size_t k, const char* method, const Row& r) {
+  std::printf("%-34s %3zu %-6s %5zu %-4s %9.2f %8.2f %7.2f %7.3f %8.4f %7.3f\n", mesh.c_str(), k,
+              method, r.spheres, r.certified ? "yes" : "NO", r.excess, r.mc_out, r.protrusion,
+              r.uncovered, r.mc_error, r.seconds);
+  std::fflush(stdout);
+}
+
+void run_mesh(const std::string& name, const std::string& path, const std::vector<int>& ks,
+              const std::string& methods, std::size_t samples, int threads) {
+  const LoadedMesh loaded = load_mesh(path);
+  const FitEvaluator fit(loaded.mesh, threads);
+  for (int k : ks) {
+    const std::size_t K = static_cast<std::size_t>(k);
+    if (methods.find("cover") != std::string::npos) {
+      CoverOptions o;
+      o.threads = threads;
+      const auto t = std::chrono::steady_clock::now();
+      const CoverResult c = bake_cover(fit.query(), K, o);
+      print(name, K, "cover", measure(fit, c.spheres, since(t), samples, threads));
+    }
+    if (methods.find("sd") == std::string::npos && methods.find("splus") == std::string::npos)
+      continue;
+    BakeOptions bo;
+    bo.threads = threads;
+    auto t = std::chrono::steady_clock::now();
+    BakeResult sd;
+    try {
+      sd = bake_max_spheres(fit.query(), K, bo);
+    } catch (const std::exception& e) {
+      std::printf("%-34s %3d S_D    failed: %s\n", name.c_str(), k, e.what());
+      continue;
+    }
+    const double sd_seconds = since(t);
+    if (methods.find("sd") != std::string::npos)
+      print(name, K, "S_D", measure(fit, sd.spheres, sd_seconds, samples, threads));
+    if (methods.find("splus") != std::string::npos) {
+      DilateOptions d;
+      d.threads = threads;
+      d.cover_tolerance = 0.003 * loaded.report.largest_side();
+      t = std::chrono::steady_clock::now();
+      const DilateResult plus = dilate(fit.query(), sd.spheres, d);
+      print(name, K, "S+", measure(fit, plus.spheres, sd_seconds + since(t), samples, threads));
+    }
+  }
+}
+
+// The G1 link a mesh file belongs to: its stem without the "_rev_1_0" revision suffix.
+std::string link_of(const std::string& file) {
+  std::string stem = std::filesystem::path(file).stem().string();
+  const std::string rev = "_rev_1_0";
+  if (stem.size() > rev.size() && stem.compare(stem.size() - rev.size(), rev.size(), rev) == 0)
+    stem.resize(stem.size() - rev.size());
+  return stem;
+}
+
+struct CuroboTally {
+  int links = 0, protrusion_third = 0, excess_half = 0;
+};
+
+// cuRobo's spheres for the link as shipped; the same grown by the largest uncovered distance
+// (the certificate's upper bound on it, plus 1e-9 L: the naive fix that makes them cover);
+// and bake_cover at cuRobo's count.
+void run_curobo(const std::string& name, const std::string& path,
+                const formats::RobotSpheres& curobo, std::size_t samples, int threads,
+                CuroboTally& tally) {
+  const formats::LinkSphereList* link = formats::find_link_spheres(curobo, link_of(path));
+  if (!link || link->spheres.empty()) {
+    std::printf("%-34s no cuRobo spheres for link %s\n", name.c_str(), link_of(path).c_str());
+    return;
+  }
+  const LoadedMesh loaded = load_mesh(path);
+  const FitEvaluator fit(loaded.mesh, threads);
+  const double L = loaded.report.largest_side();
+  const std::size_t K = link->spheres.size();
+  SphereSet shipped;
+  shipped.spheres = link->spheres;
+  print(name, K, "cuRobo", measure(fit, shipped, 0.0, samples, threads));
+  CoverCertificateOptions co;
+  co.threads = threads;
+  const CoverCertificate c = certify_cover(loaded.mesh, shipped.spheres, co);
+  SphereSet grown = shipped;
+  for (Sphere& s : grown.spheres) s.radius += c.certified ? 0.0 : c.worst_bound + 1e-9 * L;
+  const Row g = measure(fit, grown, 0.0, samples, threads);
+  print(name, K, "grown", g);
+  CoverOptions o;
+  o.threads = threads;
+  const auto t = std::chrono::steady_clock::now();
+  const CoverResult cover = bake_cover(fit.query(), K, o);
+  const Row r = measure(fit, cover.spheres, since(t), samples, threads);
+  print(name, K, "cover", r);
+  ++tally.links;
+  tally.protrusion_third += r.protrusion <= g.protrusion / 3.0;
+  tally.excess_half += r.excess <= g.excess / 2.0;
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  CLI::App app{"Sphere sets to a small budget: covers, S_D and S+"};
+  std::vector<int> ks = {2, 4, 8, 16, 32, 64};
+  std::string only, methods = "cover,sd,splus";
+  bool no_classic = false, no_g1 = false;
+  std::size_t samples = 200000;
+  int threads = 2;
+  app.add_option("--k", ks, "Budgets")->delimiter(',');
+  app.add_option("--only", only, "Only meshes whose name contains this");
+  app.add_option("--methods", methods, "Any of cover, sd, splus, comma-separated");
+  app.add_flag("--no-classic", no_classic, "Skip the shared classic meshes");
+  app.add_flag("--no-g1", no_g1, "Skip the G1 links");
+  app.add_option("--samples", samples, "Monte-Carlo points per set");
+  app.add_option("--threads", threads, "Threads");
+  std::string curobo_file =
+      std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
+  app.add_option("--curobo", curobo_file,
+                 "cuRobo configuration for the G1 comparison (methods: curobo)");
+  CLI11_PARSE(app, argc, argv);
+  const bool curobo = methods.find("curobo") != std::string::npos;
+  formats::RobotSpheres curobo_spheres;
+  if (curobo) curobo_spheres = formats::load_curobo_yaml(curobo_file);
+  CuroboTally tally;
+
+  std::vector<std::pair<std::string, std::string>> meshes;
+  if (!no_classic)
+    for (const test::SharedMesh& m : test::shared_meshes())
+      if (m.classic() && m.closed) meshes.emplace_back(m.file, m.path);
+  const std::filesystem::path g1 =
+      std::filesystem::path(MEDSPHERES_SOURCE_DIR) / ".." / "shared/robots/unitree_g1/meshes";
+  if (!no_g1 && std::filesystem::is_directory(g1)) {
+    std::vector<std::filesystem::path> links;
+    for (const auto& f : std::filesystem::directory_iterator(g1)) links.push_back(f.path());
+    std::sort(links.begin(), links.end());
+    for (const auto& p : links) meshes.emplace_back("g1/" + p.filename().string(), p.string());
+  }
+  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s\n", "mesh", "K", "method", "n",
+              "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec");
+  for (const auto& [name, path] : meshes) {
+    if (!only.empty() && name.find(only) == std::string::npos) continue;
+    try {
+      if (curobo && name.rfind("g1/", 0) == 0)
+        run_curobo(name, path, curobo_spheres, samples, threads, tally);
+      else if (!curobo)
+        run_mesh(name, path, ks, methods, samples, threads);
+    } catch (const std::exception& e) {
+      std::printf("%-34s failed: %s\n", name.c_str(), e.what());
+    }
+  }
+  if (curobo && tally.links > 0)
+    std::printf(
+        "cover at cuRobo's counts on %d links: max protrusion <= 1/3 of the grown set's on "
+        "%d (%.0f%%), excess volume <= 1/2 of it on %d (%.0f%%)\n",
+        tally.links, tally.protrusion_third, 100.0 * tally.protrusion_third / tally.links,
+        tally.excess_half, 100.0 * tally.excess_half / tally.links);
+  return 0;
+}

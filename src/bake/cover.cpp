@@ -1,0 +1,536 @@
+// The covering bake to a budget (cover.h).
+//
+// Why these steps. A covering ball must hold whole pieces of the surface; the least it can
+// stick out is set by the patch it holds, so the problem is one of partitioning the
+// surface into K patches and fitting each with its smallest ball: a k-center problem on
+// the surface, for which farthest-point sampling is the classical 2-approximation (step 2)
+// and alternating assignment and minimum-enclosing-ball refits the Lloyd-like local
+// improvement (step 3). Interior points join the patches so that a patch's ball is pulled
+// into the solid rather than centred on a flat face: a ball centred at depth t under a
+// flat patch of radius R sticks out by sqrt(R^2 + t^2) - t, less than the R of a ball
+// centred on the face. The elements are the pieces of the certificate's own midpoint
+// subdivision, so a ball that holds an element's three computed corners with a margin
+// above the certificate's rounding allowance certifies it (step 5 rarely has anything to
+// repair).
+#include "medspheres/bake/cover.h"
+
+#include <algorithm>
+#include <array>
+#include <chrono>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include "../runtime/bvh_build.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/bake/union_volume.h"
+#include "medspheres/mesh/threads.h"
+
+namespace medspheres {
+
+namespace {
+
+constexpr int kMaxElementDepth = 5;
+constexpr double kElementCap = 40000.0;
+
+// Constraint points and the elements made of them: elements [0, surface) are surface
+// pieces (three point indices), the rest interior points (one index, thrice).
+struct Elements {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> items;
+  std::vector<Eigen::Vector3d> centroids;
+  std::vector<double> reach;  // largest centroid-corner distance
+  std::size_t surface = 0;
+};
+
+void push_element(Elements& e, int a, int b, int c) {
+  e.items.push_back({a, b, c});
+  const Eigen::Vector3d g = (e.points[a] + e.points[b] + e.points[c]) / 3.0;
+  e.centroids.push_back(g);
+  e.reach.push_back(
+      std::max({(e.points[a] - g).norm(), (e.points[b] - g).norm(), (e.points[c] - g).norm()}));
+}
+
+// The lattice of midpoint subdivision at depth d: the points w0 a + w1 b + w2 c with
+// weights (n - i - j, i, j) / n, n = 2^d, and its n^2 triangles.
+void subdivide(Elements& e, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+               const Eigen::Vector3d& c, int d) {
+  const int n = 1 << d;
+  const int base = static_cast<int>(e.points.size());
+  std::vector<int> row_start(static_cast<std::size_t>(n) + 2);
+  for (int i = 0, k = base; i <= n; ++i) {
+    row_start[static_cast<std::size_t>(i)] = k;
+    for (int j = 0; i + j <= n; ++j, ++k) {
+      const double w1 = static_cast<double>(i) / n, w2 = static_cast<double>(j) / n;
+      const double w0 = static_cast<double>(n - i - j) / n;
+      e.points.push_back(a * w0 + b * w1 + c * w2);
+    }
+  }
+  auto at = [&](int i, int j) { return row_start[static_cast<std::size_t>(i)] + j; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      push_element(e, at(i, j), at(i + 1, j), at(i, j + 1));
+      if (i + j + 1 < n) push_element(e, at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+}
+
+Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOptions& o) {
+  const TriangleMesh& mesh = query.mesh();
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double L = box.sizes().maxCoeff();
+  // Element size: about L / (2 + 3 sqrt K), coarsened (by 1.5 at a time) until there are
+  // at most max(2 triangles, kElementCap) elements: beyond that, finer elements cost time
+  // and gain little.
+  std::vector<double> edge(mesh.num_triangles());
+  for (std::size_t t = 0; t < edge.size(); ++t) {
+    const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
+    edge[t] = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+  }
+  auto depth = [](double length, double size) {
+    int d = 0;
+    while (d < kMaxElementDepth && length > size * (1 << d)) ++d;
+    return d;
+  };
+  double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
+  const double cap = std::max(2.0 * static_cast<double>(mesh.num_triangles()), kElementCap);
+  for (;;) {
+    double count = 0.0;
+    for (double l : edge) count += std::pow(4.0, depth(l, h));
+    if (count <= cap) break;
+    h *= 1.5;
+  }
+  Elements e;
+  e.points = mesh.vertices;
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int d = depth(edge[t], h);
+    if (d == 0)
+      push_element(e, mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]);
+    else
+      subdivide(e, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2), d);
+  }
+  e.surface = e.items.size();
+  if (o.interior_resolution <= 0) return e;
+  const double cell = L / o.interior_resolution;
+  std::vector<Eigen::Vector3d> grid;
+  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
+    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
+      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
+        grid.emplace_back(x, y, z);
+  const std::vector<double> w = query.winding_numbers(grid, o.threads);
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (!(w[i] > 0.5)) continue;
+    const int k = static_cast<int>(e.points.size());
+    e.points.push_back(grid[i]);
+    push_element(e, k, k, k);
+  }
+  return e;
+}
+
+// The growth ball (c, r) needs to hold element i: max over its points of |p - c| - r.
+double need(const Elements& e, std::size_t i, const detail::Ball& b) {
+  double m = 0.0;
+  for (int p : e.items[i])
+    m = std::max(m, (e.points[static_cast<std::size_t>(p)] - b.center).norm());
+  return m - b.radius;
+}
+
+// Each element to the centre whose farthest point of the element is nearest (ties: lowest
+// index), a Voronoi assignment of whole elements. (Assigning by the growth a ball needs,
+// which favours large balls, gave larger unions on most meshes tried.) The centroid
+// bounds the farthest distance within |g - c| +- reach, which skips most centres.
+void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vector<int>& owner,
+            int threads) {
+  const long long n = static_cast<long long>(e.items.size());
+  owner.resize(e.items.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> lo(balls.size());
+#pragma omp for schedule(static)
+    for (long long ii = 0; ii < n; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      double best_hi = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < balls.size(); ++j) {
+        const double g = (e.centroids[i] - balls[j].center).norm();
+        lo[j] = g - e.reach[i];
+        best_hi = std::min(best_hi, g + e.reach[i]);
+      }
+      double best = std::numeric_limits<double>::infinity();
+      int arg = 0;
+      for (std::size_t j = 0; j < balls.size(); ++j) {
+        if (lo[j] > best_hi || lo[j] >= best) continue;
+        const double v = need(e, i, balls[j]) + balls[j].radius;
+        if (v < best) {
+          best = v;
+          arg = static_cast<int>(j);
+        }
+      }
+      owner[i] = arg;
+    }
+  }
+}
+
+// Farthest-point sampling of the centroids up to k centres, after the centres of \p start;
+// for an empty start the first centre is centroid \p first.
+std::vector<detail::Ball> seeds(const Elements& e, std::size_t k, std::vector<detail::Ball> start,
+                                std::size_t first) {
+  std::vector<double> d(e.centroids.size(), std::numeric_limits<double>::infinity());
+  auto add = [&](const Eigen::Vector3d& c) {
+    for (std::size_t i = 0; i < d.size(); ++i)
+      d[i] = std::min(d[i], (e.centroids[i] - c).squaredNorm());
+  };
+  if (start.empty()) start.push_back({e.centroids[first], 0.0});
+  for (const detail::Ball& b : start) add(b.center);
+  std::vector<detail::Ball> out = std::move(start);
+  while (out.size() < k) {
+    const std::size_t far =
+        static_cast<std::size_t>(std::max_element(d.begin(), d.end()) - d.begin());
+    if (d[far] <= 0.0) break;  // fewer distinct centroids than k
+    out.push_back({e.centroids[far], 0.0});
+    add(e.centroids[far]);
+  }
+  return out;
+}
+
+// The first centre of start s: for s = 0 the centroid farthest from the mean of all; for
+// s > 0 one drawn by a hash of (seed, s).
+std::size_t first_seed(const Elements& e, std::uint64_t seed, int s) {
+  if (s > 0) {
+    std::uint64_t z = seed * 0x9E3779B97F4A7C15ULL + static_cast<std::uint64_t>(s);
+    z = (z ^ (z >> 30)) * 0xBF58476D1CE4E5B9ULL;  // splitmix64 finaliser
+    z = (z ^ (z >> 27)) * 0x94D049BB133111EBULL;
+    return static_cast<std::size_t>((z ^ (z >> 31)) % e.centroids.size());
+  }
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& g : e.centroids) mean += g;
+  mean /= static_cast<double>(e.centroids.size());
+  std::size_t far = 0;
+  for (std::size_t i = 1; i < e.centroids.size(); ++i)
+    if ((e.centroids[i] - mean).squaredNorm() > (e.centroids[far] - mean).squaredNorm()) far = i;
+  return far;
+}
+
+// The distinct points of the elements in \p members.
+std::vector<Eigen::Vector3d> points_of(const Elements& e, const std::vector<std::size_t>& members,
+                                       std::vector<char>& mark) {
+  std::vector<Eigen::Vector3d> pts;
+  for (std::size_t i : members)
+    for (int p : e.items[i])
+      if (!mark[static_cast<std::size_t>(p)]) {
+        mark[static_cast<std::size_t>(p)] = 1;
+        pts.push_back(e.points[static_cast<std::size_t>(p)]);
+      }
+  for (std::size_t i : members)
+    for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
+  return pts;
+}
+
+// The minimum enclosing ball of the points of the elements in \p members, by a core set:
+// the minimum ball of a subset (first the extreme points along the axes and the
+// diagonals) is the answer once it holds every point; otherwise the farthest points
+// outside join the subset. The subset stays small, so each exact solve is cheap.
+detail::Ball fit(const Elements& e, const std::vector<std::size_t>& members,
+                 std::vector<char>& mark) {
+  const std::vector<Eigen::Vector3d> pts = points_of(e, members, mark);
+  std::vector<detail::Ball> core;
+  static const double kDirections[13][3] = {
+      {1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
+      {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  for (const auto& d : kDirections) {
+    const Eigen::Vector3d dir(d[0], d[1], d[2]);
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i) {
+      if (pts[i].dot(dir) < pts[lo].dot(dir)) lo = i;
+      if (pts[i].dot(dir) > pts[hi].dot(dir)) hi = i;
+    }
+    core.push_back({pts[lo], 0.0});
+    core.push_back({pts[hi], 0.0});
+  }
+  for (;;) {
+    const detail::Ball b = detail::min_enclosing_ball(core);
+    std::vector<std::pair<double, std::size_t>> out;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double d = (pts[i] - b.center).norm();
+      if (d > b.radius) out.emplace_back(-d, i);
+    }
+    if (out.empty()) return b;
+    const std::size_t take = std::min<std::size_t>(out.size(), 32);
+    std::partial_sort(out.begin(), out.begin() + static_cast<long>(take), out.end());
+    for (std::size_t k = 0; k < take; ++k) core.push_back({pts[out[k].second], 0.0});
+  }
+}
+
+std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k) {
+  std::vector<std::vector<std::size_t>> m(k);
+  for (std::size_t i = 0; i < owner.size(); ++i) m[static_cast<std::size_t>(owner[i])].push_back(i);
+  return m;
+}
+
+double union_volume(const std::vector<detail::Ball>& balls) {
+  std::vector<Sphere> s;
+  for (const detail::Ball& b : balls)
+    if (b.radius > 0.0) s.push_back({b.center, b.radius});
+  return measure_union(s).volume;
+}
+
+// Step 3. An empty cluster is reseeded at the element that needs the most growth.
+struct Clustering {
+  std::vector<detail::Ball> balls;
+  std::vector<int> owner;
+  int rounds = 0, best_round = 0;
+};
+
+Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const CoverOptions& o,
+                 int threads) {
+  Clustering best;
+  std::vector<int> owner;
+  std::vector<char> mark(e.points.size(), 0);
+  double best_volume = std::numeric_limits<double>::infinity();
+  for (int round = 1; round <= o.rounds; ++round) {
+    const std::vector<int> previous = owner;
+    assign(e, balls, owner, threads);
+    const auto members = members_of(owner, balls.size());
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      if (!members[j].empty()) {
+        balls[j] = fit(e, members[j], mark);
+        continue;
+      }
+      std::size_t worst = 0;
+      double worst_need = -1.0;
+      for (std::size_t i = 0; i < e.items.size(); ++i) {
+        const double v = need(e, i, balls[static_cast<std::size_t>(owner[i])]);
+        if (v > worst_need) worst_need = v, worst = i;
+      }
+      balls[j] = {e.centroids[worst], 0.0};
+    }
+    const bool full =
+        std::none_of(members.begin(), members.end(), [](const auto& m) { return m.empty(); });
+    best.rounds = round;
+    if (full) {
+      const double v = union_volume(balls);
+      if (v < best_volume)
+        best_volume = v, best.balls = balls, best.owner = owner, best.best_round = round;
+    }
+    if (full && owner == previous) break;
+    if (round - best.best_round >= 4) break;  // no smaller union for four rounds
+  }
+  if (best.balls.empty()) best.balls = balls, best.owner = owner;  // every round had a hole
+  return best;
+}
+
+}  // namespace
+
+namespace {
+
+bool holds(const Elements& e, std::size_t i, const detail::Ball& b) {
+  const double reach = b.radius + e.reach[i];
+  if ((e.centroids[i] - b.center).squaredNorm() > reach * reach) return false;
+  for (int p : e.items[i])
+    if ((e.points[static_cast<std::size_t>(p)] - b.center).norm() > b.radius) return false;
+  return true;
+}
+
+// How far the ball centred at c that holds \p pts sticks out of the solid: its radius
+// minus the signed distance of c (positive inside).
+double protrusion_at(const MeshQuery& query, const std::vector<Eigen::Vector3d>& pts,
+                     const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (const Eigen::Vector3d& p : pts) r = std::max(r, (p - c).squaredNorm());
+  const double d = query.closest_point(c).distance();
+  return std::sqrt(r) - (query.inside(c) ? d : -d);
+}
+
+// Step 3b. The minimum enclosing ball is the smallest ball holding a patch, not the one
+// that sticks out least: under a flat patch a centre at depth t sticks out by sqrt(R^2 +
+// t^2) - t < R. A pattern search (the six axis steps, halved on failure, from a quarter
+// of the radius down to 1e-3 of it) moves each centre to lower its protrusion; the
+// radius is then the distance to the farthest point.
+void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads) {
+  const auto members = members_of(c.owner, c.balls.size());
+  const long long k = static_cast<long long>(c.balls.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<char> mark(e.points.size(), 0);
+#pragma omp for schedule(dynamic, 1)
+    for (long long jj = 0; jj < k; ++jj) {
+      const std::size_t j = static_cast<std::size_t>(jj);
+      if (members[j].empty()) continue;
+      const std::vector<Eigen::Vector3d> pts = points_of(e, members[j], mark);
+      Eigen::Vector3d x = c.balls[j].center;
+      double fx = protrusion_at(query, pts, x);
+      for (double step = 0.25 * c.balls[j].radius; step > 1e-3 * c.balls[j].radius;) {
+        bool moved = false;
+        for (int axis = 0; axis < 6 && !moved; ++axis) {
+          const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
+          const double fy = protrusion_at(query, pts, y);
+          if (fy < fx) x = y, fx = fy, moved = true;
+        }
+        if (!moved) step *= 0.5;
+      }
+      double r = 0.0;
+      for (const Eigen::Vector3d& p : pts) r = std::max(r, (p - x).norm());
+      c.balls[j] = {x, r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
+    }
+  }
+}
+
+// Step 4. Ball j gives up the elements another ball holds (they move to the first such
+// ball) and keeps its centre, its radius shrunk to the farthest point it still holds; a
+// ball left with nothing goes.
+// Every element stays held by its owner throughout.
+void shrink(const Elements& e, Clustering& c) {
+  std::vector<char> mark(e.points.size(), 0);
+  const std::size_t k = c.balls.size();
+  for (int pass = 0; pass < 4; ++pass) {
+    bool changed = false;
+    auto members = members_of(c.owner, k);
+    for (std::size_t j = 0; j < k; ++j) {
+      if (members[j].empty()) continue;
+      std::vector<std::size_t> keep;
+      for (std::size_t i : members[j]) {
+        std::size_t other = k;
+        for (std::size_t m = 0; m < k && other == k; ++m)
+          if (m != j && c.balls[m].radius > 0.0 && holds(e, i, c.balls[m])) other = m;
+        if (other == k) {
+          keep.push_back(i);
+        } else {
+          c.owner[i] = static_cast<int>(other);
+          members[other].push_back(i);
+        }
+      }
+      if (keep.size() == members[j].size()) continue;
+      members[j] = keep;
+      const double before = c.balls[j].radius;
+      double r = 0.0;  // the same centre, just large enough for what it keeps
+      for (const Eigen::Vector3d& p : points_of(e, keep, mark))
+        r = std::max(r, (p - c.balls[j].center).norm());
+      c.balls[j].radius =
+          keep.empty() ? 0.0 : r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+      changed = changed || c.balls[j].radius < before;
+    }
+    if (!changed) break;
+  }
+}
+
+// Steps 3 and 4 from the centres \p start.
+Clustering optimise(const MeshQuery& query, const Elements& e, std::vector<detail::Ball> start,
+                    const CoverOptions& o, int threads) {
+  Clustering c = lloyd(e, std::move(start), o, threads);
+  deepen(query, e, c, threads);
+  shrink(e, c);
+  return c;
+}
+
+// The margin added to every radius: far above the certificate's rounding allowance (a few
+// ulps of the coordinates), so that a ball holding an element's computed corners
+// certifies it.
+double radius_slack(double L, double coordinates) {
+  return 1e-9 * L + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+}
+
+// Step 5: grow, for each uncertified piece, the ball that needs the least growth to hold
+// its corners (ties: lowest index).
+std::size_t repair(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
+  std::size_t grown = 0;
+  for (const CoverPiece& piece : cert.uncertified_pieces) {
+    std::size_t arg = 0;
+    double best = std::numeric_limits<double>::infinity(), reach = 0.0;
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      double m = 0.0;
+      for (const Eigen::Vector3d& p : piece.corners) m = std::max(m, (p - balls[j].center).norm());
+      if (m - balls[j].radius < best) best = m - balls[j].radius, arg = j, reach = m;
+    }
+    const double r = reach + slack + 64.0 * std::numeric_limits<double>::epsilon() * reach;
+    if (r > balls[arg].radius) balls[arg].radius = r, ++grown;
+  }
+  return grown;
+}
+
+void check_cover_options(std::size_t budget, const CoverOptions& o) {
+  if (budget == 0) throw std::invalid_argument("budget must be >= 1, got 0");
+  if (o.starts < 1)
+    throw std::invalid_argument("starts must be >= 1, got " + std::to_string(o.starts));
+  if (o.rounds < 1)
+    throw std::invalid_argument("rounds must be >= 1, got " + std::to_string(o.rounds));
+  if (o.interior_resolution < 0 || o.interior_resolution > 256)
+    throw std::invalid_argument("interior_resolution must be in [0, 256], got " +
+                                std::to_string(o.interior_resolution));
+  if (o.repair_rounds < 1)
+    throw std::invalid_argument("repair_rounds must be >= 1, got " +
+                                std::to_string(o.repair_rounds));
+  if (o.certificate.max_depth < kMaxElementDepth)
+    throw std::invalid_argument(
+        "certificate.max_depth must be >= " + std::to_string(kMaxElementDepth) + ", got " +
+        std::to_string(o.certificate.max_depth));
+  check_threads(o.threads);
+}
+
+void measure(const MeshQuery& query, const std::vector<Sphere>& balls, int threads, CoverStats& s) {
+  s.union_volume = measure_union(balls).volume;
+  s.mesh_volume = solid_volume(query.mesh());
+  s.excess_volume = s.mesh_volume ? (s.union_volume - *s.mesh_volume) / *s.mesh_volume
+                                  : std::numeric_limits<double>::quiet_NaN();
+  const std::vector<double> p = sphere_protrusions(query, balls, threads);
+  s.max_protrusion = p.empty() ? 0.0 : *std::max_element(p.begin(), p.end());
+}
+
+}  // namespace
+
+CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  check_cover_options(budget, options);
+  const int threads = thread_count(options.threads);
+  const TriangleMesh& mesh = query.mesh();
+  CoverResult out;
+  CoverStats& s = out.stats;
+  s.budget = budget;
+  s.largest_side = mesh.bounds().sizes().maxCoeff();
+  const Elements e = make_elements(query, budget, options);
+  s.elements = e.surface;
+  s.interior_points = e.items.size() - e.surface;
+  Clustering c;
+  double best = std::numeric_limits<double>::infinity();
+  for (int start = 0; start < options.starts; ++start) {
+    Clustering d = optimise(query, e, seeds(e, budget, {}, first_seed(e, options.seed, start)),
+                            options, threads);
+    // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
+    // centre, and keep the result if its union is smaller.
+    std::vector<detail::Ball> live;
+    for (const detail::Ball& b : d.balls)
+      if (b.radius > 0.0) live.push_back(b);
+    if (live.size() < budget) {
+      Clustering f = optimise(query, e, seeds(e, budget, live, 0), options, threads);
+      if (union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
+    }
+    const double v = union_volume(d.balls);
+    if (v < best) best = v, c = std::move(d);
+  }
+  s.rounds_run = c.rounds;
+  s.best_round = c.best_round;
+  const double coordinates =
+      mesh.bounds().min().cwiseAbs().cwiseMax(mesh.bounds().max().cwiseAbs()).maxCoeff();
+  std::vector<Sphere>& balls = out.spheres.spheres;
+  for (const detail::Ball& b : c.balls)
+    if (b.radius > 0.0)
+      balls.push_back({b.center, b.radius + radius_slack(s.largest_side, coordinates + b.radius)});
+  CoverCertificateOptions co = options.certificate;
+  co.threads = options.threads;
+  for (int round = 0; round < options.repair_rounds; ++round) {
+    out.certificate = certify_cover(mesh, balls, co);
+    s.repair_rounds_run = round;
+    if (out.certificate.certified) break;
+    s.repaired +=
+        repair(balls, out.certificate, radius_slack(s.largest_side, coordinates + s.largest_side));
+  }
+  if (!out.certificate.certified && s.repaired > 0)
+    out.certificate = certify_cover(mesh, balls, co);
+  s.certified = out.certificate.certified;
+  s.spheres = balls.size();
+  measure(query, balls, options.threads, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  return out;
+}
+
+}  // namespace medspheres

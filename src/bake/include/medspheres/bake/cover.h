@@ -1,0 +1,104 @@
+#pragma once
+/// \file
+/// Covering sphere sets to a budget: at most K balls whose union contains the whole
+/// surface of the solid, certified by certify_cover (medspheres/mesh/cover_certificate.h),
+/// and as tight as the method below makes them.
+///
+/// Method (derivation and choices in cover.cpp):
+/// 1. Constraint points. Every triangle is split by midpoint subdivision into elements no
+///    longer than about L / (2 + 3 sqrt K) (at most 4^5 per triangle; coarser when that
+///    would make more than max(2 triangles, 40000) elements); each element is
+///    the three corners of a piece the certificate also tests. Points of a grid inside the
+///    solid (winding number > 1/2) are added as one-point elements, so that the balls also
+///    fill the interior and centres sit inside; their coverage is not certified.
+/// 2. Start: K centres by farthest-point sampling of the element centroids, from the one
+///    farthest from their mean, and for further starts from centroids drawn with `seed`;
+///    steps 3 and 4 run from each start, and the smallest union is kept.
+/// 3. Lloyd-like rounds: each element goes to the centre whose distance to the element's
+///    farthest point is least; each ball becomes the minimum enclosing ball of its
+///    elements' points. The round of smallest exact union volume is kept. Then each
+///    centre moves (pattern search) to where the ball holding its elements sticks out of
+///    the solid least.
+/// 4. Shrink: a ball drops the elements some other ball already holds, and is refitted to
+///    the rest; repeated while it shrinks a ball. Coverage of every element is kept. When
+///    balls were dropped, steps 3 and 4 run again from the survivors plus farthest-point
+///    seeds up to K (once), kept when the union is smaller.
+/// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
+///    certify is repaired by growing the ball that needs the least growth to hold it,
+///    until certified (at most `repair_rounds`). A set that still fails is reported
+///    uncertified, never covered.
+/// K = 1 is the minimum enclosing ball of the surface (the bounding sphere).
+///
+/// What is certified: the surface. The interior is covered at the sample points of step 1
+/// only. excess_volume = (vol(union) - V) / V is the exact volume of the union outside the
+/// solid, relative to V, when the union contains the solid, and a lower bound otherwise.
+/// max_protrusion: the largest r_i - signed distance of c_i to the surface (fit_metrics.h),
+/// the farthest a point of the union is from the solid.
+///
+/// Frames and units: those of the mesh. Determinism: the same spheres for the same input
+/// and options, whatever the thread count.
+/// Errors: budget 0 or options out of range throw std::invalid_argument naming the
+/// option.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+
+#include "medspheres/bake/bake_metadata.h"
+#include "medspheres/mesh/cover_certificate.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/sphere_set.h"
+
+namespace medspheres {
+
+struct CoverOptions {
+  int starts = 3;  ///< steps 2 to 4 from this many first centres, >= 1; the smallest union wins
+  std::uint64_t seed = 1;               ///< draws the first centre of every start but the first
+  int rounds = 24;                      ///< step 3 rounds at most, >= 1
+  int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
+  int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
+  CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
+  int threads = 0;                      ///< 0: all cores
+};
+
+struct CoverStats {
+  std::size_t budget = 0;
+  std::size_t spheres = 0;
+  std::size_t elements = 0;         ///< surface elements of step 1
+  std::size_t interior_points = 0;  ///< interior grid points of step 1
+  int rounds_run = 0;               ///< step 3
+  int best_round = 0;
+  std::size_t repaired = 0;  ///< balls grown by step 5, counted per growth
+  int repair_rounds_run = 0;
+  bool certified = false;             ///< the certificate's verdict on the result
+  std::optional<double> mesh_volume;  ///< V, when the mesh is closed
+  double union_volume = 0.0;          ///< exact
+  double excess_volume = 0.0;         ///< (U - V) / V; NaN without V
+  double max_protrusion = 0.0;        ///< a length
+  double largest_side = 0.0;          ///< L
+  double seconds = 0.0;               ///< the whole call
+};
+
+struct CoverResult {
+  SphereSet spheres;
+  CoverCertificate certificate;  ///< of the returned spheres
+  CoverStats stats;
+};
+
+/// At most \p budget balls covering the surface of query.mesh() (file comment).
+/// \throws std::invalid_argument for budget 0 or options out of range.
+CoverResult bake_cover(const MeshQuery& query, std::size_t budget,
+                       const CoverOptions& options = {});
+
+/// The BakeRecord of a cover: mode "cover_budget", target the budget, and the cover's
+/// statistics (certified 1/0, the certificate's counts, union and excess volume, max
+/// protrusion, the worst uncovered distance when not certified) in extra_stats.
+BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& result);
+
+/// bake_metadata_json(record) with generator.method "cover", the medial parameters
+/// replaced by the budget, and "certified" and "surface_covered" written as booleans;
+/// "interior_certified" is false (only the surface is certified).
+std::string cover_metadata_json(const BakeRecord& record);
+
+}  // namespace medspheres
