@@ -3,7 +3,8 @@
 // both measured by the exact nerr of their union (their spheres are inside the solid).
 //
 // Usage: bench_inner_budget [--meshes DIR] [--only SUBSTRING] [--threads N]
-//                           [--ks 2,4,8,...] [--no-amaa] [--no-classic]
+//                           [--ks 2,4,8,...] [--no-amaa] [--no-classic] [--no-today]
+//                           [--candidate-factor F] [--samples N] [--swap-passes P] [--verbose]
 //   Part 1: the four meshes AMAA (spheretree's medial method, branch 8, depth 3) was run
 //   on, at its sphere counts, its Monte-Carlo error beside. The target: lower nerr at no
 //   more spheres on each.
@@ -84,12 +85,17 @@ struct Both {
   Run today, budget;
 };
 
+InnerBudgetOptions budget_options;
+bool no_today = false;
+
 Both compare(const FitEvaluator& fit, std::size_t k, int threads) {
   BakeOptions o;
   o.threads = threads;
   Both out;
-  out.today = run(fit, threads, [&] { return bake_max_spheres(fit.query(), k, o); });
-  out.budget = run(fit, threads, [&] { return bake_inner_budget(fit.query(), k, o); });
+  if (!no_today)
+    out.today = run(fit, threads, [&] { return bake_max_spheres(fit.query(), k, o); });
+  out.budget =
+      run(fit, threads, [&] { return bake_inner_budget(fit.query(), k, o, budget_options); });
   return out;
 }
 
@@ -114,6 +120,11 @@ int main(int argc, char** argv) {
   app.add_flag("--no-amaa", no_amaa, "skip part 1");
   app.add_flag("--no-classic", no_classic, "skip part 2");
   app.add_flag("--verbose", verbose, "print the resolutions each call baked");
+  app.add_flag("--no-today", no_today, "skip bake_max_spheres");
+  app.add_option("--candidate-factor", budget_options.candidate_factor,
+                 "InnerBudgetOptions::candidate_factor");
+  app.add_option("--samples", budget_options.samples, "InnerBudgetOptions::samples");
+  app.add_option("--swap-passes", budget_options.swap_passes, "InnerBudgetOptions::swap_passes");
   CLI11_PARSE(app, argc, argv);
   if (dir.empty()) {
     std::fprintf(stderr, "bench_inner_budget: no shared meshes (--meshes DIR)\n");

@@ -35,8 +35,9 @@ void check_budget_options(std::size_t max_spheres, const InnerBudgetOptions& b) 
   if (!(b.candidate_factor >= 1.0) || !std::isfinite(b.candidate_factor))
     throw std::invalid_argument("candidate_factor must be finite and >= 1, got " +
                                 number_text(b.candidate_factor));
-  if (b.samples < 1000)
-    throw std::invalid_argument("samples must be >= 1000, got " + std::to_string(b.samples));
+  if (b.samples != 0 && b.samples < 1000)
+    throw std::invalid_argument("samples must be 0 (automatic) or >= 1000, got " +
+                                std::to_string(b.samples));
   if (b.swap_passes < 0)
     throw std::invalid_argument("swap_passes must be >= 0, got " + std::to_string(b.swap_passes));
   if (b.max_resolution < kMinResolution || b.max_resolution > kMaxResolution)
@@ -232,6 +233,14 @@ class Selection {
   std::vector<std::uint64_t> overlap_;  // scratch of best_replacement, all 0 between calls
 };
 
+// InnerBudgetOptions::samples resolved. Small budgets need fewer points: the volumes that
+// tell their choices apart are larger.
+std::size_t sample_count(std::size_t max_spheres, const InnerBudgetOptions& b) {
+  if (b.samples != 0) return b.samples;
+  const std::size_t lo = std::size_t{1} << 15, hi = std::size_t{1} << 18;
+  return max_spheres >= hi / 512 ? hi : std::max(lo, 512 * max_spheres);
+}
+
 // The volume the sample points should fill: the solid's, or when the mesh has none, the
 // smaller of the box's and the balls' total.
 double volume_estimate(const MeshQuery& query, const std::vector<Sphere>& balls) {
@@ -282,7 +291,7 @@ BakeResult bake_inner_budget(const MeshQuery& query, std::size_t max_spheres,
     if (options.progress) options.progress("selecting", 0, max_spheres);
     const BallCoverage coverage =
         sample_ball_coverage(balls, query.mesh().bounds(), volume_estimate(query, balls),
-                             budget.samples, kCoverageDepth, options.threads);
+                             sample_count(max_spheres, budget), kCoverageDepth, options.threads);
     Selection selection(coverage);
     selection.greedy(max_spheres, balls);
     selection.improve(budget.swap_passes);

@@ -37,10 +37,10 @@ namespace medspheres {
 struct InnerBudgetOptions {
   /// Bake candidates until there are at least this many times the budget (>= 1); more
   /// gives the selection more choice and costs finer bakes.
-  double candidate_factor = 4.0;
-  /// Sample points in the solid for the volume proxy (at least 1000); the grid is coarsened
-  /// when the spheres would cover more than 2^24 point memberships in all.
-  std::size_t samples = std::size_t{1} << 18;
+  double candidate_factor = 3.0;
+  /// Sample points in the solid for the volume proxy: 0 (the default) for 512 K, at least
+  /// 2^15 and at most 2^18; otherwise at least 1000.
+  std::size_t samples = 0;
   int swap_passes = 8;  ///< passes of the swap improvement (0: greedy only)
   /// The finest resolution baked for candidates, in [2, 4096].
   int max_resolution = kMaxSearchResolution;
