@@ -65,14 +65,11 @@ void check_inside(const TriangleMesh& m, const BakeResult& r) {
   }
 }
 
+// Sphere is four doubles without padding: equal bytes, bit-identical sets.
 bool bit_identical(const SphereSet& a, const SphereSet& b) {
-  if (a.size() != b.size()) return false;
-  for (std::size_t i = 0; i < a.size(); ++i)
-    if (std::memcmp(a.spheres[i].center.data(), b.spheres[i].center.data(), 3 * sizeof(double)) !=
-            0 ||
-        std::memcmp(&a.spheres[i].radius, &b.spheres[i].radius, sizeof(double)) != 0)
-      return false;
-  return true;
+  static_assert(sizeof(Sphere) == 4 * sizeof(double), "Sphere has padding");
+  return a.size() == b.size() &&
+         std::memcmp(a.spheres.data(), b.spheres.data(), a.size() * sizeof(Sphere)) == 0;
 }
 
 std::size_t candidates(const BakeResult& r) {
