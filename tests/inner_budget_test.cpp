@@ -251,6 +251,14 @@ TEST_CASE("budget input errors name the option", "[inner_budget]") {
   BakeOptions o;
   o.object_angle = 4.0;
   CHECK_THROWS_WITH(bake_inner_budget(q, 4, o), Contains("object_angle"));
+  // A medial tolerance must fit the finest resolution the candidate bakes may reach.
+  o = {};
+  o.medial_tolerance = mesh.bounds().sizes().maxCoeff() / 100;
+  b = {};
+  b.max_resolution = 64;
+  CHECK_NOTHROW(bake_inner_budget(q, 4, o, b));
+  b.max_resolution = 200;
+  CHECK_THROWS_WITH(bake_inner_budget(q, 4, o, b), Contains("medial_tolerance"));
   // A flat sheet bounds no volume: no resolution finds an inside grid vertex.
   TriangleMesh sheet;
   sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {0, 1, 0}, {1, 1, 0}};

@@ -274,6 +274,11 @@ BakeResult bake_inner_budget(const MeshQuery& query, std::size_t max_spheres,
   const auto t0 = std::chrono::steady_clock::now();
   check_budget_options(max_spheres, budget);
   validate_bake_options(options);
+  // Every resolution up to the finest the candidate bakes may reach.
+  if (const auto problem =
+          medial_tolerance_problem(options.medial_tolerance,
+                                   query.mesh().bounds().sizes().maxCoeff(), budget.max_resolution))
+    throw std::invalid_argument("medial_tolerance " + *problem);
   const double want = std::ceil(budget.candidate_factor * static_cast<double>(max_spheres));
   CandidateBake found = bake_candidates(query, static_cast<std::size_t>(std::min(want, 1e15)),
                                         options, budget.max_resolution);

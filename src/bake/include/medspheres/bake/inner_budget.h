@@ -54,7 +54,8 @@ struct InnerBudgetOptions {
 /// more spheres than the bake before it (the medial surface is resolved: a ball's centre),
 /// or budget.max_resolution is reached. A start resolution with no grid vertex inside the
 /// solid is doubled, at most 3 times.
-/// \throws std::invalid_argument if max_spheres < 1, for options as bake(), or for budget
+/// \throws std::invalid_argument if max_spheres < 1, for options as bake() (an explicit
+///   medial_tolerance must lie below the cell of budget.max_resolution), or for budget
 ///   fields out of range (the message names the field);
 ///   InputError (source "mesh") as bake(); InputError (source "--max-spheres") when no
 ///   candidate bake finds a sphere.
