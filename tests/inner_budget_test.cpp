@@ -265,3 +265,17 @@ TEST_CASE("budget input errors name the option", "[inner_budget]") {
   sheet.triangles = {{0, 1, 2}, {1, 3, 2}};
   CHECK_THROWS_AS(bake_inner_budget(MeshQuery(sheet), 4), InputError);
 }
+
+TEST_CASE("a thin plate: bakes too coarse to find a sphere lead to finer ones", "[inner_budget]") {
+  // 1 x 1 x 0.008, far thinner than the start resolution's cell (1/28).
+  const TriangleMesh plate = make_box(Eigen::Vector3d(0.5, 0.5, 0.004), 2);
+  const MeshQuery q(plate);
+  const BakeResult r = bake_inner_budget(q, 8);
+  REQUIRE(r.spheres.size() == 8);
+  // The first bakes find no sphere (their cells are thicker than the plate): the search
+  // goes on doubling rather than taking them for a resolved medial surface.
+  REQUIRE(r.stats.search.size() >= 3);
+  CHECK(r.stats.search[0].spheres == 0);
+  CHECK(r.stats.search[1].spheres == 0);
+  check_inside(plate, r);
+}

@@ -60,8 +60,8 @@ void append(BakeResult& pool, BakeResult&& b) {
 }
 
 // The candidate bakes (header): grow the resolution until the bakes have found `want`
-// spheres together, a step of at least 1.5 times adds no sphere (the medial surface is
-// resolved), or the limit. Each step aims the next bake at the spheres still missing.
+// spheres together, a step of at least 1.5 times finds some spheres but no more than the
+// bake before (the medial surface is resolved), or the limit. Each step aims the next bake at the spheres still missing.
 CandidateBake bake_candidates(const MeshQuery& query, std::size_t want, BakeOptions options,
                               int max_resolution) {
   CandidateBake out;
@@ -85,7 +85,8 @@ CandidateBake bake_candidates(const MeshQuery& query, std::size_t want, BakeOpti
     out.steps.push_back({r, n, std::numeric_limits<double>::quiet_NaN()});
     append(out.bake, std::move(b));
     const std::size_t pooled = out.bake.spheres.size();
-    const bool stalled = step >= 1.5 && n <= previous;
+    // Bakes that find nothing are too coarse, never a sign of a resolved medial surface.
+    const bool stalled = step >= 1.5 && n > 0 && n <= previous;
     if (pooled >= want || stalled || r >= max_resolution) break;
     previous = n;
     const double missing = static_cast<double>(want - pooled);

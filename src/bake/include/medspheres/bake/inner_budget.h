@@ -50,9 +50,10 @@ struct InnerBudgetOptions {
 /// file comment says. The candidate bakes start at options.resolution and grow the
 /// resolution, each step aimed at the candidates still missing (1.1 times the square root of
 /// missing / last bake's count, as sphere counts grow with the area of the medial surface;
-/// between 1.25 and 2 times), until there are enough, a step of at least 1.5 times finds no
-/// more spheres than the bake before it (the medial surface is resolved: a ball's centre),
-/// or budget.max_resolution is reached. A start resolution with no grid vertex inside the
+/// between 1.25 and 2 times; doubling after a bake that finds none), until there are
+/// enough, a step of at least 1.5 times finds some spheres but no more than the bake before
+/// it (the medial surface is resolved: a ball's centre), or budget.max_resolution is
+/// reached. A start resolution with no grid vertex inside the
 /// solid is doubled, at most 3 times.
 /// \throws std::invalid_argument if max_spheres < 1, for options as bake() (an explicit
 ///   medial_tolerance must lie below the cell of budget.max_resolution), or for budget
