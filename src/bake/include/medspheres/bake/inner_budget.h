@@ -53,8 +53,8 @@ struct InnerBudgetOptions {
 /// between 1.25 and 2 times; doubling after a bake that finds none), until there are
 /// enough, a step of at least 1.5 times finds some spheres but no more than the bake before
 /// it (the medial surface is resolved: a ball's centre), or budget.max_resolution is
-/// reached. A start resolution with no grid vertex inside the
-/// solid is doubled, at most 3 times.
+/// reached. A start resolution with no grid vertex inside the solid is doubled, at most 3
+/// times. For an open mesh build the query with MeshQueryOptions::cap_holes, as for bake().
 /// \throws std::invalid_argument if max_spheres < 1, for options as bake() (an explicit
 ///   medial_tolerance must lie below the cell of budget.max_resolution), or for budget
 ///   fields out of range (the message names the field);
