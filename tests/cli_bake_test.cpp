@@ -17,22 +17,16 @@
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
+using namespace medspheres::test;
 using Catch::Matchers::Contains;
-using medspheres::test::CommandResult;
-using medspheres::test::run_command;
-using medspheres::test::shell_quote;
-using medspheres::test::TempDir;
 
 namespace {
 
 const std::string kKnot = medspheres::test::example_mesh("knot1.off");
 const std::string kEight = medspheres::test::example_mesh("eight.off");
 
-// The CLI under a time limit, so that a run that never ends fails the test (exit 124)
-// instead of hanging the suite.
 CommandResult cli(const std::string& args, int seconds = 300) {
-  return run_command("timeout " + std::to_string(seconds) + " " + shell_quote(MEDSPHERES_CLI) +
-                     " " + args);
+  return run_cli(args, seconds);
 }
 
 nlohmann::json stats_of(const std::string& path) {

@@ -10,11 +10,8 @@
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
+using namespace medspheres::test;
 using Catch::Matchers::Contains;
-using medspheres::test::CommandResult;
-using medspheres::test::run_command;
-using medspheres::test::shell_quote;
-using medspheres::test::TempDir;
 
 namespace {
 

@@ -8,6 +8,7 @@
 #include <CLI/CLI.hpp>
 
 #include "medspheres/number_text.h"
+#include "medspheres/error.h"
 
 namespace medspheres::cli {
 
@@ -41,5 +42,18 @@ class ProgressBar {
 
 /// True when stderr is a terminal (progress bars are drawn only then).
 bool stderr_is_terminal();
+
+/// The flag of a library field: "max_spheres" is --max-spheres.
+std::string flag_of(std::string field);
+
+/// The CLI's wording of a library error: fields (and the related fields the problem
+/// names) as flags.
+std::string message_of(const InputError& e);
+
+/// The exit code of an input error of \p kind.
+int exit_code_of(ErrorKind kind);
+
+/// Prints \p e as the CLI words it on stderr; returns its exit code.
+int report_input_error(const InputError& e);
 
 }  // namespace medspheres::cli

@@ -5,8 +5,8 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "medspheres/mesh/mesh_io.h"
 #include "medspheres/bake/self_intersection.h"
+#include "medspheres/mesh/mesh_io.h"
 
 namespace medspheres::cli {
 
@@ -26,25 +26,25 @@ int run_info(const InfoArgs& args) {
   const MeshReport& r = loaded.report;
   const SelfIntersections self = find_self_intersections(loaded.mesh);
   if (args.json) {
-    nlohmann::ordered_json j;
-    j["file"] = args.mesh;
-    j["triangles"] = r.triangles;
-    j["vertices"] = r.vertices;
-    j["unreferenced_vertices"] = r.unreferenced_vertices;
-    j["edges"] = r.edges;
-    j["components"] = r.components;
-    j["boundary_edges"] = r.boundary_edges;
-    j["nonmanifold_edges"] = r.nonmanifold_edges;
-    j["degenerate_triangles"] = r.degenerate_triangles;
-    j["inconsistent_edges"] = r.inconsistent_edges;
-    j["self_intersecting_pairs"] = self.count();
-    j["closed"] = r.closed;
-    j["volume"] = r.signed_volume;
-    j["bbox_min"] = vec_json(r.bbox_min);
-    j["bbox_max"] = vec_json(r.bbox_max);
-    j["triangles_flipped_for_consistency"] =
-        loaded.orientation_fix.triangles_flipped_for_consistency;
-    j["components_flipped_outward"] = loaded.orientation_fix.components_flipped_outward;
+    nlohmann::ordered_json j = {
+        {"file", args.mesh},
+        {"triangles", r.triangles},
+        {"vertices", r.vertices},
+        {"unreferenced_vertices", r.unreferenced_vertices},
+        {"edges", r.edges},
+        {"components", r.components},
+        {"boundary_edges", r.boundary_edges},
+        {"nonmanifold_edges", r.nonmanifold_edges},
+        {"degenerate_triangles", r.degenerate_triangles},
+        {"inconsistent_edges", r.inconsistent_edges},
+        {"self_intersecting_pairs", self.count()},
+        {"closed", r.closed},
+        {"volume", r.signed_volume},
+        {"bbox_min", vec_json(r.bbox_min)},
+        {"bbox_max", vec_json(r.bbox_max)},
+        {"triangles_flipped_for_consistency",
+         loaded.orientation_fix.triangles_flipped_for_consistency},
+        {"components_flipped_outward", loaded.orientation_fix.components_flipped_outward}};
     auto comps = nlohmann::ordered_json::array();
     for (const ComponentReport& c : r.component_reports) {
       comps.push_back({{"triangles", c.triangles},

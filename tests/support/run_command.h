@@ -18,9 +18,12 @@ CommandResult run_command(const std::string& command);
 std::string shell_quote(const std::string& s);
 
 #ifdef MEDSPHERES_CLI
-/// Runs the medspheres command-line tool of this build with \p args (already quoted).
-inline CommandResult run_cli(const std::string& args) {
-  return run_command(shell_quote(MEDSPHERES_CLI) + " " + args);
+/// Runs the medspheres command-line tool of this build with \p args (already quoted);
+/// with \p seconds > 0 under that time limit, so that a run that never ends fails the
+/// test (exit 124) instead of hanging the suite.
+inline CommandResult run_cli(const std::string& args, int seconds = 0) {
+  const std::string limit = seconds > 0 ? "timeout " + std::to_string(seconds) + " " : "";
+  return run_command(limit + shell_quote(MEDSPHERES_CLI) + " " + args);
 }
 #endif
 
