@@ -8,10 +8,11 @@
 // No options: the generated 100k-triangle torus, the bundled examples and, when
 // ../shared/meshes is there, its closed meshes; 5000 interior and 5000 near-surface
 // points each (as bench_mesh_query draws them). Each timing is the median of 3
-// interleaved rounds.
+// interleaved rounds, in CPU time of the calling thread, so that other processes on a
+// busy machine do not count.
 #include <algorithm>
-#include <chrono>
 #include <cstdio>
+#include <ctime>
 #include <string>
 #include <utility>
 #include <vector>
@@ -27,8 +28,13 @@
 namespace {
 
 using medspheres::TriangleMesh;
-using Clock = std::chrono::steady_clock;
 using Points = std::vector<Eigen::Vector3d>;
+
+double cpu_seconds() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return static_cast<double>(t.tv_sec) + 1e-9 * static_cast<double>(t.tv_nsec);
+}
 
 struct Timing {
   double mesh_query_qps = 0.0, tree_qps = 0.0;
@@ -44,11 +50,11 @@ Timing measure(const medspheres::MeshQuery& q, const medspheres::TriangleTree& t
   std::vector<double> by_query(pts.size()), by_tree(pts.size()), t_query, t_tree;
   std::uint64_t tests = 0;
   for (int round = 0; round < 3; ++round) {
-    auto t0 = Clock::now();
+    double t0 = cpu_seconds();
     for (std::size_t i = 0; i < pts.size(); ++i) by_query[i] = q.closest_point(pts[i]).distance();
-    t_query.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    t_query.push_back(cpu_seconds() - t0);
     tests = 0;
-    t0 = Clock::now();
+    t0 = cpu_seconds();
     for (std::size_t i = 0; i < pts.size(); ++i) {
       const Eigen::Isometry3d X_WA(Eigen::Translation3d(pts[i]));
       const medspheres::TreeDistance d =
@@ -56,7 +62,7 @@ Timing measure(const medspheres::MeshQuery& q, const medspheres::TriangleTree& t
       by_tree[i] = d.distance;
       tests += d.stats.bv_tests + d.stats.leaf_tests;
     }
-    t_tree.push_back(std::chrono::duration<double>(Clock::now() - t0).count());
+    t_tree.push_back(cpu_seconds() - t0);
   }
   std::sort(t_query.begin(), t_query.end());
   std::sort(t_tree.begin(), t_tree.end());
@@ -83,7 +89,7 @@ int main() {
 
   std::printf("Closest points: MeshQuery (4-wide float AABB) vs TriangleTree (binary RSS)\n");
   std::printf(
-      "q/s: queries per second, one thread; tests: TriangleTree bounds + leaves per query\n\n");
+      "q/s: queries per CPU second, one thread; tests: TriangleTree bounds + leaves per query\n\n");
   std::printf("%-30s %8s %-8s %11s %11s %6s %8s %6s\n", "mesh", "tris", "kind", "MeshQuery",
               "TriangleTree", "ratio", "tests", "differ");
   std::vector<double> ratios;

@@ -116,3 +116,28 @@ TEST_CASE("point-triangle kernel: query points far from small triangles", "[poin
     check_kernel(p, a, b, a + 0.5 * (b - a));  // far from a segment too
   }
 }
+
+TEST_CASE("point-triangle kernel: the one-off and the prepared query agree to the bit",
+          "[point_triangle]") {
+  // closest_point_on_triangle skips the accurate normal where it can; the answer must
+  // still be the prepared one (MeshQuery's and TriangleTree's). Shapes around the thin
+  // threshold (kappa = L^2 / 2A = 8: height 1/8 over a unit base) and the degenerate
+  // one, and random ones.
+  std::mt19937_64 rng(14);
+  std::uniform_real_distribution<double> u01(0.0, 1.0);
+  for (int i = 0; i < 20000; ++i) {
+    const Vector3d a = random_vector(rng, 1.0), d = random_vector(rng, 1.0).normalized();
+    const Vector3d e = d.cross(random_vector(rng, 1.0)).normalized();
+    const double height = i % 3 == 0   ? 0.125 * (1.0 + 1e-6 * (u01(rng) - 0.5))
+                          : i % 3 == 1 ? std::ldexp(1.0, -47 - i % 6)
+                                       : u01(rng);
+    const Vector3d b = a + d, c = a + u01(rng) * d + height * e;
+    const medspheres::detail::PreparedTriangle t = medspheres::detail::prepare_triangle(a, b, c);
+    for (int k = 0; k < 4; ++k) {
+      const Vector3d p = a + u01(rng) * d + 0.5 * height * random_vector(rng, 1.0) +
+                         (k == 3 ? random_vector(rng, 2.0) : Vector3d::Zero());
+      REQUIRE(medspheres::closest_point_on_triangle(p, a, b, c) ==
+              medspheres::detail::closest_on_triangle(p, t.triangle, t.plane.normal));
+    }
+  }
+}

@@ -57,12 +57,14 @@ PreparedTriangle prepare_triangle(const Eigen::Vector3d& a, const Eigen::Vector3
 Eigen::Vector3d closest_on_irregular(const Eigen::Vector3d& p, const QueryTriangle& t,
                                      const Eigen::Vector3d& n);
 
-/// Closest point of \p t to \p p, \p n its plane's normal. The regular path, Ericson's
-/// Voronoi-region walk, is here to be inlined into traversals (point_triangle.cpp derives
-/// its error).
-inline Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const QueryTriangle& t,
-                                           const Eigen::Vector3d& n) {
-  if (t.shape != TriangleShape::kRegular) return closest_on_irregular(p, t, n);
+/// Closest point of \p t to \p p; normal() returns its plane's unit normal
+/// (TrianglePlane::normal) and is called only where the point depends on it. The regular
+/// path, Ericson's Voronoi-region walk, is here to be inlined into traversals
+/// (point_triangle.cpp derives its error).
+template <class Normal>
+inline Eigen::Vector3d closest_on_triangle_with(const Eigen::Vector3d& p, const QueryTriangle& t,
+                                                const Normal& normal) {
+  if (t.shape != TriangleShape::kRegular) return closest_on_irregular(p, t, normal());
   const Eigen::Vector3d ap = p - t.a;
   const double d1 = t.ab.dot(ap), d2 = t.ac.dot(ap);
   if (d1 <= 0.0 && d2 <= 0.0) return t.a;  // vertex a
@@ -86,7 +88,13 @@ inline Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const Query
   if (on_edge(d3 * d6 - d5 * d4, d4 - d3, d6 - d5, t.a + t.ab, t.ac - t.ab)) return q;  // bc
   // Face interior: the projection onto the plane (well conditioned, unlike the
   // barycentric coordinates on thin triangles).
+  const Eigen::Vector3d& n = normal();
   return p - n.dot(ap) * n;
+}
+
+inline Eigen::Vector3d closest_on_triangle(const Eigen::Vector3d& p, const QueryTriangle& t,
+                                           const Eigen::Vector3d& n) {
+  return closest_on_triangle_with(p, t, [&n]() -> const Eigen::Vector3d& { return n; });
 }
 
 }  // namespace detail

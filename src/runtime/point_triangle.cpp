@@ -88,9 +88,27 @@ TwoTerm exact_difference(double x, double y) {
   return {s, (x - (s - z)) - (y + z)};
 }
 
+// x y - fl(x y), exactly: one fma where the target has the instruction; otherwise
+// Dekker's product of Veltkamp's halves, which is exact (and equal to the fma) when
+// neither the halves overflow nor the partial products underflow, that is for
+// 2^-450 <= |x|, |y| <= 2^500, and std::fma (a library call) outside that range.
+double product_error(double x, double y, double xy) {
+#if defined(__FMA__)
+  return std::fma(x, y, -xy);
+#else
+  const double ax = std::abs(x), ay = std::abs(y);
+  if (!(ax >= 0x1p-450 && ax <= 0x1p500 && ay >= 0x1p-450 && ay <= 0x1p500))
+    return x == 0.0 || y == 0.0 ? 0.0 : std::fma(x, y, -xy);
+  constexpr double kSplit = 0x1p27 + 1.0;
+  const double cx = kSplit * x, xh = cx - (cx - x), xl = x - xh;
+  const double cy = kSplit * y, yh = cy - (cy - y), yl = y - yh;
+  return ((xh * yh - xy) + xh * yl + xl * yh) + xl * yl;
+#endif
+}
+
 // (b - a) x (c - a) for exact corners, with an error of a few ulps of the result plus
 // O(u^2 |b - a| |c - a|). Each component x_j y_k - x_k y_j is expanded over the exact
-// two-term edges: the leading products are exact (fma), their difference is exact
+// two-term edges: the leading products are exact (product_error), their difference is exact
 // (two-sum), and the remaining terms are O(u |x| |y|) and rounded once more.
 Eigen::Vector3d accurate_cross(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                const Eigen::Vector3d& c) {
@@ -102,8 +120,8 @@ Eigen::Vector3d accurate_cross(const Eigen::Vector3d& a, const Eigen::Vector3d& 
   Eigen::Vector3d out;
   for (int i = 0; i < 3; ++i) {
     const int j = (i + 1) % 3, k = (i + 2) % 3;
-    const double p1 = x[j].hi * y[k].hi, e1 = std::fma(x[j].hi, y[k].hi, -p1);
-    const double p2 = x[k].hi * y[j].hi, e2 = std::fma(x[k].hi, y[j].hi, -p2);
+    const double p1 = x[j].hi * y[k].hi, e1 = product_error(x[j].hi, y[k].hi, p1);
+    const double p2 = x[k].hi * y[j].hi, e2 = product_error(x[k].hi, y[j].hi, p2);
     const TwoTerm lead = exact_difference(p1, p2);
     const double tail = lead.lo + (e1 - e2) + (x[j].hi * y[k].lo + x[j].lo * y[k].hi) -
                         (x[k].hi * y[j].lo + x[k].lo * y[j].hi) +
@@ -170,26 +188,45 @@ Eigen::Vector3d closest_on_thin(const Eigen::Vector3d& p, const QueryTriangle& t
 
 }  // namespace
 
+namespace {
+
+// The corner, edges, dot products and longest edge of (a, b, c); returns the longest
+// edge's squared length.
+double fill_edges(const Eigen::Vector3d& a, const Eigen::Vector3d& b, const Eigen::Vector3d& c,
+                  QueryTriangle* t) {
+  t->a = a;
+  t->ab = b - a;
+  t->ac = c - a;
+  t->ab_ab = t->ab.dot(t->ab);
+  t->ab_ac = t->ab.dot(t->ac);
+  t->ac_ac = t->ac.dot(t->ac);
+  const double l2[3] = {t->ab_ab, (c - b).squaredNorm(), t->ac_ac};
+  t->longest = static_cast<std::uint8_t>(std::max_element(l2, l2 + 3) - l2);
+  return l2[t->longest];
+}
+
+// The path of a triangle whose accurate 2 area is area2 (see above).
+TriangleShape shape_of(double area2, double longest2) {
+  if (!(area2 > kDegenerateArea * longest2)) return TriangleShape::kDegenerate;
+  return longest2 > kThinKappa * area2 ? TriangleShape::kThin : TriangleShape::kRegular;
+}
+
+// The accurate normal, as prepare_triangle stores it.
+Eigen::Vector3d accurate_normal(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+                                const Eigen::Vector3d& c) {
+  return accurate_cross(a, b, c).normalized();
+}
+
+}  // namespace
+
 PreparedTriangle prepare_triangle(const Eigen::Vector3d& a, const Eigen::Vector3d& b,
                                   const Eigen::Vector3d& c) {
   PreparedTriangle out;
   QueryTriangle& t = out.triangle;
-  t.a = a;
-  t.ab = b - a;
-  t.ac = c - a;
-  t.ab_ab = t.ab.dot(t.ab);
-  t.ab_ac = t.ab.dot(t.ac);
-  t.ac_ac = t.ac.dot(t.ac);
-  const double l2[3] = {t.ab_ab, (c - b).squaredNorm(), t.ac_ac};
-  t.longest = static_cast<std::uint8_t>(std::max_element(l2, l2 + 3) - l2);
-  const double longest2 = l2[t.longest];
+  const double longest2 = fill_edges(a, b, c, &t);
   const Eigen::Vector3d cross = accurate_cross(a, b, c);
-  const double area2 = cross.norm();  // 2 area
-  if (!(area2 > kDegenerateArea * longest2)) {
-    t.shape = TriangleShape::kDegenerate;
-    return out;  // a zero plane: a lower bound of zero
-  }
-  if (longest2 > kThinKappa * area2) t.shape = TriangleShape::kThin;
+  t.shape = shape_of(cross.norm(), longest2);
+  if (t.shape == TriangleShape::kDegenerate) return out;  // a zero plane: a bound of zero
   // The plane bound: for any unit n and any point x = a + s ab + t ac of the triangle
   // (s, t >= 0, s + t <= 1), |p - x| >= |n.(p - x)| >= |n.(p - a)| - max(|n.ab|, |n.ac|).
   // With the accurate normal the last term is a few ulps of the edges for every
@@ -212,10 +249,25 @@ Eigen::Vector3d closest_on_irregular(const Eigen::Vector3d& p, const QueryTriang
 
 }  // namespace detail
 
+// The one-off query gives the prepared query's answer, bit for bit, without paying for
+// the accurate cross product where the answer does not depend on it. The plain cross
+// product P of the rounded edges is within 16 u (|ab|^2 + |ac|^2) of the exact one (each
+// component's two products and difference are off by ~3 u of |x_j y_k| + |x_k y_j|, whose
+// sum over the components is at most 1.5 (|ab|^2 + |ac|^2), and the rounded edges add as
+// much), and the accurate one's norm is within a few u of the exact. So when |P| minus that
+// slack still passes both tests of shape_of, the triangle is regular, and the accurate
+// normal is needed only in the face region. Otherwise (near a threshold, thin or
+// degenerate) the triangle is prepared in full.
 Eigen::Vector3d closest_point_on_triangle(const Eigen::Vector3d& p, const Eigen::Vector3d& a,
                                           const Eigen::Vector3d& b, const Eigen::Vector3d& c) {
-  const detail::PreparedTriangle t = detail::prepare_triangle(a, b, c);
-  return detail::closest_on_triangle(p, t.triangle, t.plane.normal);
+  detail::QueryTriangle t;
+  const double longest2 = detail::fill_edges(a, b, c, &t);
+  const double slack = 0x1p-48 * (t.ab_ab + t.ac_ac);
+  const double area2_low = t.ab.cross(t.ac).norm() - slack;
+  if (detail::shape_of(area2_low, longest2) == detail::TriangleShape::kRegular)
+    return detail::closest_on_triangle_with(p, t, [&] { return detail::accurate_normal(a, b, c); });
+  const detail::PreparedTriangle full = detail::prepare_triangle(a, b, c);
+  return detail::closest_on_triangle(p, full.triangle, full.plane.normal);
 }
 
 }  // namespace medspheres
