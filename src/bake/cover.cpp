@@ -493,7 +493,10 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   Clustering c;
   double best = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.starts; ++start) {
-    Clustering d = optimise(query, e, seeds(e, budget, {}, first_seed(e, options.seed, start)),
+    // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
+    // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
+    const std::size_t first_k = start == 0 ? 1 : budget;
+    Clustering d = optimise(query, e, seeds(e, first_k, {}, first_seed(e, options.seed, start)),
                             options, threads);
     // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
     // centre, and keep the result if its union is smaller.

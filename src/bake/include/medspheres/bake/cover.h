@@ -11,9 +11,10 @@
 ///    the three corners of a piece the certificate also tests. Points of a grid inside the
 ///    solid (winding number > 1/2) are added as one-point elements, so that the balls also
 ///    fill the interior and centres sit inside; their coverage is not certified.
-/// 2. Start: K centres by farthest-point sampling of the element centroids, from the one
-///    farthest from their mean, and for further starts from centroids drawn with `seed`;
-///    steps 3 and 4 run from each start, and the smallest union is kept.
+/// 2. Starts: the first is one ball (then refilled to K as in step 4, so that one ball is
+///    kept where it is the tightest cover); the others are K centres by farthest-point
+///    sampling of the element centroids from a centroid drawn with `seed`. Steps 3 and 4
+///    run from each start, and the smallest union is kept.
 /// 3. Lloyd-like rounds: each element goes to the centre whose distance to the element's
 ///    farthest point is least; each ball becomes the minimum enclosing ball of its
 ///    elements' points. The round of smallest exact union volume is kept. Then each
