@@ -36,6 +36,11 @@ inline constexpr int kSphereSetVersion = 1;
 ///   (validate_sphere_set; subnormal radii are valid).
 SphereSet load_sphere_set(const std::string& path);
 
+/// The whole content of the file \p path, byte for byte.
+/// \throws InputError naming \p path when it does not exist, is a directory, or cannot be
+///   opened or read.
+std::string read_text_file(const std::string& path);
+
 /// Parses sphere-set JSON text; \p source names it in error messages.
 SphereSet parse_sphere_set(const std::string& json_text, const std::string& source);
 

@@ -41,10 +41,10 @@ struct JointLimits {
 struct Joint {
   std::string name;
   JointType type = JointType::kFixed;
-  std::string parent;  ///< parent link name
-  std::string child;   ///< child link name
+  std::string parent;                                        ///< parent link name
+  std::string child;                                         ///< child link name
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< X_PJ
-  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();          ///< unit, in J
+  Eigen::Vector3d axis = Eigen::Vector3d::UnitX();           ///< unit, in J
   std::optional<JointLimits> limits;
   std::optional<JointMimic> mimic;
 };
@@ -75,8 +75,27 @@ struct RobotModel {
   /// JSON object text.
   std::string metadata_json;
 
+  /// The link or joint of that name, or nullptr. Linear in the number of links/joints.
   const Link* find_link(const std::string& name) const;
   const Joint* find_joint(const std::string& name) const;
 };
+
+/// The lower-case name of a joint type as URDF spells it ("fixed", "revolute", ...).
+const char* joint_type_name(JointType type);
+
+/// Checks that \p model is one kinematic tree that forward kinematics can walk:
+/// - link and joint names are non-empty and unique;
+/// - every joint names existing parent and child links, and they differ;
+/// - no link is the child of two joints; exactly one link is no joint's child, and it is
+///   `root_link` (when `root_link` is empty it is not checked); every link is reached from
+///   it (so there is no cycle);
+/// - origins, axes, limits and mimic factors are finite; a moving joint's axis is not
+///   zero; limits have lower <= upper;
+/// - a mimic joint moves, names an existing moving joint other than itself, and following
+///   mimic sources from it never comes back to it;
+/// - every sphere is valid (validate_sphere_set).
+/// \param source the robot file's name (or "robot model"), first in every message.
+/// \throws InputError "<source>: joint "j2": ..." naming the link or joint and the problem.
+void validate_robot_model(const RobotModel& model, const std::string& source);
 
 }  // namespace medspheres

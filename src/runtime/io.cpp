@@ -18,9 +18,7 @@ namespace medspheres {
 
 using Json = nlohmann::ordered_json;
 
-namespace {
-
-std::string read_whole_file(const std::string& path) {
+std::string read_text_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such file");
   if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a directory, not a file");
@@ -31,6 +29,8 @@ std::string read_whole_file(const std::string& path) {
   if (in.bad()) throw InputError(path, "read error");
   return buf.str();
 }
+
+namespace {
 
 double read_number(const Json& v, const std::string& source, std::size_t sphere, int field) {
   static const char* names[] = {"x", "y", "z", "radius"};
@@ -95,7 +95,7 @@ SphereSet parse_sphere_set(const std::string& json_text, const std::string& sour
 }
 
 SphereSet load_sphere_set(const std::string& path) {
-  return parse_sphere_set(read_whole_file(path), path);
+  return parse_sphere_set(read_text_file(path), path);
 }
 
 std::string sphere_set_to_json(const SphereSet& set) {

@@ -1,0 +1,318 @@
+#include "medspheres/robot_file.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <stdexcept>
+
+#include <nlohmann/json.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/io.h"
+
+namespace medspheres {
+
+using Json = nlohmann::ordered_json;
+
+namespace {
+
+// Reads typed values out of one JSON object, naming the file and the object ("joint
+// "j1"") in every error.
+class Reader {
+ public:
+  Reader(const Json& object, std::string source, std::string where)
+      : o_(object), source_(std::move(source)), where_(std::move(where)) {
+    if (!o_.is_object()) fail("is not a JSON object");
+  }
+
+  [[noreturn]] void fail(const std::string& problem) const {
+    throw InputError(source_, where_ + ": " + problem);
+  }
+  bool has(const char* key) const { return o_.contains(key) && !o_.at(key).is_null(); }
+  const Json& at(const char* key) const {
+    if (!o_.contains(key)) fail(std::string("missing the key \"") + key + "\"");
+    return o_.at(key);
+  }
+  std::string text(const char* key, bool required = true) const {
+    if (!required && !has(key)) return "";
+    const Json& v = at(key);
+    if (!v.is_string()) fail(std::string("\"") + key + "\" is not a string: " + v.dump());
+    return v.get<std::string>();
+  }
+  double number(const char* key, double fallback) const {
+    if (!has(key)) return fallback;
+    const Json& v = at(key);
+    if (!v.is_number() || !std::isfinite(v.get<double>()))
+      fail(std::string("\"") + key + "\" is not a finite number: " + v.dump());
+    return v.get<double>();
+  }
+  template <std::size_t N>
+  std::array<double, N> numbers(const char* key) const {
+    const Json& v = at(key);
+    if (!v.is_array() || v.size() != N)
+      fail(std::string("\"") + key + "\" is not a list of " + std::to_string(N) +
+           " numbers: " + v.dump());
+    std::array<double, N> out{};
+    for (std::size_t i = 0; i < N; ++i) {
+      if (!v[i].is_number() || !std::isfinite(v[i].get<double>()))
+        fail(std::string("\"") + key +
+             "\" holds a value that is not a finite number: " + v[i].dump());
+      out[i] = v[i].get<double>();
+    }
+    return out;
+  }
+  const std::string& where() const { return where_; }
+
+ private:
+  const Json& o_;
+  std::string source_;
+  std::string where_;
+};
+
+SphereSet read_spheres(const Reader& r, const char* key, const std::string& source) {
+  SphereSet set;
+  if (!r.has(key)) return set;
+  const Json& v = r.at(key);
+  if (!v.is_array()) r.fail(std::string("\"") + key + "\" is not a list of spheres");
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const Json& s = v[i];
+    if (!s.is_array() || s.size() != 4)
+      r.fail(std::string("\"") + key + "\" sphere " + std::to_string(i) +
+             " is not [x, y, z, r]: " + s.dump());
+    for (const Json& x : s)
+      if (!x.is_number())
+        r.fail(std::string("\"") + key + "\" sphere " + std::to_string(i) +
+               " holds a value that is not a number: " + s.dump());
+    set.spheres.push_back(
+        {{s[0].get<double>(), s[1].get<double>(), s[2].get<double>()}, s[3].get<double>()});
+  }
+  validate_sphere_set(set, source + ": " + r.where() + " " + key);
+  return set;
+}
+
+Link read_link(const Json& j, std::size_t index, const std::string& source) {
+  const Reader first(j, source, "link " + std::to_string(index));
+  Link link;
+  link.name = first.text("name");
+  const Reader r(j, source, "link \"" + link.name + "\"");
+  link.spheres.inner = read_spheres(r, "inner", source);
+  link.spheres.outer = read_spheres(r, "outer", source);
+  if (r.has("outer_certificate")) {
+    if (!r.at("outer_certificate").is_object())
+      r.fail("\"outer_certificate\" is not a JSON object");
+    link.spheres.outer_certificate_json = r.at("outer_certificate").dump();
+  }
+  link.note = r.text("note", false);
+  return link;
+}
+
+JointType read_joint_type(const Reader& r) {
+  const std::string t = r.text("type");
+  for (JointType k :
+       {JointType::kFixed, JointType::kRevolute, JointType::kContinuous, JointType::kPrismatic})
+    if (t == joint_type_name(k)) return k;
+  r.fail("unknown joint type \"" + t + "\" (fixed, revolute, continuous or prismatic)");
+}
+
+Eigen::Isometry3d read_origin(const Reader& joint, const std::string& source) {
+  Eigen::Isometry3d x = Eigen::Isometry3d::Identity();
+  if (!joint.has("origin")) return x;
+  const Reader r(joint.at("origin"), source, joint.where() + " origin");
+  if (r.has("xyz")) {
+    const auto p = r.numbers<3>("xyz");
+    x.translation() = Eigen::Vector3d(p[0], p[1], p[2]);
+  }
+  if (r.has("quaternion_xyzw") && r.has("rpy"))
+    r.fail("gives both \"quaternion_xyzw\" and \"rpy\"");
+  if (r.has("quaternion_xyzw")) {
+    const auto q = r.numbers<4>("quaternion_xyzw");
+    const Eigen::Quaterniond quat(q[3], q[0], q[1], q[2]);
+    if (std::abs(quat.norm() - 1.0) > 1e-6)
+      r.fail("\"quaternion_xyzw\" is not a unit quaternion (norm " + std::to_string(quat.norm()) +
+             ")");
+    x.linear() = quat.normalized().toRotationMatrix();
+  } else if (r.has("rpy")) {
+    // URDF: fixed axes X, Y, Z, i.e. R = Rz(yaw) Ry(pitch) Rx(roll).
+    const auto a = r.numbers<3>("rpy");
+    x.linear() = (Eigen::AngleAxisd(a[2], Eigen::Vector3d::UnitZ()) *
+                  Eigen::AngleAxisd(a[1], Eigen::Vector3d::UnitY()) *
+                  Eigen::AngleAxisd(a[0], Eigen::Vector3d::UnitX()))
+                     .toRotationMatrix();
+  }
+  return x;
+}
+
+Joint read_joint(const Json& j, std::size_t index, const std::string& source) {
+  const Reader first(j, source, "joint " + std::to_string(index));
+  Joint joint;
+  joint.name = first.text("name");
+  const Reader r(j, source, "joint \"" + joint.name + "\"");
+  joint.type = read_joint_type(r);
+  joint.parent = r.text("parent");
+  joint.child = r.text("child");
+  joint.origin = read_origin(r, source);
+  if (r.has("axis")) {
+    const auto a = r.numbers<3>("axis");
+    joint.axis = Eigen::Vector3d(a[0], a[1], a[2]);
+  }
+  if (r.has("limits")) {
+    const Reader l(r.at("limits"), source, r.where() + " limits");
+    joint.limits = JointLimits{l.number("lower", 0.0), l.number("upper", 0.0),
+                               l.number("velocity", 0.0), l.number("effort", 0.0)};
+  }
+  if (r.has("mimic")) {
+    const Reader m(r.at("mimic"), source, r.where() + " mimic");
+    joint.mimic = JointMimic{m.text("joint"), m.number("multiplier", 1.0), m.number("offset", 0.0)};
+  }
+  return joint;
+}
+
+void check_header(const Json& doc, const std::string& source) {
+  if (!doc.is_object()) throw InputError(source, "the top level is not a JSON object");
+  const auto format = doc.find("format");
+  if (format == doc.end() || !format->is_string() || format->get<std::string>() != kRobotFormat)
+    throw InputError(source, std::string("\"format\" is ") +
+                                 (format == doc.end() ? "missing" : format->dump()) +
+                                 ", expected \"" + kRobotFormat + "\"");
+  const auto version = doc.find("version");
+  if (version == doc.end() || !version->is_number_integer() || version->get<long long>() < 1 ||
+      version->get<long long>() > kRobotVersion)
+    throw InputError(source, "robot file version " +
+                                 (version == doc.end() ? std::string("missing") : version->dump()) +
+                                 " is not supported (this build reads version 1 to " +
+                                 std::to_string(kRobotVersion) + ")");
+}
+
+const Json& list_at(const Json& doc, const char* key, const std::string& source) {
+  const auto it = doc.find(key);
+  if (it == doc.end()) throw InputError(source, std::string("missing the key \"") + key + "\"");
+  if (!it->is_array()) throw InputError(source, std::string("\"") + key + "\" is not a list");
+  return *it;
+}
+
+Json object_from_text(const std::string& text, const std::string& what) {
+  Json v;
+  try {
+    v = Json::parse(text.empty() ? std::string("{}") : text);
+  } catch (const Json::exception& e) {
+    throw std::invalid_argument(what + " is not valid JSON: " + e.what());
+  }
+  if (!v.is_object()) throw std::invalid_argument(what + " is not a JSON object");
+  return v;
+}
+
+Json spheres_json(const SphereSet& set) {
+  Json list = Json::array();
+  for (const Sphere& s : set.spheres)
+    list.push_back(Json::array({s.center.x(), s.center.y(), s.center.z(), s.radius}));
+  return list;
+}
+
+Json joint_json(const Joint& j) {
+  Json o = Json::object();
+  o["name"] = j.name;
+  o["type"] = joint_type_name(j.type);
+  o["parent"] = j.parent;
+  o["child"] = j.child;
+  const Eigen::Vector3d t = j.origin.translation();
+  const Eigen::Quaterniond q(j.origin.rotation());
+  o["origin"] = {{"xyz", {t.x(), t.y(), t.z()}}, {"quaternion_xyzw", {q.x(), q.y(), q.z(), q.w()}}};
+  o["axis"] = {j.axis.x(), j.axis.y(), j.axis.z()};
+  if (j.limits)
+    o["limits"] = {{"lower", j.limits->lower},
+                   {"upper", j.limits->upper},
+                   {"velocity", j.limits->velocity},
+                   {"effort", j.limits->effort}};
+  if (j.mimic)
+    o["mimic"] = {{"joint", j.mimic->joint},
+                  {"multiplier", j.mimic->multiplier},
+                  {"offset", j.mimic->offset}};
+  return o;
+}
+
+// Indented JSON with every list of numbers on one line (a sphere, a vector).
+void dump_readable(const Json& v, int indent, std::string& out) {
+  const bool flat_list =
+      v.is_array() && std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_number(); });
+  if ((!v.is_object() && !v.is_array()) || flat_list || v.empty()) {
+    out += v.dump();
+    return;
+  }
+  const std::string pad(static_cast<std::size_t>(indent + 2), ' ');
+  out += v.is_object() ? "{" : "[";
+  bool first = true;
+  for (auto it = v.begin(); it != v.end(); ++it) {
+    out += first ? "\n" : ",\n";
+    first = false;
+    out += pad;
+    if (v.is_object()) out += Json(it.key()).dump() + ": ";
+    dump_readable(*it, indent + 2, out);
+  }
+  out += "\n" + std::string(static_cast<std::size_t>(indent), ' ') + (v.is_object() ? "}" : "]");
+}
+
+}  // namespace
+
+RobotModel parse_robot(const std::string& json_text, const std::string& source) {
+  Json doc;
+  try {
+    doc = Json::parse(json_text);
+  } catch (const Json::exception& e) {
+    throw InputError(source, std::string("not valid JSON: ") + e.what());
+  }
+  check_header(doc, source);
+  const Reader top(doc, source, "robot");
+  RobotModel model;
+  model.name = top.text("name", false);
+  model.root_link = top.text("root_link", false);
+  const Json& links = list_at(doc, "links", source);
+  for (std::size_t i = 0; i < links.size(); ++i)
+    model.links.push_back(read_link(links[i], i, source));
+  const Json& joints = list_at(doc, "joints", source);
+  for (std::size_t i = 0; i < joints.size(); ++i)
+    model.joints.push_back(read_joint(joints[i], i, source));
+  if (top.has("metadata")) {
+    if (!doc.at("metadata").is_object()) top.fail("\"metadata\" is not a JSON object");
+    model.metadata_json = doc.at("metadata").dump();
+  }
+  validate_robot_model(model, source);
+  return model;
+}
+
+RobotModel load_robot(const std::string& path) {
+  return parse_robot(read_text_file(path), path);
+}
+
+std::string robot_to_json(const RobotModel& model) {
+  Json doc = Json::object();
+  doc["format"] = kRobotFormat;
+  doc["version"] = kRobotVersion;
+  doc["name"] = model.name;
+  doc["root_link"] = model.root_link;
+  Json links = Json::array();
+  for (const Link& l : model.links) {
+    Json o = {{"name", l.name},
+              {"inner", spheres_json(l.spheres.inner)},
+              {"outer", spheres_json(l.spheres.outer)}};
+    if (!l.spheres.outer_certificate_json.empty())
+      o["outer_certificate"] = object_from_text(l.spheres.outer_certificate_json,
+                                                "link \"" + l.name + "\" outer certificate");
+    if (!l.note.empty()) o["note"] = l.note;
+    links.push_back(std::move(o));
+  }
+  doc["links"] = std::move(links);
+  Json joints = Json::array();
+  for (const Joint& j : model.joints) joints.push_back(joint_json(j));
+  doc["joints"] = std::move(joints);
+  doc["metadata"] = object_from_text(model.metadata_json, "RobotModel::metadata_json");
+  std::string out;
+  dump_readable(doc, 0, out);
+  return out + "\n";
+}
+
+void save_robot(const RobotModel& model, const std::string& path) {
+  validate_robot_model(model, path);
+  write_file_atomically(path, robot_to_json(model));
+}
+
+}  // namespace medspheres
