@@ -11,7 +11,7 @@
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
-#include "support/robot_fixtures.h"
+#include "support/urdf_fixtures.h"
 
 using namespace medspheres;
 using Catch::Matchers::Contains;

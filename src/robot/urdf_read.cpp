@@ -3,11 +3,9 @@
 // parent and child names that the tree checks below need to name the links of a cycle.
 #include <cmath>
 #include <filesystem>
-#include <fstream>
 #include <map>
 #include <mutex>
 #include <set>
-#include <sstream>
 #include <string>
 #include <vector>
 
@@ -16,6 +14,7 @@
 #include <urdf_parser/urdf_parser.h>
 
 #include "medspheres/error.h"
+#include "medspheres/io.h"
 #include "medspheres/robot/urdf_robot.h"
 
 namespace medspheres {
@@ -251,17 +250,13 @@ UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const st
     if (!joint) throw InputError(source, "joint '" + j.name + "' was not read by urdfdom");
     robot.model.joints.push_back(to_joint(*joint, source));
   }
+  validate_robot_model(robot.model, source);  // limits, mimic chains
   return robot;
 }
 
 UrdfRobot read_urdf(const std::string& path, const UrdfReadOptions& options) {
-  std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, "cannot open the URDF file");
-  std::ostringstream text;
-  text << in.rdbuf();
-  if (in.bad()) throw InputError(path, "cannot read the URDF file");
   const std::string dir = std::filesystem::path(path).parent_path().string();
-  return parse_urdf(text.str(), path, dir, options);
+  return parse_urdf(read_text_file(path), path, dir, options);
 }
 
 }  // namespace medspheres
