@@ -19,6 +19,7 @@ int main(int argc, char** argv) {
   Runner info = register_info(app);
   Runner bake = register_bake(app);
   Runner eval = register_eval(app);
+  Runner convert = register_convert(app);
 
   try {
     app.parse(argc, argv);
@@ -38,6 +39,7 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "info") return info();
       if (sub->get_name() == "bake") return bake();
       if (sub->get_name() == "eval") return eval();
+      if (sub->get_name() == "convert") return convert();
     }
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;

@@ -69,7 +69,7 @@ class Reader {
   std::string where_;
 };
 
-SphereSet read_spheres(const Reader& r, const char* key, const std::string& source) {
+SphereSet read_spheres(const Reader& r, const char* key) {
   SphereSet set;
   if (!r.has(key)) return set;
   const Json& v = r.at(key);
@@ -86,8 +86,7 @@ SphereSet read_spheres(const Reader& r, const char* key, const std::string& sour
     set.spheres.push_back(
         {{s[0].get<double>(), s[1].get<double>(), s[2].get<double>()}, s[3].get<double>()});
   }
-  validate_sphere_set(set, source + ": " + r.where() + " " + key);
-  return set;
+  return set;  // checked with the whole model
 }
 
 Link read_link(const Json& j, std::size_t index, const std::string& source) {
@@ -95,8 +94,8 @@ Link read_link(const Json& j, std::size_t index, const std::string& source) {
   Link link;
   link.name = first.text("name");
   const Reader r(j, source, "link \"" + link.name + "\"");
-  link.spheres.inner = read_spheres(r, "inner", source);
-  link.spheres.outer = read_spheres(r, "outer", source);
+  link.spheres.inner = read_spheres(r, "inner");
+  link.spheres.outer = read_spheres(r, "outer");
   if (r.has("outer_certificate")) {
     if (!r.at("outer_certificate").is_object())
       r.fail("\"outer_certificate\" is not a JSON object");

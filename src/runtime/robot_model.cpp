@@ -3,6 +3,7 @@
 #include <cmath>
 #include <set>
 #include <unordered_map>
+#include <utility>
 
 #include "medspheres/error.h"
 
@@ -52,8 +53,14 @@ void check_links(const RobotModel& m, const std::string& source) {
     if (l.name.empty()) throw InputError(source, "a link has an empty name");
     if (!seen.insert(l.name).second)
       throw InputError(source, quoted("link", l.name) + " is defined twice");
-    validate_sphere_set(l.spheres.inner, source + ": " + quoted("link", l.name) + " inner set");
-    validate_sphere_set(l.spheres.outer, source + ": " + quoted("link", l.name) + " outer set");
+    for (const auto& [set, which] : {std::pair{&l.spheres.inner, " inner set: "},
+                                     std::pair{&l.spheres.outer, " outer set: "}}) {
+      try {
+        validate_sphere_set(*set, source);
+      } catch (const InputError& e) {
+        throw InputError(source, quoted("link", l.name) + which + e.problem());
+      }
+    }
   }
 }
 

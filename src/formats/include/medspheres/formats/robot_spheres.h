@@ -1,0 +1,42 @@
+#pragma once
+/// \file
+/// RobotSpheres: the spheres of a robot per link, the data every robot-level sphere format
+/// (cuRobo, XRDF, spherized URDF, SRDF, foam's database) carries. Spheres are in their
+/// link's frame, metres.
+
+#include <string>
+#include <vector>
+
+#include "medspheres/robot_model.h"
+#include "medspheres/sphere_set.h"
+
+namespace medspheres::formats {
+
+/// The spheres of one link.
+struct LinkSphereList {
+  std::string link;
+  std::vector<Sphere> spheres;
+};
+
+/// Links in order (the order a file lists them, or the model's link order). Link names are
+/// unique and non-empty.
+using RobotSpheres = std::vector<LinkSphereList>;
+
+/// Which set of a RobotModel's links a planner format carries.
+enum class SphereChoice {
+  kOuter,  ///< the covering set: a planner must not miss a collision (the default)
+  kInner,  ///< the inner set
+};
+
+/// The chosen set of every link of \p model, in the model's order; links whose chosen set
+/// is empty are left out.
+RobotSpheres robot_spheres(const RobotModel& model, SphereChoice choice = SphereChoice::kOuter);
+
+/// Checks names (non-empty, unique) and spheres (validate_sphere_set).
+/// \throws InputError "<source>: link "x": ..." naming the link and the problem.
+void validate_robot_spheres(const RobotSpheres& spheres, const std::string& source);
+
+/// The entry for \p link, or nullptr.
+const LinkSphereList* find_link_spheres(const RobotSpheres& spheres, const std::string& link);
+
+}  // namespace medspheres::formats

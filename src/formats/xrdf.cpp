@@ -1,0 +1,80 @@
+#include "medspheres/formats/xrdf.h"
+
+#include "medspheres/error.h"
+#include "medspheres/io.h"
+#include "number_text.h"
+#include "yaml_spheres.h"
+
+namespace medspheres::formats {
+
+namespace {
+
+void emit_repeated(YAML::Emitter& out, const char* key, double value, std::size_t n) {
+  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
+  for (std::size_t i = 0; i < n; ++i) out << exact_number(value);
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
+  validate_robot_spheres(spheres, "XRDF");
+  YAML::Emitter out;
+  out << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "xrdf";
+  out << YAML::Key << "format_version" << YAML::Value << "1.0";
+  if (!options.joint_names.empty()) {
+    out << YAML::Key << "cspace" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "joint_names" << YAML::Value << YAML::Flow << options.joint_names;
+    emit_repeated(out, "acceleration_limits", options.acceleration_limit,
+                  options.joint_names.size());
+    emit_repeated(out, "jerk_limits", options.jerk_limit, options.joint_names.size());
+    out << YAML::EndMap;
+  }
+  out << YAML::Key << "geometry" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << options.geometry_name << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "spheres" << YAML::Value;
+  emit_yaml_link_spheres(out, spheres);
+  out << YAML::EndMap << YAML::EndMap;
+  for (const char* section : {"collision", "self_collision"}) {
+    out << YAML::Key << section << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "geometry" << YAML::Value << options.geometry_name << YAML::EndMap;
+  }
+  out << YAML::EndMap;
+  return yaml_emitter_text(out);
+}
+
+RobotSpheres parse_xrdf(const std::string& text, const std::string& source) {
+  const YAML::Node doc = parse_yaml(text, source);
+  if (!doc.IsMap() || !doc["format"] || !doc["format"].IsScalar() ||
+      doc["format"].as<std::string>() != "xrdf")
+    throw InputError(source, "not an XRDF file: no \"format: xrdf\"");
+  const YAML::Node geometry = doc["geometry"];
+  if (!geometry || !geometry.IsMap() || geometry.size() == 0)
+    throw InputError(source, "no \"geometry\" groups");
+  std::string group;
+  if (doc["collision"] && doc["collision"]["geometry"]) {
+    group = doc["collision"]["geometry"].as<std::string>();
+  } else if (geometry.size() == 1) {
+    group = geometry.begin()->first.as<std::string>();
+  } else {
+    throw InputError(source, "several geometry groups and no \"collision: geometry:\" to pick one");
+  }
+  const YAML::Node g = geometry[group];
+  if (!g)
+    throw InputError(source, "\"collision\" names the geometry group \"" + group +
+                                 "\", which \"geometry\" does not define");
+  if (!g["spheres"])
+    throw InputError(source, "the geometry group \"" + group + "\" has no \"spheres\"");
+  return read_yaml_link_spheres(g["spheres"], source, "geometry: " + group + ": spheres");
+}
+
+RobotSpheres load_xrdf(const std::string& path) {
+  return parse_xrdf(read_text_file(path), path);
+}
+
+void save_xrdf(const std::string& path, const RobotSpheres& spheres, const XrdfOptions& options) {
+  validate_robot_spheres(spheres, path);
+  write_file_atomically(path, xrdf_text(spheres, options));
+}
+
+}  // namespace medspheres::formats

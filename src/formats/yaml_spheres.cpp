@@ -1,0 +1,89 @@
+#include "yaml_spheres.h"
+
+#include <stdexcept>
+
+#include "medspheres/error.h"
+#include "number_text.h"
+
+namespace medspheres::formats {
+
+YAML::Node parse_yaml(const std::string& text, const std::string& source) {
+  try {
+    return YAML::Load(text);
+  } catch (const YAML::Exception& e) {
+    throw InputError(source,
+                     "not valid YAML (line " + std::to_string(e.mark.line + 1) + "): " + e.msg);
+  }
+}
+
+namespace {
+
+double yaml_number(const YAML::Node& n, const std::string& source, const std::string& where) {
+  double v = 0;
+  if (!n.IsScalar() || !YAML::convert<double>::decode(n, v))
+    throw InputError(source,
+                     where + " is not a number (line " + std::to_string(n.Mark().line + 1) + ")");
+  return v;
+}
+
+Sphere read_sphere(const YAML::Node& e, const std::string& source, const std::string& where) {
+  if (!e.IsMap())
+    throw InputError(source, where + " is not a mapping {center: [x, y, z], radius: r} (line " +
+                                 std::to_string(e.Mark().line + 1) + ")");
+  const YAML::Node c = e["center"];
+  if (!c || !c.IsSequence() || c.size() != 3)
+    throw InputError(source, where + ": \"center\" is not a list of three numbers (line " +
+                                 std::to_string(e.Mark().line + 1) + ")");
+  const YAML::Node r = e["radius"];
+  if (!r) throw InputError(source, where + " has no \"radius\"");
+  Sphere s;
+  for (std::size_t k = 0; k < 3; ++k)
+    s.center[static_cast<Eigen::Index>(k)] = yaml_number(c[k], source, where + " center");
+  s.radius = yaml_number(r, source, where + " radius");
+  return s;
+}
+
+}  // namespace
+
+RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& source,
+                                    const std::string& where) {
+  if (!map.IsMap())
+    throw InputError(source, "\"" + where + "\" is not a mapping from link names to spheres");
+  RobotSpheres out;
+  for (const auto& entry : map) {
+    LinkSphereList link;
+    link.link = entry.first.as<std::string>();
+    const YAML::Node& list = entry.second;
+    if (list.IsNull()) continue;  // a link listed without spheres
+    if (!list.IsSequence())
+      throw InputError(source, "link \"" + link.link + "\": the spheres are not a list");
+    for (std::size_t i = 0; i < list.size(); ++i)
+      link.spheres.push_back(
+          read_sphere(list[i], source, "link \"" + link.link + "\" sphere " + std::to_string(i)));
+    out.push_back(std::move(link));
+  }
+  validate_robot_spheres(out, source);
+  return out;
+}
+
+void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres) {
+  out << YAML::BeginMap;
+  for (const LinkSphereList& l : spheres) {
+    out << YAML::Key << l.link << YAML::Value << YAML::BeginSeq;
+    for (const Sphere& s : l.spheres) {
+      out << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value << YAML::Flow
+          << YAML::BeginSeq << exact_number(s.center.x()) << exact_number(s.center.y())
+          << exact_number(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
+          << exact_number(s.radius) << YAML::EndMap;
+    }
+    out << YAML::EndSeq;
+  }
+  out << YAML::EndMap;
+}
+
+std::string yaml_emitter_text(const YAML::Emitter& out) {
+  if (!out.good()) throw std::logic_error("YAML emitter: " + out.GetLastError());
+  return std::string(out.c_str()) + "\n";
+}
+
+}  // namespace medspheres::formats

@@ -1,0 +1,29 @@
+#pragma once
+// The YAML pieces cuRobo and XRDF share: a mapping from link name to a list of
+// {center: [x, y, z], radius: r}, read and written through yaml-cpp.
+
+#include <string>
+
+#include <yaml-cpp/yaml.h>
+
+#include "medspheres/formats/robot_spheres.h"
+
+namespace medspheres::formats {
+
+/// Parses YAML text. \throws InputError naming \p source and the line on a syntax error.
+YAML::Node parse_yaml(const std::string& text, const std::string& source);
+
+/// Reads a mapping link -> list of {center, radius}, in the file's order, and validates it
+/// (validate_robot_spheres). \p where names the mapping ("collision_spheres").
+/// \throws InputError naming \p source, the link, the sphere's index and the problem.
+RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& source,
+                                    const std::string& where);
+
+/// Writes the mapping link -> list of {center: [x, y, z], radius: r}, each sphere on one
+/// line in flow style, numbers in their shortest exact form.
+void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres);
+
+/// The emitter's text, with a final newline. \throws std::logic_error if it failed.
+std::string yaml_emitter_text(const YAML::Emitter& out);
+
+}  // namespace medspheres::formats

@@ -1,0 +1,181 @@
+#include <filesystem>
+
+#include <yaml-cpp/yaml.h>
+#include <catch2/catch.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/formats/foam_json.h"
+#include "medspheres/formats/sph_file.h"
+#include "medspheres/formats/spherized_urdf.h"
+#include "medspheres/formats/srdf_spheres.h"
+#include "medspheres/formats/xrdf.h"
+#include "medspheres/io.h"
+#include "support/robot_spheres_fixtures.h"
+
+using Catch::Matchers::Contains;
+using medspheres::InputError;
+using medspheres::Sphere;
+using namespace medspheres::formats;
+using medspheres::test::identical;
+using medspheres::test::kAwkwardLink;
+using medspheres::test::random_robot_spheres;
+
+namespace {
+
+std::string problem(void (*read)(const std::string&), const std::string& text) {
+  try {
+    read(text);
+  } catch (const InputError& e) {
+    CHECK(e.source() == "f");
+    return e.problem();
+  }
+  return "";
+}
+
+}  // namespace
+
+// Every writer prints numbers in their shortest exact form: read back, the spheres are
+// bit-identical, which is the strongest "same to the printed precision".
+TEST_CASE("every per-link writer read back by its reader gives the same spheres", "[formats]") {
+  for (unsigned seed : {1u, 2u, 3u}) {
+    const RobotSpheres s = random_robot_spheres(seed);
+    CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s, {"base"}), "f"), s));
+    XrdfOptions xo;
+    xo.joint_names = {"j1"};
+    CHECK(identical(parse_xrdf(xrdf_text(s, xo), "f"), s));
+    CHECK(identical(parse_srdf_spheres(srdf_spheres_text(s, "r<&>"), "f"), s));
+    CHECK(identical(parse_foam_robot_json(foam_robot_json(s), "f"), s));
+    // The URDF's link "no_spheres" keeps its own sphere collision, and reads back too.
+    RobotSpheres urdf =
+        parse_urdf_spheres(spherize_urdf(medspheres::test::awkward_urdf(), s, "f"), "f");
+    REQUIRE(urdf.size() == 4);
+    CHECK(urdf.back().link == "no_spheres");
+    urdf.pop_back();
+    CHECK(identical(urdf, s));
+  }
+}
+
+TEST_CASE("every one-set writer read back by its reader gives the same spheres", "[formats]") {
+  const std::vector<Sphere> s = random_robot_spheres(5)[1].spheres;
+  const RobotSpheres one{{"x", s}};
+  const auto foam = parse_foam_mesh_json(foam_mesh_json(s), "f");
+  REQUIRE(foam.size() == 1);
+  CHECK(!foam[0].mean.has_value());
+  CHECK(identical({{"x", foam[0].spheres}}, one));
+  const auto sph = parse_sph_levels(sph_text(s), "f");
+  REQUIRE(sph.size() == 2);
+  CHECK(identical({{"x", sph[1]}}, one));
+  // The root encloses every sphere.
+  REQUIRE(sph[0].size() == 1);
+  for (const Sphere& t : s)
+    CHECK((t.center - sph[0][0].center).norm() + t.radius <= sph[0][0].radius);
+}
+
+TEST_CASE("XRDF and cuRobo files have the layouts their tools read", "[formats]") {
+  const RobotSpheres s = random_robot_spheres(9);
+  const YAML::Node curobo = YAML::Load(curobo_yaml_text(s, {"base"}));
+  CHECK(curobo["format_version"].as<double>() == 2.0);
+  const YAML::Node k = curobo["robot_cfg"]["kinematics"];
+  CHECK(k["base_link"].as<std::string>() == "base");
+  CHECK(k["collision_link_names"][1].as<std::string>() == kAwkwardLink);
+  CHECK(k["collision_spheres"]["tool"][0]["radius"].as<double>() == s[2].spheres[0].radius);
+  XrdfOptions o;
+  o.joint_names = {"j1", "j2"};
+  const YAML::Node x = YAML::Load(xrdf_text(s, o));
+  CHECK(x["format"].as<std::string>() == "xrdf");
+  CHECK(x["format_version"].as<double>() == 1.0);
+  CHECK(x["collision"]["geometry"].as<std::string>() == o.geometry_name);
+  CHECK(x["self_collision"]["geometry"].as<std::string>() == o.geometry_name);
+  CHECK(x["cspace"]["jerk_limits"].size() == 2);
+  CHECK(x["geometry"][o.geometry_name]["spheres"]["base"].size() == 4);
+}
+
+TEST_CASE("SRDF: a lone zero-radius sphere means no spheres, as in srdfdom", "[formats]") {
+  const RobotSpheres s{{"a", {}}, {"b", {{{1, 2, 3}, 0.5}}}};
+  const std::string text = srdf_spheres_text(s, "r");
+  CHECK_THAT(text, Contains("radius=\"0\""));
+  CHECK(identical(parse_srdf_spheres(text, "f"), s));
+}
+
+TEST_CASE("sph: every level of a spheretree file, unused nodes dropped", "[formats]") {
+  // A tree of 3 levels and degree 2 with one unused node on the last level, and the
+  // optional auxiliary columns on one line.
+  const std::string text =
+      "3 2\n0 0 0 2 1\n\n-1 0 0 1 1\n1 0 0 1 1 1 0 0 1.1 0.5\n"
+      "-1.5 0 0 0.5 1\n-0.5 0 0 0.5 1\n0.5 0 0 0.5 1\n0 0 0 -1 1\n";
+  const auto levels = parse_sph_levels(text, "f");
+  REQUIRE(levels.size() == 3);
+  CHECK(levels[0].size() == 1);
+  CHECK(levels[1].size() == 2);
+  CHECK(levels[2].size() == 3);
+  CHECK(levels[2][2].center.x() == 0.5);
+}
+
+TEST_CASE("malformed sphere files name the file, the link and the problem", "[formats]") {
+  auto curobo = [](const std::string& t) { parse_curobo_yaml(t, "f"); };
+  auto xrdf = [](const std::string& t) { parse_xrdf(t, "f"); };
+  auto urdf = [](const std::string& t) { parse_urdf_spheres(t, "f"); };
+  auto srdf = [](const std::string& t) { parse_srdf_spheres(t, "f"); };
+  auto foam = [](const std::string& t) { parse_foam_mesh_json(t, "f"); };
+  auto foam_db = [](const std::string& t) { parse_foam_robot_json(t, "f"); };
+  auto sph = [](const std::string& t) { parse_sph_levels(t, "f"); };
+  CHECK_THAT(problem(curobo, "a: [1"), Contains("not valid YAML"));
+  CHECK_THAT(problem(curobo, "robot_cfg: {kinematics: {collision_spheres: spheres/x.yml}}"),
+             Contains("separate file"));
+  CHECK_THAT(problem(curobo, "collision_spheres: {l1: [{center: [0, 0, 0], radius: -1}]}"),
+             Contains("link \"l1\"") && Contains("radius -1"));
+  CHECK_THAT(problem(curobo, "collision_spheres: {l1: [{center: [0, x, 0], radius: 1}]}"),
+             Contains("link \"l1\" sphere 0 center"));
+  CHECK_THAT(problem(curobo, "kinematics: {base_link: a}"), Contains("no \"collision_spheres\""));
+  CHECK_THAT(problem(xrdf, "format: urdf"), Contains("format: xrdf"));
+  CHECK_THAT(problem(xrdf, "format: xrdf\ngeometry: {g: {spheres: {}}}\ncollision: {geometry: h}"),
+             Contains("\"h\""));
+  CHECK_THAT(problem(urdf,
+                     "<robot><link name=\"a\"><collision><geometry><sphere radius=\"x\"/>"
+                     "</geometry></collision></link></robot>"),
+             Contains("link \"a\"") && Contains("radius"));
+  CHECK_THAT(problem(urdf, "<robot><link>"), Contains("XML"));
+  CHECK_THAT(problem(urdf, "<sdf/>"), Contains("<robot>"));
+  CHECK_THAT(problem(srdf,
+                     "<robot><link_sphere_approximation link=\"b\"><sphere radius=\"1\"/>"
+                     "</link_sphere_approximation></robot>"),
+             Contains("link \"b\"") && Contains("center"));
+  CHECK_THAT(problem(foam, "{\"spheres\": []}"), Contains("list of levels"));
+  CHECK_THAT(problem(foam, "[{\"spheres\": [{\"origin\": [0, 0], \"radius\": 1}]}]"),
+             Contains("level 0 sphere 0"));
+  CHECK_THAT(problem(foam_db, "{\"l::m.stl\": {\"x\": {}}}"), Contains("\"l::m.stl\""));
+  CHECK_THAT(problem(sph, "2\n"), Contains("levels degree"));
+  CHECK_THAT(problem(sph, "2 4\n0 0 0 1 1\n0 0 0 1\n"), Contains("level 1 needs 4"));
+  CHECK_THAT(problem(sph, "1 1\n0 0 nan 1\n"), Contains("level 0"));
+}
+
+TEST_CASE("writers reject invalid spheres and duplicate links", "[formats]") {
+  CHECK_THROWS_AS(curobo_yaml_text({{"a", {{{0, 0, 0}, 0.0}}}}), InputError);
+  CHECK_THROWS_AS(srdf_spheres_text({{"a", {}}, {"a", {}}}, "r"), InputError);
+  CHECK_THROWS_AS(sph_text({}), InputError);
+  CHECK_THROWS_WITH(spherize_urdf(medspheres::test::awkward_urdf(), {{"ghost", {}}}, "u.urdf"),
+                    Contains("\"ghost\""));
+}
+
+#ifdef MEDSPHERES_SHARED_MESHES
+TEST_CASE("cuRobo's own Unitree G1 configuration reads", "[formats][shared]") {
+  const std::string path =
+      std::string(MEDSPHERES_SHARED_MESHES) + "/../robots/unitree_g1/curobo_unitree_g1.yml";
+  if (!std::filesystem::exists(path)) return;
+  const RobotSpheres s = load_curobo_yaml(path);
+  // Oracle: the file has one "radius:" key per sphere.
+  const std::string text = medspheres::read_text_file(path);
+  std::size_t radii = 0;
+  for (std::size_t at = text.find("radius:"); at != std::string::npos;
+       at = text.find("radius:", at + 1))
+    ++radii;
+  std::size_t total = 0;
+  for (const auto& l : s) total += l.spheres.size();
+  CHECK(total == radii);
+  REQUIRE(find_link_spheres(s, "head_link"));
+  CHECK(find_link_spheres(s, "head_link")->spheres[0].radius == 0.02945771813392639);
+  // And it survives our writer and reader unchanged.
+  CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s), "again"), s));
+}
+#endif
