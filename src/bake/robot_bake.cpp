@@ -112,8 +112,8 @@ void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
   // failed one has started and runs to its end: the lowest failing job is always known.
   auto work = [&] {
     for (std::size_t j = next++; j < jobs.size() && !failed; j = next++) {
-      run_job(jobs[j], solids[jobs[j].link], request, workers == 1 ? request.medial.threads
-                                                                   : per_bake);
+      run_job(jobs[j], solids[jobs[j].link], request,
+              workers == 1 ? request.medial.threads : per_bake);
       if (jobs[j].error) failed = true;
       std::lock_guard<std::mutex> lock(report);
       done(j);
@@ -167,8 +167,8 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                            const std::vector<LinkBakeStats>& stats) {
   nlohmann::ordered_json j;
   j["urdf"] = robot.path;
-  j["generator"] = {{"name", "medspheres"}, {"version", MEDSPHERES_VERSION_STRING},
-                    {"method", "medial"}};
+  j["generator"] = {
+      {"name", "medspheres"}, {"version", MEDSPHERES_VERSION_STRING}, {"method", "medial"}};
   nlohmann::ordered_json links = nlohmann::ordered_json::object();
   for (std::size_t i = 0; i < stats.size(); ++i) {
     const LinkBakeStats& s = stats[i];

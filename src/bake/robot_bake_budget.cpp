@@ -52,8 +52,7 @@ void check_overrides(const std::vector<LinkSolid>& solids, const RobotBudget& bu
   for (const auto& [name, k] : budget.links) {
     const auto it = std::find_if(solids.begin(), solids.end(),
                                  [&](const LinkSolid& s) { return s.link == name; });
-    if (it == solids.end())
-      throw InputError("--link", "no link named '" + name + "' in " + source);
+    if (it == solids.end()) throw InputError("--link", "no link named '" + name + "' in " + source);
     if (it->parts.empty())
       throw InputError("--link", "link '" + name + "' of " + source +
                                      " has no meshed geometry to bake (its spheres are exact)");

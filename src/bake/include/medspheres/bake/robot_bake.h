@@ -33,6 +33,7 @@
 #include <vector>
 
 #include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_model.h"
@@ -73,9 +74,9 @@ struct LinkBakeStats {
   /// nerr of the baked part (NaN when not measured or not defined), and its kind.
   double nerr = std::numeric_limits<double>::quiet_NaN();
   std::string nerr_kind;
-  double seconds = 0.0;   ///< its bake (0 for a reused one)
-  std::string baked_as;   ///< the link whose bake it reuses; empty for its own
-  std::string note;       ///< "no collision geometry" and the like
+  double seconds = 0.0;  ///< its bake (0 for a reused one)
+  std::string baked_as;  ///< the link whose bake it reuses; empty for its own
+  std::string note;      ///< "no collision geometry" and the like
 };
 
 /// Called once per link as its spheres are ready (in completion order, one call at a
@@ -106,5 +107,28 @@ struct RobotBakeResult {
 ///   match the robot's links.
 RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
                            const RobotBakeOptions& options);
+
+/// The fit of one link's spheres to its solid (fit_metrics.h), in the link frame.
+struct LinkFit {
+  std::string link;
+  std::size_t spheres = 0;     ///< in the file for this link
+  std::size_t primitives = 0;  ///< of them, equal to a sphere primitive of the link
+  /// Of the other spheres against the link's meshed parts (placed_mesh); empty when the
+  /// link has no meshed part or no other sphere.
+  std::optional<FitReport> fit;
+  std::string note;  ///< why there is no fit ("no collision geometry", "no spheres", ...)
+};
+
+/// Measures each link's spheres (\p spheres: link name -> spheres in its frame; links
+/// missing from it have none) against its solid. A sphere equal to one of the link's sphere
+/// primitives (centre within 1e-6 of its radius, radius within 1e-6 relative) is exact by
+/// construction and counted in `primitives`, not measured; the rest are measured against
+/// the meshed parts, whose union is the rest of the solid. Links in \p solids' order.
+/// \throws InputError (source \p spheres_source) for a link name in \p spheres that is
+///   not a link of the robot, and as FitEvaluator::evaluate.
+std::vector<LinkFit> evaluate_robot_fit(const std::vector<LinkSolid>& solids,
+                                        const std::map<std::string, SphereSet>& spheres,
+                                        const std::string& spheres_source,
+                                        const FitOptions& options = {});
 
 }  // namespace medspheres
