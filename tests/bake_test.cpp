@@ -195,7 +195,8 @@ TEST_CASE("an error target the resolution cannot reach stops where doubling stop
     bake_target_error(q, 0.5, flat);
     FAIL("an unreachable target must throw");
   } catch (const InputError& e) {
-    CHECK(e.source() == "--target-error");
+    CHECK(e.kind() == ErrorKind::kUnreachable);
+    CHECK(e.field() == "target_error");
     CHECK_THAT(e.what(), Contains("0.5") && Contains("stopped reducing"));
   }
   // Start 28, one doubling to 56: two distinct resolutions, each measured once.
@@ -242,10 +243,11 @@ TEST_CASE("nonsense options are rejected by name", "[bake]") {
   // the exception says the same.
   CHECK_FALSE(bake_options_problem(BakeOptions{}));
   const auto field_of = [&](auto set) {
-    const std::optional<OptionProblem> p = bake_options_problem(with(set));
+    const std::optional<InputError> p = bake_options_problem(with(set));
     REQUIRE(p);
-    CHECK_THROWS_WITH(validate_bake_options(with(set)), p->option + " " + p->problem);
-    return p->option;
+    CHECK(p->kind() == ErrorKind::kOutOfRange);
+    CHECK_THROWS_WITH(validate_bake_options(with(set)), p->field() + " " + p->problem());
+    return p->field();
   };
   CHECK(field_of([](BakeOptions& o) { o.resolution = 4097; }) == "resolution");
   CHECK(field_of([](BakeOptions& o) { o.object_angle = 0.0; }) == "object_angle");
@@ -253,7 +255,8 @@ TEST_CASE("nonsense options are rejected by name", "[bake]") {
   CHECK(field_of([](BakeOptions& o) { o.threads = kMaxThreads + 1; }) == "threads");
   CHECK_FALSE(medial_tolerance_problem(0.0, 2.0, 10));
   CHECK_FALSE(medial_tolerance_problem(0.1, 2.0, 10));
-  CHECK_THAT(*medial_tolerance_problem(0.2, 2.0, 10),
+  CHECK(medial_tolerance_problem(0.2, 2.0, 10)->field() == "medial_tolerance");
+  CHECK_THAT(medial_tolerance_problem(0.2, 2.0, 10)->problem(),
              Contains("[2e-09, 0.2)") && Contains("L = 2") && Contains("got 0.2"));
 }
 
@@ -391,7 +394,7 @@ TEST_CASE("a sphere budget: empty bakes are too coarse, and counts are not monot
   CHECK(five.stats.resolution == 3);
   CHECK(five.spheres.size() == 2);
   // No resolution gives exactly one sphere: an error that says so, with the fewest found.
-  CHECK_THROWS_WITH(bake_max_spheres(q, 1), Contains("--max-spheres") &&
+  CHECK_THROWS_WITH(bake_max_spheres(q, 1), Contains("max_spheres: ") &&
                                                 Contains("between 1 and 1 spheres") &&
                                                 Contains("fewest found is 2 at resolution 3"));
   // 84 spheres at 13, 112 at 14, exactly 100 at 15: the window above the boundary finds 15.

@@ -16,6 +16,81 @@
 #include "medspheres/mesh/mesh_report.h"
 #include "number_text.h"
 
+// The method (bake.h states the contract).
+// Tolerances. kMinMedialTolerance: below a few eps L (about 1e-15 L) halving the bracket
+// no longer moves the probe point of a mesh near the origin (farther out, sooner), so a
+// smaller tolerance could never be reached and every search would run to kMaxBisections;
+// 1e-9 L keeps well clear of that up to coordinates of about 1e6 L, and is a million times
+// finer than the default. With it the bracket is short enough after about 60 halvings.
+// An explicit tolerance must stay below a cell: a bracket as long as a cell no longer says
+// which cell the medial point is in, and a tolerance that large also loosens check (a) of
+// step 3 by as much.
+//
+// Medial sphere baking (Stolpner, Kry and Siddiqi, "Medial Spheres for Shape
+// Approximation", section 3): spheres centred near the medial surface of a solid,
+// each tangent to the boundary and inside the solid.
+//
+// The method, with every choice the paper leaves open made explicit:
+//
+// 1. Grid. A regular grid of cubic cells of size h = L / `resolution` (L the largest
+//    side of the mesh's bounding box) covers the box, centred on it, with one cell
+//    more than the box needs along each axis: `resolution` + 1 cells along the longest
+//    side, so that grid vertices sit off the box's faces and mid-planes.
+//    The sample points are the grid vertices. Each vertex is classified with the
+//    generalized winding number (inside when > 0.5), and each inside vertex v gets its
+//    exact nearest mesh point c(v) and the unit direction u(v) = (c(v) - v)/|c(v) - v|
+//    toward it (the paper's gradient field, nabla D). A vertex exactly on the surface
+//    has no direction and counts as outside.
+// 2. Cells where the medial surface likely passes. A cell is flagged when at least
+//    two of its corners are inside and two inside corners have directions at least
+//    `object_angle` apart. Points on the two sides of a medial sheet whose object
+//    angle is alpha have directions alpha apart, so this finds the sheets the filter
+//    in step 4 keeps, and skips the sheets of tiny object angle that every convex edge
+//    of a polyhedron grows.
+// 3. Search. From every inside corner p of a flagged cell, along the segment
+//    (p, p - gamma u(p)), i.e. away from p's nearest boundary point, binary search for
+//    the first point whose direction differs from u(p) by at least `object_angle`.
+//    Along that segment the nearest point stays put until the segment meets the
+//    medial surface (the property of section 3, from Stolpner and Whitesides 2009),
+//    so the search brackets a medial point; it stops when the bracket is shorter than
+//    `medial_tolerance` (or after kMaxBisections halvings, which only a tolerance near
+//    the rounding of the coordinates could need), and the candidate m is the bracket's
+//    near end, whose nearest point A is exact and still on p's side of the sheet. The
+//    segment length is gamma = sqrt(3) h / sin(object_angle / 2): a sheet of object angle at
+//    least `object_angle` that passes through a cell is met within that distance by
+//    the segment from any of the cell's corners.
+//    A candidate is dropped unless (a) the distance grew along the segment as it must
+//    before the first medial crossing, D(m) >= D(p) + t cos(object_angle) - tolerance,
+//    (b) m is inside (winding number), and (c) its object angle, the angle at m between
+//    its exact nearest point A and the far-side point B (the nearest point of the
+//    bracket's far end), is at least `object_angle`.
+// 4. One point per cell. Each surviving candidate belongs to the cell that contains
+//    it; a cell keeps its candidate of largest radius (ties: lowest grid vertex
+//    index). This is what spreads the spheres evenly (paper, Fig. 1).
+// 5. Radius. r = D(m) - s, where D(m) is the distance from m to the mesh as computed
+//    (the exact nearest point, rounded to doubles) and s = 1e-12 L + 4 eps (X + L),
+//    with eps the double epsilon and X the largest |coordinate| of the bounding box.
+//    s exceeds the rounding error of D, so |m - x| > r for every mesh point x: on a
+//    closed mesh every sphere lies inside the solid. The derivation: the computed
+//    nearest point is a + (v ab + w ac) for a triangle corner a; forming the offset
+//    and the distance from the local vectors p - a, ab, ac, all shorter than about 2 L,
+//    costs a few eps L (more on slivers, which the 1e-12 L = 4500 eps L term covers),
+//    and adding a, whose coordinates reach X, then rounds each coordinate of the point
+//    by up to eps X / 2, i.e. moves it by up to (sqrt(3) / 2) eps X and changes D by as
+//    much. The 4 eps (X + L) term covers that more than four times over (X + L also
+//    bounds the coordinates of the centres, which lie within a cell or two of the
+//    box). For a mesh near the origin it is below 1e-15 L and changes nothing; for one
+//    far from it (X = 1e6 L, say) the 1e-12 L term alone would not cover the rounding,
+//    which is about 2e-10 L there.
+//
+// Determinism: every step is a pure function of the mesh, the options and the grid
+// vertex or cell it works on, and results are gathered in index order, so the same
+// input gives a bit-identical sphere list whatever the thread count.
+//
+// Open, non-manifold or self-intersecting meshes are baked against the solid their
+// winding number defines: every centre is inside that solid, and every sphere is
+// tangent to its nearest triangle and contains no point of any triangle.
+
 namespace medspheres {
 
 namespace {
@@ -111,14 +186,19 @@ struct Counters {
 constexpr double kConfidentWinding = 0.75;
 constexpr double kMinConfidentShare = 0.7;
 
+InputError out_of_range(std::string field, std::string value, std::string problem) {
+  return InputError::option(ErrorKind::kOutOfRange, std::move(field), std::move(value),
+                            std::move(problem));
+}
+
 // An explicit medial tolerance against the range for this box and the finest resolution
 // that will be baked.
 void check_tolerance(double tolerance, double longest, int resolution) {
   if (const auto problem = medial_tolerance_problem(tolerance, longest, resolution))
-    throw std::invalid_argument("medial_tolerance " + *problem);
+    throw std::invalid_argument("medial_tolerance " + problem->problem());
 }
 
-// Radius shrink s = 1e-12 L + 4 eps (X + L) of step 5 (bake.h gives the derivation).
+// Radius shrink s = 1e-12 L + 4 eps (X + L) of step 5 (derived above).
 double radius_shrink(const Eigen::AlignedBox3d& box) {
   const double longest = box.sizes().maxCoeff();
   const double far = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
@@ -268,15 +348,16 @@ class Baker {
   void check_interior() {
     stats_.inside_vertices = counters_.inside;
     if (counters_.inside == 0)
-      throw InputError("mesh", "no grid vertex lies inside the solid at resolution " +
-                                   std::to_string(options_.resolution) +
-                                   ": the mesh bounds no volume (a flat sheet or a triangle "
-                                   "soup?), or its parts are thinner than a grid cell");
+      throw InputError(ErrorKind::kNoInterior, "mesh",
+                       "no grid vertex lies inside the solid at resolution " +
+                           std::to_string(options_.resolution) +
+                           ": the mesh bounds no volume (a flat sheet or a triangle "
+                           "soup?), or its parts are thinner than a grid cell");
     const double share =
         static_cast<double>(counters_.confident) /
         static_cast<double>(std::max<std::uint64_t>(counters_.evaluated_inside, 1));
     if (share < kMinConfidentShare)
-      throw InputError("mesh",
+      throw InputError(ErrorKind::kNoInterior, "mesh",
                        "the mesh bounds no well-defined volume: its winding number is "
                        "ambiguous almost everywhere (only " +
                            std::to_string(static_cast<int>(100 * share)) +
@@ -340,43 +421,45 @@ class Baker {
     return grid_.vertex(i, j, k);
   }
 
-  // Step 3 for one start vertex. Returns a candidate, or nothing; `reason` tells why
-  // a bracketed candidate was dropped (1: invalid, 2: object angle).
-  std::optional<Candidate> search_from(const Start& start, Counters& count, int* reason) const {
-    *reason = 0;
-    const std::size_t v = start.vertex;
-    const VertexSample& s = start.sample;
-    const Eigen::Vector3d p = vertex_position(v);
-    const Eigen::Vector3d dir = -s.direction;
-    int hint = s.triangle;
-    auto probe = [&](double t) {
+  // The segment (p, p - gamma u(p)) of one start vertex, probed at parameters t: each
+  // probe is counted and hinted with the previous probe's triangle.
+  struct Segment {
+    const MeshQuery& query;
+    const VertexSample& s;
+    Eigen::Vector3d p;
+    Eigen::Vector3d dir;
+    double tolerance;
+    Counters& count;
+    int hint;
+
+    ClosestPoint probe(double t) {
       ++count.closest;
-      const ClosestPoint c = query_.closest_point(p + t * dir, hint);
+      const ClosestPoint c = query.closest_point(p + t * dir, hint);
       hint = c.triangle;
       return c;
-    };
+    }
     // Angle between u(p) and the direction from the probe point to its nearest point;
     // a probe on the surface itself has no direction and counts as fully turned (pi).
-    auto deviation = [&](const ClosestPoint& c, double t) {
+    double deviation(const ClosestPoint& c, double t) const {
       const Eigen::Vector3d to = c.point - (p + t * dir);
       const double len = to.norm();
       if (!(len > 0.0)) return kPi;
       return std::acos(std::clamp(to.dot(s.direction) / len, -1.0, 1.0));
-    };
+    }
     // Has the segment passed a sheet of at least `angle` by parameter t? Before the
     // first such sheet the direction has turned by less than `angle`, so the distance
     // has grown at a rate of at least cos(angle). A probe whose direction has turned
     // further, or whose distance has fallen below that line (past a sheet, or out of
     // the solid through its far side, where the direction points back), has passed.
-    auto passed = [&](const ClosestPoint& c, double t, double angle) {
-      if (c.distance() < s.distance + t * std::cos(angle) - tolerance_) return true;
+    bool passed(const ClosestPoint& c, double t, double angle) const {
+      if (c.distance() < s.distance + t * std::cos(angle) - tolerance) return true;
       return deviation(c, t) >= angle;
-    };
+    }
     // Bisection on [lo, hi] with passed(lo) false and passed(hi) true; *at_lo and
     // *at_hi receive the probes at the final ends (when probed).
-    auto bisect = [&](double lo, double hi, double angle, ClosestPoint* at_lo,
-                      ClosestPoint* at_hi) {
-      for (int step = 0; step < kMaxBisections && hi - lo > tolerance_; ++step) {
+    std::pair<double, double> bisect(double lo, double hi, double angle, ClosestPoint* at_lo,
+                                     ClosestPoint* at_hi) {
+      for (int step = 0; step < kMaxBisections && hi - lo > tolerance; ++step) {
         const double mid = 0.5 * (lo + hi);
         if (!(mid > lo && mid < hi)) break;  // adjacent doubles: nothing left to halve
         const ClosestPoint c = probe(mid);
@@ -389,62 +472,80 @@ class Baker {
         }
       }
       return std::make_pair(lo, hi);
-    };
+    }
+  };
 
+  // Step 3 for one start vertex. Returns a candidate, or nothing; `reason` tells why
+  // a bracketed candidate was dropped (1: invalid, 2: object angle).
+  std::optional<Candidate> search_from(const Start& start, Counters& count, int* reason) const {
+    *reason = 0;
+    const VertexSample& s = start.sample;
+    Segment seg{query_, s,         vertex_position(start.vertex), -s.direction, tolerance_,
+                count,  s.triangle};
     // Phase 1: the first point past a sheet of at least the object angle.
-    ClosestPoint at_lo = probe(0.0), at_hi = probe(gamma_);
-    if (!passed(at_hi, gamma_, options_.object_angle)) return std::nullopt;
-    auto [lo, hi] = bisect(0.0, gamma_, options_.object_angle, &at_lo, &at_hi);
+    ClosestPoint at_lo = seg.probe(0.0), at_hi = seg.probe(gamma_);
+    if (!seg.passed(at_hi, gamma_, options_.object_angle)) return std::nullopt;
+    auto [lo, hi] = seg.bisect(0.0, gamma_, options_.object_angle, &at_lo, &at_hi);
+    const double threshold = refine_gradual_turn(seg, at_lo, at_hi, lo, hi);
+    return candidate_at(seg, start.vertex, lo, threshold, reason);
+  }
 
-    // Phase 2, for gradual turns only. A tessellated smooth surface grows a fan of
-    // tiny-angle sheets, one per convex edge, and across them the direction turns in
-    // small steps; phase 1 then stops at the first point turned by the object angle,
-    // up to (facet width / 2) / sin(angle) short of the sheet the filter keeps. When the
-    // final bracket did not itself jump by the object angle, the turn was gradual: half
-    // a cell and a cell further the turn is nearer complete, Delta being the largest
-    // turn seen there (probes that left the solid, as their distance shows, do not
-    // count), and the sheet is where the direction has turned by Delta / 2, the middle
-    // of the transition (never by less than the object angle, so that the search
-    // cannot stop at an edge's own small sheet). A sharp jump is a sheet already: the
-    // search stays there, and cannot run on to a second sheet beyond it.
+  // Phase 2, for gradual turns only. A tessellated smooth surface grows a fan of
+  // tiny-angle sheets, one per convex edge, and across them the direction turns in
+  // small steps; phase 1 then stops at the first point turned by the object angle,
+  // up to (facet width / 2) / sin(angle) short of the sheet the filter keeps. When the
+  // final bracket did not itself jump by the object angle, the turn was gradual: half
+  // a cell and a cell further the turn is nearer complete, Delta being the largest
+  // turn seen there (probes that left the solid, as their distance shows, do not
+  // count), and the sheet is where the direction has turned by Delta / 2, the middle
+  // of the transition (never by less than the object angle, so that the search
+  // cannot stop at an edge's own small sheet). A sharp jump is a sheet already: the
+  // search stays there, and cannot run on to a second sheet beyond it.
+  // Moves the bracket [lo, hi]; returns the turn it brackets.
+  double refine_gradual_turn(Segment& seg, const ClosestPoint& at_lo, const ClosestPoint& at_hi,
+                             double& lo, double& hi) const {
     double threshold = options_.object_angle;
-    const bool sharp = deviation(at_hi, hi) - deviation(at_lo, lo) >= options_.object_angle;
-    if (!sharp) {
-      double full = deviation(at_hi, hi), reach = hi;
-      for (const double step : {0.5 * grid_.h, grid_.h}) {
-        const double t_beyond = hi + step;
-        const ClosestPoint beyond = probe(t_beyond);
-        const double turn = deviation(beyond, t_beyond);
-        if (beyond.distance() >= s.distance && turn > full) {
-          full = turn;
-          reach = t_beyond;
-        }
-      }
-      threshold = std::max(options_.object_angle, 0.5 * full);
-      if (threshold > options_.object_angle) {
-        ClosestPoint ignored_lo = at_lo, ignored_hi = at_hi;
-        if (!passed(at_lo, lo, threshold))
-          std::tie(lo, hi) = bisect(lo, reach, threshold, &ignored_lo, &ignored_hi);
-        else
-          std::tie(lo, hi) = bisect(0.0, lo, threshold, &ignored_lo, &ignored_hi);
+    const bool sharp = seg.deviation(at_hi, hi) - seg.deviation(at_lo, lo) >= options_.object_angle;
+    if (sharp) return threshold;
+    double full = seg.deviation(at_hi, hi), reach = hi;
+    for (const double step : {0.5 * grid_.h, grid_.h}) {
+      const double t_beyond = hi + step;
+      const ClosestPoint beyond = seg.probe(t_beyond);
+      const double turn = seg.deviation(beyond, t_beyond);
+      if (beyond.distance() >= seg.s.distance && turn > full) {
+        full = turn;
+        reach = t_beyond;
       }
     }
+    threshold = std::max(options_.object_angle, 0.5 * full);
+    if (threshold > options_.object_angle) {
+      ClosestPoint ignored_lo = at_lo, ignored_hi = at_hi;
+      if (!seg.passed(at_lo, lo, threshold))
+        std::tie(lo, hi) = seg.bisect(lo, reach, threshold, &ignored_lo, &ignored_hi);
+      else
+        std::tie(lo, hi) = seg.bisect(0.0, lo, threshold, &ignored_lo, &ignored_hi);
+    }
+    return threshold;
+  }
 
+  // The candidate at the bracket's near end \p lo, past a turn of \p threshold, checked.
+  std::optional<Candidate> candidate_at(Segment& seg, std::size_t vertex, double lo,
+                                        double threshold, int* reason) const {
     // The centre is the bracket's near end m; its nearest point A is exact. The far
     // tangency B is the nearest point of m' = m pushed half a cell straight away from A,
     // across the sheet.
     const double t = lo;
-    const Eigen::Vector3d m = p + t * dir;
-    const ClosestPoint near = probe(t);
+    const Eigen::Vector3d m = seg.p + t * seg.dir;
+    const ClosestPoint near = seg.probe(t);
     const double d = near.distance();
     // (a) before the sheet the direction has turned by less than 90 degrees, so the
     // distance has not decreased along the segment.
-    if (!(d > 0.0) || !(d >= s.distance + t * std::cos(threshold) - 2.0 * tolerance_)) {
+    if (!(d > 0.0) || !(d >= seg.s.distance + t * std::cos(threshold) - 2.0 * tolerance_)) {
       *reason = 1;
       return std::nullopt;
     }
     // (b) the centre is inside the solid.
-    ++count.winding;
+    ++seg.count.winding;
     if (!(query_.winding_number(m) > 0.5)) {
       *reason = 1;
       return std::nullopt;
@@ -455,7 +556,7 @@ class Baker {
     // wherever m is close to the surface.)
     const Eigen::Vector3d a = near.point - m;
     const Eigen::Vector3d pushed = m - (0.5 * grid_.h / d) * a;
-    ++count.closest;
+    ++seg.count.closest;
     const ClosestPoint far = query_.closest_point(pushed, near.triangle);
     const Eigen::Vector3d b = far.point - pushed;
     const double na = a.norm(), nb = b.norm();
@@ -471,7 +572,7 @@ class Baker {
     out.sample.near_point = near.point;
     out.sample.far_point = far.point;
     out.sample.object_angle = angle;
-    out.vertex = v;
+    out.vertex = vertex;
     if (!(out.radius > 0.0)) {
       *reason = 1;
       return std::nullopt;
@@ -560,37 +661,40 @@ ToleranceRange medial_tolerance_range(double longest, int resolution) {
   return {kMinMedialTolerance * longest, longest / resolution};
 }
 
-std::optional<std::string> medial_tolerance_problem(double tolerance, double longest,
-                                                    int resolution) {
+std::optional<InputError> medial_tolerance_problem(double tolerance, double longest,
+                                                   int resolution) {
   if (tolerance == 0.0) return std::nullopt;
   const ToleranceRange range = medial_tolerance_range(longest, resolution);
   if (tolerance >= range.lo && tolerance < range.hi) return std::nullopt;
-  return "must be in [" + number_text(range.lo) + ", " + number_text(range.hi) +
-         ") at resolution " + std::to_string(resolution) +
-         ": from 1e-9 of the mesh's bounding box's largest side L = " + number_text(longest) +
-         " up to, not including, the cell size L / " + std::to_string(resolution) + ", got " +
-         number_text(tolerance);
+  return out_of_range("medial_tolerance", number_text(tolerance),
+                      "must be in [" + number_text(range.lo) + ", " + number_text(range.hi) +
+                          ") at resolution " + std::to_string(resolution) +
+                          ": from 1e-9 of the mesh's bounding box's largest side L = " +
+                          number_text(longest) + " up to, not including, the cell size L / " +
+                          std::to_string(resolution) + ", got " + number_text(tolerance));
 }
 
-std::optional<OptionProblem> bake_options_problem(const BakeOptions& o) {
+std::optional<InputError> bake_options_problem(const BakeOptions& o) {
   if (o.resolution < kMinResolution || o.resolution > kMaxResolution)
-    return OptionProblem{"resolution", "must be in [" + std::to_string(kMinResolution) + ", " +
-                                           std::to_string(kMaxResolution) + "], got " +
-                                           std::to_string(o.resolution)};
+    return out_of_range("resolution", std::to_string(o.resolution),
+                        "must be in [" + std::to_string(kMinResolution) + ", " +
+                            std::to_string(kMaxResolution) + "], got " +
+                            std::to_string(o.resolution));
   if (!(o.object_angle > 0.0) || !(o.object_angle < kPi))
-    return OptionProblem{"object_angle",
-                         "must be in (0, pi) radians, got " + number_text(o.object_angle)};
+    return out_of_range("object_angle", number_text(o.object_angle),
+                        "must be in (0, pi) radians, got " + number_text(o.object_angle));
   if (!(o.medial_tolerance >= 0.0) || !std::isfinite(o.medial_tolerance))
-    return OptionProblem{"medial_tolerance", "must be finite and >= 0 (0: the default), got " +
-                                                 number_text(o.medial_tolerance)};
+    return out_of_range(
+        "medial_tolerance", number_text(o.medial_tolerance),
+        "must be finite and >= 0 (0: the default), got " + number_text(o.medial_tolerance));
   if (std::string problem = threads_problem(o.threads); !problem.empty())
-    return OptionProblem{"threads", std::move(problem)};
+    return out_of_range("threads", std::to_string(o.threads), std::move(problem));
   return std::nullopt;
 }
 
 void validate_bake_options(const BakeOptions& o) {
   if (const auto p = bake_options_problem(o))
-    throw std::invalid_argument(p->option + " " + p->problem);
+    throw std::invalid_argument(p->field() + " " + p->problem());
 }
 
 BakeResult bake(const MeshQuery& query, const BakeOptions& options) {
@@ -608,7 +712,7 @@ BakeResult bake(const TriangleMesh& mesh, const BakeOptions& options) {
 
 namespace {
 
-// Resolution search shared by the two modes (bake.h). `low` says a resolution is on the
+// Resolution search shared by the two modes. `low` says a resolution is on the
 // coarse side of the boundary: within the sphere budget (an empty bake included), or
 // missing the error target. `accept` says its bake may be the answer. When want_largest
 // (a budget) the answer is the largest accepted resolution, on the low side; otherwise
@@ -642,11 +746,12 @@ SearchOutcome search_resolution(const MeshQuery& query, const BakeOptions& optio
     // resolution. No inside vertex only makes this resolution too coarse.
     last = Baker(query, o).run(true);
     if (last.stats.inside_vertices == 0) {
-      out.no_interior = InputError(
-          "mesh", "no grid vertex lies inside the solid at any resolution tried (up to " +
-                      std::to_string(r) +
-                      "): the mesh bounds no volume (a flat sheet or a triangle soup?), or "
-                      "its parts are thinner than a grid cell");
+      out.no_interior =
+          InputError(ErrorKind::kNoInterior, "mesh",
+                     "no grid vertex lies inside the solid at any resolution tried (up to " +
+                         std::to_string(r) +
+                         "): the mesh bounds no volume (a flat sheet or a triangle soup?), or "
+                         "its parts are thinner than a grid cell");
     } else {
       out.any_interior = true;
     }
@@ -739,12 +844,13 @@ BakeResult bake_max_spheres(const MeshQuery& query, std::size_t max_spheres,
       if (s.spheres > 0 && (!fewest || s.spheres < fewest->spheres)) fewest = &s;
       tried += (tried.empty() ? "" : ", ") + std::to_string(s.resolution);
     }
-    throw InputError("--max-spheres",
-                     "no resolution tried (" + tried + ") gives between 1 and " +
-                         std::to_string(max_spheres) + " spheres: " +
-                         (fewest ? "the fewest found is " + std::to_string(fewest->spheres) +
-                                       " at resolution " + std::to_string(fewest->resolution)
-                                 : std::string("none gave any sphere")));
+    throw InputError::option(
+        ErrorKind::kUnreachable, "max_spheres", std::to_string(max_spheres),
+        "no resolution tried (" + tried + ") gives between 1 and " + std::to_string(max_spheres) +
+            " spheres: " +
+            (fewest ? "the fewest found is " + std::to_string(fewest->spheres) + " at resolution " +
+                          std::to_string(fewest->resolution)
+                    : std::string("none gave any sphere")));
   }
   return finish(std::move(found), t0);
 }
@@ -781,8 +887,8 @@ BakeResult bake_target_error(const MeshQuery& query, double target, const ErrorF
       error_of);
   if (!found.best) {
     if (!found.any_interior && found.no_interior) throw *found.no_interior;
-    throw InputError(
-        "--target-error",
+    throw InputError::option(
+        ErrorKind::kUnreachable, "target_error", number_text(target),
         "no resolution tried reaches the target error " + number_text(target) +
             ": the best error is " + number_text(best_error) + ", up to resolution " +
             std::to_string(highest) +

@@ -44,6 +44,50 @@
 #include "medspheres/assert.h"
 #include "medspheres/error.h"
 
+// The method and its exactness (union_volume.h states the contract).
+// Exact volume and boundary area of a union of balls (paper §4.2), and the dual complex
+// of its power-diagram decomposition, which the dilation step (paper §5.1) walks.
+//
+// Method. The balls B_i = (c_i, r_i) are weighted points (c_i, r_i^2). Their regular
+// triangulation is dual to the power diagram; the dual complex K is the subcomplex of
+// simplices s whose balls and power cells have a common point,
+// (B_i n P_i for i in s) != empty, i.e. the weighted alpha complex at alpha = 0
+// (Edelsbrunner 1995). Then
+//   vol(union) = sum over s in K of (-1)^dim(s) vol(intersection of the balls of s),
+// and the same alternating sum of the areas of the sphere pieces inside the other balls
+// of each simplex gives the boundary area. The intersections of two, three and four
+// balls have closed forms (derived in src/bake/ball_intersection.h).
+//
+// Frame and units: centres and radii are in the caller's frame and units (frame M, as
+// in sphere_set.h). Volumes are in units^3, areas in units^2, positions in frame M.
+//
+// Exactness. Which simplices are in K, which balls are hidden and which triple points
+// are v-points is decided with exact predicates (CGAL, filtered exact arithmetic) on the
+// weighted points (c_i, w_i), w_i = r_i^2 rounded to double: exactly, for balls whose
+// radii differ from the given ones by at most half a unit in the last place. The measures
+// are then evaluated in double precision by closed forms without case distinctions on
+// rounded values, so they are continuous in the input, tangent and almost tangent balls
+// included. The measure of a k-simplex of K has an absolute error of a few
+// eps (k + 1) 4 pi r^3 (area: r^2), eps = 2^-52 and r its largest radius (the tests
+// allow 16 times that); against independent integrations of small sets the relative
+// error of the volume and of the area is near 1e-15.
+//
+// Degenerate input. Empty input has volume and area 0. A ball with the same centre and
+// radius as an earlier one is a duplicate: it is dropped and listed in `duplicates`.
+// A ball that lies in the union of the others (for instance in a single larger ball)
+// gets no vertex in K, contributes nothing and is listed in `hidden`; one that reaches
+// the boundary of the union only in a set of measure zero (say, it touches a larger ball
+// from inside) may keep its vertex, which changes no measure. Collinear and coplanar
+// centres give a triangulation of dimension 1 or 2, cospherical ones a degenerate one
+// that CGAL resolves by symbolic perturbation; the formula holds in every case.
+//
+// Input errors: a non-finite coordinate or a radius that is not finite and > 0 throws
+// InputError with source "sphere set" and the index of the ball. More than INT_MAX balls
+// throws std::invalid_argument.
+//
+// Thread safety: a UnionOfBalls is immutable after construction; its const members may
+// be called from any number of threads.
+
 namespace medspheres {
 
 namespace {
@@ -397,6 +441,184 @@ Complex classify(const Regular& rt, const Prepared& p, std::vector<int>& hidden)
   return k;
 }
 
+// Inclusion-exclusion over K, in the order of the simplex lists (vertices, edges,
+// triangles, tetrahedra: the order of the compensated sums), collecting the simplices of K,
+// the v-points and the lone-edge circles as ball indices in the input's units.
+class ComplexSum {
+ public:
+  ComplexSum(const Prepared& p, const Complex& k, std::vector<int> hidden_balls)
+      : hidden(std::move(hidden_balls)),
+        p_(p),
+        k_(k),
+        pred_(k.weighted),
+        unscale_(std::ldexp(1.0, p.exponent)) {}
+
+  void add_vertices();
+  void add_edges();
+  void add_triangles();
+  void add_tetrahedra();
+
+  double volume() const { return std::ldexp(volume_.value(), 3 * p_.exponent); }
+  double area() const { return std::ldexp(area_.value(), 2 * p_.exponent); }
+
+  std::vector<int> hidden;
+  std::vector<int> vertices;
+  std::vector<std::array<int, 2>> edges;
+  std::vector<std::array<int, 3>> triangles;
+  std::vector<std::array<int, 4>> tetrahedra;
+  std::vector<VPoint> v_points;
+  std::vector<EdgeCircle> lone_circles;
+
+ private:
+  void add(const detail::Measure& m, int sign) {
+    volume_.add(sign * m.volume);
+    area_.add(sign * m.area);
+  }
+  const Eigen::Vector3d& centre(int v) const { return p_.ball[k_.ball_of[v]].c; }
+  double radius(int v) const { return p_.ball[k_.ball_of[v]].r; }
+  void add_v_points(std::size_t s, const detail::TriplePoints& points,
+                    const std::array<int, 3>& triple);
+
+  const Prepared& p_;
+  const Complex& k_;
+  const Predicates pred_;
+  const double unscale_;
+  CompensatedSum volume_, area_;
+  std::vector<int> edge_slot_, tri_slot_;  // simplex -> index in pairs_ / triples_, -1: not in K
+  std::vector<detail::PairGeometry> pairs_;
+  std::vector<detail::TripleGeometry> triples_;
+};
+
+void ComplexSum::add_vertices() {
+  for (std::size_t s = 0; s < k_.verts.v.size(); ++s) {
+    const int v = k_.verts.v[s][0];
+    if (!k_.verts.in_complex[s]) {
+      hidden.push_back(k_.ball_of[v]);  // its ball does not reach its power cell
+      continue;
+    }
+    const double r = radius(v);
+    add({4.0 / 3.0 * kPi * r * r * r, 4.0 * kPi * r * r}, 1);
+    vertices.push_back(k_.ball_of[v]);
+  }
+}
+
+void ComplexSum::add_edges() {
+  edge_slot_.assign(k_.edges.v.size(), -1);
+  for (std::size_t s = 0; s < k_.edges.v.size(); ++s) {
+    if (!k_.edges.in_complex[s]) continue;
+    const int a = k_.edges.v[s][0], b = k_.edges.v[s][1];
+    edge_slot_[s] = static_cast<int>(pairs_.size());
+    pairs_.push_back(detail::pair_geometry(centre(a), radius(a), centre(b), radius(b)));
+    const detail::PairGeometry& g = pairs_.back();
+    add(detail::pair_measure(g, radius(a), radius(b)), -1);
+    edges.push_back({k_.ball_of[a], k_.ball_of[b]});
+    if (!k_.edges.coface_in_complex[s]) {
+      const Eigen::Vector3d u = (centre(b) - centre(a)) / g.d;
+      EdgeCircle circle;
+      circle.center = (centre(a) + g.a[0] * u) * unscale_;
+      circle.normal = u;
+      circle.radius = std::sqrt(g.rho2) * unscale_;
+      circle.balls = {k_.ball_of[a], k_.ball_of[b]};
+      lone_circles.push_back(circle);
+    }
+  }
+}
+
+void ComplexSum::add_triangles() {
+  tri_slot_.assign(k_.tris.v.size(), -1);
+  for (std::size_t s = 0; s < k_.tris.v.size(); ++s) {
+    if (!k_.tris.in_complex[s]) continue;
+    const std::array<int, 3>& t = k_.tris.v[s];
+    const Eigen::Vector3d c[3] = {centre(t[0]), centre(t[1]), centre(t[2])};
+    const double r[3] = {radius(t[0]), radius(t[1]), radius(t[2])};
+    const detail::PairGeometry* e[3];
+    for (int q = 0; q < 3; ++q) {
+      const int slot = edge_slot_[k_.tris.face[s][q]];
+      MEDSPHERES_ASSERT(slot >= 0);
+      e[q] = &pairs_[slot];
+    }
+    detail::TriplePoints points;
+    tri_slot_[s] = static_cast<int>(triples_.size());
+    triples_.push_back(detail::triple_geometry(c, r, e, &points));
+    add(detail::triple_measure(triples_.back(), r, e), 1);
+    const std::array<int, 3> triple{k_.ball_of[t[0]], k_.ball_of[t[1]], k_.ball_of[t[2]]};
+    triangles.push_back(triple);
+    add_v_points(s, points, triple);
+  }
+}
+
+// v-points of triangle s: z + t n and z - t n, unless strictly inside the ball u of a
+// tetrahedron T = (t, u) of the triangulation. Let w be the position of T's power centre
+// on the line z + tau n, measured towards c_u: sign(w) is the attachment test of (t, u),
+// and rho_T = w^2 - t^2. On u's side of w, pi_u < pi_t. The triangle is in K, so its dual
+// edge, which the regularity of the other tetrahedron bounds on the far side, reaches
+// [-t, t]: w >= -t, and the point on the far side of u is never inside B_u. The point on
+// u's side is inside iff t > w: iff rho_T < 0, or rho_T = 0 and w < 0 (w = -t). And
+// rho_T < 0 makes the triangle's own power radius negative: two distinct points.
+void ComplexSum::add_v_points(std::size_t s, const detail::TriplePoints& points,
+                              const std::array<int, 3>& triple) {
+  const std::array<int, 3>& t = k_.tris.v[s];
+  const int dim = k_.dimension;
+  bool inside[2] = {false, false};  // [0]: z + t n, [1]: z - t n
+  bool may_touch = true;            // the three spheres may touch in a single point
+  if (dim == 3) {
+    for (const int tet : k_.tri_cofaces[s]) {
+      if (tet < 0) continue;
+      int q = 0;
+      while (k_.tets.face[tet][q] != static_cast<int>(s)) ++q;
+      const int u = k_.tets.v[tet][q];
+      // orientation(t0, t1, t2, u): move u from position q to the end.
+      const bool plus_side = k_.tet_orient[tet] * ((3 - q) % 2 == 0 ? 1 : -1) > 0;
+      const int rho_t = k_.top_sign[tet];
+      MEDSPHERES_ASSERT(rho_t <= 0 || !pred_.attaches(t, u));
+      const bool covered = rho_t < 0 || (rho_t == 0 && pred_.attaches(t, u));
+      inside[plus_side ? 0 : 1] = inside[plus_side ? 0 : 1] || covered;
+      may_touch = may_touch && rho_t >= 0;
+    }
+  }
+  const bool single =
+      may_touch && (dim == 3 ? static_cast<int>(pred_.radius_sign(t)) : k_.top_sign[s]) == 0;
+  const double tt = single ? 0.0 : triples_.back().t;
+  for (int side = 0; side < (single ? 1 : 2); ++side) {
+    if (inside[side]) continue;
+    VPoint v;
+    v.position = (points.z + (side == 0 ? tt : -tt) * points.n) * unscale_;
+    v.balls = triple;
+    v_points.push_back(v);
+  }
+}
+
+void ComplexSum::add_tetrahedra() {
+  for (std::size_t s = 0; s < k_.tets.v.size(); ++s) {
+    if (!k_.tets.in_complex[s]) continue;
+    const std::array<int, 4>& t = k_.tets.v[s];
+    Eigen::Vector3d c[4];
+    double r[4];
+    for (int q = 0; q < 4; ++q) {
+      c[q] = centre(t[q]);
+      r[q] = radius(t[q]);
+    }
+    const detail::TripleGeometry* f[4];
+    for (int x = 0; x < 4; ++x) {
+      const int slot = tri_slot_[k_.tets.face[s][x]];
+      MEDSPHERES_ASSERT(slot >= 0);
+      f[x] = &triples_[slot];
+    }
+    const detail::PairGeometry* e[4][4] = {};
+    for (int a = 0; a < 4; ++a) {
+      for (int b = a + 1; b < 4; ++b) {
+        const int x = (a != 0 && b != 0) ? 0 : (a != 1 && b != 1) ? 1 : 2;  // a face with a, b
+        const int la = a - (a > x ? 1 : 0), lb = b - (b > x ? 1 : 0);
+        const int slot = edge_slot_[k_.tris.face[k_.tets.face[s][x]][3 - la - lb]];
+        MEDSPHERES_ASSERT(slot >= 0);
+        e[a][b] = &pairs_[slot];
+      }
+    }
+    add(detail::quadruple_measure(c, r, e, f), -1);
+    tetrahedra.push_back({k_.ball_of[t[0]], k_.ball_of[t[1]], k_.ball_of[t[2]], k_.ball_of[t[3]]});
+  }
+}
+
 }  // namespace
 
 UnionOfBalls::UnionOfBalls(const std::vector<Sphere>& input) {
@@ -412,144 +634,26 @@ UnionOfBalls::UnionOfBalls(const std::vector<Sphere>& input) {
   seconds_.triangulation = seconds_since(start);
   start = Clock::now();
   const Complex k = classify(rt, p, hidden);
-  const int dim = k.dimension;
-  measures_.dimension = dim;
+  measures_.dimension = k.dimension;
   seconds_.classification = seconds_since(start);
   start = Clock::now();
 
-  // --- Inclusion-exclusion over K, in the order of the simplex lists.
-  const Predicates pred(k.weighted);
-  CompensatedSum volume, area;
-  auto add = [&](const detail::Measure& m, int sign) {
-    volume.add(sign * m.volume);
-    area.add(sign * m.area);
-  };
-  auto centre = [&](int v) -> const Eigen::Vector3d& { return p.ball[k.ball_of[v]].c; };
-  auto radius = [&](int v) { return p.ball[k.ball_of[v]].r; };
-  const double unscale = std::ldexp(1.0, p.exponent);
+  ComplexSum sum(p, k, std::move(hidden));
+  sum.add_vertices();
+  sum.add_edges();
+  sum.add_triangles();
+  sum.add_tetrahedra();
+  vertices_ = std::move(sum.vertices);
+  edges_ = std::move(sum.edges);
+  triangles_ = std::move(sum.triangles);
+  tetrahedra_ = std::move(sum.tetrahedra);
+  v_points_ = std::move(sum.v_points);
+  lone_circles_ = std::move(sum.lone_circles);
 
-  for (std::size_t s = 0; s < k.verts.v.size(); ++s) {
-    const int v = k.verts.v[s][0];
-    if (!k.verts.in_complex[s]) {
-      hidden.push_back(k.ball_of[v]);  // its ball does not reach its power cell
-      continue;
-    }
-    const double r = radius(v);
-    add({4.0 / 3.0 * kPi * r * r * r, 4.0 * kPi * r * r}, 1);
-    vertices_.push_back(k.ball_of[v]);
-  }
-
-  std::vector<int> edge_slot(k.edges.v.size(), -1);
-  std::vector<detail::PairGeometry> pairs;
-  for (std::size_t s = 0; s < k.edges.v.size(); ++s) {
-    if (!k.edges.in_complex[s]) continue;
-    const int a = k.edges.v[s][0], b = k.edges.v[s][1];
-    edge_slot[s] = static_cast<int>(pairs.size());
-    pairs.push_back(detail::pair_geometry(centre(a), radius(a), centre(b), radius(b)));
-    const detail::PairGeometry& g = pairs.back();
-    add(detail::pair_measure(g, radius(a), radius(b)), -1);
-    edges_.push_back({k.ball_of[a], k.ball_of[b]});
-    if (!k.edges.coface_in_complex[s]) {
-      const Eigen::Vector3d u = (centre(b) - centre(a)) / g.d;
-      EdgeCircle circle;
-      circle.center = (centre(a) + g.a[0] * u) * unscale;
-      circle.normal = u;
-      circle.radius = std::sqrt(g.rho2) * unscale;
-      circle.balls = {k.ball_of[a], k.ball_of[b]};
-      lone_circles_.push_back(circle);
-    }
-  }
-
-  std::vector<int> tri_slot(k.tris.v.size(), -1);
-  std::vector<detail::TripleGeometry> triples;
-  for (std::size_t s = 0; s < k.tris.v.size(); ++s) {
-    if (!k.tris.in_complex[s]) continue;
-    const std::array<int, 3>& t = k.tris.v[s];
-    const Eigen::Vector3d c[3] = {centre(t[0]), centre(t[1]), centre(t[2])};
-    const double r[3] = {radius(t[0]), radius(t[1]), radius(t[2])};
-    const detail::PairGeometry* e[3];
-    for (int q = 0; q < 3; ++q) {
-      const int slot = edge_slot[k.tris.face[s][q]];
-      MEDSPHERES_ASSERT(slot >= 0);
-      e[q] = &pairs[slot];
-    }
-    detail::TriplePoints points;
-    tri_slot[s] = static_cast<int>(triples.size());
-    triples.push_back(detail::triple_geometry(c, r, e, &points));
-    add(detail::triple_measure(triples.back(), r, e), 1);
-    const std::array<int, 3> triple{k.ball_of[t[0]], k.ball_of[t[1]], k.ball_of[t[2]]};
-    triangles_.push_back(triple);
-
-    // v-points: z + t n and z - t n, unless strictly inside the ball u of a tetrahedron
-    // T = (t, u) of the triangulation. Let w be the position of T's power centre on the
-    // line z + tau n, measured towards c_u: sign(w) is the attachment test of (t, u), and
-    // rho_T = w^2 - t^2. On u's side of w, pi_u < pi_t. The triangle is in K, so its dual
-    // edge, which the regularity of the other tetrahedron bounds on the far side, reaches
-    // [-t, t]: w >= -t, and the point on the far side of u is never inside B_u. The point
-    // on u's side is inside iff t > w: iff rho_T < 0, or rho_T = 0 and w < 0 (w = -t).
-    // And rho_T < 0 makes the triangle's own power radius negative: two distinct points.
-    bool inside[2] = {false, false};  // [0]: z + t n, [1]: z - t n
-    bool may_touch = true;            // the three spheres may touch in a single point
-    if (dim == 3) {
-      for (const int tet : k.tri_cofaces[s]) {
-        if (tet < 0) continue;
-        int q = 0;
-        while (k.tets.face[tet][q] != static_cast<int>(s)) ++q;
-        const int u = k.tets.v[tet][q];
-        // orientation(t0, t1, t2, u): move u from position q to the end.
-        const bool plus_side = k.tet_orient[tet] * ((3 - q) % 2 == 0 ? 1 : -1) > 0;
-        const int rho_t = k.top_sign[tet];
-        MEDSPHERES_ASSERT(rho_t <= 0 || !pred.attaches(t, u));
-        const bool covered = rho_t < 0 || (rho_t == 0 && pred.attaches(t, u));
-        inside[plus_side ? 0 : 1] = inside[plus_side ? 0 : 1] || covered;
-        may_touch = may_touch && rho_t >= 0;
-      }
-    }
-    const bool single =
-        may_touch && (dim == 3 ? static_cast<int>(pred.radius_sign(t)) : k.top_sign[s]) == 0;
-    const double tt = single ? 0.0 : triples.back().t;
-    for (int side = 0; side < (single ? 1 : 2); ++side) {
-      if (inside[side]) continue;
-      VPoint v;
-      v.position = (points.z + (side == 0 ? tt : -tt) * points.n) * unscale;
-      v.balls = triple;
-      v_points_.push_back(v);
-    }
-  }
-
-  for (std::size_t s = 0; s < k.tets.v.size(); ++s) {
-    if (!k.tets.in_complex[s]) continue;
-    const std::array<int, 4>& t = k.tets.v[s];
-    Eigen::Vector3d c[4];
-    double r[4];
-    for (int q = 0; q < 4; ++q) {
-      c[q] = centre(t[q]);
-      r[q] = radius(t[q]);
-    }
-    const detail::TripleGeometry* f[4];
-    for (int x = 0; x < 4; ++x) {
-      const int slot = tri_slot[k.tets.face[s][x]];
-      MEDSPHERES_ASSERT(slot >= 0);
-      f[x] = &triples[slot];
-    }
-    const detail::PairGeometry* e[4][4] = {};
-    for (int a = 0; a < 4; ++a) {
-      for (int b = a + 1; b < 4; ++b) {
-        const int x = (a != 0 && b != 0) ? 0 : (a != 1 && b != 1) ? 1 : 2;  // a face with a, b
-        const int la = a - (a > x ? 1 : 0), lb = b - (b > x ? 1 : 0);
-        const int slot = edge_slot[k.tris.face[k.tets.face[s][x]][3 - la - lb]];
-        MEDSPHERES_ASSERT(slot >= 0);
-        e[a][b] = &pairs[slot];
-      }
-    }
-    add(detail::quadruple_measure(c, r, e, f), -1);
-    tetrahedra_.push_back({k.ball_of[t[0]], k.ball_of[t[1]], k.ball_of[t[2]], k.ball_of[t[3]]});
-  }
-
-  std::sort(hidden.begin(), hidden.end());
-  measures_.hidden = std::move(hidden);
-  measures_.volume = std::ldexp(volume.value(), 3 * p.exponent);
-  measures_.area = std::ldexp(area.value(), 2 * p.exponent);
+  std::sort(sum.hidden.begin(), sum.hidden.end());
+  measures_.hidden = std::move(sum.hidden);
+  measures_.volume = sum.volume();
+  measures_.area = sum.area();
   measures_.vertices = vertices_.size();
   measures_.edges = edges_.size();
   measures_.triangles = triangles_.size();

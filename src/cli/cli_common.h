@@ -7,6 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "medspheres/error.h"
+
 namespace medspheres::cli {
 
 /// Exit codes: 0 ok, 2 bad usage or bad input, 1 any other failure.
@@ -40,6 +42,19 @@ class ProgressBar {
 
 /// True when stderr is a terminal (progress bars are drawn only then).
 bool stderr_is_terminal();
+
+/// The flag of a library field: "max_spheres" is --max-spheres.
+std::string flag_of(std::string field);
+
+/// The CLI's wording of a library error: fields (and the related fields the problem
+/// names) as flags.
+std::string message_of(const InputError& e);
+
+/// The exit code of an input error of \p kind.
+int exit_code_of(ErrorKind kind);
+
+/// Prints \p e as the CLI words it on stderr; returns its exit code.
+int report_input_error(const InputError& e);
 
 /// Formats a double for humans: up to \p digits significant digits.
 std::string fmt(double v, int digits = 6);

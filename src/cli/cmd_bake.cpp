@@ -1,22 +1,15 @@
 // medspheres bake MESH: medial spheres of a mesh, written as a sphere-set file.
-#include <algorithm>
-#include <cmath>
 #include <cstdint>
 #include <filesystem>
 #include <iostream>
-#include <limits>
 #include <optional>
 #include <string>
 #include <vector>
 
 #include "cli_common.h"
-#include "medspheres/bake/bake.h"
-#include "medspheres/bake/bake_metadata.h"
-#include "medspheres/bake/dilate.h"
+#include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
-#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/io.h"
-#include "medspheres/mesh/mesh_io.h"
 
 namespace medspheres::cli {
 
@@ -31,128 +24,52 @@ struct BakeArgs {
   std::optional<int> max_spheres;
   std::optional<double> target_error;
   bool dilate = false;
-  // Lengths: a number in the mesh's units, or a number followed by L (see Length).
+  // Lengths: a number in the mesh's units, or a number followed by L (parse_length).
   std::optional<std::string> vertex_tolerance;
   std::optional<std::string> max_protrusion;
   std::optional<std::string> cover;
-  std::uint64_t seed = DilateOptions{}.seed;
+  std::uint64_t seed = BakeRequest{}.seed;
   int threads = 0;
   bool quiet = false;
 };
-
-// A length option: a number in the mesh's units, or a number followed by "L", a multiple
-// of the largest side of the mesh's bounding box (0.003L is 0.3% of it).
-struct Length {
-  double value = 0.0;
-  bool relative = false;
-  double in(double longest) const { return relative ? value * longest : value; }
-};
-
-// \p text as a Length that satisfies \p ok (described by \p range), or InputError naming
-// \p flag.
-Length parse_length(const std::string& text, const char* flag, bool (*ok)(double),
-                    const char* range) {
-  Length l;
-  std::string number = text;
-  if (!number.empty() && (number.back() == 'L' || number.back() == 'l')) {
-    l.relative = true;
-    number.pop_back();
-  }
-  std::size_t used = 0;
-  try {
-    l.value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (number.empty() || used != number.size() || !ok(l.value))
-    throw InputError(flag, std::string("must be ") + range +
-                               ": a length in the mesh's units, or a multiple of the bounding "
-                               "box's largest side written with an L (0.003L), got '" +
-                               text + "'");
-  return l;
-}
-
-bool positive(double x) {
-  return x > 0.0 && std::isfinite(x);
-}
-bool non_negative(double x) {
-  return x >= 0.0 && std::isfinite(x);
-}
-
-// The dilation options, checked before any work is done; lengths are set once the mesh's
-// box is known (resolve_lengths).
-struct Dilation {
-  DilateOptions options;
-  std::optional<Length> vertex_tolerance, max_protrusion, cover;
-
-  void resolve_lengths(double longest) {
-    if (vertex_tolerance) options.vertex_tolerance = vertex_tolerance->in(longest);
-    if (max_protrusion) options.max_protrusion = max_protrusion->in(longest);
-    if (cover) options.cover_tolerance = cover->in(longest);
-  }
-};
-
-std::optional<Dilation> dilation_options(const BakeArgs& a) {
-  if (!a.dilate && !a.cover) {
-    if (a.vertex_tolerance)
-      throw InputError("--vertex-tolerance", "applies only with --dilate or --cover");
-    if (a.max_protrusion)
-      throw InputError("--max-protrusion", "applies only with --dilate or --cover");
-    return std::nullopt;
-  }
-  Dilation d;
-  d.options.seed = a.seed;
-  d.options.threads = a.threads;
-  if (a.vertex_tolerance)
-    d.vertex_tolerance =
-        parse_length(*a.vertex_tolerance, "--vertex-tolerance", positive, "a finite length > 0");
-  if (a.max_protrusion)
-    d.max_protrusion =
-        parse_length(*a.max_protrusion, "--max-protrusion", non_negative, "a finite length >= 0");
-  if (a.cover) d.cover = parse_length(*a.cover, "--cover", positive, "a finite length > 0");
-  return d;
-}
 
 std::string default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + ".spheres.json";
 }
 
-// The flag of a BakeOptions field: "object_angle" is --object-angle.
-std::string flag_of(std::string field) {
-  std::replace(field.begin(), field.end(), '_', '-');
-  return "--" + field;
+// The length option \p field, parsed.
+std::optional<Length> length_option(const std::optional<std::string>& text, const char* field) {
+  if (!text) return std::nullopt;
+  try {
+    return parse_length(*text);
+  } catch (const InputError& e) {
+    throw e.with_field(field);
+  }
 }
 
-// The numeric options whose range does not depend on the mesh. The library's
-// bake_options_problem holds the ranges of BakeOptions; the CLI names its flags.
-BakeOptions bake_options(const BakeArgs& a) {
-  BakeOptions o;
-  o.resolution = a.resolution;
-  o.object_angle = a.object_angle;
-  o.medial_tolerance = a.medial_tolerance;
-  o.threads = a.threads;
-  if (const std::optional<OptionProblem> p = bake_options_problem(o))
-    throw InputError(flag_of(p->option), p->problem);
-  if (a.max_spheres && *a.max_spheres < 1)
-    throw InputError("--max-spheres", "must be >= 1, got " + std::to_string(*a.max_spheres));
-  if (a.target_error && !(*a.target_error > 0.0 && *a.target_error < 1.0))
-    throw InputError("--target-error", "must be in (0, 1), got " + fmt(*a.target_error));
-  return o;
-}
-
-// An explicit --medial-tolerance against the mesh's box: at least 1e-9 L, below the cell
-// of the finest resolution that will be baked.
-void check_medial_tolerance(const BakeArgs& a, const MeshReport& report) {
-  const bool search = a.max_spheres || a.target_error;
-  const int finest = search ? kMaxSearchResolution : a.resolution;
-  const double longest = report.largest_side();
-  const std::optional<std::string> problem =
-      medial_tolerance_problem(a.medial_tolerance, longest, finest);
-  if (!problem) return;
-  const std::string where =
-      search ? a.mesh + " (a search may bake up to resolution " + std::to_string(finest) + ")"
-             : a.mesh;
-  throw InputError("--medial-tolerance", "for " + where + ", " + *problem);
+// The flags as a request, validated: nonsense is reported before any work is done.
+BakeRequest bake_request(const BakeArgs& a) {
+  BakeRequest r;
+  r.medial.resolution = a.resolution;
+  r.medial.object_angle = a.object_angle;
+  r.medial.medial_tolerance = a.medial_tolerance;
+  r.medial.threads = a.threads;
+  if (a.max_spheres) {
+    // A negative budget has no size_t; it is out of range as 0 is.
+    if (*a.max_spheres < 0)
+      throw InputError::option(ErrorKind::kOutOfRange, "max_spheres",
+                               std::to_string(*a.max_spheres),
+                               "must be >= 1, got " + std::to_string(*a.max_spheres));
+    r.max_spheres = static_cast<std::size_t>(*a.max_spheres);
+  }
+  r.target_error = a.target_error;
+  r.dilate = a.dilate;
+  r.vertex_tolerance = length_option(a.vertex_tolerance, "vertex_tolerance");
+  r.max_protrusion = length_option(a.max_protrusion, "max_protrusion");
+  r.cover = length_option(a.cover, "cover");
+  r.seed = a.seed;
+  validate(r);
+  return r;
 }
 
 // What the summary says of a nerr of this kind.
@@ -187,159 +104,92 @@ std::string mesh_description(const MeshReport& report, std::size_t self_intersec
   return out + ": baked against its winding-number solid";
 }
 
+// The dilation line of the summary, and the protrusion of S+.
+void print_dilation(const BakeOutcome& o) {
+  const DilateStats& d = *o.record.dilation_stats;
+  std::cout << "  dilated       " << o.spheres.size() << " spheres: " << d.grown
+            << " grown (by up to " << fmt(d.max_growth, 4) << "), " << d.added_vertex
+            << " added at vertices";
+  if (o.record.dilation_options->cover_tolerance >= 0.0)
+    std::cout << ", " << d.added_cover << " added in " << d.cover_rounds << " cover round(s); "
+              << "uncovered " << fmt(d.uncovered_max, 4)
+              << (d.cover_reached ? " (within --cover)" : " (caps reached before --cover)");
+  std::cout << ", " << fmt(d.seconds, 3) << " s\n";
+  if (o.volume)
+    std::cout << "  protrusion    " << fmt(o.volume->max_protrusion, 4)
+              << " (the most a sphere sticks out of the solid)\n";
+}
+
+void print_summary(const BakeArgs& args, const std::string& out, const BakeOutcome& o) {
+  const BakeStats& s = o.medial.stats;
+  const BakeRecord& record = o.record;
+  const std::string& mode = record.mode;
+  const double target = record.mode_target;
+  std::cout << "baked " << args.mesh << " -> " << out << "\n"
+            << "  mesh          " << record.source.report.triangles << " triangles, "
+            << mesh_description(record.source.report, o.self_intersecting_pairs) << "\n"
+            << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
+            << " x " << s.grid[2] << ", cell " << fmt(s.cell_size, 4) << ")";
+  if (mode != "resolution")
+    std::cout << ", chosen for " << mode << " " << fmt(target) << " among " << s.search.size()
+              << " resolutions baked";
+  // The set the error target was measured on: S_D when dilated, else the one written.
+  const std::optional<VolumeError>& measured = o.internal ? o.internal : o.volume;
+  if (mode == "target_error" && measured && measured->kind == NerrKind::kApproximate)
+    std::cout << " (by an approximate nerr: the mesh intersects itself)";
+  std::cout << "\n"
+            << "  spheres       " << s.spheres << ", radius " << fmt(s.min_radius, 4) << " .. "
+            << fmt(s.max_radius, 4) << "\n";
+  if (record.dilation_stats) print_dilation(o);
+  if (o.internal)
+    std::cout << "  internal S_D  nerr " << fmt(o.internal->nerr, 4) << " ("
+              << nerr_note(o.internal->kind) << ")"
+              << (mode == "target_error"
+                      ? ": --target-error " + fmt(target) +
+                            " was met by this internal set; the written S+ is measured below"
+                      : std::string())
+              << "\n";
+  if (o.volume) {
+    std::cout << "  volume        " << (o.internal ? "S+: " : "") << "union "
+              << fmt(o.volume->union_measures.volume, 6) << " of mesh "
+              << fmt(*o.volume->mesh_volume, 6) << ", nerr " << fmt(o.volume->nerr, 4) << " ("
+              << nerr_note(o.volume->kind) << ")\n";
+  } else {
+    std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
+  }
+  std::cout << "  work          " << s.closest_point_queries << " closest-point and "
+            << s.winding_queries << " winding-number queries, " << fmt(s.seconds, 3) << " s";
+  if (mode != "resolution") std::cout << " (the whole search: " << fmt(s.total_seconds, 3) << " s)";
+  std::cout << "\n";
+}
+
 int run_bake(const BakeArgs& args) {
-  // Options first: nonsense is reported before any work is done, and so is an output
-  // path that cannot be written.
-  BakeOptions options = bake_options(args);
-  std::optional<Dilation> dilation = dilation_options(args);
+  // Options first, then the output path: both are reported before any work is done.
+  BakeRequest request = bake_request(args);
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_output_path(out);
 
-  const LoadedMesh loaded = load_mesh(args.mesh);
-  if (!args.quiet)
-    for (const std::string& w : loaded.warnings)
-      std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
-  check_medial_tolerance(args, loaded.report);
-  if (dilation) dilation->resolve_lengths(loaded.report.largest_side());
-  // Orients (a no-op after the loader), builds the mesh query and computes the volume.
-  const FitEvaluator fit(loaded.mesh, args.threads);
-  if (args.target_error && !fit.volume())
-    throw InputError("--target-error", args.mesh +
-                                           " is not a closed, outward-wound mesh, so its "
-                                           "volume and the error are not defined");
-
   ProgressBar bar(!args.quiet);
-  options.progress = [&bar](const std::string& stage, std::size_t done, std::size_t total) {
+  request.medial.progress = [&bar](const std::string& stage, std::size_t done, std::size_t total) {
     bar.update(stage, done, total);
   };
-  const MeshQuery& query = fit.query();
-  auto nerr_of = [&](const SphereSet& s) { return fit.volume_error(s.spheres, args.threads).nerr; };
-
-  std::string mode = "resolution";
-  double target = 0.0;
-  BakeResult result;
+  std::vector<std::string> warnings;
+  auto warn = [&] {
+    bar.finish();
+    if (!args.quiet)
+      for (const std::string& w : warnings)
+        std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
+  };
+  BakeOutcome outcome;
   try {
-    if (args.max_spheres) {
-      mode = "max_spheres";
-      target = *args.max_spheres;
-      result = bake_max_spheres(query, static_cast<std::size_t>(*args.max_spheres), options);
-    } else if (args.target_error) {
-      mode = "target_error";
-      target = *args.target_error;
-      result = bake_target_error(query, *args.target_error, nerr_of, options);
-    } else {
-      result = bake(query, options);
-    }
-  } catch (const InputError& e) {
-    // The library speaks of "the mesh"; the user knows it by its file name. A search that
-    // finds no resolution for its option names the option and the mesh.
-    if (e.source() == "mesh") throw InputError(args.mesh, e.problem());
-    if (e.source() == "--max-spheres" || e.source() == "--target-error")
-      throw InputError(e.source(), "for " + args.mesh + ", " + e.problem());
+    outcome = bake_file(args.mesh, request, &warnings);
+  } catch (const std::exception&) {
+    warn();  // the loader's warnings may explain the failure
     throw;
   }
-  bar.finish();
-  if (result.spheres.empty())
-    throw InputError(args.mesh, "no medial sphere was found at resolution " +
-                                    std::to_string(result.stats.resolution) +
-                                    " with object angle " + fmt(args.object_angle) +
-                                    "; try a higher --resolution or a smaller --object-angle");
-
-  BakeRecord record;
-  record.source = {args.mesh, file_sha256(args.mesh), loaded.report};
-  record.options = options;
-  record.stats = result.stats;
-  record.mode = mode;
-  record.mode_target = target;
-  SphereSet output = result.spheres;
-  std::optional<VolumeError> internal;  // S_D's, when dilated
-  if (dilation) {
-    if (fit.volume()) internal = fit.volume_error(result.spheres.spheres, args.threads);
-    const DilateResult dilated = dilate(query, result.spheres, dilation->options);
-    output = dilated.spheres;
-    record.dilation_options = dilation->options;
-    record.dilation_stats = dilated.stats;
-    double lo = output.spheres.front().radius, hi = lo;
-    for (const Sphere& sp : output.spheres) {
-      lo = std::min(lo, sp.radius);
-      hi = std::max(hi, sp.radius);
-    }
-    record.extra_stats["min_radius"] = lo;
-    record.extra_stats["max_radius"] = hi;
-  }
-  std::optional<VolumeError> volume;
-  if (fit.volume()) {
-    volume = fit.volume_error(output.spheres, args.threads);
-    record.extra_stats["nerr"] = volume->nerr;
-    record.extra_stats["mesh_volume"] = *fit.volume();
-    record.extra_stats["union_volume"] = volume->union_measures.volume;
-    record.extra_stats["max_protrusion"] = volume->max_protrusion;
-    record.extra_strings["nerr_kind"] = to_string(volume->kind);
-  } else {
-    // Written as null: the volume of an open mesh, and so nerr, is not defined.
-    record.extra_stats["nerr"] = std::numeric_limits<double>::quiet_NaN();
-    record.extra_strings["nerr_kind"] = to_string(NerrKind::kUndefined);
-  }
-  if (internal) {
-    // The internal set S_D, before dilation: what --target-error was met by.
-    record.extra_stats["nerr_internal"] = internal->nerr;
-    record.extra_strings["nerr_internal_kind"] = to_string(internal->kind);
-  }
-  output.metadata_json = bake_metadata_json(record);
-  save_sphere_set(output, out);
-
-  if (!args.quiet) {
-    const BakeStats& s = result.stats;
-    std::cout << "baked " << args.mesh << " -> " << out << "\n"
-              << "  mesh          " << loaded.report.triangles << " triangles, "
-              << mesh_description(loaded.report, fit.self_intersections().count()) << "\n"
-              << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
-              << " x " << s.grid[2] << ", cell " << fmt(s.cell_size, 4) << ")";
-    if (mode != "resolution")
-      std::cout << ", chosen for " << mode << " " << fmt(target) << " among " << s.search.size()
-                << " resolutions baked";
-    // The set the error target was measured on: S_D when dilated, else the one written.
-    const std::optional<VolumeError>& measured = internal ? internal : volume;
-    if (mode == "target_error" && measured && measured->kind == NerrKind::kApproximate)
-      std::cout << " (by an approximate nerr: the mesh intersects itself)";
-    std::cout << "\n"
-              << "  spheres       " << s.spheres << ", radius " << fmt(s.min_radius, 4) << " .. "
-              << fmt(s.max_radius, 4) << "\n";
-    if (record.dilation_stats) {
-      const DilateStats& d = *record.dilation_stats;
-      std::cout << "  dilated       " << output.size() << " spheres: " << d.grown
-                << " grown (by up to " << fmt(d.max_growth, 4) << "), " << d.added_vertex
-                << " added at vertices";
-      if (dilation->options.cover_tolerance >= 0.0)
-        std::cout << ", " << d.added_cover << " added in " << d.cover_rounds << " cover round(s); "
-                  << "uncovered " << fmt(d.uncovered_max, 4)
-                  << (d.cover_reached ? " (within --cover)" : " (caps reached before --cover)");
-      std::cout << ", " << fmt(d.seconds, 3) << " s\n";
-      if (volume)
-        std::cout << "  protrusion    " << fmt(volume->max_protrusion, 4)
-                  << " (the most a sphere sticks out of the solid)\n";
-    }
-    if (internal)
-      std::cout << "  internal S_D  nerr " << fmt(internal->nerr, 4) << " ("
-                << nerr_note(internal->kind) << ")"
-                << (mode == "target_error"
-                        ? ": --target-error " + fmt(target) +
-                              " was met by this internal set; the written S+ is measured below"
-                        : std::string())
-                << "\n";
-    if (volume) {
-      std::cout << "  volume        " << (internal ? "S+: " : "") << "union "
-                << fmt(volume->union_measures.volume, 6) << " of mesh " << fmt(*fit.volume(), 6)
-                << ", nerr " << fmt(volume->nerr, 4) << " (" << nerr_note(volume->kind) << ")\n";
-    } else {
-      std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
-    }
-    std::cout << "  work          " << s.closest_point_queries << " closest-point and "
-              << s.winding_queries << " winding-number queries, " << fmt(s.seconds, 3) << " s";
-    if (mode != "resolution")
-      std::cout << " (the whole search: " << fmt(s.total_seconds, 3) << " s)";
-    std::cout << "\n";
-  }
+  warn();
+  save_sphere_set(outcome.spheres, out);
+  if (!args.quiet) print_summary(args, out, outcome);
   return kExitOk;
 }
 

@@ -8,8 +8,8 @@
 
 #include "cli_common.h"
 #include "cmd_eval_robot.h"
-#include "medspheres/error.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/threads.h"
@@ -153,13 +153,17 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
 
 int run_eval(const EvalArgs& args) {
   // Options first: nonsense is reported before any work is done.
+  auto out_of_range = [](const char* field, const std::string& value, std::string problem) {
+    return InputError::option(ErrorKind::kOutOfRange, field, value, std::move(problem));
+  };
   if (args.samples < 1)
-    throw InputError("--samples", "must be >= 1, got " + std::to_string(args.samples));
+    throw out_of_range("samples", std::to_string(args.samples),
+                       "must be >= 1, got " + std::to_string(args.samples));
   if (args.surface_samples < 1)
-    throw InputError("--surface-samples",
-                     "must be >= 1, got " + std::to_string(args.surface_samples));
-  if (const std::string problem = threads_problem(args.threads); !problem.empty())
-    throw InputError("--threads", problem);
+    throw out_of_range("surface_samples", std::to_string(args.surface_samples),
+                       "must be >= 1, got " + std::to_string(args.surface_samples));
+  if (std::string problem = threads_problem(args.threads); !problem.empty())
+    throw out_of_range("threads", std::to_string(args.threads), std::move(problem));
   FitOptions options;
   options.volume_samples = static_cast<std::size_t>(args.samples);
   options.surface_samples = static_cast<std::size_t>(args.surface_samples);
@@ -175,7 +179,7 @@ int run_eval(const EvalArgs& args) {
     report = FitEvaluator(loaded.mesh, options.threads).evaluate(set.spheres, options);
   } catch (const InputError& e) {
     // The library speaks of "the sphere set"; the user knows it by its file name.
-    if (e.source() == "sphere set") throw InputError(args.spheres, e.problem());
+    if (e.file() == "sphere set") throw e.with_file(args.spheres);
     throw;
   }
   std::vector<std::string> warnings;

@@ -46,8 +46,7 @@ int main(int argc, char** argv) {
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;
   } catch (const medspheres::InputError& e) {
-    std::cerr << "medspheres: error: " << e.what() << "\n";
-    return kExitBadInput;
+    return report_input_error(e);
   } catch (const std::invalid_argument& e) {
     std::cerr << "medspheres: error: " << e.what() << "\n";
     return kExitBadInput;

@@ -190,26 +190,31 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   // can have side effects.
   struct stat st {};
   if (::stat(path.c_str(), &st) != 0) {
-    if (errno == ENOENT || errno == ENOTDIR) throw InputError(path, "no such file");
-    throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+    if (errno == ENOENT || errno == ENOTDIR)
+      throw InputError(ErrorKind::kFileMissing, path, "no such file");
+    throw InputError(ErrorKind::kFileUnreadable, path,
+                     std::string("cannot open for reading: ") + std::strerror(errno));
   }
-  if (S_ISDIR(st.st_mode)) throw InputError(path, "is a directory, not a mesh file");
+  if (S_ISDIR(st.st_mode))
+    throw InputError(ErrorKind::kFileUnreadable, path, "is a directory, not a mesh file");
   if (!S_ISREG(st.st_mode))
-    throw InputError(path,
+    throw InputError(ErrorKind::kFileUnreadable, path,
                      "is not a regular file (a FIFO, device or socket cannot be read as "
                      "a mesh)");
   {
     std::ifstream probe(path, std::ios::binary);
     if (!probe)
-      throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+      throw InputError(ErrorKind::kFileUnreadable, path,
+                       std::string("cannot open for reading: ") + std::strerror(errno));
   }
   if (st.st_size == 0) throw InputError(path, "the file is empty");
 
   const std::string ext = lower_extension(path);
   if (ext.empty() || !Assimp::Importer().IsExtensionSupported(ext)) {
-    throw InputError(path, "unsupported mesh format '" + ext +
-                               "' (use STL, OBJ, PLY, OFF, DAE, glTF/GLB or another format "
-                               "assimp reads)");
+    throw InputError(ErrorKind::kUnsupported, path,
+                     "unsupported mesh format '" + ext +
+                         "' (use STL, OBJ, PLY, OFF, DAE, glTF/GLB or another format "
+                         "assimp reads)");
   }
 
   // In this process, also for the isolated import: the child should do no more than

@@ -418,7 +418,8 @@ std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh) {
 }
 
 void check_mesh_usable(const TriangleMesh& mesh, const std::string& source) {
-  if (mesh.triangles.empty()) throw InputError(source, "the mesh has no triangles");
+  if (mesh.triangles.empty())
+    throw InputError(ErrorKind::kNoInterior, source, "the mesh has no triangles");
   for (std::size_t v = 0; v < mesh.vertices.size(); ++v) {
     if (!mesh.vertices[v].allFinite()) {
       std::ostringstream msg;

@@ -116,14 +116,16 @@ std::string sha256_hex(const std::string& bytes) {
 
 std::string file_sha256(const std::string& path) {
   std::FILE* f = std::fopen(path.c_str(), "rb");
-  if (!f) throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+  if (!f)
+    throw InputError(ErrorKind::kFileUnreadable, path,
+                     std::string("cannot open for reading: ") + std::strerror(errno));
   Sha256 h;
   unsigned char buf[1 << 16];
   std::size_t n;
   while ((n = std::fread(buf, 1, sizeof buf, f)) > 0) h.update(buf, n);
   const bool bad = std::ferror(f) != 0;
   std::fclose(f);
-  if (bad) throw InputError(path, "read error");
+  if (bad) throw InputError(ErrorKind::kFileUnreadable, path, "read error");
   return h.hex();
 }
 

@@ -20,13 +20,17 @@ using Json = nlohmann::ordered_json;
 
 std::string read_text_file(const std::string& path) {
   std::error_code ec;
-  if (!std::filesystem::exists(path, ec)) throw InputError(path, "no such file");
-  if (std::filesystem::is_directory(path, ec)) throw InputError(path, "is a directory, not a file");
+  if (!std::filesystem::exists(path, ec))
+    throw InputError(ErrorKind::kFileMissing, path, "no such file");
+  if (std::filesystem::is_directory(path, ec))
+    throw InputError(ErrorKind::kFileUnreadable, path, "is a directory, not a file");
   std::ifstream in(path, std::ios::binary);
-  if (!in) throw InputError(path, std::string("cannot open for reading: ") + std::strerror(errno));
+  if (!in)
+    throw InputError(ErrorKind::kFileUnreadable, path,
+                     std::string("cannot open for reading: ") + std::strerror(errno));
   std::ostringstream buf;
   buf << in.rdbuf();
-  if (in.bad()) throw InputError(path, "read error");
+  if (in.bad()) throw InputError(ErrorKind::kFileUnreadable, path, "read error");
   return buf.str();
 }
 
@@ -62,9 +66,10 @@ SphereSet parse_sphere_set(const std::string& json_text, const std::string& sour
       throw InputError(source, "\"version\" is " + it->dump() + ", expected an integer");
     const auto v = it->get<long long>();
     if (v < 1 || v > kSphereSetVersion)
-      throw InputError(source, "sphere-set file version " + std::to_string(v) +
-                                   " is not supported (this build reads version 1 to " +
-                                   std::to_string(kSphereSetVersion) + ")");
+      throw InputError(ErrorKind::kUnsupported, source,
+                       "sphere-set file version " + std::to_string(v) +
+                           " is not supported (this build reads version 1 to " +
+                           std::to_string(kSphereSetVersion) + ")");
   }
 
   auto it = doc.find("spheres");
@@ -155,7 +160,8 @@ fs::path resolve_links(const std::string& path) {
     if (ec) throw Error(path + ": cannot write: cannot read the symbolic link: " + ec.message());
     p = target.is_absolute() ? target : p.parent_path() / target;
   }
-  throw InputError(path, "cannot write: too many levels of symbolic links");
+  throw InputError(ErrorKind::kWriteFailed, path,
+                   "cannot write: too many levels of symbolic links");
 }
 
 // The directory a new file at \p p goes into.
@@ -196,15 +202,18 @@ fs::file_status status_for_writing(const std::string& path, const fs::path& p) {
     return st;
   const std::string problem = "cannot write: cannot look up " + p.string() + ": " + ec.message();
   if (ec == std::errc::too_many_symbolic_link_levels || ec == std::errc::filename_too_long)
-    throw InputError(path, problem);
+    throw InputError(ErrorKind::kWriteFailed, path, problem);
   throw Error(path + ": " + problem);
 }
 
 // Throws unless the directory \p dir of \p path exists and is a directory.
 void check_directory(const std::string& path, const fs::path& dir) {
   const fs::file_status ds = status_for_writing(path, dir);
-  if (!fs::exists(ds)) throw InputError(path, "directory " + dir.string() + " does not exist");
-  if (!fs::is_directory(ds)) throw InputError(path, dir.string() + " is not a directory");
+  if (!fs::exists(ds))
+    throw InputError(ErrorKind::kWriteFailed, path,
+                     "directory " + dir.string() + " does not exist");
+  if (!fs::is_directory(ds))
+    throw InputError(ErrorKind::kWriteFailed, path, dir.string() + " is not a directory");
 }
 
 // The permission bits a new file gets: 0666 less the process's umask, read from
@@ -239,7 +248,8 @@ void write_in_place(const std::string& path, const fs::path& target, const std::
 void check_output_path(const std::string& path) {
   const fs::path target = resolve_links(path);
   const fs::file_status st = status_for_writing(path, target);
-  if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
+  if (fs::is_directory(st))
+    throw InputError(ErrorKind::kWriteFailed, path, "is a directory, not a file");
   if (fs::exists(st)) {
     if (!fs::is_regular_file(st)) {
       if (::access(target.c_str(), W_OK) != 0)
@@ -256,7 +266,8 @@ void check_output_path(const std::string& path) {
 void write_file_atomically(const std::string& path, const std::string& contents) {
   const fs::path target = resolve_links(path);
   const fs::file_status st = status_for_writing(path, target);
-  if (fs::is_directory(st)) throw InputError(path, "is a directory, not a file");
+  if (fs::is_directory(st))
+    throw InputError(ErrorKind::kWriteFailed, path, "is a directory, not a file");
   if (fs::exists(st) && !fs::is_regular_file(st)) {
     write_in_place(path, target, contents);
     return;

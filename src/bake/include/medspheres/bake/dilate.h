@@ -1,43 +1,17 @@
 #pragma once
 /// \file
-/// Conservative dilation (Stolpner, Kry and Siddiqi, section 5.1): grow and add spheres
-/// so that a set of internal medial spheres S_D hugs the surface of the solid, giving
-/// S+. Distance queries between objects need S+: the union of internal spheres lies
-/// inside the object, so distances between such unions are too large.
+/// Conservative dilation (Stolpner, Kry and Siddiqi, section 5.1): grow and add spheres so
+/// that a set of internal medial spheres S_D hugs the surface of the solid, giving S+
+/// (distances between unions of internal spheres are too large).
 ///
-/// The steps, on the union's dual complex (union_volume.h):
-/// 1. v-points. For each triangle (i, j, k) of the dual complex, the points where
-///    spheres i, j and k meet on the boundary of the union. For each v-point v, with m
-///    the nearest mesh point to v, every sphere of its triangle grows until it covers m.
-///    Beyond the paper, `max_protrusion` caps this: a sphere grows for m only if, grown,
-///    it would stick out of the solid by at most that much (its radius minus the exact
-///    distance from its centre to the mesh); a point m that no sphere of its triangle
-///    may cover joins the vertices of step 3, which gets a small sphere added there.
-/// 2. Lone edges. For each edge (i, j) of the dual complex in no triangle, two points
-///    drawn at random (seeded) on the circle where spheres i and j meet are treated
-///    like v-points of spheres i and j.
-/// 3. Vertex spheres. Each mesh vertex u (and each point m left by the cap of step 1)
-///    whose nearest point t on the union is farther than `vertex_tolerance` gets a new
-///    sphere with r = |t - u| / 2 centred at
-///    u + r (t - u) / |t - u|, which touches both. Vertices are visited in order of
-///    decreasing distance (ties: lower index), each against the union as it stands, so
-///    a new sphere that covers later vertices spares them theirs. (Candidates are made
-///    64 vertices at a time, in parallel, with t taken on the spheres present before
-///    this step; each is added only if its vertex is still uncovered when its turn
-///    comes, so the result does not depend on the thread count.)
-/// 4. Optional, beyond the paper (`cover_tolerance` >= 0): rounds of fresh surface
-///    samples (area-weighted, plus every vertex), each sample farther than the tolerance
-///    outside the union getting a sphere as in step 3, cap included, that comes within
-///    half the tolerance of it (so that the samples around it are covered too), until a
-///    round finds none or the caps are hit. The largest uncovered distance of the last
-///    round is reported. It bounds the samples of that round only: a denser sampling
-///    finds somewhat larger gaps (bench_dilate measures 10^5 fresh samples).
-///
-/// Spheres only grow or are added: S_D is contained in S+, so every distance between
-/// two sphere sets built this way is at most the distance between their S_D. The order
-/// of S+ is: the spheres of S_D (grown) in their order, then the added spheres in the
-/// order they were added. Deterministic for given input and options, whatever the
-/// thread count.
+/// Spheres only grow or are added: S_D is contained in S+, so every distance between two
+/// sets built this way is at most the distance between their S_D. S+ lists the spheres of
+/// S_D (grown) in their order, then the added spheres in the order added. Spheres are added
+/// at mesh vertices farther than vertex_tolerance from the union; max_protrusion caps how far
+/// a grown or added sphere sticks out of the solid; cover_tolerance >= 0 adds rounds of
+/// surface samples until one finds none farther than it (or a cap is hit).
+/// Frame and units: the mesh's. Deterministic for given input and options, whatever the
+/// thread count. The steps are described in dilate.cpp.
 
 #include <cstddef>
 #include <cstdint>

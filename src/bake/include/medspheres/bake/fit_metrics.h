@@ -1,99 +1,23 @@
 #pragma once
 /// \file
-/// Fit metrics: how well a set of balls S approximates the solid Omega bounded by a
-/// triangle mesh. The paper's normalized volumetric error (section 4.1), exact or a lower
-/// bound, and beyond the paper a Monte-Carlo estimate of the true error that holds for any
-/// set, and how far the mesh surface lies outside the union (what a collision checker
-/// misses).
+/// Fit metrics: how well a set of balls S approximates the solid Omega bounded by a mesh.
+/// The paper's normalized volumetric error nerr (section 4.1), a Monte-Carlo estimate of the
+/// true error with its 95% interval (any mesh, any set), and how far the surface lies outside
+/// the union (what a collision checker misses).
 ///
-/// Frames and units. The mesh and the balls share one frame M and one unit of length.
-/// Lengths are reported in that unit, volumes in units^3, areas in units^2. L denotes the
-/// largest side of the mesh's bounding box.
-///
-/// The solid. The mesh is oriented first (orient_mesh on a copy: consistent winding,
-/// closed components turned outward), so a raw mesh is measured like a loaded one.
-/// - vol(Omega) = V is defined when every component is closed (see mesh_report.h): it is
-///   the sum of the components' divergence-theorem volumes, each positive once oriented,
-///   i.e. the integral of the winding number. That is the volume of the solid when the
-///   surface does not intersect itself and components do not nest; a region inside two
-///   components, or enclosed twice by a surface that passes through itself, is counted
-///   twice (the Monte Carlo below measures how much, and FitReport::warnings says so). The
-///   volume of an open mesh is not defined, and neither is nerr.
-/// - The mesh self-intersects when two of its triangles meet other than at the vertices and
-///   edges they share (self_intersection.h; touching counts). FitEvaluator finds the pairs
-///   once, at construction.
-/// - Inside means a generalized winding number > 0.5 (mesh_query.h). For a closed mesh
-///   this is Omega; for an open one it is the solid its winding number defines, the solid
-///   the baker fills, and the one the Monte-Carlo estimate measures.
-///
-/// Protrusion of a ball (c, r): r - s d, with d the exact distance from c to the mesh and
-/// s = +1 when c is inside, -1 when not (a ball whose centre is outside protrudes by
-/// r + d). For a closed mesh it is <= 0 exactly when the ball lies in the closed solid.
-/// For an open mesh d is the distance to the mesh with its holes capped
-/// (MeshQueryOptions::cap_holes), so that a ball reaching out through a hole protrudes.
-///
-/// nerr (paper section 4.1), with U = vol(S) exact (union_volume.h) and
-/// Err = vol(S \ Omega) + vol(Omega \ S):
-/// - kind "exact" when no protrusion exceeds the tolerance t = kProtrusionTolerance L:
-///   nerr = (V - U) / V. A ball protruding by t_i <= t has its outside part in a shell of
-///   thickness t_i, so 0 <= Err / V - nerr <= nerr_slack = 2 sum_i 4 pi r_i^2 max(t_i, 0)
-///   / V, which VolumeError reports (0 for baked sets: their protrusions are negative);
-/// - kind "lower_bound" otherwise: nerr = |V - U| / V <= Err / V (Lemma 1);
-/// - kind "approximate" when the mesh self-intersects: nerr is the value of the two rules
-///   above, but V may count the regions where parts of the surface overlap as often as they
-///   are covered, so it is neither exact nor a bound (two parts that only touch leave V
-///   exact; the pairs do not tell, the Monte-Carlo multiply covered volume does). A warning
-///   names the number of intersecting pairs;
-/// - kind "undefined" when V is not defined or not positive: nerr is NaN.
-/// The kinds are decided in the order undefined, approximate, exact / lower_bound.
-/// The tolerance: the baker shrinks radii by 1e-12 L + 4 eps (X + L), X the largest
-/// |coordinate| of the box (bake.h), so its spheres protrude by about minus that, give
-/// or take the rounding of the distance (a few ulps of the coordinates).
-/// kProtrusionTolerance = 1e-9 also accepts sets rounded to 12 significant digits (for
-/// coordinates up to about 100 L from the origin); the error it can hide is bounded by
-/// nerr_slack <= 2 t A / V, A the balls' total sphere area, and is reported rather than
-/// assumed.
-///
-/// Monte-Carlo error (any mesh, any set). N points uniform in the box B that bounds both
-/// the mesh and the balls; point i comes from a counter-based generator keyed by the seed
-/// and i, so the points do not depend on the thread count. Each point is classed as in
-/// Omega (winding number > 0.5) and in S (some closed ball). On a closed mesh two cases
-/// need no winding-number query, and get the exact winding number: a point in a ball of
-/// protrusion <= 0 whose centre has winding number 1 (the surface does not cross the
-/// ball), and a point in a cell of a grid over B whose centre is farther from the surface
-/// than the cell's half diagonal (the surface does not cross the cell, so the winding
-/// number, an integer, is the one at the centre; about one cell per 16 points). The
-/// fraction p^ of points in exactly one of Omega and S estimates p = Err / vol(B).
-/// - Closed mesh: estimate vol(B) p^ / V, with the 95% Wilson score interval for p scaled
-///   the same way. Wilson, because p is small (the error is a thin layer of the solid):
-///   the normal-approximation interval p^ +- 1.96 sigma then undercovers and shrinks to a
-///   point when no point is hit, while Wilson's keeps close to 95% coverage for small p
-///   and stays within [0, 1].
-/// - Open mesh: V is not defined, so the error is normalized by the volume of the winding
-///   solid estimated from the same points. The estimate is a ratio of two means; its
-///   interval is the estimate +- 1.96 sigma, sigma from the delta method.
-/// sigma, the standard error of the estimate, is reported with each interval.
-///
-/// Coverage of the surface. sample_surface draws area-weighted points on the mesh (the
-/// same points for a seed) and appends every vertex used by a triangle; point_coverage
-/// gives, for each point, its distance to the union (0 when it lies in a ball). The max is
-/// over samples and vertices; the mean and the 95th percentile are over the area-weighted
-/// samples alone, where they estimate the mean and the percentile over the surface
-/// (vertices crowd where the tessellation is fine, which would bias them).
-///
-/// Determinism. For given inputs and seed every number reported, except the timings, is
-/// bit-identical for every thread count: each point's work is independent, counts are
-/// integers, and sums run in index order.
-///
-/// Errors. An empty ball list, or a ball with a non-finite coordinate, a radius not
-/// finite and > 0 or a bounding box that is not finite (validate_sphere_set), throws
-/// InputError with source "sphere set"; so does, in evaluate(), a set reaching so far
-/// that the box B has no finite volume. Subnormal radii are valid. Options out of range
-/// throw std::invalid_argument naming the option. A mesh without triangles, with non-finite
-/// coordinates or bad indices throws std::invalid_argument (as MeshQuery does).
-///
-/// Thread safety: a FitEvaluator is immutable after construction; its const members may
-/// be called from several threads at once.
+/// Frame and units: the mesh and the balls share frame M and its unit; L is the largest side
+/// of the mesh's bounding box. The mesh is oriented first (on a copy). V = vol(Omega) is
+/// defined when every component is closed; inside means a winding number > 0.5.
+/// Protrusion of a ball (c, r): r - s d, d the exact distance from c to the mesh (holes capped
+/// on an open mesh), s = +1 for c inside and -1 outside.
+/// nerr kinds, decided in this order: undefined (no positive V; nerr NaN), approximate (the
+/// mesh intersects itself), exact (no protrusion above kProtrusionTolerance L; the true
+/// error lies in [nerr, nerr + nerr_slack]), lower_bound (otherwise).
+/// Determinism: every number but the timings is bit-identical for every thread count.
+/// Errors: InputError (source "sphere set") for an empty or invalid set, or one whose box has
+/// no finite volume; std::invalid_argument for options out of range or an unusable mesh.
+/// Thread safety: a FitEvaluator is immutable after construction.
+/// The definitions, the tolerances and the intervals are derived in fit_metrics.cpp.
 
 #include <cstddef>
 #include <cstdint>

@@ -1,47 +1,20 @@
 #pragma once
 /// \file
-/// Exact volume and boundary area of a union of balls (paper §4.2), and the dual complex
-/// of its power-diagram decomposition, which the dilation step (paper §5.1) walks.
+/// Exact volume and boundary area of a union of balls (paper section 4.2), and the dual
+/// complex K of its power-diagram decomposition (the weighted alpha complex at alpha = 0),
+/// which the dilation step walks.
 ///
-/// Method. The balls B_i = (c_i, r_i) are weighted points (c_i, r_i^2). Their regular
-/// triangulation is dual to the power diagram; the dual complex K is the subcomplex of
-/// simplices s whose balls and power cells have a common point,
-/// (B_i n P_i for i in s) != empty, i.e. the weighted alpha complex at alpha = 0
-/// (Edelsbrunner 1995). Then
-///   vol(union) = sum over s in K of (-1)^dim(s) vol(intersection of the balls of s),
-/// and the same alternating sum of the areas of the sphere pieces inside the other balls
-/// of each simplex gives the boundary area. The intersections of two, three and four
-/// balls have closed forms (derived in src/bake/ball_intersection.h).
-///
-/// Frame and units: centres and radii are in the caller's frame and units (frame M, as
-/// in sphere_set.h). Volumes are in units^3, areas in units^2, positions in frame M.
-///
-/// Exactness. Which simplices are in K, which balls are hidden and which triple points
-/// are v-points is decided with exact predicates (CGAL, filtered exact arithmetic) on the
-/// weighted points (c_i, w_i), w_i = r_i^2 rounded to double: exactly, for balls whose
-/// radii differ from the given ones by at most half a unit in the last place. The measures
-/// are then evaluated in double precision by closed forms without case distinctions on
-/// rounded values, so they are continuous in the input, tangent and almost tangent balls
-/// included. The measure of a k-simplex of K has an absolute error of a few
-/// eps (k + 1) 4 pi r^3 (area: r^2), eps = 2^-52 and r its largest radius (the tests
-/// allow 16 times that); against independent integrations of small sets the relative
-/// error of the volume and of the area is near 1e-15.
-///
-/// Degenerate input. Empty input has volume and area 0. A ball with the same centre and
-/// radius as an earlier one is a duplicate: it is dropped and listed in `duplicates`.
-/// A ball that lies in the union of the others (for instance in a single larger ball)
-/// gets no vertex in K, contributes nothing and is listed in `hidden`; one that reaches
-/// the boundary of the union only in a set of measure zero (say, it touches a larger ball
-/// from inside) may keep its vertex, which changes no measure. Collinear and coplanar
-/// centres give a triangulation of dimension 1 or 2, cospherical ones a degenerate one
-/// that CGAL resolves by symbolic perturbation; the formula holds in every case.
-///
-/// Input errors: a non-finite coordinate or a radius that is not finite and > 0 throws
-/// InputError with source "sphere set" and the index of the ball. More than INT_MAX balls
-/// throws std::invalid_argument.
-///
-/// Thread safety: a UnionOfBalls is immutable after construction; its const members may
-/// be called from any number of threads.
+/// Frame and units: the caller's (frame M, as in sphere_set.h); volumes in units^3, areas in
+/// units^2. Which simplices are in K, which balls are hidden and which triple points are
+/// v-points is decided exactly (filtered exact predicates on (c_i, r_i^2 rounded)); the
+/// measures are closed forms in doubles, continuous in the input, each simplex's within a few
+/// eps (k + 1) 4 pi r^3 (area: r^2), r its largest radius.
+/// Degenerate input: no balls give 0; a ball equal to an earlier one is dropped (`duplicates`);
+/// a ball in the union of the others gets no vertex in K (`hidden`); collinear, coplanar and
+/// cospherical centres are handled.
+/// Errors: InputError (source "sphere set", naming the ball) for a non-finite coordinate or a
+/// radius not finite and > 0; std::invalid_argument beyond INT_MAX balls.
+/// Thread safety: a UnionOfBalls is immutable after construction. Method: union_volume.cpp.
 
 #include <array>
 #include <cstddef>

@@ -1,0 +1,225 @@
+#include "medspheres/bake/bake_pipeline.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <utility>
+
+#include "medspheres/bake/dilate.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "number_text.h"
+
+namespace medspheres {
+
+namespace {
+
+InputError request_error(ErrorKind kind, std::string field, std::string value, std::string problem,
+                         std::vector<std::string> related = {}) {
+  return InputError::option(kind, std::move(field), std::move(value), std::move(problem), {},
+                            std::move(related));
+}
+
+std::string length_text(const Length& l) {
+  return number_text(l.value) + (l.relative ? "L" : "");
+}
+
+// A dilation length against its range: > 0, or >= 0 when zero is allowed.
+void check_length(const std::optional<Length>& l, const char* field, bool zero_allowed) {
+  if (!l) return;
+  const bool ok = std::isfinite(l->value) && (zero_allowed ? l->value >= 0.0 : l->value > 0.0);
+  if (!ok)
+    throw request_error(ErrorKind::kOutOfRange, field, length_text(*l),
+                        std::string("must be a finite length ") + (zero_allowed ? ">= 0" : "> 0") +
+                            ", got " + length_text(*l));
+}
+
+bool dilating(const BakeRequest& r) {
+  return r.dilate || r.cover.has_value();
+}
+
+// An explicit medial_tolerance against the mesh's box and the finest resolution baked.
+void check_medial_tolerance(const BakeRequest& r, double longest, const std::string& name) {
+  const bool search = r.max_spheres || r.target_error;
+  const int finest = search ? kMaxSearchResolution : r.medial.resolution;
+  std::optional<InputError> problem =
+      medial_tolerance_problem(r.medial.medial_tolerance, longest, finest);
+  if (!problem) return;
+  if (search)
+    problem = InputError::option(problem->kind(), problem->field(), problem->value(),
+                                 "a search may bake up to resolution " + std::to_string(finest) +
+                                     ", so it " + problem->problem());
+  throw problem->with_file(name);
+}
+
+DilateOptions dilate_options(const BakeRequest& r, double longest) {
+  DilateOptions o;
+  o.seed = r.seed;
+  o.threads = r.medial.threads;
+  if (r.vertex_tolerance) o.vertex_tolerance = r.vertex_tolerance->in(longest);
+  if (r.max_protrusion) o.max_protrusion = r.max_protrusion->in(longest);
+  if (r.cover) o.cover_tolerance = r.cover->in(longest);
+  return o;
+}
+
+// The medial bake of the request's mode, with the mode recorded; errors of the library's
+// "mesh" name the mesh as the caller does.
+BakeResult bake_medial(const FitEvaluator& fit, const BakeRequest& r, const std::string& name,
+                       BakeRecord& record) {
+  const int threads = r.medial.threads;
+  auto nerr_of = [&](const SphereSet& s) { return fit.volume_error(s.spheres, threads).nerr; };
+  try {
+    if (r.max_spheres) {
+      record.mode = "max_spheres";
+      record.mode_target = static_cast<double>(*r.max_spheres);
+      return bake_max_spheres(fit.query(), *r.max_spheres, r.medial);
+    }
+    if (r.target_error) {
+      record.mode = "target_error";
+      record.mode_target = *r.target_error;
+      return bake_target_error(fit.query(), *r.target_error, nerr_of, r.medial);
+    }
+    return bake(fit.query(), r.medial);
+  } catch (const InputError& e) {
+    if (e.file().empty() || e.file() == "mesh") throw e.with_file(name);
+    throw;
+  }
+}
+
+std::pair<double, double> radius_range(const SphereSet& set) {
+  double lo = set.spheres.front().radius, hi = lo;
+  for (const Sphere& s : set.spheres) {
+    lo = std::min(lo, s.radius);
+    hi = std::max(hi, s.radius);
+  }
+  return {lo, hi};
+}
+
+// S_D grown to S+, recorded.
+void dilate_output(const FitEvaluator& fit, const BakeRequest& r, double longest,
+                   BakeOutcome& out) {
+  const DilateOptions options = dilate_options(r, longest);
+  if (r.measure && fit.volume())
+    out.internal = fit.volume_error(out.medial.spheres.spheres, r.medial.threads);
+  DilateResult dilated = dilate(fit.query(), out.medial.spheres, options);
+  out.spheres = std::move(dilated.spheres);
+  out.record.dilation_options = options;
+  out.record.dilation_stats = dilated.stats;
+  const auto [lo, hi] = radius_range(out.spheres);
+  out.record.extra_stats["min_radius"] = lo;
+  out.record.extra_stats["max_radius"] = hi;
+}
+
+// The volume, nerr and protrusion of the output, in the outcome and the record.
+void measure_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& out) {
+  BakeRecord& record = out.record;
+  if (fit.volume()) {
+    out.volume = fit.volume_error(out.spheres.spheres, r.medial.threads);
+    record.extra_stats["nerr"] = out.volume->nerr;
+    record.extra_stats["mesh_volume"] = *fit.volume();
+    record.extra_stats["union_volume"] = out.volume->union_measures.volume;
+    record.extra_stats["max_protrusion"] = out.volume->max_protrusion;
+    record.extra_strings["nerr_kind"] = to_string(out.volume->kind);
+  } else {
+    // Written as null: the volume of an open mesh, and so nerr, is not defined.
+    record.extra_stats["nerr"] = std::numeric_limits<double>::quiet_NaN();
+    record.extra_strings["nerr_kind"] = to_string(NerrKind::kUndefined);
+  }
+  if (out.internal) {
+    // The internal set S_D, before dilation: what target_error was met by.
+    record.extra_stats["nerr_internal"] = out.internal->nerr;
+    record.extra_strings["nerr_internal_kind"] = to_string(out.internal->kind);
+  }
+}
+
+}  // namespace
+
+Length parse_length(const std::string& text) {
+  Length l;
+  std::string number = text;
+  if (!number.empty() && (number.back() == 'L' || number.back() == 'l')) {
+    l.relative = true;
+    number.pop_back();
+  }
+  std::size_t used = 0;
+  try {
+    l.value = std::stod(number, &used);
+  } catch (const std::exception&) {
+    used = 0;
+  }
+  if (number.empty() || used != number.size())
+    throw request_error(ErrorKind::kOutOfRange, "length", text,
+                        "'" + text +
+                            "' is not a length: a number in the mesh's units, or a multiple of "
+                            "the bounding box's largest side written with an L (0.003L)");
+  return l;
+}
+
+void validate(const BakeRequest& r) {
+  if (std::optional<InputError> problem = bake_options_problem(r.medial)) throw *problem;
+  if (r.max_spheres && *r.max_spheres < 1)
+    throw request_error(ErrorKind::kOutOfRange, "max_spheres", std::to_string(*r.max_spheres),
+                        "must be >= 1, got " + std::to_string(*r.max_spheres));
+  if (r.target_error && !(*r.target_error > 0.0 && *r.target_error < 1.0))
+    throw request_error(ErrorKind::kOutOfRange, "target_error", number_text(*r.target_error),
+                        "must be in (0, 1), got " + number_text(*r.target_error));
+  if (r.max_spheres && r.target_error)
+    throw request_error(ErrorKind::kConflict, "max_spheres", std::to_string(*r.max_spheres),
+                        "excludes target_error: a search has one goal", {"target_error"});
+  if (!dilating(r)) {
+    for (const auto& [length, field] : {std::make_pair(&r.vertex_tolerance, "vertex_tolerance"),
+                                        std::make_pair(&r.max_protrusion, "max_protrusion")})
+      if (*length)
+        throw request_error(ErrorKind::kConflict, field, length_text(**length),
+                            "applies only with dilate or cover", {"dilate", "cover"});
+  }
+  check_length(r.vertex_tolerance, "vertex_tolerance", false);
+  check_length(r.max_protrusion, "max_protrusion", true);
+  check_length(r.cover, "cover", false);
+}
+
+BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
+                      const BakeRequest& request, const std::string& name,
+                      const std::string& sha256) {
+  validate(request);
+  const double longest = report.largest_side();
+  check_medial_tolerance(request, longest, name);
+  // Orients a copy (a no-op after the loader), builds the mesh query, computes the volume.
+  const FitEvaluator fit(mesh, request.medial.threads);
+  if (request.target_error && !fit.volume())
+    throw InputError::option(ErrorKind::kUnsupported, "target_error",
+                             number_text(*request.target_error),
+                             "it is not a closed, outward-wound mesh, so its volume and the "
+                             "error are not defined",
+                             name);
+  BakeOutcome out;
+  out.record.source = {name, sha256, report};
+  out.record.options = request.medial;
+  out.medial = bake_medial(fit, request, name, out.record);
+  if (out.medial.spheres.empty())
+    throw InputError::option(ErrorKind::kUnreachable, "", "",
+                             "no medial sphere was found at resolution " +
+                                 std::to_string(out.medial.stats.resolution) +
+                                 " with object angle " + number_text(request.medial.object_angle) +
+                                 "; try a higher resolution or a smaller object_angle",
+                             name, {"resolution", "object_angle"});
+  out.record.stats = out.medial.stats;
+  out.self_intersecting_pairs = fit.self_intersections().count();
+  if (dilating(request))
+    dilate_output(fit, request, longest, out);
+  else
+    out.spheres = out.medial.spheres;
+  if (request.measure) measure_output(fit, request, out);
+  out.spheres.metadata_json = bake_metadata_json(out.record);
+  return out;
+}
+
+BakeOutcome bake_file(const std::string& path, const BakeRequest& request,
+                      std::vector<std::string>* warnings) {
+  validate(request);
+  const LoadedMesh loaded = load_mesh(path);
+  if (warnings) *warnings = loaded.warnings;
+  return bake_mesh(loaded.mesh, loaded.report, request, path, file_sha256(path));
+}
+
+}  // namespace medspheres

@@ -1,0 +1,80 @@
+#pragma once
+/// \file
+/// The bake pipeline every tool calls (the CLI's bake, robot baking, batch baking):
+/// validate the request, load the mesh, bake or search the resolution, dilate, measure,
+/// and record the provenance. Nothing is printed and nothing is written.
+///
+/// Errors: InputError, named in the library's terms (fields of BakeRequest and
+/// BakeOptions such as "max_spheres"; the mesh by the name the caller gives it):
+/// kOutOfRange and kConflict for the request (before any mesh is read), the loader's
+/// kinds for the file, kNoInterior for a mesh without volume, kUnsupported for an error
+/// target on a mesh without a volume, kUnreachable for a budget or target no resolution
+/// reaches and for a bake that finds no sphere.
+
+#include <cstddef>
+#include <cstdint>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/bake_metadata.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/sphere_set.h"
+#include "medspheres/triangle_mesh.h"
+
+namespace medspheres {
+
+/// A length in the mesh's units, or (relative) a multiple of L, the largest side of the
+/// mesh's bounding box.
+struct Length {
+  double value = 0;
+  bool relative = false;
+  double in(double largest_side) const { return relative ? value * largest_side : value; }
+};
+
+/// "0.01" (absolute) or "0.003L" (relative; "l" too). Ranges are checked by validate().
+/// \throws InputError (kOutOfRange, field "length", value \p text) for anything else.
+Length parse_length(const std::string& text);
+
+/// How the spheres are made: the inner medial set S_D, optionally dilated to S+.
+enum class BakeMethod { kMedial };
+
+struct BakeRequest {
+  BakeMethod method = BakeMethod::kMedial;
+  BakeOptions medial;  ///< resolution, object angle, tolerance, threads, progress
+  std::optional<std::size_t> max_spheres;  ///< at most K spheres: searches the resolution
+  std::optional<double> target_error;      ///< nerr at most E, in (0, 1) (closed meshes only)
+  bool dilate = false;                     ///< write S+ (implied by cover)
+  /// Dilation lengths (DilateOptions): vertex_tolerance > 0, max_protrusion >= 0, cover > 0.
+  std::optional<Length> vertex_tolerance, max_protrusion, cover;
+  std::uint64_t seed = 1;  ///< of the dilation's random points
+  bool measure = true;     ///< compute the volume, nerr and protrusion of the output
+};
+
+struct BakeOutcome {
+  SphereSet spheres;  ///< what is to be written; metadata_json holds provenance and stats
+  BakeRecord record;  ///< what metadata_json was made from
+  BakeResult medial;  ///< the medial bake (its stats, the search)
+  /// With measure, on a mesh with a volume: of the output, and of S_D when dilated.
+  std::optional<VolumeError> volume, internal;
+  std::size_t self_intersecting_pairs = 0;  ///< of the mesh's triangles
+};
+
+/// Bakes \p mesh (with its \p report, as analyze_mesh or load_mesh gives it); \p name
+/// names it in errors and provenance, \p sha256 is recorded as given (may be empty).
+BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
+                      const BakeRequest& request, const std::string& name,
+                      const std::string& sha256 = "");
+
+/// Validates the request, loads \p path (mesh_io.h) and bakes it; the loader's warnings
+/// go to \p warnings (when given), one sentence each.
+BakeOutcome bake_file(const std::string& path, const BakeRequest& request,
+                      std::vector<std::string>* warnings = nullptr);
+
+/// The request's first problem that needs no mesh (every option's range, conflicts).
+/// \throws InputError of kind kOutOfRange or kConflict.
+void validate(const BakeRequest& request);
+
+}  // namespace medspheres
