@@ -43,6 +43,7 @@ int main(int argc, char** argv) {
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   RobotBakeOptions options;
   options.jobs = jobs;
+  options.budget.per_link = kDefaultSpheresPerLink;  // the robot command's default
   const RobotBakeResult result = bake_robot(robot, solids, options);
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

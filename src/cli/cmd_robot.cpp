@@ -51,6 +51,7 @@ struct RobotArgs {
   std::uint64_t seed = BakeRequest{}.seed;
   bool no_measure = false;
   std::string set = "auto";
+  bool resolution_given = false;
   bool quiet = false;
 };
 
@@ -186,6 +187,8 @@ BakeRequest bake_request(const RobotArgs& a) {
 RobotBudget robot_budget(const RobotArgs& a) {
   RobotBudget b;
   if (a.spheres_per_link) b.per_link = count_option(*a.spheres_per_link, "--spheres-per-link");
+  if (!a.spheres_per_link && !a.budget && !a.target_error && !a.resolution_given)
+    b.per_link = kDefaultSpheresPerLink;
   if (a.budget) b.total = count_option(*a.budget, "--budget");
   for (const std::string& text : a.link_budgets) {
     const std::size_t eq = text.rfind('=');  // link names may hold '=', counts do not
@@ -349,7 +352,9 @@ Runner register_robot(CLI::App& app) {
   sub->add_option("--package", a->packages, "PKG=DIR: where package://PKG/ lives (repeatable)");
   sub->add_flag("--from-visual", a->from_visual,
                 "Use visual geometry for links without collision geometry");
-  sub->add_option("--spheres-per-link", a->spheres_per_link, "At most K spheres per link");
+  sub->add_option("--spheres-per-link", a->spheres_per_link,
+                  "At most K spheres per link (default 32 unless --budget, --target-error or "
+                  "--resolution is given)");
   sub->add_option("--budget", a->budget, "At most N spheres for the robot, shared by surface area");
   sub->add_option("--link", a->link_budgets, "NAME=K: at most K spheres for link NAME");
   sub->add_option("--jobs", a->jobs, "Links baked at once (default 0: one per core)")
@@ -366,7 +371,10 @@ Runner register_robot(CLI::App& app) {
   sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
   sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
-  return [a] { return run_robot(*a); };
+  return [a, sub] {
+    a->resolution_given = sub->count("--resolution") > 0;
+    return run_robot(*a);
+  };
 }
 
 }  // namespace medspheres::cli

@@ -40,6 +40,11 @@
 
 namespace medspheres {
 
+/// The budget per link `medspheres robot` uses when it is given no budget, error target or
+/// resolution: a planner's size (cuRobo's own configuration of the Unitree G1 has 674
+/// spheres for its 40 links), not the hundreds per link a default-resolution bake makes.
+inline constexpr std::size_t kDefaultSpheresPerLink = 32;
+
 /// How many spheres each link may have (its sphere primitives included).
 struct RobotBudget {
   /// Every link with meshed parts gets this many.
