@@ -14,6 +14,7 @@
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_file.h"
 
 namespace medspheres::cli {
 
@@ -22,13 +23,17 @@ namespace {
 // The spheres of every link in a robot-level sphere file (any format convert reads): a
 // robot file gives each link's inner set, or its outer set where it has no inner one.
 std::map<std::string, SphereSet> robot_spheres(const std::string& path) {
-  const formats::SphereDocument doc = formats::read_sphere_document(path);
   std::map<std::string, SphereSet> out;
-  if (doc.model) {
-    for (const Link& link : doc.model->links)
+  const bool robot_file =
+      path.size() >= 11 && path.compare(path.size() - 11, 11, ".robot.json") == 0;
+  if (robot_file) {
+    for (const Link& link : load_robot(path).links)
       out[link.name] = link.spheres.inner.empty() ? link.spheres.outer : link.spheres.inner;
     return out;
   }
+  formats::ReadOptions options;
+  options.choice = formats::SphereChoice::kInner;  // a robot file named .json
+  const formats::SphereDocument doc = formats::read_sphere_document(path, std::nullopt, options);
   if (doc.set)
     throw InputError(path,
                      "holds one sphere set, not a robot's (give a robot-level file: robot, "
