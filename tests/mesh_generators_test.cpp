@@ -68,3 +68,21 @@ TEST_CASE("generators reject nonsense parameters", "[generators]") {
   CHECK_THROWS_AS(make_torus(1.0, 0.5, 2, 8), std::invalid_argument);
   CHECK_THROWS_AS(make_capsule(1.0, -1.0, 8, 2), std::invalid_argument);
 }
+
+TEST_CASE("generated cylinder is the closed prism inscribed in the cylinder", "[generators]") {
+  for (int slices : {3, 7, 32}) {
+    const TriangleMesh m = make_cylinder(0.5, 1.5, slices);
+    check_closed_outward(m, 2);
+    CHECK(m.triangles.size() == 4u * static_cast<unsigned>(slices));
+    // The regular slices-gon of circumradius r has area (slices / 2) r^2 sin(2 pi / slices).
+    const double area = 0.5 * slices * 0.25 * std::sin(2 * kPi / slices);
+    CHECK(analyze_mesh(m).signed_volume == Approx(area * 3.0).epsilon(1e-12));
+    for (const auto& p : m.vertices) {
+      CHECK(std::abs(std::abs(p.z()) - 1.5) < 1e-15);
+      const double rho = std::hypot(p.x(), p.y());
+      CHECK((rho == 0.0 || std::abs(rho - 0.5) < 1e-15));
+    }
+  }
+  CHECK_THROWS_AS(make_cylinder(0.5, 0.0, 8), std::invalid_argument);
+  CHECK_THROWS_AS(make_cylinder(0.5, 1.0, 2), std::invalid_argument);
+}

@@ -7,6 +7,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "cmd_eval_robot.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
@@ -26,6 +27,7 @@ struct EvalArgs {
   long long surface_samples = static_cast<long long>(FitOptions{}.surface_samples);
   std::uint64_t seed = FitOptions{}.seed;
   int threads = 0;
+  std::vector<std::string> packages;  // robots: PKG=DIR
 };
 
 // A number, or null where it is not defined (NaN).
@@ -197,6 +199,8 @@ int run_eval(const EvalArgs& args) {
   options.surface_samples = static_cast<std::size_t>(args.surface_samples);
   options.seed = args.seed;
   options.threads = args.threads;
+  if (is_robot_description(args.mesh))
+    return run_eval_robot({args.mesh, args.spheres, args.packages, args.json, options});
 
   const LoadedMesh loaded = load_mesh(args.mesh);
   const SphereSet set = load_sphere_set(args.spheres);
@@ -247,6 +251,7 @@ Runner register_eval(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
+  sub->add_option("--package", a->packages, "Robots: PKG=DIR for package:// (repeatable)");
   return [a] { return run_eval(*a); };
 }
 

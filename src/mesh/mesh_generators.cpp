@@ -168,4 +168,27 @@ TriangleMesh make_capsule(double radius, double half_length, int slices, int sta
   return m;
 }
 
+TriangleMesh make_cylinder(double radius, double half_length, int slices) {
+  if (!(radius > 0.0) || !std::isfinite(radius) || !(half_length > 0.0) ||
+      !std::isfinite(half_length))
+    throw std::invalid_argument("make_cylinder: need radius > 0 and half_length > 0, finite");
+  if (slices < 3) throw std::invalid_argument("make_cylinder: need slices >= 3");
+  TriangleMesh m;
+  const int bottom = add_vertex(m, Eigen::Vector3d(0, 0, -half_length));
+  const int top = add_vertex(m, Eigen::Vector3d(0, 0, half_length));
+  for (const double z : {-half_length, half_length})
+    for (int s = 0; s < slices; ++s) {
+      const double a = 2.0 * kPi * s / slices;
+      add_vertex(m, Eigen::Vector3d(radius * std::cos(a), radius * std::sin(a), z));
+    }
+  auto low = [&](int s) { return 2 + s % slices; };
+  auto high = [&](int s) { return 2 + slices + s % slices; };
+  for (int s = 0; s < slices; ++s) {
+    m.triangles.push_back({bottom, low(s + 1), low(s)});
+    add_quad(m, low(s), low(s + 1), high(s + 1), high(s));
+    m.triangles.push_back({top, high(s), high(s + 1)});
+  }
+  return m;
+}
+
 }  // namespace medspheres

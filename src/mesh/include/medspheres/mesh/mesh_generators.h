@@ -29,4 +29,11 @@ TriangleMesh make_torus(double major, double minor, int major_segments, int mino
 /// \throws std::invalid_argument unless radius > 0, half_length >= 0, slices >= 3, stacks >= 1.
 TriangleMesh make_capsule(double radius, double half_length, int slices, int stacks);
 
+/// Cylinder along z: the prism over a regular \p slices-gon inscribed in the circle of
+/// \p radius, from z = -half_length to half_length (4 * slices triangles; the disc caps
+/// are fans from their centres). It lies inside the ideal cylinder; its side is at most
+/// radius (1 - cos(pi / slices)) inside it.
+/// \throws std::invalid_argument unless radius > 0, half_length > 0, slices >= 3.
+TriangleMesh make_cylinder(double radius, double half_length, int slices);
+
 }  // namespace medspheres

@@ -1,0 +1,255 @@
+// Baking a robot: one bake per distinct link geometry and budget, run on a pool of
+// threads, gathered in link order.
+#include "medspheres/bake/robot_bake.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/threads.h"
+#include "medspheres/version.h"
+
+namespace medspheres {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+std::string exact(double v) {
+  char buf[32];
+  std::snprintf(buf, sizeof buf, "%.17g", v);
+  return buf;
+}
+
+// One bake: a mesh, in a part's frame (one part) or the link frame (several), to a budget.
+struct BakeJob {
+  std::size_t link = 0;  ///< the first link that needs it
+  std::optional<std::size_t> budget;
+  BakeOutcome outcome;
+  double seconds = 0.0;
+  std::exception_ptr error;
+};
+
+// Identifies what a link's bake computes: the geometry (origin-free for a single part)
+// and the budget.
+std::string job_key(const LinkSolid& solid, const std::optional<std::size_t>& budget) {
+  std::string key;
+  if (solid.parts.size() == 1) {
+    key = solid.parts[0].key;
+  } else {
+    for (const LinkSolidPart& part : solid.parts) {
+      key += part.key + " at";
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) key += " " + exact(part.origin.matrix()(r, c));
+      key += "; ";
+    }
+  }
+  return key + " budget " + (budget ? std::to_string(*budget) : std::string("none"));
+}
+
+// The spheres of a part's bake moved to the link frame, each radius shrunk to cover the
+// rounding of the move (file comment of robot_bake.h). The derivation: fl(R c + t) differs
+// from the exact image of c by at most about 3 eps (|R| |c| + |t|) per coordinate, and the
+// rotation built from the URDF's rpy or quaternion is orthogonal to a few eps, which moves
+// a point at distance r from c by a few eps r relative to the placed mesh (whose vertices
+// went through the same matrix); 16 eps (3 |c| + |t| + r) bounds both with room to spare.
+// A sphere too small to survive the shrink is dropped.
+std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isometry3d& x) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double t = x.translation().norm();
+  std::vector<Sphere> out;
+  out.reserve(spheres.size());
+  for (const Sphere& s : spheres) {
+    const double r = s.radius - 16.0 * eps * (3.0 * s.center.norm() + t + s.radius);
+    if (r > 0.0) out.push_back({x * s.center, r});
+  }
+  return out;
+}
+
+void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads) {
+  const Clock::time_point start = Clock::now();
+  try {
+    BakeRequest request = base;
+    if (job.budget) request.max_spheres = job.budget;
+    request.medial.threads = threads;
+    request.medial.progress = nullptr;
+    const bool one = solid.parts.size() == 1;
+    const TriangleMesh mesh = one ? solid.parts[0].mesh : solid.placed_mesh();
+    const std::string name = one ? solid.parts[0].source : "link '" + solid.link + "'";
+    job.outcome =
+        bake_mesh(mesh, analyze_mesh(mesh), request, name, one ? solid.parts[0].sha256 : "");
+  } catch (...) {
+    job.error = std::current_exception();
+  }
+  job.seconds = seconds_since(start);
+}
+
+// Runs every job on `workers` threads; `done(j)` is called after job j, one call at a time.
+void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
+              const BakeRequest& request, int workers,
+              const std::function<void(std::size_t)>& done) {
+  const int per_bake = std::max(1, thread_count(request.medial.threads) / workers);
+  std::atomic<std::size_t> next{0};
+  std::atomic<bool> failed{false};
+  std::mutex report;
+  // After a failure no new job starts. Jobs start in index order, so every job before the
+  // failed one has started and runs to its end: the lowest failing job is always known.
+  auto work = [&] {
+    for (std::size_t j = next++; j < jobs.size() && !failed; j = next++) {
+      run_job(jobs[j], solids[jobs[j].link], request,
+              workers == 1 ? request.medial.threads : per_bake);
+      if (jobs[j].error) failed = true;
+      std::lock_guard<std::mutex> lock(report);
+      done(j);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+}
+
+LinkBakeStats link_stats(const UrdfLink& link, const LinkSolid& solid) {
+  LinkBakeStats stats;
+  stats.link = solid.link;
+  stats.parts = solid.parts.size();
+  stats.primitive_spheres = solid.spheres.size();
+  stats.triangles = solid.triangles();
+  stats.spheres = solid.spheres.size();
+  if (solid.empty()) {
+    stats.note = "no collision geometry";
+  } else if (solid.parts.empty()) {
+    stats.nerr = 0.0;  // the spheres are the solid
+    stats.nerr_kind = "exact";
+  }
+  if (link.from_visual) stats.note = "visual geometry";
+  return stats;
+}
+
+void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& solid,
+                   const BakeJob& job, bool own) {
+  const SphereSet& baked = job.outcome.spheres;
+  spheres.inner.spheres =
+      solid.parts.size() == 1 ? placed(baked.spheres, solid.parts[0].origin) : baked.spheres;
+  spheres.inner.spheres.insert(spheres.inner.spheres.end(), solid.spheres.begin(),
+                               solid.spheres.end());
+  spheres.inner.metadata_json = baked.metadata_json;
+  stats.budget = job.budget;
+  stats.spheres = spheres.inner.size();
+  if (job.outcome.volume) {
+    stats.nerr = job.outcome.volume->nerr;
+    stats.nerr_kind = to_string(job.outcome.volume->kind);
+  }
+  stats.seconds = own ? job.seconds : 0.0;
+}
+
+nlohmann::ordered_json number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
+                           const std::vector<LinkBakeStats>& stats) {
+  nlohmann::ordered_json j;
+  j["urdf"] = robot.path;
+  j["generator"] = {
+      {"name", "medspheres"}, {"version", MEDSPHERES_VERSION_STRING}, {"method", "medial"}};
+  nlohmann::ordered_json links = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < stats.size(); ++i) {
+    const LinkBakeStats& s = stats[i];
+    nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
+    for (const LinkSolidPart& part : solids[i].parts)
+      meshes.push_back({{"source", part.source}, {"sha256", part.sha256}});
+    links[s.link] = {{"parts", meshes},
+                     {"sphere_primitives", s.primitive_spheres},
+                     {"triangles", s.triangles},
+                     {"budget", s.budget ? nlohmann::ordered_json(*s.budget) : nullptr},
+                     {"spheres", s.spheres},
+                     {"nerr", number(s.nerr)},
+                     {"nerr_kind", s.nerr_kind},
+                     {"bake_seconds", s.seconds},
+                     {"baked_as", s.baked_as},
+                     {"note", s.note}};
+  }
+  j["links"] = links;
+  return j.dump();
+}
+
+}  // namespace
+
+RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
+                           const RobotBakeOptions& options) {
+  const Clock::time_point start = Clock::now();
+  if (solids.size() != robot.links.size())
+    throw std::invalid_argument("bake_robot: one solid per link is needed");
+  check_threads(options.jobs);
+  validate(options.request);
+  const std::vector<std::optional<std::size_t>> budgets =
+      link_bake_budgets(solids, options.budget, robot.path);
+
+  RobotBakeResult result;
+  result.model = robot.model;
+  std::vector<BakeJob> jobs;
+  std::vector<std::size_t> job_of(solids.size(), std::numeric_limits<std::size_t>::max());
+  std::map<std::string, std::size_t> job_by_key;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    result.links.push_back(link_stats(robot.links[i], solids[i]));
+    result.model.links[i].note = result.links[i].note;
+    if (solids[i].parts.empty()) {
+      result.model.links[i].spheres.inner.spheres = solids[i].spheres;
+      if (options.progress) options.progress(result.links[i]);
+      continue;
+    }
+    const auto [it, fresh] = job_by_key.emplace(job_key(solids[i], budgets[i]), jobs.size());
+    if (fresh) jobs.push_back(BakeJob{i, budgets[i], {}, 0.0, nullptr});
+    job_of[i] = it->second;
+  }
+
+  auto finish_links = [&](std::size_t j) {
+    if (jobs[j].error) return;
+    for (std::size_t i = jobs[j].link; i < solids.size(); ++i) {
+      if (job_of[i] != j) continue;
+      const bool own = i == jobs[j].link;
+      fill_from_job(result.links[i], result.model.links[i].spheres, solids[i], jobs[j], own);
+      if (!own) result.links[i].baked_as = solids[jobs[j].link].link;
+      if (options.progress) options.progress(result.links[i]);
+    }
+  };
+  const int workers = static_cast<int>(
+      std::min<std::size_t>(jobs.size(), static_cast<std::size_t>(thread_count(options.jobs))));
+  run_jobs(jobs, solids, options.request, std::max(1, workers), finish_links);
+
+  for (const BakeJob& job : jobs) {  // in link order: the first failing link is reported
+    if (!job.error) continue;
+    const std::string link = "link '" + solids[job.link].link + "': ";
+    try {
+      std::rethrow_exception(job.error);
+    } catch (const InputError& e) {
+      throw InputError(robot.path, link + e.what());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(robot.path, link + e.what());
+    } catch (const std::exception& e) {
+      throw Error(robot.path + ": " + link + e.what());
+    }
+  }
+  result.model.metadata_json = robot_metadata(robot, solids, result.links);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace medspheres

@@ -1,0 +1,380 @@
+// medspheres robot ROBOT.urdf -o OUTDIR: every link's spheres, in the planners' formats.
+#include <algorithm>
+#include <cctype>
+#include <cstdio>
+#include <filesystem>
+#include <iostream>
+#include <memory>
+#include <optional>
+#include <random>
+#include <set>
+#include <string>
+#include <system_error>
+#include <vector>
+
+#include <fcntl.h>
+#include <stdio.h>
+#include <unistd.h>
+
+#include "cli_common.h"
+#include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/bake/robot_bake.h"
+#include "medspheres/error.h"
+#include "medspheres/formats/robot_spheres.h"
+#include "medspheres/formats/sphere_document.h"
+#include "medspheres/io.h"
+#include "medspheres/robot/link_solid.h"
+#include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_file.h"
+
+namespace medspheres::cli {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+struct RobotArgs {
+  std::string urdf;
+  std::string out;
+  std::vector<std::string> formats;
+  std::vector<std::string> packages;
+  bool from_visual = false;
+  std::optional<long long> spheres_per_link;
+  std::optional<long long> budget;
+  std::vector<std::string> link_budgets;
+  int jobs = 0;
+  int resolution = BakeOptions{}.resolution;
+  double object_angle = BakeOptions{}.object_angle;
+  std::optional<double> target_error;
+  bool dilate = false;
+  std::optional<std::string> vertex_tolerance, max_protrusion, cover;
+  std::uint64_t seed = BakeRequest{}.seed;
+  bool no_measure = false;
+  std::string set = "auto";
+  bool resolution_given = false;
+  bool quiet = false;
+};
+
+// The file each format is written to in OUTDIR, after the robot's name (sanitised);
+// .sph holds one set, so it gets a folder with one file per link.
+std::string file_stem(const std::string& robot_name) {
+  std::string stem = robot_name.empty() ? "robot" : robot_name;
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
+  return stem;
+}
+
+std::string format_file(formats::SphereFormat f, const std::string& stem) {
+  using formats::SphereFormat;
+  switch (f) {
+    case SphereFormat::kRobot:
+      return stem + ".robot.json";
+    case SphereFormat::kCurobo:
+      return stem + ".curobo.yml";
+    case SphereFormat::kXrdf:
+      return stem + ".xrdf";
+    case SphereFormat::kUrdf:
+      return stem + ".spherized.urdf";
+    case SphereFormat::kSrdf:
+      return stem + ".srdf";
+    case SphereFormat::kFoam:
+      return stem + ".foam.json";
+    case SphereFormat::kSph:
+      return "sph";
+    case SphereFormat::kSphereSet:
+      break;
+  }
+  return {};
+}
+
+const std::vector<formats::SphereFormat>& robot_formats() {
+  using formats::SphereFormat;
+  static const std::vector<SphereFormat> all = {
+      SphereFormat::kRobot, SphereFormat::kCurobo, SphereFormat::kXrdf, SphereFormat::kUrdf,
+      SphereFormat::kSrdf,  SphereFormat::kFoam,   SphereFormat::kSph};
+  return all;
+}
+
+std::vector<formats::SphereFormat> chosen_formats(const std::vector<std::string>& names) {
+  if (names.empty()) return robot_formats();
+  std::vector<formats::SphereFormat> out;
+  for (const std::string& n : names) {
+    const formats::SphereFormat f = formats::parse_sphere_format(n, "--format");
+    if (std::find(robot_formats().begin(), robot_formats().end(), f) == robot_formats().end())
+      throw InputError("--format", "'" + n +
+                                       "' holds one sphere set, not a robot (robot formats: "
+                                       "robot, curobo, xrdf, urdf, srdf, foam, sph)");
+    if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+  }
+  return out;
+}
+
+// The set the planner formats carry: the covering set where the links have one (a planner
+// must not miss a collision), else the inner set; --set picks.
+formats::SphereChoice sphere_choice(const std::string& set, const RobotModel& model) {
+  if (set == "inner") return formats::SphereChoice::kInner;
+  if (set == "outer") return formats::SphereChoice::kOuter;
+  const bool any_outer = std::any_of(model.links.begin(), model.links.end(),
+                                     [](const Link& l) { return !l.spheres.outer.empty(); });
+  return any_outer ? formats::SphereChoice::kOuter : formats::SphereChoice::kInner;
+}
+
+// One .sph file per link with spheres, named after the link (sanitised; a clash gets the
+// link's index).
+void write_sph_folder(const formats::SphereDocument& doc, const std::string& dir) {
+  fs::create_directory(dir);
+  std::set<std::string> used;
+  for (std::size_t i = 0; i < doc.links.size(); ++i) {
+    std::string name = file_stem(doc.links[i].link);
+    if (!used.insert(name).second) name += "_" + std::to_string(i);
+    used.insert(name);
+    formats::WriteOptions options;
+    options.link = doc.links[i].link;
+    formats::write_sphere_document((fs::path(dir) / (name + ".sph")).string(), doc,
+                                   formats::SphereFormat::kSph, options);
+  }
+}
+
+void write_formats(const std::vector<formats::SphereFormat>& chosen, const RobotModel& model,
+                   formats::SphereChoice choice, const std::string& urdf, const std::string& dir) {
+  formats::SphereDocument doc;
+  doc.model = model;
+  doc.links = formats::robot_spheres(model, choice);
+  doc.urdf_text = read_text_file(urdf);
+  doc.robot_name = model.name;
+  formats::WriteOptions options;
+  options.urdf_text = doc.urdf_text;
+  options.urdf_source = urdf;
+  const std::string stem = file_stem(model.name);
+  for (const formats::SphereFormat f : chosen) {
+    const std::string path = (fs::path(dir) / format_file(f, stem)).string();
+    if (f == formats::SphereFormat::kSph)
+      write_sph_folder(doc, path);
+    else
+      formats::write_sphere_document(path, doc, f, options);
+  }
+}
+
+std::size_t count_option(long long v, const char* flag) {
+  if (v < 1) throw InputError(flag, "must be >= 1, got " + std::to_string(v));
+  return static_cast<std::size_t>(v);
+}
+
+std::optional<Length> length_option(const std::optional<std::string>& text, const char* flag) {
+  if (!text) return std::nullopt;
+  try {
+    return parse_length(*text);
+  } catch (const InputError& e) {
+    throw InputError(flag, e.problem());
+  }
+}
+
+BakeRequest bake_request(const RobotArgs& a) {
+  BakeRequest r;
+  r.medial.resolution = a.resolution;
+  r.medial.object_angle = a.object_angle;
+  r.target_error = a.target_error;
+  r.dilate = a.dilate;
+  r.vertex_tolerance = length_option(a.vertex_tolerance, "--vertex-tolerance");
+  r.max_protrusion = length_option(a.max_protrusion, "--max-protrusion");
+  r.cover = length_option(a.cover, "--cover");
+  r.seed = a.seed;
+  r.measure = !a.no_measure;
+  validate(r);
+  return r;
+}
+
+RobotBudget robot_budget(const RobotArgs& a) {
+  RobotBudget b;
+  if (a.spheres_per_link) b.per_link = count_option(*a.spheres_per_link, "--spheres-per-link");
+  if (!a.spheres_per_link && !a.budget && !a.target_error && !a.resolution_given)
+    b.per_link = kDefaultSpheresPerLink;
+  if (a.budget) b.total = count_option(*a.budget, "--budget");
+  for (const std::string& text : a.link_budgets) {
+    const std::size_t eq = text.rfind('=');  // link names may hold '=', counts do not
+    long long k = 0;
+    std::size_t used = 0;
+    try {
+      if (eq == std::string::npos || eq == 0) throw std::invalid_argument("no NAME=K");
+      k = std::stoll(text.substr(eq + 1), &used);
+    } catch (const std::exception&) {
+      throw InputError("--link", "expected NAME=K with K a count, got '" + text + "'");
+    }
+    if (used != text.size() - eq - 1)
+      throw InputError("--link", "expected NAME=K with K a count, got '" + text + "'");
+    b.links[text.substr(0, eq)] = count_option(k, "--link");
+  }
+  return b;
+}
+
+// OUTDIR must be a folder or nothing, in a folder that exists.
+void check_output_dir(const std::string& out) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(out, ec);
+  if (fs::exists(st) && !fs::is_directory(st))
+    throw InputError(out, "exists and is not a folder (-o names the output folder)");
+  const fs::path parent = fs::absolute(out).parent_path();
+  if (!fs::is_directory(parent, ec))
+    throw InputError(out, "the folder " + parent.string() + " does not exist");
+}
+
+// A fresh folder beside \p out, removed by the destructor unless it was moved into place.
+class StagingDir {
+ public:
+  explicit StagingDir(const std::string& out) {
+    const fs::path target = fs::absolute(out).lexically_normal();
+    std::random_device random;
+    for (int attempt = 0; attempt < 100 && path_.empty(); ++attempt) {
+      const fs::path p =
+          target.parent_path() / ("." + target.filename().string() + ".tmp-" +
+                                  std::to_string(::getpid()) + "-" + std::to_string(random()));
+      if (fs::create_directory(p)) path_ = p;
+    }
+    if (path_.empty()) throw Error(out + ": cannot create a temporary folder beside it");
+    target_ = target;
+  }
+  ~StagingDir() {
+    std::error_code ec;
+    if (!path_.empty()) fs::remove_all(path_, ec);
+  }
+  StagingDir(const StagingDir&) = delete;
+  StagingDir& operator=(const StagingDir&) = delete;
+
+  std::string path() const { return path_.string(); }
+
+  // Moves the folder to the target: a rename when nothing is there, an atomic exchange
+  // with an existing folder (whose old contents are then removed).
+  void commit() {
+    if (!fs::exists(target_)) {
+      fs::rename(path_, target_);
+      path_.clear();
+      return;
+    }
+    if (::renameat2(AT_FDCWD, path_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0)
+      throw Error(target_.string() + ": cannot replace the folder: " +
+                  std::error_code(errno, std::generic_category()).message());
+    // path_ now holds the old contents, which the destructor removes.
+  }
+
+ private:
+  fs::path path_;
+  fs::path target_;
+};
+
+std::string cell(const std::string& text, std::size_t width) {
+  return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
+}
+
+std::string nerr_text(const LinkBakeStats& s) {
+  if (s.nerr_kind.empty()) return "-";
+  return fmt(s.nerr, 4) + (s.nerr_kind == "exact" ? "" : " (" + s.nerr_kind + ")");
+}
+
+void print_progress(const LinkBakeStats& s) {
+  std::cerr << "  " << s.link << ": " << s.triangles << " triangles, " << s.spheres
+            << " spheres, nerr " << nerr_text(s) << ", " << fmt(s.seconds, 3) << " s"
+            << (s.baked_as.empty() ? "" : " (same bake as " + s.baked_as + ")")
+            << (s.note.empty() ? "" : " (" + s.note + ")") << "\n";
+}
+
+void print_summary(const RobotBakeResult& r, const std::string& out) {
+  std::size_t width = 4;
+  for (const LinkBakeStats& s : r.links) width = std::max(width, s.link.size() + 2);
+  std::cout << cell("link", width) << cell("triangles", 11) << cell("budget", 8)
+            << cell("spheres", 9) << cell("nerr", 24) << cell("seconds", 9) << "note\n";
+  std::size_t spheres = 0, triangles = 0;
+  for (const LinkBakeStats& s : r.links) {
+    spheres += s.spheres;
+    triangles += s.triangles;
+    std::string note = s.note;
+    if (!s.baked_as.empty()) note += (note.empty() ? "" : "; ") + ("same bake as " + s.baked_as);
+    std::cout << cell(s.link, width) << cell(std::to_string(s.triangles), 11)
+              << cell(s.budget ? std::to_string(*s.budget) : "-", 8)
+              << cell(std::to_string(s.spheres), 9) << cell(nerr_text(s), 24)
+              << cell(fmt(s.seconds, 3), 9) << note << "\n";
+  }
+  std::cout << cell("total", width) << cell(std::to_string(triangles), 11) << cell("", 8)
+            << cell(std::to_string(spheres), 9) << cell("", 24) << cell(fmt(r.seconds, 3), 9)
+            << "wall clock\n"
+            << "wrote " << out << "\n";
+}
+
+int run_robot(const RobotArgs& a) {
+  // Everything that needs no work first: options, formats, the output folder.
+  RobotBakeOptions options;
+  options.request = bake_request(a);
+  options.budget = robot_budget(a);
+  options.jobs = a.jobs;
+  check_threads(a.jobs);
+  const std::vector<formats::SphereFormat> chosen = chosen_formats(a.formats);
+  if (a.set != "auto" && a.set != "inner" && a.set != "outer")
+    throw InputError("--set", "must be auto, inner or outer, got '" + a.set + "'");
+  check_output_dir(a.out);
+  UrdfReadOptions read;
+  for (const std::string& p : a.packages) add_package_dir(read.packages, p);
+  read.from_visual = a.from_visual;
+
+  const UrdfRobot robot = read_urdf(a.urdf, read);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  if (!a.quiet) {
+    std::cerr << "baking " << robot.links.size() << " links of " << a.urdf << "\n";
+    options.progress = print_progress;
+  }
+  const RobotBakeResult result = bake_robot(robot, solids, options);
+
+  const formats::SphereChoice choice = sphere_choice(a.set, result.model);
+  StagingDir staging(a.out);
+  write_formats(chosen, result.model, choice, a.urdf, staging.path());
+  staging.commit();
+  if (!a.quiet) {
+    print_summary(result, a.out);
+    std::cout << "the planner formats carry each link's "
+              << (choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
+  }
+  return kExitOk;
+}
+
+}  // namespace
+
+Runner register_robot(CLI::App& app) {
+  auto a = std::make_shared<RobotArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "robot", "Bake every link of a URDF robot and write its spheres in the planners' formats");
+  sub->add_option("urdf", a->urdf, "Robot description (URDF)")->required();
+  sub->add_option("-o,--output", a->out, "Output folder (replaced as a whole)")->required();
+  sub->add_option("--format", a->formats,
+                  "robot, curobo, xrdf, urdf, srdf, foam, sph (default: all)")
+      ->delimiter(',');
+  sub->add_option("--set", a->set,
+                  "The set the planner formats carry: inner, outer, or auto (outer when "
+                  "baked, else inner)")
+      ->capture_default_str();
+  sub->add_option("--package", a->packages, "PKG=DIR: where package://PKG/ lives (repeatable)");
+  sub->add_flag("--from-visual", a->from_visual,
+                "Use visual geometry for links without collision geometry");
+  sub->add_option("--spheres-per-link", a->spheres_per_link,
+                  "At most K spheres per link (default 32 unless --budget, --target-error or "
+                  "--resolution is given)");
+  sub->add_option("--budget", a->budget, "At most N spheres for the robot, shared by surface area");
+  sub->add_option("--link", a->link_budgets, "NAME=K: at most K spheres for link NAME");
+  sub->add_option("--jobs", a->jobs, "Links baked at once (default 0: one per core)")
+      ->capture_default_str();
+  sub->add_option("--resolution", a->resolution, "Grid cells along a link's longest side")
+      ->capture_default_str();
+  sub->add_option("--object-angle", a->object_angle, "Keep medial points at least this open (rad)")
+      ->capture_default_str();
+  sub->add_option("--target-error", a->target_error, "Per link: nerr at most E");
+  sub->add_flag("--dilate", a->dilate, "Per link: grow the spheres toward the surface (S+)");
+  sub->add_option("--vertex-tolerance", a->vertex_tolerance, "Dilation: length (or 0.003L)");
+  sub->add_option("--max-protrusion", a->max_protrusion, "Dilation: length (or 0.003L)");
+  sub->add_option("--cover", a->cover, "Dilation: cover the surface to this length (or L)");
+  sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
+  sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
+  sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
+  return [a, sub] {
+    a->resolution_given = sub->count("--resolution") > 0;
+    return run_robot(*a);
+  };
+}
+
+}  // namespace medspheres::cli

@@ -1,0 +1,239 @@
+// medspheres robot and eval of a robot, run as a user runs them: the output folder, the
+// robot file's spheres inside their links, bad robots (exit 2, no output), jobs.
+#include <filesystem>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "medspheres/formats/sphere_document.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/robot_file.h"
+#include "support/run_command.h"
+#include "support/urdf_fixtures.h"
+
+using Catch::Matchers::Contains;
+using medspheres::test::CommandResult;
+using medspheres::test::run_command;
+using medspheres::test::shell_quote;
+using medspheres::test::TempDir;
+namespace fs = std::filesystem;
+
+namespace {
+
+CommandResult cli(const std::string& args, int seconds = 300) {
+  return run_command("timeout " + std::to_string(seconds) + " " + shell_quote(MEDSPHERES_CLI) +
+                     " " + args);
+}
+
+std::string arm_args(const TempDir& dir, const std::string& urdf, const std::string& out) {
+  return shell_quote(urdf) + " -o " + shell_quote(out) + " --package " +
+         shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string()) + " --spheres-per-link 10";
+}
+
+// The entries of \p dir (the temporary folders robot might leave behind included).
+std::size_t entries(const fs::path& dir) {
+  std::size_t n = 0;
+  for (const auto& e : fs::directory_iterator(dir)) (void)e, ++n;
+  return n;
+}
+
+}  // namespace
+
+TEST_CASE("robot writes a folder whose robot file has each link's spheres", "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  const std::string out = dir.file("out");
+  const CommandResult r = cli("robot " + arm_args(dir, urdf, out) + " --jobs 2");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.err, Contains("forearm") && Contains("triangles"));
+  CHECK_THAT(r.out, Contains("total") && Contains("no collision geometry"));
+  const medspheres::RobotModel model = medspheres::load_robot(out + "/arm.robot.json");
+  REQUIRE(model.links.size() == 4);
+  CHECK(model.joints.size() == 3);
+  // The forearm's spheres inside its mesh as the URDF places it, computed here.
+  medspheres::TriangleMesh forearm =
+      medspheres::load_mesh((dir.path() / "meshes/forearm.obj").string()).mesh;
+  const Eigen::Matrix3d rot = medspheres::test::rpy_matrix(0.3, -0.4, 0.9);
+  for (Eigen::Vector3d& v : forearm.vertices)
+    v = rot * v.cwiseProduct(Eigen::Vector3d(2, 0.5, 1.5)) + Eigen::Vector3d(0.1, -0.05, 0.2);
+  const medspheres::MeshQuery query(forearm);
+  const medspheres::Link* link = model.find_link("forearm");
+  REQUIRE(link != nullptr);
+  REQUIRE(!link->spheres.inner.empty());
+  CHECK(link->spheres.inner.size() <= 10);
+  for (const medspheres::Sphere& s : link->spheres.inner.spheres) {
+    CHECK(query.winding_number(s.center) > 0.5);
+    CHECK(query.closest_point(s.center).distance() >= s.radius);
+  }
+
+  // Every planner format carries the same spheres (the inner sets: no covering set yet).
+  for (const std::string name :
+       {"arm.curobo.yml", "arm.xrdf", "arm.spherized.urdf", "arm.srdf", "arm.foam.json"}) {
+    INFO(name);
+    const medspheres::formats::SphereDocument doc =
+        medspheres::formats::read_sphere_document(out + "/" + name);
+    for (const medspheres::Link& l : model.links) {
+      const auto* got = medspheres::formats::find_link_spheres(doc.links, l.name);
+      if (l.spheres.inner.empty()) {
+        CHECK(got == nullptr);
+        continue;
+      }
+      REQUIRE(got != nullptr);
+      REQUIRE(got->spheres.size() == l.spheres.inner.size());
+      for (std::size_t k = 0; k < got->spheres.size(); ++k) {
+        CHECK(got->spheres[k].center == l.spheres.inner.spheres[k].center);
+        CHECK(got->spheres[k].radius == l.spheres.inner.spheres[k].radius);
+      }
+    }
+  }
+  CHECK(fs::exists(out + "/sph/forearm.sph"));
+  CHECK(fs::exists(out + "/sph/hand.sph"));
+  CHECK_FALSE(fs::exists(out + "/sph/tool.sph"));
+
+  // Run again into the same folder: replaced as a whole, nothing left beside it.
+  REQUIRE(cli("robot " + arm_args(dir, urdf, out) + " -q").exit_code == 0);
+  CHECK(fs::exists(out + "/arm.robot.json"));
+  CHECK(entries(dir.path()) == 4);  // arm.urdf, meshes, pkg, out
+}
+
+TEST_CASE("robot: --jobs 1 and --jobs 2 give the same spheres", "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("a")) + " -q --jobs 1").exit_code == 0);
+  REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("b")) + " -q --jobs 2").exit_code == 0);
+  const medspheres::RobotModel a = medspheres::load_robot(dir.file("a/arm.robot.json"));
+  const medspheres::RobotModel b = medspheres::load_robot(dir.file("b/arm.robot.json"));
+  REQUIRE(a.links.size() == b.links.size());
+  for (std::size_t i = 0; i < a.links.size(); ++i) {
+    const auto& sa = a.links[i].spheres.inner.spheres;
+    const auto& sb = b.links[i].spheres.inner.spheres;
+    REQUIRE(sa.size() == sb.size());
+    for (std::size_t k = 0; k < sa.size(); ++k) {
+      CHECK(sa[k].center == sb[k].center);
+      CHECK(sa[k].radius == sb[k].radius);
+    }
+  }
+  // The planner files have no timings: byte for byte the same.
+  for (const std::string name : {"arm.curobo.yml", "arm.xrdf", "arm.spherized.urdf", "arm.srdf",
+                                 "arm.foam.json", "sph/forearm.sph"}) {
+    INFO(name);
+    CHECK(medspheres::test::read_file(dir.file("a/" + name)) ==
+          medspheres::test::read_file(dir.file("b/" + name)));
+  }
+}
+
+TEST_CASE("robot: bad robots exit 2 naming the URDF and the link, with no output", "[cli][robot]") {
+  TempDir dir;
+  medspheres::test::write_arm(dir);
+  struct Case {
+    const char* what;
+    std::string urdf;
+    std::string expect;
+  };
+  const std::string head = "<robot name=\"r\">";
+  const std::string box =
+      R"(<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>)";
+  const std::vector<Case> cases = {
+      {"malformed", head + "<link name=\"a\">", "not well-formed"},
+      {"missing mesh",
+       head + R"(<link name="a"><collision><geometry><mesh filename="gone.stl"/></geometry>
+         </collision></link></robot>)",
+       "link 'a'"},
+      {"unknown package",
+       head + R"(<link name="a"><collision><geometry><mesh filename="package://nope/m.stl"/>
+         </geometry></collision></link></robot>)",
+       "unknown package 'nope'"},
+      {"joint cycle", head + R"(<link name="b"/><link name="c"/>
+         <joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint>
+         <joint name="j3" type="fixed"><parent link="c"/><child link="b"/></joint></robot>)",
+       "joint cycle"},
+      {"empty link", head + R"(<link name="a"><collision><geometry><box size="0 1 1"/>
+         </geometry></collision></link></robot>)",
+       "link 'a'"},
+      {"unsupported geometry", head + R"(<link name="a"><collision><geometry>
+         <capsule radius="0.1" length="0.2"/></geometry></collision></link></robot>)",
+       "capsule"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.what);
+    const std::string urdf = dir.write("bad.urdf", c.urdf);
+    const std::string out = dir.file("out");
+    const std::size_t before = entries(dir.path());
+    const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + shell_quote(out));
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(urdf) && Contains(c.expect));
+    CHECK_FALSE(fs::exists(out));
+    CHECK(entries(dir.path()) == before);
+  }
+}
+
+TEST_CASE("robot: a link name with XML special characters works", "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = dir.write("s.urdf", R"(<robot name="s">
+  <link name="a&amp;b&lt;c&gt;"><collision><geometry><box size="0.1 0.2 0.3"/></geometry>
+  </collision></link></robot>)");
+  const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + shell_quote(dir.file("out")) +
+                              " --spheres-per-link 5");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const medspheres::RobotModel m = medspheres::load_robot(dir.file("out/s.robot.json"));
+  REQUIRE(m.links.size() == 1);
+  CHECK(m.links[0].name == "a&b<c>");
+  CHECK(!m.links[0].spheres.inner.empty());
+}
+
+TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  const std::string out = shell_quote(dir.file("out"));
+  const std::string pkg =
+      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
+  for (const std::string& bad :
+       {std::string(" --spheres-per-link 0"), std::string(" --budget 5 --spheres-per-link 3"),
+        std::string(" --link forearm"), std::string(" --link nowhere=3"),
+        std::string(" --format nonsense"), std::string(" --jobs -1"), std::string(" --budget 2")}) {
+    INFO(bad);
+    const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);
+    CHECK(r.exit_code == 2);
+    CHECK_FALSE(fs::exists(dir.file("out")));
+  }
+  dir.write("file", "x");
+  CHECK(
+      cli("robot " + shell_quote(urdf) + " -o " + shell_quote(dir.file("file")) + pkg).exit_code ==
+      2);
+}
+
+TEST_CASE("eval of a robot: one row per link", "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("out")) + " -q").exit_code == 0);
+  const std::string pkg =
+      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
+  const CommandResult r =
+      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/arm.robot.json")) + pkg +
+          " --samples 20000 --surface-samples 2000 --json");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto j = nlohmann::json::parse(r.out);
+  REQUIRE(j["links"].size() == 4);
+  for (int i = 0; i < 3; ++i) {
+    INFO(j["links"][i]["link"]);
+    // Inner sets: nothing sticks out. The base's box and cylinder overlap, so its volume
+    // counts the overlap twice and its nerr is approximate.
+    CHECK(j["links"][i]["nerr_kind"] == (i == 0 ? "approximate" : "exact"));
+    CHECK(j["links"][i]["max_protrusion"].get<double>() <= 0.0);
+    CHECK(j["links"][i]["nerr"].get<double>() > 0.0);
+  }
+  CHECK(j["links"][2]["primitives"] == 1);
+  CHECK(j["links"][3]["note"] == "no collision geometry");
+  // The same from the cuRobo file.
+  const CommandResult y =
+      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/arm.curobo.yml")) + pkg +
+          " --samples 20000 --surface-samples 2000 --json");
+  REQUIRE(y.exit_code == 0);
+  const auto jy = nlohmann::json::parse(y.out);
+  for (int i = 0; i < 3; ++i) CHECK(jy["links"][i]["nerr"] == j["links"][i]["nerr"]);
+}

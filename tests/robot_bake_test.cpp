@@ -1,0 +1,271 @@
+// Baking robots: every inner sphere inside its link's solid, placed by a transform written
+// out here; budgets; shared bakes; the same spheres for every number of jobs.
+#include <algorithm>
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/bake/robot_bake.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "support/urdf_fixtures.h"
+
+using namespace medspheres;
+using medspheres::test::TempDir;
+
+namespace {
+
+UrdfRobot read_arm(const TempDir& dir) {
+  UrdfReadOptions options;
+  options.packages.explicit_dirs["arm_pkg"] = (dir.path() / "pkg/arm_pkg").string();
+  return read_urdf(test::write_arm(dir), options);
+}
+
+TriangleMesh moved(TriangleMesh m, const Eigen::Matrix3d& r, const Eigen::Vector3d& t) {
+  for (Eigen::Vector3d& v : m.vertices) v = r * v + t;
+  return m;
+}
+
+TriangleMesh joined(const TriangleMesh& a, const TriangleMesh& b) {
+  TriangleMesh out = a;
+  const int base = static_cast<int>(a.vertices.size());
+  out.vertices.insert(out.vertices.end(), b.vertices.begin(), b.vertices.end());
+  for (const auto& t : b.triangles)
+    out.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+  return out;
+}
+
+// The arm's link solids in their link frames, built here from the URDF's numbers.
+std::map<std::string, TriangleMesh> arm_solids_by_hand(const TempDir& dir) {
+  std::map<std::string, TriangleMesh> out;
+  const TriangleMesh cylinder = make_cylinder(0.03, 0.06, kCylinderSlices);
+  out["base"] = joined(make_box({0.1, 0.05, 0.025}, 1),
+                       moved(cylinder, test::rpy_matrix(0, 1.5707963267948966, 0), {0, 0, 0.05}));
+  TriangleMesh forearm = load_mesh((dir.path() / "meshes/forearm.obj").string()).mesh;
+  for (Eigen::Vector3d& v : forearm.vertices) v = v.cwiseProduct(Eigen::Vector3d(2, 0.5, 1.5));
+  out["forearm"] = moved(forearm, test::rpy_matrix(0.3, -0.4, 0.9), {0.1, -0.05, 0.2});
+  out["hand"] = load_mesh((dir.path() / "pkg/arm_pkg/meshes/hand.obj").string()).mesh;
+  return out;
+}
+
+// Every sphere inside the solid: its centre inside (winding number) and no triangle
+// nearer than its radius; or the hand's sphere primitive itself.
+void check_inside(const RobotModel& model, const std::map<std::string, TriangleMesh>& solids) {
+  for (const Link& link : model.links) {
+    INFO("link " << link.name);
+    const auto it = solids.find(link.name);
+    if (it == solids.end()) {
+      CHECK(link.spheres.inner.empty());
+      continue;
+    }
+    const MeshQuery query(it->second);
+    std::size_t primitives = 0;
+    for (const Sphere& s : link.spheres.inner.spheres) {
+      if (link.name == "hand" && s.center == Eigen::Vector3d(0, 0, 0.06) && s.radius == 0.015) {
+        ++primitives;
+        continue;
+      }
+      CHECK(query.winding_number(s.center) > 0.5);
+      CHECK(query.closest_point(s.center).distance() >= s.radius);
+    }
+    CHECK(primitives == (link.name == "hand" ? 1u : 0u));
+    CHECK(link.spheres.inner.size() > primitives);
+  }
+}
+
+RobotBakeOptions budget_options(std::size_t per_link, int jobs) {
+  RobotBakeOptions options;
+  options.budget.per_link = per_link;
+  options.jobs = jobs;
+  options.request.measure = false;
+  return options;
+}
+
+}  // namespace
+
+TEST_CASE("robot bake: every inner sphere lies inside its link's solid", "[robot][bake]") {
+  TempDir dir;
+  const UrdfRobot robot = read_arm(dir);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  RobotBakeOptions options = budget_options(12, 1);
+  options.request.measure = true;
+  const RobotBakeResult result = bake_robot(robot, solids, options);
+  REQUIRE(result.model.links.size() == 4);
+  check_inside(result.model, arm_solids_by_hand(dir));
+  for (const LinkBakeStats& s : result.links) {
+    INFO(s.link);
+    CHECK(s.spheres <= 12);
+    CHECK(s.spheres == result.model.find_link(s.link)->spheres.inner.size());
+  }
+  CHECK(result.links[3].note == "no collision geometry");
+  CHECK(result.links[2].budget == std::optional<std::size_t>(11));  // one for the primitive
+  CHECK(result.links[1].nerr_kind == "exact");
+  CHECK(result.links[1].nerr > 0.0);
+  CHECK(result.links[1].nerr < 1.0);
+}
+
+TEST_CASE("robot bake: the same spheres for 1 and 2 jobs, bit for bit", "[robot][bake]") {
+  TempDir dir;
+  const UrdfRobot robot = read_arm(dir);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  const RobotBakeResult one = bake_robot(robot, solids, budget_options(20, 1));
+  const RobotBakeResult two = bake_robot(robot, solids, budget_options(20, 2));
+  for (std::size_t i = 0; i < one.model.links.size(); ++i) {
+    const auto& a = one.model.links[i].spheres.inner.spheres;
+    const auto& b = two.model.links[i].spheres.inner.spheres;
+    REQUIRE(a.size() == b.size());
+    for (std::size_t k = 0; k < a.size(); ++k) {
+      CHECK(a[k].center == b[k].center);
+      CHECK(a[k].radius == b[k].radius);
+    }
+  }
+}
+
+TEST_CASE("robot bake: links with the same mesh and scale are baked once", "[robot][bake]") {
+  TempDir dir;
+  dir.write("part.obj", test::to_obj(make_capsule(0.02, 0.04, 16, 4)));
+  const UrdfRobot robot = read_urdf(dir.write("twins.urdf", R"(<robot name="twins">
+  <link name="a"><collision><geometry><mesh filename="part.obj"/></geometry></collision></link>
+  <link name="b"><collision><origin xyz="0.5 0 0" rpy="0.2 0.3 1.1"/>
+    <geometry><mesh filename="part.obj"/></geometry></collision></link>
+  <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>
+</robot>)"));
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  const RobotBakeResult result = bake_robot(robot, solids, budget_options(10, 2));
+  CHECK(result.links[0].baked_as.empty());
+  CHECK(result.links[1].baked_as == "a");
+  const auto& a = result.model.links[0].spheres.inner.spheres;
+  const auto& b = result.model.links[1].spheres.inner.spheres;
+  REQUIRE(a.size() == b.size());
+  const Eigen::Isometry3d x = solids[1].parts[0].origin;
+  const MeshQuery query_b(solids[1].placed_mesh());
+  for (std::size_t k = 0; k < a.size(); ++k) {
+    CHECK((x * a[k].center - b[k].center).norm() < 1e-15);
+    CHECK(b[k].radius < a[k].radius);  // shrunk for the rounding of the move
+    CHECK(b[k].radius > a[k].radius * (1 - 1e-12));
+    CHECK(query_b.winding_number(b[k].center) > 0.5);
+    CHECK(query_b.closest_point(b[k].center).distance() >= b[k].radius);
+  }
+}
+
+TEST_CASE("robot budgets: shared by surface area, overrides, at least one each", "[robot]") {
+  auto box_link = [](const std::string& name, double side, std::size_t primitives) {
+    LinkSolid s;
+    s.link = name;
+    LinkSolidPart part;
+    part.mesh = make_box(Eigen::Vector3d::Constant(side / 2), 1);  // area 6 side^2
+    s.parts.push_back(part);
+    for (std::size_t k = 0; k < primitives; ++k) s.spheres.push_back({Eigen::Vector3d::Zero(), 1});
+    return s;
+  };
+  LinkSolid only_spheres;
+  only_spheres.link = "feet";
+  only_spheres.spheres.assign(3, Sphere{Eigen::Vector3d::Zero(), 1});
+  // Areas 6, 24, 54 (sides 1, 2, 3), total 84.
+  const std::vector<LinkSolid> solids = {box_link("s1", 1, 0), box_link("s2", 2, 2),
+                                         box_link("s3", 3, 0), only_spheres, LinkSolid{}};
+  RobotBudget budget;
+  budget.total = 50;
+  // 50 - 3 (feet) - 2 (s2's primitives) = 45: 1 each, 42 shared 6:24:54, i.e. 3, 12, 27.
+  auto k = link_bake_budgets(solids, budget, "r.urdf");
+  CHECK(k[0] == std::optional<std::size_t>(4));
+  CHECK(k[1] == std::optional<std::size_t>(13));
+  CHECK(k[2] == std::optional<std::size_t>(28));
+  CHECK_FALSE(k[3]);
+  CHECK_FALSE(k[4]);
+  // 40: 35 to share, 32 by area: 2.29, 9.14, 20.57 -> 2, 9, 20 and the last to s3 (0.57).
+  budget.total = 40;
+  k = link_bake_budgets(solids, budget, "r.urdf");
+  CHECK(*k[0] + *k[1] + *k[2] == 35);
+  CHECK(k[0] == std::optional<std::size_t>(3));
+  CHECK(k[1] == std::optional<std::size_t>(10));
+  CHECK(k[2] == std::optional<std::size_t>(22));
+  // An override takes its link out of the sharing.
+  budget.links["s3"] = 5;
+  k = link_bake_budgets(solids, budget, "r.urdf");
+  CHECK(k[2] == std::optional<std::size_t>(5));
+  CHECK(*k[0] + *k[1] == 40 - 3 - 2 - 5);
+  budget.total = 11;  // 3 + 2 + 5 fixed, two links to bake need 2 more
+  CHECK_THROWS_AS(link_bake_budgets(solids, budget, "r.urdf"), InputError);
+  budget.total = 12;
+  k = link_bake_budgets(solids, budget, "r.urdf");
+  CHECK(k[0] == std::optional<std::size_t>(1));
+  CHECK(k[1] == std::optional<std::size_t>(1));
+  RobotBudget bad;
+  bad.links["nowhere"] = 3;
+  CHECK_THROWS_AS(link_bake_budgets(solids, bad, "r.urdf"), InputError);
+  bad.links = {{"feet", 3}};
+  CHECK_THROWS_AS(link_bake_budgets(solids, bad, "r.urdf"), InputError);
+  RobotBudget per;
+  per.per_link = 2;
+  k = link_bake_budgets(solids, per, "r.urdf");
+  CHECK(k[0] == std::optional<std::size_t>(2));
+  CHECK(k[1] == std::optional<std::size_t>(1));  // 2 minus its 2 primitives, at least 1
+  per.total = 10;
+  CHECK_THROWS_AS(link_bake_budgets(solids, per, "r.urdf"), InputError);
+}
+
+TEST_CASE("robot fit: each link against its own solid, primitives exact", "[robot][bake]") {
+  TempDir dir;
+  const UrdfRobot robot = read_arm(dir);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  const RobotBakeResult result = bake_robot(robot, solids, budget_options(10, 1));
+  std::map<std::string, SphereSet> spheres;
+  for (const Link& l : result.model.links) spheres[l.name] = l.spheres.inner;
+  FitOptions fit;
+  fit.volume_samples = 20000;
+  fit.surface_samples = 2000;
+  const std::vector<LinkFit> fits = evaluate_robot_fit(solids, spheres, "arm.json", fit);
+  REQUIRE(fits.size() == 4);
+  for (int i = 0; i < 3; ++i) {
+    INFO(fits[i].link);
+    REQUIRE(fits[i].fit);
+    CHECK(fits[i].fit->volume.protruding == 0);  // inner sets: nothing sticks out
+  }
+  CHECK(fits[2].primitives == 1);
+  CHECK_FALSE(fits[3].fit);
+  // The forearm's spheres moved by 1 cm stick out of its solid.
+  spheres["forearm"].spheres[0].center.x() += 0.01;
+  const std::vector<LinkFit> off = evaluate_robot_fit(solids, spheres, "arm.json", fit);
+  CHECK(off[1].fit->volume.protruding >= 1);
+  spheres["elbow"] = SphereSet{};
+  CHECK_THROWS_AS(evaluate_robot_fit(solids, spheres, "arm.json", fit), InputError);
+}
+
+#ifdef MEDSPHERES_SHARED_MESHES
+TEST_CASE("the Unitree G1 bakes, every inner sphere inside its link", "[robot][bake][shared]") {
+  const std::string urdf =
+      std::string(MEDSPHERES_SHARED_MESHES) + "/../robots/unitree_g1/g1_29dof_rev_1_0.urdf";
+  if (!std::filesystem::exists(urdf)) return;  // an older ../shared without robots
+  const UrdfRobot robot = read_urdf(urdf);
+  REQUIRE(robot.links.size() == 40);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  const RobotBakeResult result = bake_robot(robot, solids, budget_options(16, 0));
+  std::size_t baked = 0;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    const Link& link = result.model.links[i];
+    INFO("link " << link.name);
+    if (solids[i].empty()) {
+      CHECK(link.spheres.inner.empty());
+      continue;
+    }
+    REQUIRE(!link.spheres.inner.empty());
+    CHECK(link.spheres.inner.size() <= std::max<std::size_t>(16, solids[i].spheres.size() + 1));
+    if (solids[i].parts.empty()) continue;
+    ++baked;
+    const MeshQuery query(solids[i].placed_mesh(), MeshQueryOptions{2.0, true});
+    for (const Sphere& s : link.spheres.inner.spheres) {
+      const bool primitive = std::any_of(
+          solids[i].spheres.begin(), solids[i].spheres.end(),
+          [&](const Sphere& p) { return p.center == s.center && p.radius == s.radius; });
+      if (primitive) continue;
+      CHECK(query.winding_number(s.center) > 0.5);
+      CHECK(query.closest_point(s.center).distance() >= s.radius);
+    }
+  }
+  CHECK(baked > 20);
+}
+#endif

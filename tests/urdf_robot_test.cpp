@@ -1,0 +1,234 @@
+// Reading robots: urdfdom's model in the file's order, link geometry in link frames
+// (checked against the transform written out by hand), package resolution, bad input.
+#include <cstdlib>
+#include <filesystem>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/robot/link_solid.h"
+#include "medspheres/robot/urdf_robot.h"
+#include "support/urdf_fixtures.h"
+
+using namespace medspheres;
+using Catch::Matchers::Contains;
+using medspheres::test::TempDir;
+
+namespace {
+
+// A URDF with the given body inside <robot name="r">.
+std::string urdf(const std::string& body) {
+  return "<?xml version=\"1.0\"?>\n<robot name=\"r\">\n" + body + "\n</robot>\n";
+}
+
+// The message of the InputError that reading \p text throws ("" when none).
+std::string read_error(const TempDir& dir, const std::string& text,
+                       const UrdfReadOptions& options = {}) {
+  const std::string path = dir.write("bad.urdf", text);
+  try {
+    const UrdfRobot robot = read_urdf(path, options);
+    load_link_solids(robot);
+  } catch (const InputError& e) {
+    CHECK(e.source() == path);
+    return e.what();
+  }
+  return "";
+}
+
+}  // namespace
+
+TEST_CASE("read_urdf: links and joints in the file's order, with every field", "[robot]") {
+  TempDir dir;
+  const std::string path = test::write_arm(dir);
+  UrdfReadOptions options;
+  options.packages.explicit_dirs["arm_pkg"] = (dir.path() / "pkg/arm_pkg").string();
+  const UrdfRobot robot = read_urdf(path, options);
+  REQUIRE(robot.model.links.size() == 4);
+  CHECK(robot.model.name == "arm");
+  CHECK(robot.model.root_link == "base");
+  const char* names[] = {"base", "forearm", "hand", "tool"};
+  for (int i = 0; i < 4; ++i) CHECK(robot.model.links[i].name == names[i]);
+  REQUIRE(robot.model.joints.size() == 3);
+  const Joint& j1 = robot.model.joints[0];
+  CHECK(j1.name == "j1");
+  CHECK(j1.type == JointType::kRevolute);
+  CHECK(j1.parent == "base");
+  CHECK(j1.child == "forearm");
+  CHECK((j1.axis - Eigen::Vector3d::UnitZ()).norm() < 1e-15);  // normalised from 0 0 2
+  CHECK((j1.origin.translation() - Eigen::Vector3d(0, 0, 0.1)).norm() < 1e-15);
+  CHECK((j1.origin.linear() - test::rpy_matrix(0, 0, 0.5)).norm() < 1e-14);
+  REQUIRE(j1.limits);
+  CHECK(j1.limits->lower == -1.5);
+  CHECK(j1.limits->upper == 1.5);
+  CHECK(j1.limits->velocity == 2);
+  CHECK(j1.limits->effort == 10);
+  const Joint& j2 = robot.model.joints[1];
+  CHECK(j2.type == JointType::kPrismatic);
+  REQUIRE(j2.mimic);
+  CHECK(j2.mimic->joint == "j1");
+  CHECK(j2.mimic->multiplier == 0.5);
+  CHECK(j2.mimic->offset == 0.01);
+  CHECK(robot.model.joints[2].type == JointType::kFixed);
+}
+
+TEST_CASE("link solids: v of a mesh file lands at T_origin (S v) in the link frame", "[robot]") {
+  TempDir dir;
+  PackageDirs packages;
+  packages.explicit_dirs["arm_pkg"] = (dir.path() / "pkg/arm_pkg").string();
+  const UrdfRobot robot = read_urdf(test::write_arm(dir), {packages, false});
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  REQUIRE(solids.size() == 4);
+
+  // forearm: the file's vertices, scaled and moved by hand.
+  const LinkSolid& forearm = solids[1];
+  REQUIRE(forearm.parts.size() == 1);
+  const TriangleMesh placed = forearm.placed_mesh();
+  // The file's vertices as the loader reads them (assimp parses them to floats).
+  const TriangleMesh file = load_mesh((dir.path() / "meshes/forearm.obj").string()).mesh;
+  REQUIRE(placed.num_vertices() == file.num_vertices());
+  const Eigen::Matrix3d r = test::rpy_matrix(0.3, -0.4, 0.9);
+  const Eigen::Vector3d t(0.1, -0.05, 0.2);
+  const Eigen::Vector3d s(2, 0.5, 1.5);
+  for (std::size_t i = 0; i < file.num_vertices(); ++i) {
+    const Eigen::Vector3d expect = r * file.vertices[i].cwiseProduct(s) + t;
+    CHECK((placed.vertices[i] - expect).norm() < 1e-15);
+  }
+  CHECK(analyze_mesh(placed).is_closed_outward());
+  CHECK(forearm.parts[0].source == (dir.path() / "meshes/forearm.obj").string());
+  CHECK(forearm.parts[0].sha256.size() == 64);
+
+  // base: a box and a cylinder, two parts; hand: a mesh through package:// and a sphere.
+  CHECK(solids[0].parts.size() == 2);
+  CHECK(solids[0].triangles() == 12u + 4u * kCylinderSlices);
+  CHECK(solids[0].spheres.empty());
+  REQUIRE(solids[2].parts.size() == 1);
+  REQUIRE(solids[2].spheres.size() == 1);
+  CHECK((solids[2].spheres[0].center - Eigen::Vector3d(0, 0, 0.06)).norm() == 0.0);
+  CHECK(solids[2].spheres[0].radius == 0.015);
+  CHECK(solids[3].empty());
+}
+
+TEST_CASE("package:// through ROS_PACKAGE_PATH, and a package nobody knows", "[robot]") {
+  TempDir dir;
+  const std::string path = test::write_arm(dir);
+  const char* saved = std::getenv("ROS_PACKAGE_PATH");
+  const std::string old = saved ? saved : "";
+  ::setenv("ROS_PACKAGE_PATH", ("/nonexistent:" + (dir.path() / "pkg").string()).c_str(), 1);
+  const UrdfRobot robot = read_urdf(path);
+  CHECK(robot.links[2].parts[0].path == (dir.path() / "pkg/arm_pkg/meshes/hand.obj").string());
+  // A package folder found deeper down by its package.xml.
+  ::setenv("ROS_PACKAGE_PATH", dir.path().string().c_str(), 1);
+  CHECK(read_urdf(path).links[2].parts[0].path == robot.links[2].parts[0].path);
+  ::setenv("ROS_PACKAGE_PATH", "/nonexistent", 1);
+  try {
+    read_urdf(path);
+    FAIL("an unknown package must be an error");
+  } catch (const InputError& e) {
+    CHECK_THAT(e.what(),
+               Contains(path) && Contains("link 'hand'") && Contains("unknown package 'arm_pkg'"));
+  }
+  if (saved)
+    ::setenv("ROS_PACKAGE_PATH", old.c_str(), 1);
+  else
+    ::unsetenv("ROS_PACKAGE_PATH");
+}
+
+TEST_CASE("mesh names: file://, absolute paths, other schemes", "[robot]") {
+  PackageDirs none;
+  none.use_ros_package_path = false;
+  CHECK(resolve_mesh_path("file:///a/b.stl", "/u", none) == "/a/b.stl");
+  CHECK(resolve_mesh_path("file://m/b.stl", "/u", none) == "/u/m/b.stl");
+  CHECK(resolve_mesh_path("/a/./b.stl", "/u", none) == "/a/b.stl");
+  CHECK(resolve_mesh_path("../m/b.stl", "/u/v", none) == "/u/m/b.stl");
+  none.explicit_dirs["p"] = "/pk";
+  CHECK(resolve_mesh_path("package://p/m/b.stl", "/u", none) == "/pk/m/b.stl");
+  CHECK_THROWS_AS(resolve_mesh_path("http://x/b.stl", "/u", none), InputError);
+  CHECK_THROWS_AS(resolve_mesh_path("package:///b.stl", "/u", none), InputError);
+  CHECK_THROWS_AS(resolve_mesh_path("package://q/b.stl", "/u", none), InputError);
+  PackageDirs dirs;
+  add_package_dir(dirs, "a=/x=y");
+  CHECK(dirs.explicit_dirs.at("a") == "/x=y");
+  CHECK_THROWS_AS(add_package_dir(dirs, "=x"), InputError);
+  CHECK_THROWS_AS(add_package_dir(dirs, "a="), InputError);
+}
+
+TEST_CASE("a mirroring scale keeps the solid wound outward", "[robot]") {
+  TempDir dir;
+  dir.write("c.obj", test::to_obj(make_box({0.1, 0.2, 0.3}, 1)));
+  const UrdfRobot robot = read_urdf(dir.write("m.urdf", urdf(R"(<link name="l"><collision><geometry>
+        <mesh filename="c.obj" scale="-1 1 2"/></geometry></collision></link>)")));
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  const MeshReport report = analyze_mesh(solids[0].placed_mesh());
+  CHECK(report.is_closed_outward());
+  CHECK(report.signed_volume == Approx(0.2 * 0.4 * 0.6 * 2).epsilon(1e-6));
+}
+
+TEST_CASE("--from-visual: visual geometry where a link has no collision geometry", "[robot]") {
+  TempDir dir;
+  const std::string text = urdf(R"(<link name="v">
+      <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>
+    <link name="c">
+      <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual>
+      <collision><geometry><sphere radius="0.1"/></geometry></collision></link>
+    <joint name="j" type="fixed"><parent link="v"/><child link="c"/></joint>)");
+  const std::string path = dir.write("v.urdf", text);
+  const UrdfRobot plain = read_urdf(path);
+  CHECK(plain.links[0].parts.empty());
+  UrdfReadOptions options;
+  options.from_visual = true;
+  const UrdfRobot visual = read_urdf(path, options);
+  REQUIRE(visual.links[0].parts.size() == 1);
+  CHECK(visual.links[0].from_visual);
+  CHECK(visual.links[0].parts[0].shape == PartShape::kBox);
+  REQUIRE(visual.links[1].parts.size() == 1);  // its collision sphere, not the visual box
+  CHECK(visual.links[1].parts[0].shape == PartShape::kSphere);
+  CHECK_FALSE(visual.links[1].from_visual);
+}
+
+TEST_CASE("a link name with XML special characters is read, not an error", "[robot]") {
+  TempDir dir;
+  const UrdfRobot robot = read_urdf(
+      dir.write("s.urdf", urdf(R"(<link name="a&amp;b&lt;c&gt;&quot;d&apos;"><collision><geometry>
+        <box size="0.1 0.1 0.1"/></geometry></collision></link>)")));
+  REQUIRE(robot.model.links.size() == 1);
+  CHECK(robot.model.links[0].name == "a&b<c>\"d'");
+}
+
+TEST_CASE("bad robots: each names the URDF, the link and the problem", "[robot]") {
+  TempDir dir;
+  const std::string box =
+      R"(<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>)";
+  CHECK_THAT(read_error(dir, "<robot name=\"r\"><link name=\"a\">"), Contains("not well-formed"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"/><link name="b"/><link name="c"/>
+      <joint name="j1" type="fixed"><parent link="a"/><child link="b"/></joint>
+      <joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint>
+      <joint name="j3" type="fixed"><parent link="c"/><child link="b"/></joint>)")),
+             Contains("link 'b' is the child of two joints ('j1' and 'j3')"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="b"/><link name="c"/>
+      <joint name="j2" type="fixed"><parent link="b"/><child link="c"/></joint>
+      <joint name="j3" type="fixed"><parent link="c"/><child link="b"/></joint>)")),
+             Contains("joint cycle") && Contains("'b'") && Contains("'c'"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
+      <capsule radius="0.1" length="0.2"/></geometry></collision></link>)")),
+             Contains("capsule") && Contains("[a]"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
+      <mesh filename="missing.stl"/></geometry></collision></link>)")),
+             Contains("link 'a'") && Contains("missing.stl"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
+      <box size="0 0.1 0.1"/></geometry></collision></link>)")),
+             Contains("link 'a'") && Contains("empty primitive"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
+      <mesh filename="x.stl" scale="1 0 1"/></geometry></collision></link>)")),
+             Contains("link 'a'") && Contains("scale"));
+  CHECK_THAT(read_error(dir, urdf("<link name=\"\">" + box + "</link>")), Contains("empty name"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"/><link name="b"/>
+      <joint name="f" type="floating"><parent link="a"/><child link="b"/></joint>)")),
+             Contains("joint 'f'") && Contains("unsupported joint type"));
+  dir.write("empty.obj", "# no faces\nv 0 0 0\n");
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="e"><collision><geometry>
+      <mesh filename="empty.obj"/></geometry></collision></link>)")),
+             Contains("link 'e'"));
+}
