@@ -42,6 +42,7 @@ struct BakeJob {
   std::size_t link = 0;  ///< the first link that needs it
   std::optional<std::size_t> budget;
   BakeOutcome outcome;
+  std::optional<BakeOutcome> outer;  ///< the cover, when outer sets are baked
   double seconds = 0.0;
   std::exception_ptr error;
 };
@@ -69,20 +70,50 @@ std::string job_key(const LinkSolid& solid, const std::optional<std::size_t>& bu
 // rotation built from the URDF's rpy or quaternion is orthogonal to a few eps, which moves
 // a point at distance r from c by a few eps r relative to the placed mesh (whose vertices
 // went through the same matrix); 16 eps (3 |c| + |t| + r) bounds both with room to spare.
-// A sphere too small to survive the shrink is dropped.
-std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isometry3d& x) {
+// A sphere too small to survive the shrink is dropped. A covering set's spheres are grown
+// by the same bound instead (\p grow), so that they still hold the placed surface.
+std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isometry3d& x,
+                           bool grow = false) {
   const double eps = std::numeric_limits<double>::epsilon();
   const double t = x.translation().norm();
   std::vector<Sphere> out;
   out.reserve(spheres.size());
   for (const Sphere& s : spheres) {
-    const double r = s.radius - 16.0 * eps * (3.0 * s.center.norm() + t + s.radius);
+    const double slack = 16.0 * eps * (3.0 * s.center.norm() + t + s.radius);
+    const double r = grow ? s.radius + slack : s.radius - slack;
     if (r > 0.0) out.push_back({x * s.center, r});
   }
   return out;
 }
 
-void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads) {
+// The cover of a job's mesh to the job's budget (the request's, or the default).
+BakeOutcome bake_outer(const TriangleMesh& mesh, const BakeRequest& inner, const BakeJob& job,
+                       const std::string& name, const std::string& sha256) {
+  BakeRequest request;
+  request.method = BakeMethod::kCover;
+  request.medial.threads = inner.medial.threads;
+  request.seed = inner.seed;
+  request.max_spheres = job.budget ? job.budget : inner.max_spheres;
+  if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
+  return bake_mesh(mesh, analyze_mesh(mesh), request, name, sha256);
+}
+
+// What the robot file records of an outer set's certificate.
+std::string certificate_json(const CoverResult& cover, bool moved) {
+  const CoverCertificate& c = cover.certificate;
+  nlohmann::ordered_json j = {{"certified", c.certified},
+                              {"surface_covered", c.certified},
+                              {"interior_certified", false},
+                              {"triangles", c.triangles},
+                              {"pieces_tested", c.pieces_tested},
+                              {"max_depth", c.max_depth_reached},
+                              {"uncertified_triangles", c.uncertified_triangles},
+                              {"moved_to_link_frame", moved}};
+  return j.dump();
+}
+
+void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads,
+             bool outer) {
   const Clock::time_point start = Clock::now();
   try {
     BakeRequest request = base;
@@ -92,8 +123,9 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
     const bool one = solid.parts.size() == 1;
     const TriangleMesh mesh = one ? solid.parts[0].mesh : solid.placed_mesh();
     const std::string name = one ? solid.parts[0].source : "link '" + solid.link + "'";
-    job.outcome =
-        bake_mesh(mesh, analyze_mesh(mesh), request, name, one ? solid.parts[0].sha256 : "");
+    const std::string sha = one ? solid.parts[0].sha256 : "";
+    job.outcome = bake_mesh(mesh, analyze_mesh(mesh), request, name, sha);
+    if (outer) job.outer = bake_outer(mesh, request, job, name, sha);
   } catch (...) {
     job.error = std::current_exception();
   }
@@ -102,7 +134,7 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
 
 // Runs every job on `workers` threads; `done(j)` is called after job j, one call at a time.
 void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
-              const BakeRequest& request, int workers,
+              const BakeRequest& request, bool outer, int workers,
               const std::function<void(std::size_t)>& done) {
   const int per_bake = std::max(1, thread_count(request.medial.threads) / workers);
   std::atomic<std::size_t> next{0};
@@ -113,7 +145,7 @@ void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
   auto work = [&] {
     for (std::size_t j = next++; j < jobs.size() && !failed; j = next++) {
       run_job(jobs[j], solids[jobs[j].link], request,
-              workers == 1 ? request.medial.threads : per_bake);
+              workers == 1 ? request.medial.threads : per_bake, outer);
       if (jobs[j].error) failed = true;
       std::lock_guard<std::mutex> lock(report);
       done(j);
@@ -157,6 +189,18 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
     stats.nerr_kind = to_string(job.outcome.volume->kind);
   }
   stats.seconds = own ? job.seconds : 0.0;
+  if (!job.outer) return;
+  const bool one = solid.parts.size() == 1;
+  const CoverResult& cover = *job.outer->cover;
+  spheres.outer.spheres =
+      one ? placed(cover.spheres.spheres, solid.parts[0].origin, true) : cover.spheres.spheres;
+  spheres.outer.spheres.insert(spheres.outer.spheres.end(), solid.spheres.begin(),
+                               solid.spheres.end());
+  spheres.outer.metadata_json = job.outer->spheres.metadata_json;
+  spheres.outer_certificate_json = certificate_json(cover, one);
+  stats.outer_spheres = spheres.outer.size();
+  stats.outer_certified = cover.certificate.certified;
+  stats.outer_protrusion = cover.stats.max_protrusion;
 }
 
 nlohmann::ordered_json number(double v) {
@@ -180,6 +224,9 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"triangles", s.triangles},
                      {"budget", s.budget ? nlohmann::ordered_json(*s.budget) : nullptr},
                      {"spheres", s.spheres},
+                     {"outer_spheres", s.outer_spheres},
+                     {"outer_certified", s.outer_certified},
+                     {"outer_max_protrusion", number(s.outer_protrusion)},
                      {"nerr", number(s.nerr)},
                      {"nerr_kind", s.nerr_kind},
                      {"bake_seconds", s.seconds},
@@ -212,11 +259,21 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
     result.model.links[i].note = result.links[i].note;
     if (solids[i].parts.empty()) {
       result.model.links[i].spheres.inner.spheres = solids[i].spheres;
+      if (options.outer && !solids[i].spheres.empty()) {
+        // Sphere primitives are their own exact cover.
+        result.model.links[i].spheres.outer.spheres = solids[i].spheres;
+        result.model.links[i].spheres.outer_certificate_json =
+            R"({"certified":true,"surface_covered":true,"interior_certified":true,)"
+            R"("sphere_primitives":true})";
+        result.links[i].outer_spheres = solids[i].spheres.size();
+        result.links[i].outer_certified = true;
+        result.links[i].outer_protrusion = 0.0;
+      }
       if (options.progress) options.progress(result.links[i]);
       continue;
     }
     const auto [it, fresh] = job_by_key.emplace(job_key(solids[i], budgets[i]), jobs.size());
-    if (fresh) jobs.push_back(BakeJob{i, budgets[i], {}, 0.0, nullptr});
+    if (fresh) jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, 0.0, nullptr});
     job_of[i] = it->second;
   }
 
@@ -232,7 +289,7 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
   };
   const int workers = static_cast<int>(
       std::min<std::size_t>(jobs.size(), static_cast<std::size_t>(thread_count(options.jobs))));
-  run_jobs(jobs, solids, options.request, std::max(1, workers), finish_links);
+  run_jobs(jobs, solids, options.request, options.outer, std::max(1, workers), finish_links);
 
   for (const BakeJob& job : jobs) {  // in link order: the first failing link is reported
     if (!job.error) continue;

@@ -50,6 +50,7 @@ struct RobotArgs {
   std::optional<std::string> vertex_tolerance, max_protrusion, cover;
   std::uint64_t seed = BakeRequest{}.seed;
   bool no_measure = false;
+  bool no_outer = false;
   std::string set = "auto";
   bool resolution_given = false;
   bool quiet = false;
@@ -267,12 +268,12 @@ std::string cell(const std::string& text, std::size_t width) {
 
 std::string nerr_text(const LinkBakeStats& s) {
   if (s.nerr_kind.empty()) return "-";
-  return fmt(s.nerr, 4) + (s.nerr_kind == "exact" ? "" : " (" + s.nerr_kind + ")");
+  return number_text(s.nerr, 4) + (s.nerr_kind == "exact" ? "" : " (" + s.nerr_kind + ")");
 }
 
 void print_progress(const LinkBakeStats& s) {
   std::cerr << "  " << s.link << ": " << s.triangles << " triangles, " << s.spheres
-            << " spheres, nerr " << nerr_text(s) << ", " << fmt(s.seconds, 3) << " s"
+            << " spheres, nerr " << nerr_text(s) << ", " << number_text(s.seconds, 3) << " s"
             << (s.baked_as.empty() ? "" : " (same bake as " + s.baked_as + ")")
             << (s.note.empty() ? "" : " (" + s.note + ")") << "\n";
 }
@@ -291,10 +292,10 @@ void print_summary(const RobotBakeResult& r, const std::string& out) {
     std::cout << cell(s.link, width) << cell(std::to_string(s.triangles), 11)
               << cell(s.budget ? std::to_string(*s.budget) : "-", 8)
               << cell(std::to_string(s.spheres), 9) << cell(nerr_text(s), 24)
-              << cell(fmt(s.seconds, 3), 9) << note << "\n";
+              << cell(number_text(s.seconds, 3), 9) << note << "\n";
   }
   std::cout << cell("total", width) << cell(std::to_string(triangles), 11) << cell("", 8)
-            << cell(std::to_string(spheres), 9) << cell("", 24) << cell(fmt(r.seconds, 3), 9)
+            << cell(std::to_string(spheres), 9) << cell("", 24) << cell(number_text(r.seconds, 3), 9)
             << "wall clock\n"
             << "wrote " << out << "\n";
 }
@@ -305,6 +306,7 @@ int run_robot(const RobotArgs& a) {
   options.request = bake_request(a);
   options.budget = robot_budget(a);
   options.jobs = a.jobs;
+  options.outer = !a.no_outer;
   check_threads(a.jobs);
   const std::vector<formats::SphereFormat> chosen = chosen_formats(a.formats);
   if (a.set != "auto" && a.set != "inner" && a.set != "outer")
@@ -370,6 +372,9 @@ Runner register_robot(CLI::App& app) {
   sub->add_option("--cover", a->cover, "Dilation: cover the surface to this length (or L)");
   sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
   sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
+  sub->add_flag("--no-outer", a->no_outer,
+                "Bake inner sets only (default: also a certified covering set per link, which "
+                "the planner formats then carry)");
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
   return [a, sub] {
     a->resolution_given = sub->count("--resolution") > 0;

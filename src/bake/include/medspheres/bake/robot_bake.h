@@ -76,6 +76,9 @@ struct LinkBakeStats {
   std::size_t triangles = 0;          ///< of the meshed parts
   std::optional<std::size_t> budget;  ///< what its bake was allowed (link_bake_budgets)
   std::size_t spheres = 0;            ///< of the inner set, primitives included
+  std::size_t outer_spheres = 0;      ///< of the outer set, primitives included
+  bool outer_certified = false;       ///< the outer set's surface coverage is certified
+  double outer_protrusion = std::numeric_limits<double>::quiet_NaN();  ///< of the cover
   /// nerr of the baked part (NaN when not measured or not defined), and its kind.
   double nerr = std::numeric_limits<double>::quiet_NaN();
   std::string nerr_kind;
@@ -96,6 +99,9 @@ struct RobotBakeOptions {
   /// Bakes at once, 1 to kMaxThreads, or 0 for as many as thread_count(0).
   int jobs = 1;
   LinkProgressFn progress;
+  /// Also bake each link's outer set: a certified cover (BakeMethod::kCover) to the same
+  /// budget (kDefaultSpheresPerLink where none applies). Sphere primitives are in both sets.
+  bool outer = true;
 };
 
 struct RobotBakeResult {
