@@ -11,4 +11,8 @@ namespace medspheres {
 /// locale), so it may run where streams may not (mesh_io.h, "Threads").
 std::string number_text(double v, int digits = 6);
 
+/// The shortest text of \p v that reads back to the same double ("0.1", "1e-300"): what
+/// the files write. Thread-safe and lock-free.
+std::string exact_number_text(double v);
+
 }  // namespace medspheres

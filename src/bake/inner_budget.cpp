@@ -15,7 +15,7 @@
 #include "ball_coverage.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/error.h"
-#include "number_text.h"
+#include "medspheres/number_text.h"
 
 namespace medspheres {
 

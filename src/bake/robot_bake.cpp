@@ -19,6 +19,7 @@
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/threads.h"
+#include "medspheres/number_text.h"
 #include "medspheres/version.h"
 
 namespace medspheres {
@@ -31,11 +32,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-std::string exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
 
 // One bake: a mesh, in a part's frame (one part) or the link frame (several), to a budget.
 struct BakeJob {
@@ -57,7 +53,7 @@ std::string job_key(const LinkSolid& solid, const std::optional<std::size_t>& bu
     for (const LinkSolidPart& part : solid.parts) {
       key += part.key + " at";
       for (int r = 0; r < 3; ++r)
-        for (int c = 0; c < 4; ++c) key += " " + exact(part.origin.matrix()(r, c));
+        for (int c = 0; c < 4; ++c) key += " " + exact_number_text(part.origin.matrix()(r, c));
       key += "; ";
     }
   }

@@ -1,15 +1,14 @@
 #include "number_text.h"
 
+#include "medspheres/number_text.h"
+
 #include <charconv>
 #include <system_error>
 
 namespace medspheres::formats {
 
 std::string exact_number(double v) {
-  char buffer[32];
-  // std::to_chars without a precision gives the shortest round-trip form.
-  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
-  return std::string(buffer, result.ptr);
+  return exact_number_text(v);
 }
 
 std::string exact_numbers(const std::vector<double>& values) {

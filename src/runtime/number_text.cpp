@@ -1,5 +1,6 @@
 #include "medspheres/number_text.h"
 
+#include <charconv>
 #include <cstdio>
 
 namespace medspheres {
@@ -11,6 +12,13 @@ std::string number_text(double v, int digits) {
   char buffer[64];
   std::snprintf(buffer, sizeof buffer, "%.*g", digits, v);
   return buffer;
+}
+
+std::string exact_number_text(double v) {
+  char buffer[32];
+  // std::to_chars without a precision gives the shortest round-trip form.
+  const auto result = std::to_chars(buffer, buffer + sizeof buffer, v);
+  return std::string(buffer, result.ptr);
 }
 
 }  // namespace medspheres
