@@ -5,6 +5,8 @@
 
 #include <algorithm>
 #include <set>
+#include <stdexcept>
+#include <string>
 
 #include "medspheres/error.h"
 
@@ -38,6 +40,23 @@ void add_minimum(DistanceBounds& m, const DistanceBounds& b) {
   m.upper = std::min(m.upper, b.upper);
   m.stats.bv_tests += b.stats.bv_tests;
   m.stats.leaf_tests += b.stats.leaf_tests;
+}
+
+// Calls on_scene(link, object) for every geometry and scene object, then, with
+// include_self, on_self(a, b) for every self-collision pair, until one returns true.
+template <class S, class P>
+void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                 bool include_self, S&& on_scene, P&& on_self) {
+  for (std::size_t o = 0; o < scene.size(); ++o)
+    if (scene[o] == nullptr || scene[o]->collisionGeometry() == nullptr)
+      throw std::invalid_argument("robot bounds: scene object " + std::to_string(o) +
+                                  " is null or has no geometry");
+  for (std::size_t l = 0; l < robot.geometries().size(); ++l)
+    for (std::size_t o = 0; o < scene.size(); ++o)
+      if (on_scene(l, o)) return;
+  if (include_self)
+    for (const auto& [a, b] : robot.self_pairs())
+      if (on_self(a, b)) return;
 }
 
 }  // namespace
@@ -82,13 +101,18 @@ RobotBoundsResult robot_bounds(const RobotBounds& robot, const Eigen::VectorXd& 
     if (per_pair) out.pairs.push_back({link, other, self, r.bounds});
   };
   out.minimum.lower = out.minimum.upper;  // infinity: no pair yet
-  for (std::size_t l = 0; l < g.size(); ++l)
-    for (std::size_t o = 0; o < scene.size(); ++o)
-      record(l, o, false,
-             distance_bounds(g[l], X[l], *scene[o]->collisionGeometry(), scene[o]->getTransform()));
-  if (include_self)
-    for (const auto& [a, b] : robot.self_pairs())
-      record(a, b, true, distance_bounds(g[a], X[a], g[b], X[b]));
+  visit_pairs(
+      robot, scene, include_self,
+      [&](std::size_t l, std::size_t o) {
+        const ::fcl::CollisionObjectd& obj = *scene[o];
+        record(l, o, false,
+               distance_bounds(g[l], X[l], *obj.collisionGeometry(), obj.getTransform()));
+        return false;
+      },
+      [&](std::size_t a, std::size_t b) {
+        record(a, b, true, distance_bounds(g[a], X[a], g[b], X[b]));
+        return false;
+      });
   return out;
 }
 
@@ -108,13 +132,15 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
     out.verdict = BoundsVerdict::colliding;
     return true;
   };
-  for (std::size_t l = 0; l < g.size(); ++l)
-    for (const ::fcl::CollisionObjectd* o : scene)
-      if (record(collide(g[l], X[l], *o->collisionGeometry(), o->getTransform(), margin)))
-        return out;
-  if (include_self)
-    for (const auto& [a, b] : robot.self_pairs())
-      if (record(collide(g[a], X[a], g[b], X[b], margin))) return out;
+  visit_pairs(
+      robot, scene, include_self,
+      [&](std::size_t l, std::size_t o) {
+        const ::fcl::CollisionObjectd& obj = *scene[o];
+        return record(collide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
+      },
+      [&](std::size_t a, std::size_t b) {
+        return record(collide(g[a], X[a], g[b], X[b], margin));
+      });
   return out;
 }
 

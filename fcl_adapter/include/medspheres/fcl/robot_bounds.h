@@ -13,7 +13,8 @@
 /// Frames: q as KinematicTree::link_poses (forward_kinematics.h), X_WB the base pose; the
 /// scene objects' transforms are in W. Errors: InputError naming the link for a link with
 /// one set empty and the other not, a link whose outer set is not certified (unless
-/// allowed), or a disabled pair naming an unknown link; std::invalid_argument for a bad q.
+/// allowed), or a disabled pair naming an unknown link; std::invalid_argument for a bad q
+/// or a null scene object.
 /// Threads: immutable after construction; queries may run from many threads at once.
 
 #include <cstddef>
