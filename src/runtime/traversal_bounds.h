@@ -10,6 +10,8 @@
 //      could be smaller is seen or pruned with its level recorded), and
 //   U: the smallest inner pair distance seen (an upper bound: any inner pair is a pair of
 //      points of the two solids).
+// Order: the inner root pair first (its bound is taken as -infinity), so that U is known
+// when the outer pairs are walked.
 // Pruning. Inner pairs are pruned at U (as a distance query), and in a decision against a
 // margin also at the margin. Outer pairs are pruned at min(U, L): a pair whose bound
 // reaches U cannot lower L below what the bounds report (see lower()), and one whose bound
@@ -83,8 +85,9 @@ class BoundsNodes {
   enum Side : std::int8_t { kRoot, kOuter, kInner };
   struct Pair {
     Side side = kRoot;
-    typename O::Pair o;  // an outer pair's nodes
-    typename I::Pair i;  // an inner pair's nodes
+    bool inner_root = false;  // the inner sets' root pair
+    typename O::Pair o;       // an outer pair's nodes
+    typename I::Pair i;       // an inner pair's nodes
   };
   static constexpr int kMaxChildren =
       O::kMaxChildren > I::kMaxChildren ? O::kMaxChildren : I::kMaxChildren;
@@ -95,7 +98,9 @@ class BoundsNodes {
   Pair root() const { return Pair{}; }
 
   double bound(const Pair& p, double prune_at) const {
-    if (p.side == kRoot) return -std::numeric_limits<double>::infinity();
+    // The virtual root and the inner root pair get the trivial bound -infinity: the inner
+    // sets are walked first, so that their distance prunes the outer walk.
+    if (p.side == kRoot || p.inner_root) return -std::numeric_limits<double>::infinity();
     if (p.side == kInner) return inner_.bound(p.i, prune_at);
     // Outer pair: node_pair_bound returns infinity once it knows the bound reaches the
     // level it is given, so record that level as the pair's floor.
@@ -129,6 +134,7 @@ class BoundsNodes {
       out[0].o = outer_.root();
       out[1].side = kInner;
       out[1].i = inner_.root();
+      out[1].inner_root = true;
       return 2;
     }
     int n = 0;
