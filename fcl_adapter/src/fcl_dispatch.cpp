@@ -497,6 +497,11 @@ bool answered_on_spheres(const ::fcl::CollisionGeometryd* o1, const ::fcl::Trans
   return visit_geometry(s1 == nullptr ? *o1 : *o2, TargetProblem{}).empty();
 }
 
+void with_target_view(const ::fcl::CollisionGeometryd& g,
+                      const std::function<void(const ProximityTarget&)>& f) {
+  with_target(g, Narrowphase{}, f);
+}
+
 }  // namespace detail
 
 double distance(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& tf1,

@@ -2,7 +2,11 @@
 // Private to the fcl_adapter target: what the opt-in fcl:: overloads need to know from
 // the dispatch.
 
+#include <functional>
+
 #include <fcl/narrowphase/collision_object.h>
+
+#include "medspheres/proximity_target.h"
 
 namespace medspheres::fcl::detail {
 
@@ -12,5 +16,11 @@ namespace medspheres::fcl::detail {
 /// null, so that the caller gets medspheres' error rather than libfcl's crash.
 bool answered_on_spheres(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& tf1,
                          const ::fcl::CollisionGeometryd* o2, const ::fcl::Transform3d& tf2);
+
+/// Calls f with the ProximityTarget view of \p g (a BVHModel of triangles, an FCL
+/// primitive or an octree; FCL's default narrowphase tolerances), as the dispatch sees it.
+/// \throws std::invalid_argument for a geometry the dispatch does not support.
+void with_target_view(const ::fcl::CollisionGeometryd& g,
+                      const std::function<void(const ProximityTarget&)>& f);
 
 }  // namespace medspheres::fcl::detail

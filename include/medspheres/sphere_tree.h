@@ -216,4 +216,64 @@ std::size_t contacts(const SphereTree& a, const Eigen::Isometry3d& X_WA, const P
                      const Eigen::Isometry3d& X_WB, std::size_t max_contacts,
                      std::vector<TreeContact>& out, QueryStats* stats = nullptr);
 
+// --- certified distance bounds ---------------------------------------------------------
+// Each object is given by two sphere trees: an inner one, whose balls lie inside the
+// solid, and an outer one, whose union contains the solid's surface. For two disjoint
+// solids the closest points lie on their surfaces, which the outer unions contain, so
+// d(outer A, outer B) <= d(A, B); every pair of inner points is a pair of points of the
+// solids, so d(A, B) <= d(inner A, inner B). When the solids overlap their surfaces meet
+// (the outer unions then overlap, lower = 0) unless one solid lies inside the other
+// without surface contact: the bounds then need the outer union to contain the solid's
+// interior too (the caller's assumption; a cover certificate certifies only the surface).
+// Both bounds are computed in one walk that prunes each kind of pair with the other's
+// values (traversal_bounds.h), exact up to double rounding, which they absorb (the
+// allowance, 64 ulps of the scene's extent, is subtracted from lower and added to upper).
+// A target answers as its ball_proximity does (exact for triangles; within the
+// narrowphase tolerance for GJK shapes).
+
+/// Distance bounds: lower <= d(A, B) <= upper, both >= 0. lower = 0: the outer sets
+/// overlap (the solids may collide); upper = 0: the inner sets overlap (they collide; the
+/// walk stops there, with lower = 0).
+struct DistanceBounds {
+  double lower = 0.0;
+  double upper = std::numeric_limits<double>::infinity();
+  QueryStats stats;
+};
+
+/// Three-valued collision against a margin m >= 0 ("colliding" means d(A, B) <= m).
+enum class BoundsVerdict {
+  free,       ///< lower > m: certainly farther apart than m
+  colliding,  ///< upper <= m: certainly within m (m = 0: certainly in collision)
+  undecided,  ///< lower <= m < upper
+};
+
+/// A verdict with the bounds the walk needed for it: valid bounds, but only as tight as
+/// the verdict required (upper may be infinity when the outer sets decided "free").
+struct BoundsDecision {
+  BoundsVerdict verdict = BoundsVerdict::undecided;
+  DistanceBounds bounds;
+};
+
+/// The bounds for A (inner_a, outer_a at X_WA) and B (inner_b, outer_b at X_WB).
+/// \throws std::invalid_argument for an empty tree or a non-finite pose.
+DistanceBounds distance_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
+                               const Eigen::Isometry3d& X_WA, const SphereTree& inner_b,
+                               const SphereTree& outer_b, const Eigen::Isometry3d& X_WB);
+
+/// The bounds for A and a target B (exact geometry: its own set on both sides).
+DistanceBounds distance_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
+                               const Eigen::Isometry3d& X_WA, const ProximityTarget& b,
+                               const Eigen::Isometry3d& X_WB);
+
+/// The verdict against \p margin (finite, >= 0; std::invalid_argument otherwise); the walk
+/// stops as soon as it is known.
+BoundsDecision decide_collision(const SphereTree& inner_a, const SphereTree& outer_a,
+                                const Eigen::Isometry3d& X_WA, const SphereTree& inner_b,
+                                const SphereTree& outer_b, const Eigen::Isometry3d& X_WB,
+                                double margin = 0.0);
+
+BoundsDecision decide_collision(const SphereTree& inner_a, const SphereTree& outer_a,
+                                const Eigen::Isometry3d& X_WA, const ProximityTarget& b,
+                                const Eigen::Isometry3d& X_WB, double margin = 0.0);
+
 }  // namespace medspheres

@@ -27,11 +27,13 @@
 #include <optional>
 #include <stdexcept>
 #include <string>
+#include <type_traits>
 
 #include "medspheres/sphere_tree.h"
 #include "sphere_tree_layout.h"
 #include "traversal.h"
 #include "traversal_accumulators.h"
+#include "traversal_bounds.h"
 #include "traversal_point.h"
 #include "traversal_sphere_pair.h"
 #include "traversal_target.h"
@@ -168,6 +170,14 @@ TreeDistance target_distance(const SphereTree& a, const Eigen::Isometry3d& X_WA,
   return acc.result(la->original_index, nullptr, X_WA);
 }
 
+// Extent of a target about the origin of its frame: its root's RSS (0 for a lone
+// primitive, which may be unbounded).
+double target_extent(const TargetNode& root) {
+  return root.is_leaf
+             ? 0.0
+             : (root.bounds.center().norm() + root.bounds.length.norm() * 0.5 + root.bounds.radius);
+}
+
 std::size_t target_contacts(const SphereTree& a, const Eigen::Isometry3d& X_WA,
                             const ProximityTarget& b, const Eigen::Isometry3d& X_WB,
                             std::size_t max_contacts, std::vector<TreeContact>* out,
@@ -181,10 +191,7 @@ std::size_t target_contacts(const SphereTree& a, const Eigen::Isometry3d& X_WA,
       (max_contacts > 0 && has_nodes(la)) ? b.root() : std::nullopt;
   if (root) {
     const Frame frame(X_WA, X_WB);
-    const double extent_b = root->is_leaf
-                                ? 0.0
-                                : (root->bounds.center().norm() + root->bounds.length.norm() * 0.5 +
-                                   root->bounds.radius);
+    const double extent_b = target_extent(*root);
     const std::size_t before = out != nullptr ? out->size() : 0;
     with_target_pairs(*la, b, *root, frame, false, [&](const auto& nodes, double extent_a) {
       ContactList acc(max_contacts, out, collision_slack(extent_a, extent_b, frame), X_WA);
@@ -264,6 +271,113 @@ std::size_t contacts(const SphereTree& a, const Eigen::Isometry3d& X_WA, const P
                      const Eigen::Isometry3d& X_WB, std::size_t max_contacts,
                      std::vector<TreeContact>& out, QueryStats* stats) {
   return target_contacts(a, X_WA, b, X_WB, max_contacts, &out, stats);
+}
+
+// --- certified distance bounds ---------------------------------------------------------
+// One walk over outer and inner pairs (traversal_bounds.h). The rounding allowance is the
+// collision slack of the outer trees (the larger extents), applied to both bounds and to
+// the margin of a decision: "colliding" needs U + slack <= m, "free" L - slack > m.
+
+namespace {
+
+void check_margin(double margin) {
+  if (!std::isfinite(margin) || margin < 0.0)
+    throw std::invalid_argument("decide_collision: margin must be finite and >= 0");
+}
+
+const Layout& bounds_layout(const SphereTree& t, const char* name) {
+  const Layout* l = tree_layout(t);
+  if (!has_nodes(l))
+    throw std::invalid_argument(std::string("distance_bounds: the ") + name + " tree is empty");
+  return *l;
+}
+
+template <class O, class I>
+BoundsDecision run_bounds(const O& outer, const I& inner, double slack, bool decide,
+                          double margin) {
+  detail::BoundsGather g(decide, margin - slack, margin + slack);
+  const detail::BoundsNodes<O, I> nodes(outer, inner, g);
+  detail::traverse(nodes, g);
+  BoundsDecision d;
+  // A walk stopped early (the inner sets decided a collision) leaves outer pairs
+  // unvisited and unaccounted: lower is then 0, which every distance is at least.
+  d.bounds.lower = g.done() ? 0.0 : std::max(0.0, g.lower() - slack);
+  d.bounds.upper = std::max(0.0, g.upper() + slack);
+  d.bounds.stats = g.total();
+  if (d.bounds.upper <= margin)
+    d.verdict = BoundsVerdict::colliding;
+  else if (d.bounds.lower > margin)
+    d.verdict = BoundsVerdict::free;
+  return d;
+}
+
+BoundsDecision tree_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
+                           const Eigen::Isometry3d& X_WA, const SphereTree& inner_b,
+                           const SphereTree& outer_b, const Eigen::Isometry3d& X_WB, bool decide,
+                           double margin) {
+  check_pose(X_WA, "X_WA");
+  check_pose(X_WB, "X_WB");
+  const Layout& ia = bounds_layout(inner_a, "inner A");
+  const Layout& oa = bounds_layout(outer_a, "outer A");
+  const Layout& ib = bounds_layout(inner_b, "inner B");
+  const Layout& ob = bounds_layout(outer_b, "outer B");
+  const Frame frame(X_WA, X_WB);
+  BoundsDecision out;
+  with_sphere_pairs(oa, ob, frame, false, [&](const auto& outer, double ea, double eb) {
+    with_sphere_pairs(ia, ib, frame, false, [&](const auto& inner, double, double) {
+      out = run_bounds(outer, inner, collision_slack(ea, eb, frame), decide, margin);
+    });
+  });
+  return out;
+}
+
+BoundsDecision target_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
+                             const Eigen::Isometry3d& X_WA, const ProximityTarget& b,
+                             const Eigen::Isometry3d& X_WB, bool decide, double margin) {
+  check_pose(X_WA, "X_WA");
+  check_pose(X_WB, "X_WB");
+  const Layout& ia = bounds_layout(inner_a, "inner A");
+  const Layout& oa = bounds_layout(outer_a, "outer A");
+  const std::optional<TargetNode> root = b.root();
+  if (!root) throw std::invalid_argument("distance_bounds: the target is empty");
+  const Frame frame(X_WA, X_WB);
+  const double eb = target_extent(*root);
+  BoundsDecision out;
+  with_target_pairs(oa, b, *root, frame, false, [&](const auto& outer, double ea) {
+    with_target_pairs(ia, b, *root, frame, false, [&](const auto& inner, double) {
+      out = run_bounds(outer, inner, collision_slack(ea, eb, frame), decide, margin);
+    });
+  });
+  return out;
+}
+
+}  // namespace
+
+DistanceBounds distance_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
+                               const Eigen::Isometry3d& X_WA, const SphereTree& inner_b,
+                               const SphereTree& outer_b, const Eigen::Isometry3d& X_WB) {
+  return tree_bounds(inner_a, outer_a, X_WA, inner_b, outer_b, X_WB, false, 0.0).bounds;
+}
+
+DistanceBounds distance_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
+                               const Eigen::Isometry3d& X_WA, const ProximityTarget& b,
+                               const Eigen::Isometry3d& X_WB) {
+  return target_bounds(inner_a, outer_a, X_WA, b, X_WB, false, 0.0).bounds;
+}
+
+BoundsDecision decide_collision(const SphereTree& inner_a, const SphereTree& outer_a,
+                                const Eigen::Isometry3d& X_WA, const SphereTree& inner_b,
+                                const SphereTree& outer_b, const Eigen::Isometry3d& X_WB,
+                                double margin) {
+  check_margin(margin);
+  return tree_bounds(inner_a, outer_a, X_WA, inner_b, outer_b, X_WB, true, margin);
+}
+
+BoundsDecision decide_collision(const SphereTree& inner_a, const SphereTree& outer_a,
+                                const Eigen::Isometry3d& X_WA, const ProximityTarget& b,
+                                const Eigen::Isometry3d& X_WB, double margin) {
+  check_margin(margin);
+  return target_bounds(inner_a, outer_a, X_WA, b, X_WB, true, margin);
 }
 
 }  // namespace medspheres

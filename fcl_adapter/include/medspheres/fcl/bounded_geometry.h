@@ -1,0 +1,126 @@
+#pragma once
+/// \file
+/// BoundedGeometry: a link (or any solid) held as an inner sphere set (inside the solid),
+/// an outer covering sphere set (its union contains the solid's surface, certified), and
+/// optionally the exact mesh; certified distance bounds and a three-valued collision test
+/// on them, with the exact mesh as fallback.
+///
+/// Why the bounds hold (medspheres/sphere_tree.h, "certified distance bounds"): the solid
+/// contains the union of its inner set, and its surface lies inside the union of its outer
+/// set. For two disjoint solids the closest points lie on the surfaces, so
+///   d(outer A, outer B) <= d(A, B) <= d(inner A, inner B).
+/// Overlapping solids whose surfaces meet have overlapping outer unions (lower = 0).
+/// Assumed: no solid lies wholly inside another without surface contact, unless the outer
+/// set also contains the interior (a cover certificate certifies only the surface; the
+/// bake's covers fill the interior at sample points but do not certify it). Against an
+/// FCL geometry, the geometry itself stands on both sides, so the same argument holds with
+/// d(A, G) between d(outer A, G) and d(inner A, G).
+///
+/// Frames and units: sets and mesh in the link frame A; poses X_WA place it in W.
+/// Errors: medspheres::InputError naming the link for an empty set, an invalid ball, or an
+/// uncertified outer set without allow_uncertified; std::invalid_argument for non-finite
+/// poses, a negative margin, or an FCL geometry the dispatch does not support.
+/// Threads: a BoundedGeometry is immutable; any number of threads may query it at once.
+
+#include <memory>
+#include <string>
+
+#include <fcl/geometry/bvh/BVH_model.h>
+#include <fcl/math/bv/OBBRSS.h>
+#include <fcl/narrowphase/collision_object.h>
+
+#include "medspheres/robot_model.h"
+#include "medspheres/sphere_set.h"
+#include "medspheres/sphere_tree.h"
+
+namespace medspheres::fcl {
+
+using MeshModel = ::fcl::BVHModel<::fcl::OBBRSSd>;
+
+struct BoundedGeometryOptions {
+  /// Accept an outer set whose certificate is missing or false; every result then carries
+  /// certified = false.
+  bool allow_uncertified = false;
+  SphereTreeOptions tree;  ///< options of both sphere trees
+};
+
+/// True when \p json (a sphere-set file's metadata, or a link's outer_certificate_json)
+/// records a certified cover: "certified": true at the top level or in "stats".
+/// Malformed or empty text is not certified.
+bool records_certified_cover(const std::string& json);
+
+class BoundedGeometry {
+ public:
+  /// \p link names the geometry in messages. The outer set's certificate is read from
+  /// outer.metadata_json (records_certified_cover). \p mesh, when given, is the exact
+  /// solid in frame A, a finished triangle model.
+  /// \throws InputError (source: the link) as the file comment says.
+  BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer,
+                  std::shared_ptr<const MeshModel> mesh = nullptr,
+                  const BoundedGeometryOptions& options = {});
+
+  /// From a robot link's sets; the certificate is spheres.outer_certificate_json.
+  static BoundedGeometry from_link(const std::string& link, const LinkSpheres& spheres,
+                                   std::shared_ptr<const MeshModel> mesh = nullptr,
+                                   const BoundedGeometryOptions& options = {});
+
+  const std::string& link() const noexcept { return link_; }
+  const SphereTree& inner() const noexcept { return inner_; }
+  const SphereTree& outer() const noexcept { return outer_; }
+  const MeshModel* mesh() const noexcept { return mesh_.get(); }
+  /// False only when accepted through allow_uncertified.
+  bool certified() const noexcept { return certified_; }
+
+ private:
+  BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer, bool certified,
+                  std::shared_ptr<const MeshModel> mesh, const BoundedGeometryOptions& options);
+
+  std::string link_;
+  SphereTree inner_;
+  SphereTree outer_;
+  std::shared_ptr<const MeshModel> mesh_;
+  bool certified_ = false;
+};
+
+/// lower <= d <= upper (see the file comment), with whether both outer sets are certified.
+struct BoundsResult {
+  DistanceBounds bounds;
+  bool certified = true;
+};
+
+/// Which computation gave a collide() answer.
+enum class AnswerPath {
+  spheres,  ///< the bounds decided
+  mesh,     ///< undecided by the bounds; the exact meshes (FCL, OBBRSS) decided
+};
+
+struct CollideResult {
+  /// free or colliding when decided; undecided only when no mesh could decide.
+  BoundsVerdict verdict = BoundsVerdict::undecided;
+  AnswerPath path = AnswerPath::spheres;
+  DistanceBounds bounds;  ///< as tight as the verdict needed (BoundsDecision)
+  /// The exact distance, when the mesh answered (FCL's mesh distance: meshes are surfaces).
+  double mesh_distance = -1.0;
+  bool certified = true;
+};
+
+BoundsResult distance_bounds(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                             const BoundedGeometry& b, const ::fcl::Transform3d& X_WB);
+
+/// Against an FCL geometry that medspheres::fcl::distance accepts beside a sphere set
+/// (a BVHModel of triangles, a primitive, an octree).
+BoundsResult distance_bounds(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                             const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB);
+
+/// "Colliding" means d <= margin (margin finite, >= 0). When the bounds leave it undecided
+/// and both meshes are present, FCL's mesh distance decides (path mesh).
+CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                      const BoundedGeometry& b, const ::fcl::Transform3d& X_WB,
+                      double margin = 0.0);
+
+/// As above against an FCL geometry; the fallback needs a's mesh.
+CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                      double margin = 0.0);
+
+}  // namespace medspheres::fcl

@@ -1,0 +1,99 @@
+#pragma once
+/// \file
+/// Certified distance bounds and three-valued collision for a whole robot: every link a
+/// BoundedGeometry (bounded_geometry.h), posed by forward kinematics from a joint vector,
+/// against a scene of FCL collision objects and against itself.
+///
+/// Self-collision pairs: every two links with a geometry, except the parent and child of a
+/// joint (adjacent links) and the pairs the caller disables (for instance an SRDF's
+/// <disable_collisions>, read by medspheres/formats/srdf_disabled_collisions.h).
+/// Minimum: the smallest lower and the smallest upper over the pairs bound the smallest
+/// exact distance (min of lower bounds <= min of distances <= min of upper bounds).
+///
+/// Frames: q as KinematicTree::link_poses (forward_kinematics.h), X_WB the base pose; the
+/// scene objects' transforms are in W. Errors: InputError naming the link for a link with
+/// one set empty and the other not, a link whose outer set is not certified (unless
+/// allowed), or a disabled pair naming an unknown link; std::invalid_argument for a bad q
+/// or a null scene object.
+/// Threads: immutable after construction; queries may run from many threads at once.
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "medspheres/fcl/bounded_geometry.h"
+#include "medspheres/forward_kinematics.h"
+#include "medspheres/robot_model.h"
+
+namespace medspheres::fcl {
+
+class RobotBounds {
+ public:
+  /// Links with both sets empty have no geometry and are left out. \p meshes: exact meshes
+  /// by link name (optional, link frame). \p disabled: link pairs excluded from
+  /// self-collision, in either order.
+  RobotBounds(const RobotModel& model,
+              const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes = {},
+              const std::vector<std::pair<std::string, std::string>>& disabled = {},
+              const BoundedGeometryOptions& options = {});
+
+  const KinematicTree& kinematics() const noexcept { return tree_; }
+  /// The links with a geometry, and the index of each in kinematics().link_names().
+  const std::vector<BoundedGeometry>& geometries() const noexcept { return geometries_; }
+  const std::vector<std::size_t>& link_of() const noexcept { return link_of_; }
+  /// Self-collision pairs, as indices into geometries(), first < second.
+  const std::vector<std::pair<std::size_t, std::size_t>>& self_pairs() const noexcept {
+    return self_pairs_;
+  }
+  /// X_WL of every geometry's link (in geometries() order).
+  std::vector<::fcl::Transform3d> poses(const Eigen::VectorXd& q,
+                                        const Eigen::Isometry3d& X_WB) const;
+
+ private:
+  KinematicTree tree_;
+  std::vector<BoundedGeometry> geometries_;
+  std::vector<std::size_t> link_of_;
+  std::vector<std::pair<std::size_t, std::size_t>> self_pairs_;
+};
+
+/// One pair's bounds: geometry index `link`; `other` a geometry index (self) or an index
+/// into the scene.
+struct LinkPairBounds {
+  std::size_t link = 0;
+  std::size_t other = 0;
+  bool self = false;
+  DistanceBounds bounds;
+};
+
+struct RobotBoundsResult {
+  DistanceBounds minimum;             ///< over all pairs (infinite when there is none)
+  std::vector<LinkPairBounds> pairs;  ///< every pair, when asked for
+  bool certified = true;              ///< false when a link was accepted uncertified
+};
+
+/// Bounds of the robot at q against every scene object, and of its self-collision pairs
+/// when \p include_self.
+RobotBoundsResult robot_bounds(const RobotBounds& robot, const Eigen::VectorXd& q,
+                               const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                               bool include_self, bool per_pair = false,
+                               const Eigen::Isometry3d& X_WB = Eigen::Isometry3d::Identity());
+
+struct RobotCollideResult {
+  /// colliding when a pair is (the walk stops there), free when every pair is, else
+  /// undecided (a pair was undecided and had no mesh to fall back on).
+  BoundsVerdict verdict = BoundsVerdict::free;
+  std::size_t pairs_tested = 0;
+  std::size_t mesh_fallbacks = 0;  ///< pairs answered by the exact meshes
+  bool certified = true;
+};
+
+/// Three-valued collision of the robot at q against the scene (and itself) within margin.
+RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
+                                 const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                                 bool include_self, double margin = 0.0,
+                                 const Eigen::Isometry3d& X_WB = Eigen::Isometry3d::Identity());
+
+}  // namespace medspheres::fcl

@@ -1,0 +1,378 @@
+// Certified distance bounds (medspheres/fcl/bounded_geometry.h) against oracles: the exact
+// distance between the solids, from FCL's OBBRSS mesh queries (surfaces) plus a winding
+// number test for one solid inside another; independent sphere-tree distance queries for
+// the values of the joint walk; serial answers for the thread test.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <map>
+#include <memory>
+#include <random>
+#include <set>
+#include <string>
+#include <thread>
+#include <vector>
+
+#include <fcl/fcl.h>
+#include <catch2/catch.hpp>
+
+#include "medspheres/bake/bake.h"
+#include "medspheres/bake/cover.h"
+#include "medspheres/error.h"
+#include "medspheres/fcl/bounded_geometry.h"
+#include "medspheres/fcl/robot_bounds.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "support/fcl_fixtures.h"
+#include "support/robot_fixtures.h"
+#include "support/sphere_fixtures.h"
+
+using namespace medspheres;
+namespace mt = medspheres::test;
+namespace mf = medspheres::fcl;
+
+namespace {
+
+// FCL's own double rounding in the exact distance (a few ulps of the scene).
+constexpr double kOracleRounding = 1e-12;
+
+struct Solid {
+  std::string name;
+  TriangleMesh mesh;
+  std::unique_ptr<MeshQuery> query;
+  SphereSet inner, outer;
+  std::shared_ptr<mf::MeshModel> bvh;
+  std::unique_ptr<mf::BoundedGeometry> geometry;      // with the mesh
+  std::unique_ptr<mf::BoundedGeometry> spheres_only;  // without it
+};
+
+std::unique_ptr<Solid> make_solid(const std::string& name, TriangleMesh mesh) {
+  auto s = std::make_unique<Solid>();
+  s->name = name;
+  s->mesh = std::move(mesh);
+  s->query = std::make_unique<MeshQuery>(s->mesh);
+  BakeOptions bo;
+  bo.resolution = 24;
+  s->inner = bake(*s->query, bo).spheres;
+  CoverResult cover = bake_cover(*s->query, 24);
+  REQUIRE(cover.certificate.certified);
+  s->outer = cover.spheres;
+  s->outer.metadata_json = R"({"stats": {"certified": true}})";
+  s->bvh = mt::make_bvh<::fcl::OBBRSSd>(s->mesh);
+  s->geometry = std::make_unique<mf::BoundedGeometry>(name, s->inner, s->outer, s->bvh);
+  s->spheres_only = std::make_unique<mf::BoundedGeometry>(name, s->inner, s->outer);
+  return s;
+}
+
+const std::vector<std::unique_ptr<Solid>>& solids() {
+  static const std::vector<std::unique_ptr<Solid>> all = [] {
+    std::vector<std::unique_ptr<Solid>> v;
+    v.push_back(make_solid("box", make_box(Eigen::Vector3d(0.3, 0.2, 0.25), 2)));
+    v.push_back(make_solid("ball", make_icosphere(0.3, 2)));
+    v.push_back(make_solid("capsule", make_capsule(0.12, 0.35, 16, 6)));
+    v.push_back(make_solid("torus", make_torus(0.3, 0.1, 24, 12)));
+    return v;
+  }();
+  return all;
+}
+
+bool inside(const Solid& s, const ::fcl::Transform3d& X_WS, const Eigen::Vector3d& p_W) {
+  return s.query->inside(X_WS.inverse() * p_W);
+}
+
+// The distance between the two solids (0 when they overlap): FCL's surface distance, or 0
+// when the surfaces meet or one solid holds a vertex of the other. *nested tells whether
+// they overlap with no surface contact (one inside the other).
+double exact_distance(const Solid& a, const ::fcl::Transform3d& X_WA, const Solid& b,
+                      const ::fcl::Transform3d& X_WB, bool* nested) {
+  ::fcl::CollisionRequestd creq;
+  ::fcl::CollisionResultd cres;
+  *nested = false;
+  if (::fcl::collide(a.bvh.get(), X_WA, b.bvh.get(), X_WB, creq, cres) > 0) return 0.0;
+  if (inside(b, X_WB, X_WA * a.mesh.vertices[0]) || inside(a, X_WA, X_WB * b.mesh.vertices[0])) {
+    *nested = true;
+    return 0.0;
+  }
+  ::fcl::DistanceRequestd dreq;
+  ::fcl::DistanceResultd dres;
+  return ::fcl::distance(a.bvh.get(), X_WA, b.bvh.get(), X_WB, dreq, dres);
+}
+
+// The distance between solid a and an FCL geometry g (a solid primitive or a mesh), 0 when
+// they meet; *nested when g's origin is inside a without surface contact.
+double exact_distance(const Solid& a, const ::fcl::Transform3d& X_WA,
+                      const ::fcl::CollisionGeometryd& g, const ::fcl::Transform3d& X_WG,
+                      bool* nested) {
+  ::fcl::CollisionRequestd creq;
+  ::fcl::CollisionResultd cres;
+  *nested = false;
+  if (::fcl::collide(a.bvh.get(), X_WA, &g, X_WG, creq, cres) > 0) return 0.0;
+  // A primitive inside the solid touches no triangle: its centre is then inside.
+  if (inside(a, X_WA, X_WG.translation())) {
+    *nested = true;
+    return 0.0;
+  }
+  ::fcl::DistanceRequestd dreq;
+  ::fcl::DistanceResultd dres;
+  return ::fcl::distance(a.bvh.get(), X_WA, &g, X_WG, dreq, dres);
+}
+
+struct PosedPair {
+  const Solid* a;
+  const Solid* b;
+  ::fcl::Transform3d X_WA, X_WB;
+};
+
+std::vector<PosedPair> seeded_pairs(unsigned seed, int per_pair, double spread) {
+  std::mt19937 rng(seed);
+  std::vector<PosedPair> out;
+  for (const auto& a : solids())
+    for (const auto& b : solids())
+      for (int k = 0; k < per_pair; ++k)
+        out.push_back(
+            {a.get(), b.get(), mt::random_pose(rng, spread), mt::random_pose(rng, spread)});
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("distance bounds hold the exact distance between two solids", "[bounds]") {
+  int apart = 0, touching = 0, nested = 0;
+  for (const PosedPair& p : seeded_pairs(7, 60, 0.45)) {
+    bool is_nested = false;
+    const double d = exact_distance(*p.a, p.X_WA, *p.b, p.X_WB, &is_nested);
+    const mf::BoundsResult r = mf::distance_bounds(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB);
+    INFO(p.a->name << " / " << p.b->name << ": exact " << d << ", [" << r.bounds.lower << ", "
+                   << r.bounds.upper << "]");
+    CHECK(r.certified);
+    CHECK(r.bounds.lower <= r.bounds.upper);
+    CHECK(d <= r.bounds.upper + kOracleRounding);
+    // Nested solids (no surface contact) are outside the surface certificate's reach.
+    if (!is_nested) CHECK(r.bounds.lower <= d + kOracleRounding);
+    (is_nested ? nested : d > 0.0 ? apart : touching)++;
+  }
+  INFO("apart " << apart << ", overlapping " << touching << ", nested " << nested);
+  CHECK(apart > 100);
+  CHECK(touching > 100);
+}
+
+TEST_CASE("the joint walk gives the two sphere-set distances", "[bounds]") {
+  for (const PosedPair& p : seeded_pairs(11, 25, 0.6)) {
+    const DistanceBounds b =
+        distance_bounds(p.a->geometry->inner(), p.a->geometry->outer(), p.X_WA,
+                        p.b->geometry->inner(), p.b->geometry->outer(), p.X_WB);
+    const double outer =
+        distance(p.a->geometry->outer(), p.X_WA, p.b->geometry->outer(), p.X_WB).distance;
+    const double inner =
+        distance(p.a->geometry->inner(), p.X_WA, p.b->geometry->inner(), p.X_WB).distance;
+    INFO(p.a->name << " / " << p.b->name);
+    // The rounding allowance is at most 64 ulps of a scene of extent < 10.
+    CHECK(b.lower == Approx(std::max(0.0, outer)).margin(1e-12));
+    CHECK(b.upper == Approx(std::max(0.0, inner)).margin(1e-12));
+  }
+}
+
+TEST_CASE("three-valued collide is never wrong and uses the mesh only when undecided", "[bounds]") {
+  for (const double margin : {0.0, 0.01, 0.05}) {
+    int decided = 0, fallback = 0;
+    for (const PosedPair& p : seeded_pairs(23, 40, 0.5)) {
+      bool is_nested = false;
+      const double d = exact_distance(*p.a, p.X_WA, *p.b, p.X_WB, &is_nested);
+      const mf::CollideResult fast =
+          mf::collide(*p.a->spheres_only, p.X_WA, *p.b->spheres_only, p.X_WB, margin);
+      const mf::CollideResult full =
+          mf::collide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, margin);
+      INFO(p.a->name << " / " << p.b->name << " margin " << margin << ": exact " << d);
+      CHECK(fast.path == mf::AnswerPath::spheres);
+      if (fast.verdict == BoundsVerdict::free && !is_nested) CHECK(d > margin - kOracleRounding);
+      if (fast.verdict == BoundsVerdict::colliding) CHECK(d <= margin + kOracleRounding);
+      CHECK(fast.bounds.lower <= d + kOracleRounding + (is_nested ? 1e9 : 0.0));
+      CHECK(d <= fast.bounds.upper + kOracleRounding);
+      // The mesh is consulted exactly when the spheres leave it undecided.
+      CHECK((full.path == mf::AnswerPath::mesh) == (fast.verdict == BoundsVerdict::undecided));
+      CHECK(full.verdict != BoundsVerdict::undecided);
+      if (full.path == mf::AnswerPath::spheres) CHECK(full.verdict == fast.verdict);
+      if (full.path == mf::AnswerPath::mesh) {
+        ++fallback;
+        if (!is_nested) CHECK((full.verdict == BoundsVerdict::colliding) == (d <= margin));
+      } else {
+        ++decided;
+      }
+    }
+    INFO("decided " << decided << ", fallback " << fallback);
+    CHECK(decided > fallback);
+  }
+}
+
+TEST_CASE("bounds against FCL geometries hold the exact distance", "[bounds]") {
+  std::vector<std::pair<std::string, std::shared_ptr<::fcl::CollisionGeometryd>>> others = {
+      {"fcl box", std::make_shared<::fcl::Boxd>(0.4, 0.3, 0.5)},
+      {"fcl sphere", std::make_shared<::fcl::Sphered>(0.2)},
+      {"fcl capsule", std::make_shared<::fcl::Capsuled>(0.1, 0.5)},
+      {"torus mesh", solids()[3]->bvh},
+  };
+  std::mt19937 rng(31);
+  int apart = 0, overlapping = 0;
+  for (const auto& a : solids()) {
+    for (const auto& [name, g] : others) {
+      for (int k = 0; k < 50; ++k) {
+        const ::fcl::Transform3d X_WA = mt::random_pose(rng, 0.4), X_WB = mt::random_pose(rng, 0.4);
+        bool nested = false;
+        const double d = exact_distance(*a, X_WA, *g, X_WB, &nested);
+        const mf::BoundsResult r = mf::distance_bounds(*a->geometry, X_WA, *g, X_WB);
+        INFO(a->name << " / " << name << ": exact " << d << ", [" << r.bounds.lower << ", "
+                     << r.bounds.upper << "]");
+        // GJK primitives answer within FCL's default tolerance (1e-6).
+        CHECK(d <= r.bounds.upper + 1e-6);
+        if (!nested) CHECK(r.bounds.lower <= d + 1e-6);
+        const mf::CollideResult c = mf::collide(*a->geometry, X_WA, *g, X_WB, 0.0);
+        CHECK(c.verdict != BoundsVerdict::undecided);
+        if (c.path == mf::AnswerPath::spheres && !nested)
+          CHECK((c.verdict == BoundsVerdict::colliding) == (d <= 0.0));
+        (d > 0.0 ? apart : overlapping)++;
+      }
+    }
+  }
+  CHECK(apart > 50);
+  CHECK(overlapping > 50);
+}
+
+TEST_CASE("bounded geometries refuse bad sets and report uncertified covers", "[bounds]") {
+  const Solid& s = *solids()[0];
+  SphereSet uncertified = s.outer;
+  uncertified.metadata_json = R"({"stats": {"certified": false}})";
+  try {
+    mf::BoundedGeometry g("left_wrist", s.inner, uncertified);
+    FAIL("an uncertified outer set was accepted");
+  } catch (const InputError& e) {
+    CHECK(std::string(e.what()).find("left_wrist") != std::string::npos);
+    CHECK(std::string(e.what()).find("certified") != std::string::npos);
+  }
+  CHECK_THROWS_AS(mf::BoundedGeometry("l", SphereSet{}, s.outer), InputError);
+  CHECK_THROWS_AS(mf::BoundedGeometry("l", s.inner, SphereSet{}), InputError);
+  SphereSet bad = s.inner;
+  bad.spheres[0].radius = -1.0;
+  CHECK_THROWS_AS(mf::BoundedGeometry("l", bad, s.outer), InputError);
+
+  mf::BoundedGeometryOptions loose;
+  loose.allow_uncertified = true;
+  const mf::BoundedGeometry g("left_wrist", s.inner, uncertified, nullptr, loose);
+  CHECK_FALSE(g.certified());
+  const ::fcl::Transform3d X = ::fcl::Transform3d::Identity();
+  ::fcl::Transform3d Y = X;
+  Y.translation() = Eigen::Vector3d(2, 0, 0);
+  CHECK_FALSE(mf::distance_bounds(g, X, *s.geometry, Y).certified);
+  CHECK_FALSE(mf::collide(g, X, *s.geometry, Y).certified);
+  CHECK(mf::distance_bounds(*s.geometry, X, *s.geometry, Y).certified);
+  CHECK_THROWS_AS(mf::collide(*s.geometry, X, *s.geometry, Y, -0.1), std::invalid_argument);
+
+  LinkSpheres link;
+  link.inner = s.inner;
+  link.outer = s.outer;
+  link.outer.metadata_json = "{}";
+  CHECK_THROWS_AS(mf::BoundedGeometry::from_link("hand", link), InputError);
+  link.outer_certificate_json = R"({"certified": true, "triangles": 12})";
+  CHECK(mf::BoundedGeometry::from_link("hand", link).certified());
+  CHECK(mf::records_certified_cover(R"({"stats": {"certified": true}})"));
+  CHECK_FALSE(mf::records_certified_cover("not json"));
+  CHECK_FALSE(mf::records_certified_cover(R"({"certified": 1})"));
+}
+
+TEST_CASE("bounds queries from many threads give the serial answers", "[bounds]") {
+  const std::vector<PosedPair> pairs = seeded_pairs(41, 10, 0.5);
+  auto run = [&](std::vector<double>& out) {
+    for (const PosedPair& p : pairs) {
+      const mf::BoundsResult r =
+          mf::distance_bounds(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB);
+      const mf::CollideResult c = mf::collide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.01);
+      out.insert(out.end(), {r.bounds.lower, r.bounds.upper, double(c.verdict), double(c.path),
+                             c.mesh_distance});
+    }
+  };
+  std::vector<double> serial;
+  run(serial);
+  std::vector<std::vector<double>> results(8);
+  std::vector<std::thread> threads;
+  for (auto& r : results) threads.emplace_back([&run, &r] { run(r); });
+  for (auto& t : threads) t.join();
+  for (const auto& r : results) CHECK(r == serial);
+}
+
+namespace {
+
+// The three-link arm with a solid on every link but the tool.
+RobotModel solid_arm(std::map<std::string, std::shared_ptr<const mf::MeshModel>>* meshes,
+                     std::map<std::string, const Solid*>* solid_of) {
+  RobotModel m = mt::three_link_arm();
+  const std::vector<std::string> names = {"base", "l1", "l2", "l3"};
+  for (Link& link : m.links) {
+    const auto k = std::find(names.begin(), names.end(), link.name) - names.begin();
+    if (k == 4) continue;
+    const Solid& s = *solids()[k];
+    link.spheres.inner = s.inner;
+    link.spheres.outer = s.outer;
+    link.spheres.outer_certificate_json = R"({"certified": true})";
+    (*meshes)[link.name] = s.bvh;
+    (*solid_of)[link.name] = &s;
+  }
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bounds][robot]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  std::map<std::string, const Solid*> solid_of;
+  const RobotModel model = solid_arm(&meshes, &solid_of);
+  const mf::RobotBounds robot(model, meshes);
+  const auto& names = robot.kinematics().link_names();
+  // base, l1, l2, l3 have geometry; adjacent pairs excluded: (base, l2), (base, l3), (l1, l3).
+  std::set<std::pair<std::string, std::string>> pairs;
+  for (const auto& [a, b] : robot.self_pairs())
+    pairs.insert({names[robot.link_of()[a]], names[robot.link_of()[b]]});
+  CHECK(pairs == std::set<std::pair<std::string, std::string>>{
+                     {"base", "l2"}, {"base", "l3"}, {"l1", "l3"}});
+  CHECK(mf::RobotBounds(model, meshes, {{"l3", "base"}}).self_pairs().size() == 2);
+  CHECK_THROWS_AS(mf::RobotBounds(model, meshes, {{"l3", "elbow"}}), InputError);
+
+  auto box = std::make_shared<::fcl::Boxd>(0.6, 0.4, 0.3);
+  auto ball = std::make_shared<::fcl::Sphered>(0.25);
+  std::mt19937 rng(5);
+  ::fcl::CollisionObjectd o1(box, mt::random_pose(rng, 1.0)), o2(ball, mt::random_pose(rng, 1.0)),
+      o3(solids()[3]->bvh, mt::random_pose(rng, 1.0));
+  const std::vector<const ::fcl::CollisionObjectd*> scene = {&o1, &o2, &o3};
+
+  std::uniform_real_distribution<double> q1(-3.0, 3.0), q2(0.0, 0.5);
+  int colliding = 0, free = 0;
+  for (int k = 0; k < 40; ++k) {
+    const Eigen::VectorXd q = Eigen::Vector2d(q1(rng), q2(rng));
+    const mf::RobotBoundsResult r = mf::robot_bounds(robot, q, scene, true, true);
+    const std::vector<::fcl::Transform3d> X = robot.poses(q, Eigen::Isometry3d::Identity());
+    double min_exact = std::numeric_limits<double>::infinity();
+    bool any_nested = false;
+    REQUIRE(r.pairs.size() == 4 * scene.size() + 3);
+    for (const mf::LinkPairBounds& p : r.pairs) {
+      const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
+      bool nested = false;
+      const double d =
+          p.self ? exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]),
+                                  X[p.other], &nested)
+                 : exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
+                                  scene[p.other]->getTransform(), &nested);
+      INFO("q " << q.transpose() << " pair " << p.link << "/" << p.other
+                << (p.self ? " self" : ""));
+      CHECK(d <= p.bounds.upper + 1e-6);
+      if (!nested) CHECK(p.bounds.lower <= d + 1e-6);
+      min_exact = std::min(min_exact, d);
+      any_nested = any_nested || nested;
+    }
+    CHECK(min_exact <= r.minimum.upper + 1e-6);
+    if (!any_nested) CHECK(r.minimum.lower <= min_exact + 1e-6);
+    const mf::RobotCollideResult c = mf::robot_collide(robot, q, scene, true, 0.01);
+    CHECK(c.verdict != BoundsVerdict::undecided);
+    if (!any_nested) CHECK((c.verdict == BoundsVerdict::colliding) == (min_exact <= 0.01));
+    (c.verdict == BoundsVerdict::colliding ? colliding : free)++;
+  }
+  CHECK(colliding > 0);
+  CHECK(free > 0);
+}
