@@ -20,6 +20,7 @@ int main(int argc, char** argv) {
   Runner bake = register_bake(app);
   Runner eval = register_eval(app);
   Runner convert = register_convert(app);
+  Runner render = register_render(app);
 
   try {
     app.parse(argc, argv);
@@ -40,6 +41,7 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "bake") return bake();
       if (sub->get_name() == "eval") return eval();
       if (sub->get_name() == "convert") return convert();
+      if (sub->get_name() == "render") return render();
     }
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;
