@@ -22,6 +22,7 @@ struct RenderArgs {
   std::string view = "iso";
   std::string size = "1024x768";
   int threads = 0;
+  double tolerance = 0.005;
 };
 
 // "WxH" with 1 .. 16384 pixels each way.
@@ -56,6 +57,9 @@ int run_render(const RenderArgs& args) {
   for (const std::string& w : loaded.warnings)
     std::cerr << "medspheres: warning: " << args.mesh << ": " << w << "\n";
   const SphereSet set = load_sphere_set(args.spheres);
+  if (!(args.tolerance >= 0.0) || !std::isfinite(args.tolerance))
+    throw InputError("--tolerance", "must be a finite number >= 0");
+  options.protrusion_tolerance = args.tolerance * loaded.report.largest_side();
   const render::RayScene scene(loaded.mesh, set);
   const render::Rendering r = render::render(scene, options);
   if (!r.mismatch.empty())
@@ -82,6 +86,10 @@ Runner register_render(CLI::App& app) {
   sub->add_option("--view", args->view, "iso, front, side, top or grid (the four in one)")
       ->capture_default_str();
   sub->add_option("--size", args->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();
+  sub->add_option("--tolerance", args->tolerance,
+                  "Caps outside the solid by at most this fraction of the mesh box's largest "
+                  "side are not drawn as sticking out")
+      ->capture_default_str();
   sub->add_option("--threads", args->threads, "Threads (0: all cores)")->capture_default_str();
   return [args] { return run_render(*args); };
 }

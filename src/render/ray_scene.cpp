@@ -63,6 +63,11 @@ RayScene::RayScene(const TriangleMesh& mesh, const SphereSet& spheres)
   for (const Sphere& s : spheres_) grow(spheres_lo_, spheres_hi_, s.center, s.radius);
   flatten_mesh(mesh);
   flatten_spheres(spheres);
+  if (!triangles_.empty()) query_ = std::make_unique<const MeshQuery>(mesh);
+}
+
+double RayScene::distance_to_mesh(const Eigen::Vector3d& p) const {
+  return query_ ? query_->closest_point(p).distance() : kInf;
 }
 
 // The TriangleTree's nodes, breadth first, so that siblings are contiguous.

@@ -29,8 +29,8 @@ struct Tile {
 };
 
 // The colour of one ray, and its contribution to the counts.
-Color pixel_color(const RayHit& hit, const Palette& pal, const Eigen::Vector3d& light,
-                  PixelCounts& counts) {
+Color pixel_color(const RayHit& hit, bool beyond_tolerance, const Palette& pal,
+                  const Eigen::Vector3d& light, PixelCounts& counts) {
   const bool mesh = hit.triangle >= 0, ball = hit.sphere >= 0;
   counts.mesh += mesh;
   counts.spheres += ball;
@@ -38,7 +38,7 @@ Color pixel_color(const RayHit& hit, const Palette& pal, const Eigen::Vector3d& 
     ++counts.background;
     return color(pal.background);
   }
-  const bool protruding = ball && !hit.sphere_inside_solid();
+  const bool protruding = ball && !hit.sphere_inside_solid() && beyond_tolerance;
   counts.protruding += protruding;
   const Color sphere_c =
       ball ? shade(protruding ? pal.protruding : pal.inside, hit.sphere_normal, light) : Color();
@@ -55,9 +55,10 @@ Color pixel_color(const RayHit& hit, const Palette& pal, const Eigen::Vector3d& 
   return pal.mesh_alpha * mesh_c + (1.0 - pal.mesh_alpha) * sphere_c;
 }
 
-void render_tile(const RayScene& scene, const Tile& tile, const Palette& pal, int threads,
+void render_tile(const RayScene& scene, const Tile& tile, const RenderOptions& options, int threads,
                  Image& image, PixelCounts& total) {
   const OrthoCamera& cam = tile.camera;
+  const double tolerance = options.protrusion_tolerance;
   const Eigen::Vector3d light = (-cam.forward + 0.35 * cam.up - 0.25 * cam.right).normalized();
   std::size_t mesh = 0, uncovered = 0, spheres = 0, protruding = 0, background = 0;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(threads) \
@@ -66,8 +67,11 @@ void render_tile(const RayScene& scene, const Tile& tile, const Palette& pal, in
     PixelCounts row;
     std::uint8_t* out = &image.rgb[3 * ((std::size_t(tile.y0) + y) * image.width + tile.x0)];
     for (int x = 0; x < cam.width; ++x) {
-      const RayHit hit = scene.trace(cam.ray_origin(x, y), cam.forward);
-      const Color c = pixel_color(hit, pal, light, row);
+      const Eigen::Vector3d origin = cam.ray_origin(x, y);
+      const RayHit hit = scene.trace(origin, cam.forward);
+      const bool beyond = tolerance <= 0.0 || hit.sphere < 0 || hit.sphere_inside_solid() ||
+                          scene.distance_to_mesh(origin + hit.sphere_t * cam.forward) > tolerance;
+      const Color c = pixel_color(hit, beyond, options.palette, light, row);
       for (int k = 0; k < 3; ++k)
         out[3 * x + k] = static_cast<std::uint8_t>(std::lround(std::clamp(c[k], 0.0, 1.0) * 255));
     }
@@ -107,6 +111,8 @@ Rendering render(const RayScene& scene, const RenderOptions& options) {
     throw std::invalid_argument("render: the size must be 1 .. 16384 pixels each way");
   if (options.view == View::grid && (w < 2 || h < 2))
     throw std::invalid_argument("render: a grid needs at least 2 x 2 pixels");
+  if (!(options.protrusion_tolerance >= 0.0) || !std::isfinite(options.protrusion_tolerance))
+    throw std::invalid_argument("render: protrusion_tolerance must be finite and >= 0");
   const int threads = thread_count(options.threads);
   Rendering r;
   r.mismatch = mismatch_warning(scene);
@@ -127,8 +133,7 @@ Rendering render(const RayScene& scene, const RenderOptions& options) {
       tiles.push_back({frame_camera(views[k], lo, hi, tw, th), x0, y0});
     }
   }
-  for (const Tile& tile : tiles)
-    render_tile(scene, tile, options.palette, threads, r.image, r.counts);
+  for (const Tile& tile : tiles) render_tile(scene, tile, options, threads, r.image, r.counts);
   return r;
 }
 
@@ -141,8 +146,9 @@ std::string legend(const RayScene& scene, const RenderOptions& options, const Pi
     << "; mesh: " << scene.num_triangles() << " triangles; spheres: " << scene.num_spheres()
     << "\nuncovered surface (red): " << c.uncovered << " of " << c.mesh << " mesh pixels ("
     << percent(c.uncovered, c.mesh) << " %)"
-    << "\ncaps outside the solid (orange): " << c.protruding << " of " << c.spheres
-    << " sphere pixels (" << percent(c.protruding, c.spheres) << " %)";
+    << "\ncaps outside the solid by more than " << number_text(options.protrusion_tolerance)
+    << " (orange): " << c.protruding << " of " << c.spheres << " sphere pixels ("
+    << percent(c.protruding, c.spheres) << " %)";
   return s.str();
 }
 

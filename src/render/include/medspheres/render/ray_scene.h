@@ -8,10 +8,12 @@
 #include <array>
 #include <cstddef>
 #include <limits>
+#include <memory>
 #include <vector>
 
 #include <Eigen/Core>
 
+#include "medspheres/mesh/mesh_query.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/triangle_mesh.h"
 
@@ -46,6 +48,10 @@ class RayScene {
   /// \p origin outside every sphere and outside the solid (a camera's rays are).
   RayHit trace(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction) const;
 
+  /// Distance from \p p to the nearest point of the mesh (MeshQuery: exact); +infinity
+  /// for a mesh without triangles.
+  double distance_to_mesh(const Eigen::Vector3d& p) const;
+
   std::size_t num_triangles() const { return triangles_.size(); }
   std::size_t num_spheres() const { return spheres_.size(); }
 
@@ -73,6 +79,7 @@ class RayScene {
   void trace_mesh(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double limit,
                   bool count_crossings, RayHit& hit) const;
 
+  std::unique_ptr<const MeshQuery> query_;  ///< null for a mesh without triangles
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
   std::vector<BoxNode> boxes_;
