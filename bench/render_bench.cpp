@@ -75,7 +75,7 @@ int main(int argc, char** argv) {
       render::PixelCounts counts;
       for (int r = 0; r < repeat; ++r) {
         auto t0 = medspheres::bench::Clock::now();
-        const render::RayScene scene(mesh, set);
+        const render::RayScene scene(mesh, set, threads);
         const double build = seconds_since(t0);
         render::RenderOptions o;
         o.view = view;

@@ -60,7 +60,7 @@ int run_render(const RenderArgs& args) {
   if (!(args.tolerance >= 0.0) || !std::isfinite(args.tolerance))
     throw InputError("--tolerance", "must be a finite number >= 0");
   options.protrusion_tolerance = args.tolerance * loaded.report.largest_side();
-  const render::RayScene scene(loaded.mesh, set);
+  const render::RayScene scene(loaded.mesh, set, args.threads);
   const render::Rendering r = render::render(scene, options);
   if (!r.mismatch.empty())
     std::cerr << "medspheres: warning: " << args.spheres << " over " << args.mesh << ": "

@@ -2,10 +2,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <future>
 #include <utility>
 
 #include <Eigen/Geometry>
 
+#include "medspheres/mesh/threads.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_tree.h"
 
@@ -54,16 +56,21 @@ void grow(Eigen::Vector3d& lo, Eigen::Vector3d& hi, const T& p, double r) {
 
 }  // namespace
 
-RayScene::RayScene(const TriangleMesh& mesh, const SphereSet& spheres)
+RayScene::RayScene(const TriangleMesh& mesh, const SphereSet& spheres, int threads)
     : vertices_(mesh.vertices), triangles_(mesh.triangles), spheres_(spheres.spheres) {
+  const bool parallel = thread_count(threads) >= 2;
   mesh_lo_ = spheres_lo_ = Eigen::Vector3d::Constant(kInf);
   mesh_hi_ = spheres_hi_ = Eigen::Vector3d::Constant(-kInf);
   for (const auto& t : triangles_)
     for (int k : t) grow(mesh_lo_, mesh_hi_, vertices_.at(k), 0.0);
   for (const Sphere& s : spheres_) grow(spheres_lo_, spheres_hi_, s.center, s.radius);
-  flatten_mesh(mesh);
+  // The TriangleTree takes most of the time: on a thread of its own when allowed; get()
+  // rethrows what it threw.
+  std::future<void> mesh_done = std::async(parallel ? std::launch::async : std::launch::deferred,
+                                           [this, &mesh] { flatten_mesh(mesh); });
   flatten_spheres(spheres);
   if (!triangles_.empty()) query_ = std::make_unique<const MeshQuery>(mesh);
+  mesh_done.get();
 }
 
 double RayScene::distance_to_mesh(const Eigen::Vector3d& p) const {

@@ -40,9 +40,11 @@ struct RayHit {
 
 class RayScene {
  public:
-  /// Copies the mesh and the set. \throws std::invalid_argument as TriangleTree and
-  /// SphereTree do (non-finite vertices, bad indices, bad spheres).
-  RayScene(const TriangleMesh& mesh, const SphereSet& spheres);
+  /// Copies the mesh and the set; with \p threads allowing two or more (threads.h), the
+  /// mesh's hierarchy is built on a thread of its own beside the rest.
+  /// \throws std::invalid_argument as TriangleTree, MeshQuery and SphereTree do
+  ///   (non-finite vertices, bad indices, bad spheres) and for a bad thread count.
+  RayScene(const TriangleMesh& mesh, const SphereSet& spheres, int threads = 0);
 
   /// Casts the ray origin + t direction, t >= 0; \p direction must be a unit vector and
   /// \p origin outside every sphere and outside the solid (a camera's rays are).
