@@ -116,6 +116,17 @@ TEST_CASE("caps sticking out of the solid are counted with the circular segment'
   const double expected = segment / (px * px);
   CAPTURE(out.counts.protruding, expected);
   CHECK(std::abs(out.counts.protruding - expected) < 0.03 * expected);
+
+  // With a tolerance of 0.05 only the points farther than that from the face x = 1 count:
+  // the segment beyond x = 1.05.
+  o.protrusion_tolerance = 0.05;
+  const Rendering tolerant = render::render(scene, o);
+  const double d2 = 0.15;
+  const double segment2 = r * r * std::acos(d2 / r) - d2 * std::sqrt(r * r - d2 * d2);
+  const double expected2 = segment2 / (px * px);
+  CAPTURE(tolerant.counts.protruding, expected2);
+  CHECK(std::abs(tolerant.counts.protruding - expected2) < 0.03 * expected2);
+  CHECK(tolerant.counts.spheres == out.counts.spheres);
 }
 
 TEST_CASE("a sphere set far from its mesh is framed with it and warned about", "[render]") {
@@ -150,7 +161,8 @@ TEST_CASE("render on the command line: a PNG, the legend, and bad input", "[rend
   CHECK(png.substr(1, 3) == "PNG");
   CHECK(png.find("tEXtDescription") != std::string::npos);
 
-  for (const std::string bad : {"--size 0x10", "--size 640", "--size 10x10x10", "--view back"}) {
+  for (const std::string bad : {"--size 0x10", "--size 640", "--size 10x10x10", "--view back",
+                                "--tolerance -1", "--threads -3"}) {
     const std::string target = dir.file("bad.png");
     const auto r = run_cli("render " + inputs + " -o " + shell_quote(target) + " " + bad);
     CAPTURE(bad, r.err);
