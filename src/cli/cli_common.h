@@ -25,6 +25,7 @@ Runner register_bake(CLI::App& app);
 Runner register_eval(CLI::App& app);
 Runner register_convert(CLI::App& app);
 Runner register_robot(CLI::App& app);
+Runner register_render(CLI::App& app);
 
 /// A one-line progress bar on stderr, drawn only when stderr is a terminal and not
 /// silenced; redraws at most ten times a second and erases itself when done.

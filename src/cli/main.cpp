@@ -21,6 +21,7 @@ int main(int argc, char** argv) {
   Runner eval = register_eval(app);
   Runner convert = register_convert(app);
   Runner robot = register_robot(app);
+  Runner render = register_render(app);
 
   try {
     app.parse(argc, argv);
@@ -42,6 +43,7 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "eval") return eval();
       if (sub->get_name() == "convert") return convert();
       if (sub->get_name() == "robot") return robot();
+      if (sub->get_name() == "render") return render();
     }
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;
