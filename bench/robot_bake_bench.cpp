@@ -8,8 +8,8 @@
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
-#include <thread>
 #include <string>
+#include <thread>
 #include <vector>
 
 #include <CLI/CLI.hpp>
@@ -56,8 +56,8 @@ int main(int argc, char** argv) {
   for (const LinkBakeStats& s : result.links) {
     spheres += s.spheres;
     triangles += s.triangles;
-    std::printf("%-28s %9zu %8zu %10.4f %12s %8.3f %s%s\n", s.link.c_str(), s.triangles,
-                s.spheres, s.nerr, s.nerr_kind.c_str(), s.seconds,
+    std::printf("%-28s %9zu %8zu %10.4f %12s %8.3f %s%s\n", s.link.c_str(), s.triangles, s.spheres,
+                s.nerr, s.nerr_kind.c_str(), s.seconds,
                 s.baked_as.empty() ? "" : ("same bake as " + s.baked_as + " ").c_str(),
                 s.note.c_str());
   }

@@ -179,15 +179,31 @@ TEST_CASE("bake rejects nonsense with exit 2 and leaves no output behind", "[cli
   TempDir dir;
   const std::string out = dir.file("out.json");
   const std::string existing = dir.write("existing.json", "keep me");
-  for (const std::string bad :
-       {"--resolution 0", "--resolution -3", "--resolution x", "--object-angle -0.5",
-        "--object-angle 3.5", "--medial-tolerance -1", "--threads -2", "--max-spheres 0",
-        "--target-error 0", "--target-error 1.5", "--max-spheres 10 --target-error 0.1",
-        "--vertex-tolerance 0.01", "--dilate --vertex-tolerance 0",
-        "--dilate --vertex-tolerance -1", "--dilate --max-protrusion -0.1", "--max-protrusion 0.1",
-        "--cover 0", "--cover -1", "--dilate --seed x", "--cover 0.003x", "--cover L",
-        "--cover -0.001L", "--cover 0L", "--dilate --max-protrusion nanL",
-        "--dilate --vertex-tolerance 1e400L"}) {
+  for (const std::string bad : {"--resolution 0",
+                                "--resolution -3",
+                                "--resolution x",
+                                "--object-angle -0.5",
+                                "--object-angle 3.5",
+                                "--medial-tolerance -1",
+                                "--threads -2",
+                                "--max-spheres 0",
+                                "--target-error 0",
+                                "--target-error 1.5",
+                                "--max-spheres 10 --target-error 0.1",
+                                "--vertex-tolerance 0.01",
+                                "--dilate --vertex-tolerance 0",
+                                "--dilate --vertex-tolerance -1",
+                                "--dilate --max-protrusion -0.1",
+                                "--max-protrusion 0.1",
+                                "--cover 0",
+                                "--cover -1",
+                                "--dilate --seed x",
+                                "--cover 0.003x",
+                                "--cover L",
+                                "--cover -0.001L",
+                                "--cover 0L",
+                                "--dilate --max-protrusion nanL",
+                                "--dilate --vertex-tolerance 1e400L"}) {
     INFO(bad);
     const CommandResult r =
         cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(out) + " " + bad);

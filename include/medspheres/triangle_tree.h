@@ -65,7 +65,7 @@ class TriangleTree final : public ProximityTarget {
 
   std::vector<Eigen::Vector3d> vertices_;
   std::vector<std::array<int, 3>> triangles_;
-  std::vector<int> order_;  ///< triangle indices in tree order
+  std::vector<int> order_;                       ///< triangle indices in tree order
   std::vector<detail::QueryTriangle> prepared_;  ///< per triangle (point_triangle.h)
   std::vector<Eigen::Vector3d> normals_;         ///< per triangle: its TrianglePlane's
   std::vector<Node> nodes_;

@@ -6,9 +6,9 @@
 #include <utility>
 
 #include "medspheres/bake/dilate.h"
+#include "medspheres/bake/inner_budget.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
-#include "medspheres/bake/inner_budget.h"
 #include "medspheres/number_text.h"
 
 namespace medspheres {

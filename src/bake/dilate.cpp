@@ -10,10 +10,10 @@
 #include <stdexcept>
 #include <string>
 
-#include "medspheres/error.h"
 #include "medspheres/bake/fit_metrics.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/bake/union_volume.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/threads.h"
 
 // The steps (dilate.h states the contract).
 // Conservative dilation (Stolpner, Kry and Siddiqi, section 5.1): grow and add spheres

@@ -61,7 +61,8 @@ void append(BakeResult& pool, BakeResult&& b) {
 
 // The candidate bakes (header): grow the resolution until the bakes have found `want`
 // spheres together, a step of at least 1.5 times finds some spheres but no more than the
-// bake before (the medial surface is resolved), or the limit. Each step aims the next bake at the spheres still missing.
+// bake before (the medial surface is resolved), or the limit. Each step aims the next bake at the
+// spheres still missing.
 CandidateBake bake_candidates(const MeshQuery& query, std::size_t want, BakeOptions options,
                               int max_resolution) {
   CandidateBake out;

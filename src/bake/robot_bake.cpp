@@ -32,7 +32,6 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-
 // One bake: a mesh, in a part's frame (one part) or the link frame (several), to a budget.
 struct BakeJob {
   std::size_t link = 0;  ///< the first link that needs it

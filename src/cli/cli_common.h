@@ -7,8 +7,8 @@
 
 #include <CLI/CLI.hpp>
 
-#include "medspheres/number_text.h"
 #include "medspheres/error.h"
+#include "medspheres/number_text.h"
 
 namespace medspheres::cli {
 

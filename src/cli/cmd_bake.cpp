@@ -133,8 +133,8 @@ void print_cover_summary(const BakeArgs& args, const std::string& out, const Bak
             << r.certificate.pieces_tested << " pieces, depth " << r.certificate.max_depth_reached
             << ")\n"
             << "  fit           excess volume " << number_text(r.stats.excess_volume, 4)
-            << " of the solid's, max protrusion " << number_text(r.stats.max_protrusion, 4)
-            << ", " << number_text(r.stats.seconds, 3) << " s\n";
+            << " of the solid's, max protrusion " << number_text(r.stats.max_protrusion, 4) << ", "
+            << number_text(r.stats.seconds, 3) << " s\n";
 }
 
 void print_summary(const BakeArgs& args, const std::string& out, const BakeOutcome& o) {
@@ -149,15 +149,15 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
             << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
             << " x " << s.grid[2] << ", cell " << number_text(s.cell_size, 4) << ")";
   if (mode != "resolution")
-    std::cout << ", chosen for " << mode << " " << number_text(target) << " among " << s.search.size()
-              << " resolutions baked";
+    std::cout << ", chosen for " << mode << " " << number_text(target) << " among "
+              << s.search.size() << " resolutions baked";
   // The set the error target was measured on: S_D when dilated, else the one written.
   const std::optional<VolumeError>& measured = o.internal ? o.internal : o.volume;
   if (mode == "target_error" && measured && measured->kind == NerrKind::kApproximate)
     std::cout << " (by an approximate nerr: the mesh intersects itself)";
   std::cout << "\n"
-            << "  spheres       " << s.spheres << ", radius " << number_text(s.min_radius, 4) << " .. "
-            << number_text(s.max_radius, 4) << "\n";
+            << "  spheres       " << s.spheres << ", radius " << number_text(s.min_radius, 4)
+            << " .. " << number_text(s.max_radius, 4) << "\n";
   if (record.dilation_stats) print_dilation(o);
   if (o.internal)
     std::cout << "  internal S_D  nerr " << number_text(o.internal->nerr, 4) << " ("
@@ -170,14 +170,16 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
   if (o.volume) {
     std::cout << "  volume        " << (o.internal ? "S+: " : "") << "union "
               << number_text(o.volume->union_measures.volume, 6) << " of mesh "
-              << number_text(*o.volume->mesh_volume, 6) << ", nerr " << number_text(o.volume->nerr, 4) << " ("
-              << nerr_note(o.volume->kind) << ")\n";
+              << number_text(*o.volume->mesh_volume, 6) << ", nerr "
+              << number_text(o.volume->nerr, 4) << " (" << nerr_note(o.volume->kind) << ")\n";
   } else {
     std::cout << "  volume        not computed: the mesh is not a closed outward solid\n";
   }
   std::cout << "  work          " << s.closest_point_queries << " closest-point and "
-            << s.winding_queries << " winding-number queries, " << number_text(s.seconds, 3) << " s";
-  if (mode != "resolution") std::cout << " (the whole search: " << number_text(s.total_seconds, 3) << " s)";
+            << s.winding_queries << " winding-number queries, " << number_text(s.seconds, 3)
+            << " s";
+  if (mode != "resolution")
+    std::cout << " (the whole search: " << number_text(s.total_seconds, 3) << " s)";
   std::cout << "\n";
 }
 

@@ -170,8 +170,9 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
             << cert.uncertified_triangles << " of " << cert.triangles << " triangles uncertified";
   if (!cert.certified)
     std::cout << "; worst point found " << number_text(cert.worst_distance, 4) << " outside ("
-              << percent_of(cert.worst_distance, longest) << ") at (" << number_text(cert.worst_point.x())
-              << ", " << number_text(cert.worst_point.y()) << ", " << number_text(cert.worst_point.z()) << ")";
+              << percent_of(cert.worst_distance, longest) << ") at ("
+              << number_text(cert.worst_point.x()) << ", " << number_text(cert.worst_point.y())
+              << ", " << number_text(cert.worst_point.z()) << ")";
   std::cout << "\n";
   const FitSeconds& s = r.seconds;
   std::cout << "  time          " << number_text(s.total, 3) << " s: union "

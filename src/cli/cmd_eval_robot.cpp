@@ -76,9 +76,11 @@ void print_text(const RobotEvalArgs& args, const std::vector<LinkFit>& fits) {
     if (f.fit) {
       const FitReport& r = *f.fit;
       const std::string kind = to_string(r.volume.kind);
-      std::cout << cell(number_text(r.volume.nerr, 4) + (kind == "exact" ? "" : " (" + kind + ")"), 24)
+      std::cout << cell(number_text(r.volume.nerr, 4) + (kind == "exact" ? "" : " (" + kind + ")"),
+                        24)
                 << cell(number_text(r.monte_carlo.error.estimate, 4), 11)
-                << cell(number_text(r.volume.max_protrusion, 3), 12) << cell(number_text(r.coverage.max, 3), 11);
+                << cell(number_text(r.volume.max_protrusion, 3), 12)
+                << cell(number_text(r.coverage.max, 3), 11);
     } else {
       std::cout << cell("-", 24) << cell("-", 11) << cell("-", 12) << cell("-", 11);
     }

@@ -295,8 +295,8 @@ void print_summary(const RobotBakeResult& r, const std::string& out) {
               << cell(number_text(s.seconds, 3), 9) << note << "\n";
   }
   std::cout << cell("total", width) << cell(std::to_string(triangles), 11) << cell("", 8)
-            << cell(std::to_string(spheres), 9) << cell("", 24) << cell(number_text(r.seconds, 3), 9)
-            << "wall clock\n"
+            << cell(std::to_string(spheres), 9) << cell("", 24)
+            << cell(number_text(r.seconds, 3), 9) << "wall clock\n"
             << "wrote " << out << "\n";
 }
 

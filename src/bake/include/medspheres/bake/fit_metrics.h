@@ -29,12 +29,12 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
-#include "medspheres/mesh/mesh_query.h"
 #include "medspheres/bake/self_intersection.h"
-#include "medspheres/sphere_set.h"
-#include "medspheres/mesh/threads.h"
-#include "medspheres/triangle_mesh.h"
 #include "medspheres/bake/union_volume.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/mesh/threads.h"
+#include "medspheres/sphere_set.h"
+#include "medspheres/triangle_mesh.h"
 
 namespace medspheres {
 
