@@ -280,7 +280,7 @@ BakeResult bake_inner_budget(const MeshQuery& query, std::size_t max_spheres,
   if (const auto problem =
           medial_tolerance_problem(options.medial_tolerance,
                                    query.mesh().bounds().sizes().maxCoeff(), budget.max_resolution))
-    throw std::invalid_argument("medial_tolerance " + *problem);
+    throw *problem;
   const double want = std::ceil(budget.candidate_factor * static_cast<double>(max_spheres));
   CandidateBake found = bake_candidates(query, static_cast<std::size_t>(std::min(want, 1e15)),
                                         options, budget.max_resolution);
@@ -288,7 +288,8 @@ BakeResult bake_inner_budget(const MeshQuery& query, std::size_t max_spheres,
     std::string tried;
     for (const SearchStep& s : found.steps)
       tried += (tried.empty() ? "" : ", ") + std::to_string(s.resolution);
-    throw InputError("--max-spheres", "no resolution tried (" + tried + ") gives any sphere");
+    throw InputError::option(ErrorKind::kUnreachable, "max_spheres", std::to_string(max_spheres),
+                             "no resolution tried (" + tried + ") gives any sphere");
   }
   const std::vector<Sphere>& balls = found.bake.spheres.spheres;
   std::vector<std::size_t> chosen;

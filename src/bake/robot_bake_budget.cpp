@@ -52,11 +52,16 @@ void check_overrides(const std::vector<LinkSolid>& solids, const RobotBudget& bu
   for (const auto& [name, k] : budget.links) {
     const auto it = std::find_if(solids.begin(), solids.end(),
                                  [&](const LinkSolid& s) { return s.link == name; });
-    if (it == solids.end()) throw InputError("--link", "no link named '" + name + "' in " + source);
+    if (it == solids.end())
+      throw InputError::option(ErrorKind::kOutOfRange, "link", "",
+                               "no link named '" + name + "' in " + source);
     if (it->parts.empty())
-      throw InputError("--link", "link '" + name + "' of " + source +
-                                     " has no meshed geometry to bake (its spheres are exact)");
-    if (k == 0) throw InputError("--link", "link '" + name + "': the budget must be >= 1");
+      throw InputError::option(ErrorKind::kOutOfRange, "link", "",
+                               "link '" + name + "' of " + source +
+                                   " has no meshed geometry to bake (its spheres are exact)");
+    if (k == 0)
+      throw InputError::option(ErrorKind::kOutOfRange, "link", "",
+                               "link '" + name + "': the budget must be >= 1");
   }
 }
 
@@ -66,9 +71,10 @@ std::vector<std::optional<std::size_t>> link_bake_budgets(const std::vector<Link
                                                           const RobotBudget& budget,
                                                           const std::string& source) {
   if (budget.per_link && budget.total)
-    throw InputError("--budget", "cannot be combined with --spheres-per-link");
+    throw InputError::option(ErrorKind::kConflict, "budget", "",
+                             "cannot be combined with spheres_per_link", {}, {"spheres_per_link"});
   if (budget.per_link && *budget.per_link == 0)
-    throw InputError("--spheres-per-link", "must be >= 1");
+    throw InputError::option(ErrorKind::kOutOfRange, "spheres_per_link", "", "must be >= 1");
   check_overrides(solids, budget, source);
   std::vector<std::optional<std::size_t>> out(solids.size());
   std::size_t fixed = 0;
@@ -90,11 +96,11 @@ std::vector<std::optional<std::size_t>> link_bake_budgets(const std::vector<Link
   }
   if (!budget.total || shared.empty()) return out;
   if (*budget.total < fixed + shared.size())
-    throw InputError("--budget", std::to_string(*budget.total) + " is too small for " + source +
-                                     ": the exact sphere primitives and --link take " +
-                                     std::to_string(fixed) + " and " +
-                                     std::to_string(shared.size()) +
-                                     " links to bake need at least 1 each");
+    throw InputError::option(ErrorKind::kOutOfRange, "budget", "",
+                             std::to_string(*budget.total) + " is too small for " + source +
+                                 ": the exact sphere primitives and the per-link overrides take " +
+                                 std::to_string(fixed) + " and " + std::to_string(shared.size()) +
+                                 " links to bake need at least 1 each");
   std::vector<double> areas;
   for (std::size_t i : shared) areas.push_back(surface_area(solids[i]));
   const std::vector<std::size_t> extra =

@@ -6,6 +6,7 @@
 #include <string>
 #include <vector>
 
+#include "bake_flags.h"
 #include "cli_common.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
@@ -36,16 +37,6 @@ struct BakeArgs {
 
 std::string default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + ".spheres.json";
-}
-
-// The length option \p field, parsed.
-std::optional<Length> length_option(const std::optional<std::string>& text, const char* field) {
-  if (!text) return std::nullopt;
-  try {
-    return parse_length(*text);
-  } catch (const InputError& e) {
-    throw e.with_field(field);
-  }
 }
 
 // The flags as a request, validated: nonsense is reported before any work is done.

@@ -16,6 +16,7 @@
 #include <stdio.h>
 #include <unistd.h>
 
+#include "bake_flags.h"
 #include "cli_common.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/bake/robot_bake.h"
@@ -161,24 +162,15 @@ std::size_t count_option(long long v, const char* flag) {
   return static_cast<std::size_t>(v);
 }
 
-std::optional<Length> length_option(const std::optional<std::string>& text, const char* flag) {
-  if (!text) return std::nullopt;
-  try {
-    return parse_length(*text);
-  } catch (const InputError& e) {
-    throw InputError(flag, e.problem());
-  }
-}
-
 BakeRequest bake_request(const RobotArgs& a) {
   BakeRequest r;
   r.medial.resolution = a.resolution;
   r.medial.object_angle = a.object_angle;
   r.target_error = a.target_error;
   r.dilate = a.dilate;
-  r.vertex_tolerance = length_option(a.vertex_tolerance, "--vertex-tolerance");
-  r.max_protrusion = length_option(a.max_protrusion, "--max-protrusion");
-  r.cover = length_option(a.cover, "--cover");
+  r.vertex_tolerance = length_option(a.vertex_tolerance, "vertex_tolerance");
+  r.max_protrusion = length_option(a.max_protrusion, "max_protrusion");
+  r.cover = length_option(a.cover, "cover");
   r.seed = a.seed;
   r.measure = !a.no_measure;
   validate(r);

@@ -179,18 +179,21 @@ std::vector<Sphere> single_set(const SphereDocument& doc, const WriteOptions& op
     if (doc.links.size() == 1) return doc.links.front().spheres;
     std::string names;
     for (const LinkSphereList& l : doc.links) names += (names.empty() ? "" : ", ") + l.link;
-    throw InputError("--link", "the input has spheres for " + std::to_string(doc.links.size()) +
-                                   " links; pick one (" + names + ")");
+    throw InputError::option(ErrorKind::kOutOfRange, "link", "",
+                             "the input has spheres for " + std::to_string(doc.links.size()) +
+                                 " links; pick one (" + names + ")");
   }
   if (const LinkSphereList* l = find_link_spheres(doc.links, options.link)) return l->spheres;
-  throw InputError("--link", "the input has no spheres for the link \"" + options.link + "\"");
+  throw InputError::option(ErrorKind::kOutOfRange, "link", "",
+                           "the input has no spheres for the link \"" + options.link + "\"");
 }
 
 // The per-link spheres a per-link format writes.
 RobotSpheres per_link(const SphereDocument& doc, const WriteOptions& options) {
   if (!doc.set) return doc.links;
   if (options.link.empty())
-    throw InputError("--link", "the input holds one sphere set; name its link with --link");
+    throw InputError::option(ErrorKind::kOutOfRange, "link", "",
+                             "the input holds one sphere set; say which link it is for");
   return {LinkSphereList{options.link, doc.set->spheres}};
 }
 
@@ -229,7 +232,8 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
     case SphereFormat::kUrdf: {
       const bool given = !options.urdf_text.empty();
       if (!given && doc.urdf_text.empty())
-        throw InputError("--urdf", "a spherized URDF is made from the robot's URDF; pass it");
+        throw InputError::option(ErrorKind::kOutOfRange, "urdf", "",
+                                 "a spherized URDF is made from the robot's URDF; pass it");
       return spherize_urdf(given ? options.urdf_text : doc.urdf_text, per_link(doc, options),
                            given ? options.urdf_source : "the input URDF");
     }

@@ -28,7 +28,8 @@ std::string to_string(View view) {
 View parse_view(const std::string& name) {
   for (View v : {View::iso, View::front, View::side, View::top, View::grid})
     if (to_string(v) == name) return v;
-  throw InputError("--view", "must be iso, front, side, top or grid, got \"" + name + "\"");
+  throw InputError::option(ErrorKind::kOutOfRange, "view", "",
+                           "must be iso, front, side, top or grid, got \"" + name + "\"");
 }
 
 Eigen::Vector3d OrthoCamera::ray_origin(int x, int y) const {

@@ -103,7 +103,8 @@ std::string resolve_mesh_path(const std::string& uri, const std::string& urdf_di
 void add_package_dir(PackageDirs& dirs, const std::string& assignment) {
   const std::size_t eq = assignment.find('=');
   if (eq == std::string::npos || eq == 0 || eq + 1 == assignment.size())
-    throw InputError("--package", "expected PKG=DIR, got '" + assignment + "'");
+    throw InputError::option(ErrorKind::kOutOfRange, "package", "",
+                             "expected PKG=DIR, got '" + assignment + "'");
   dirs.explicit_dirs[assignment.substr(0, eq)] = assignment.substr(eq + 1);
 }
 
