@@ -275,14 +275,28 @@ TEST_CASE("problems of the mesh and of the request against it name the file", "[
 }
 
 #ifdef MEDSPHERES_SOURCE_DIR
-TEST_CASE("a budget no resolution reaches is unreachable, for the mesh", "[bake_pipeline]") {
+TEST_CASE("a budget gives exactly that many inner spheres, or a cover within it",
+          "[bake_pipeline]") {
   const std::string knot = example_mesh("knot1.off");
   BakeRequest one;
   one.max_spheres = 1;
-  const InputError e = error_of([&] { bake_file(knot, one); });
-  CHECK(e.kind() == ErrorKind::kUnreachable);
-  CHECK(e.field() == "max_spheres");
-  CHECK(e.value() == "1");
-  CHECK(e.file() == knot);
+  const BakeOutcome inner = bake_file(knot, one);
+  CHECK(inner.spheres.size() == 1);
+  REQUIRE(inner.volume);
+  CHECK(inner.volume->kind == NerrKind::kExact);
+  BakeRequest cover = one;
+  cover.method = BakeMethod::kCover;
+  cover.max_spheres = 6;
+  const BakeOutcome c = bake_file(knot, cover);
+  REQUIRE(c.cover);
+  CHECK(c.spheres.size() <= 6);
+  CHECK(c.cover->certificate.certified);
+  CHECK(nlohmann::json::parse(c.spheres.metadata_json)["generator"]["method"] == "cover");
+  // A cover needs a budget, and takes no error target or dilation.
+  cover.max_spheres.reset();
+  CHECK(error_of([&] { validate(cover); }).kind() == ErrorKind::kConflict);
+  cover.max_spheres = 6;
+  cover.dilate = true;
+  CHECK(error_of([&] { validate(cover); }).field() == "dilate");
 }
 #endif

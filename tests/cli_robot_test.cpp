@@ -69,7 +69,14 @@ TEST_CASE("robot writes a folder whose robot file has each link's spheres", "[cl
     CHECK(query.closest_point(s.center).distance() >= s.radius);
   }
 
-  // Every planner format carries the same spheres (the inner sets: no covering set yet).
+  // Every baked link has a covering set with its certificate, and every planner format
+  // carries those covering sets.
+  for (const medspheres::Link& l : model.links) {
+    INFO(l.name);
+    CHECK(l.spheres.outer.empty() == l.spheres.inner.empty());
+    if (!l.spheres.outer.empty())
+      CHECK(nlohmann::json::parse(l.spheres.outer_certificate_json)["certified"] == true);
+  }
   for (const std::string name :
        {"arm.curobo.yml", "arm.xrdf", "arm.spherized.urdf", "arm.srdf", "arm.foam.json"}) {
     INFO(name);
@@ -77,15 +84,15 @@ TEST_CASE("robot writes a folder whose robot file has each link's spheres", "[cl
         medspheres::formats::read_sphere_document(out + "/" + name);
     for (const medspheres::Link& l : model.links) {
       const auto* got = medspheres::formats::find_link_spheres(doc.links, l.name);
-      if (l.spheres.inner.empty()) {
+      if (l.spheres.outer.empty()) {
         CHECK(got == nullptr);
         continue;
       }
       REQUIRE(got != nullptr);
-      REQUIRE(got->spheres.size() == l.spheres.inner.size());
+      REQUIRE(got->spheres.size() == l.spheres.outer.size());
       for (std::size_t k = 0; k < got->spheres.size(); ++k) {
-        CHECK(got->spheres[k].center == l.spheres.inner.spheres[k].center);
-        CHECK(got->spheres[k].radius == l.spheres.inner.spheres[k].radius);
+        CHECK(got->spheres[k].center == l.spheres.outer.spheres[k].center);
+        CHECK(got->spheres[k].radius == l.spheres.outer.spheres[k].radius);
       }
     }
   }
@@ -209,7 +216,8 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
 TEST_CASE("eval of a robot: one row per link", "[cli][robot]") {
   TempDir dir;
   const std::string urdf = medspheres::test::write_arm(dir);
-  REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("out")) + " -q").exit_code == 0);
+  // The planner formats carry the inner sets here, which the robot file's eval measures.
+  REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("out")) + " --set inner -q").exit_code == 0);
   const std::string pkg =
       " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
   const CommandResult r =

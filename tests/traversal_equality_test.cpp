@@ -9,6 +9,10 @@
 // unified into one driver (src/runtime/traversal.h), with
 //   MEDSPHERES_TRAVERSAL_GOLDEN_DIR=<dir> test_traversal_equality
 // which writes <dir>/traversal_equality_golden.inc (the file beside this one). The
+// tree-and-target list was then recorded again once, when the one exact point-triangle
+// kernel replaced the TriangleTree's plain one: 38 of its lines (signed distances and
+// contacts against the TriangleTree target) moved in the last bits; every tree-and-tree,
+// tree-and-point and other target line stayed bit-identical. The
 // traversal order is deterministic, so any change of the order, the pruning or the leaf
 // arithmetic shows here. Values are hex floats (exact); a list of contacts is recorded
 // in full up to its first few entries and by a 64-bit FNV-1a hash of its full text.

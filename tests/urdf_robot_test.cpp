@@ -166,7 +166,7 @@ TEST_CASE("a mirroring scale keeps the solid wound outward", "[robot]") {
   CHECK(report.signed_volume == Approx(0.2 * 0.4 * 0.6 * 2).epsilon(1e-6));
 }
 
-TEST_CASE("--from-visual: visual geometry where a link has no collision geometry", "[robot]") {
+TEST_CASE("from_visual: visual geometry where a link has no collision geometry", "[robot]") {
   TempDir dir;
   const std::string text = urdf(R"(<link name="v">
       <visual><geometry><box size="0.1 0.1 0.1"/></geometry></visual></link>

@@ -53,8 +53,7 @@ nlohmann::ordered_json certificate_json(const CoverCertificate& c) {
                               {"uncertified_triangles", c.uncertified_triangles},
                               {"proven_uncovered_triangles", c.proven_uncovered_triangles},
                               {"pieces_tested", c.pieces_tested},
-                              {"max_depth", c.max_depth_reached},
-                              {"seconds", c.seconds}};
+                              {"max_depth", c.max_depth_reached}};
   if (!c.certified) {
     j["worst_uncovered_distance"] = c.worst_distance;
     j["worst_uncovered_point"] = {c.worst_point.x(), c.worst_point.y(), c.worst_point.z()};
@@ -109,7 +108,8 @@ void print_json(const EvalArgs& args, const FitReport& r, const CoverCertificate
                           {"protrusion", r.seconds.protrusion},
                           {"grid", r.seconds.grid},
                           {"monte_carlo", r.seconds.monte_carlo},
-                          {"coverage", r.seconds.coverage}};
+                          {"coverage", r.seconds.coverage},
+                          {"certificate", cert.seconds}};
   j["warnings"] = warnings;
   std::cout << j.dump(2) << "\n";
 }
