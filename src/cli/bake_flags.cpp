@@ -13,4 +13,12 @@ std::optional<Length> length_option(const std::optional<std::string>& text, cons
   }
 }
 
+void set_dilation(const DilationFlags& flags, BakeRequest& request) {
+  request.dilate = flags.dilate;
+  request.vertex_tolerance = length_option(flags.vertex_tolerance, "vertex_tolerance");
+  request.max_protrusion = length_option(flags.max_protrusion, "max_protrusion");
+  request.cover = length_option(flags.cover, "cover");
+  request.seed = flags.seed;
+}
+
 }  // namespace medspheres::cli

@@ -25,12 +25,7 @@ struct BakeArgs {
   std::optional<int> max_spheres;
   std::optional<double> target_error;
   std::string method = "medial";
-  bool dilate = false;
-  // Lengths: a number in the mesh's units, or a number followed by L (parse_length).
-  std::optional<std::string> vertex_tolerance;
-  std::optional<std::string> max_protrusion;
-  std::optional<std::string> cover;
-  std::uint64_t seed = BakeRequest{}.seed;
+  DilationFlags dilation;
   int threads = 0;
   bool quiet = false;
 };
@@ -56,11 +51,7 @@ BakeRequest bake_request(const BakeArgs& a) {
     r.max_spheres = static_cast<std::size_t>(*a.max_spheres);
   }
   r.target_error = a.target_error;
-  r.dilate = a.dilate;
-  r.vertex_tolerance = length_option(a.vertex_tolerance, "vertex_tolerance");
-  r.max_protrusion = length_option(a.max_protrusion, "max_protrusion");
-  r.cover = length_option(a.cover, "cover");
-  r.seed = a.seed;
+  set_dilation(a.dilation, r);
   validate(r);
   return r;
 }
@@ -235,18 +226,19 @@ Runner register_bake(CLI::App& app) {
       sub->add_option("--target-error", a->target_error,
                       "Choose the smallest resolution whose normalized volume error is at most E");
   max->excludes(err);
-  sub->add_flag("--dilate", a->dilate,
+  sub->add_flag("--dilate", a->dilation.dilate,
                 "Dilate the spheres until they hug the surface (paper section 5.1); writes S+");
-  sub->add_option("--vertex-tolerance", a->vertex_tolerance,
+  sub->add_option("--vertex-tolerance", a->dilation.vertex_tolerance,
                   "Dilation: cover every mesh vertex within this length, in the mesh's units or "
                   "a multiple of the box's largest side L written 0.005L (default: 0.005L)");
-  sub->add_option("--max-protrusion", a->max_protrusion,
+  sub->add_option("--max-protrusion", a->dilation.max_protrusion,
                   "Dilation: let no grown or added sphere stick out of the solid by more than "
                   "this length, e.g. 0.002L (default: no cap, as in the paper)");
-  sub->add_option("--cover", a->cover,
+  sub->add_option("--cover", a->dilation.cover,
                   "Dilate, then add spheres until no surface sample is farther than this "
                   "length outside, e.g. 0.003L (implies --dilate)");
-  sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
+  sub->add_option("--seed", a->dilation.seed, "Dilation: seed of its random points")
+      ->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");

@@ -47,9 +47,7 @@ struct RobotArgs {
   int resolution = BakeOptions{}.resolution;
   double object_angle = BakeOptions{}.object_angle;
   std::optional<double> target_error;
-  bool dilate = false;
-  std::optional<std::string> vertex_tolerance, max_protrusion, cover;
-  std::uint64_t seed = BakeRequest{}.seed;
+  DilationFlags dilation;
   bool no_measure = false;
   bool no_outer = false;
   std::string set = "auto";
@@ -167,11 +165,7 @@ BakeRequest bake_request(const RobotArgs& a) {
   r.medial.resolution = a.resolution;
   r.medial.object_angle = a.object_angle;
   r.target_error = a.target_error;
-  r.dilate = a.dilate;
-  r.vertex_tolerance = length_option(a.vertex_tolerance, "vertex_tolerance");
-  r.max_protrusion = length_option(a.max_protrusion, "max_protrusion");
-  r.cover = length_option(a.cover, "cover");
-  r.seed = a.seed;
+  set_dilation(a.dilation, r);
   r.measure = !a.no_measure;
   validate(r);
   return r;
@@ -358,11 +352,15 @@ Runner register_robot(CLI::App& app) {
   sub->add_option("--object-angle", a->object_angle, "Keep medial points at least this open (rad)")
       ->capture_default_str();
   sub->add_option("--target-error", a->target_error, "Per link: nerr at most E");
-  sub->add_flag("--dilate", a->dilate, "Per link: grow the spheres toward the surface (S+)");
-  sub->add_option("--vertex-tolerance", a->vertex_tolerance, "Dilation: length (or 0.003L)");
-  sub->add_option("--max-protrusion", a->max_protrusion, "Dilation: length (or 0.003L)");
-  sub->add_option("--cover", a->cover, "Dilation: cover the surface to this length (or L)");
-  sub->add_option("--seed", a->seed, "Dilation: seed of its random points")->capture_default_str();
+  sub->add_flag("--dilate", a->dilation.dilate,
+                "Per link: grow the spheres toward the surface (S+)");
+  sub->add_option("--vertex-tolerance", a->dilation.vertex_tolerance,
+                  "Dilation: length (or 0.003L)");
+  sub->add_option("--max-protrusion", a->dilation.max_protrusion, "Dilation: length (or 0.003L)");
+  sub->add_option("--cover", a->dilation.cover,
+                  "Dilation: cover the surface to this length (or L)");
+  sub->add_option("--seed", a->dilation.seed, "Dilation: seed of its random points")
+      ->capture_default_str();
   sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
   sub->add_flag("--no-outer", a->no_outer,
                 "Bake inner sets only (default: also a certified covering set per link, which "
