@@ -8,20 +8,14 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/number_text.h"
 
 namespace medspheres {
 
 namespace {
 
-// Shortest text that reads back to the same double.
-std::string exact(double v) {
-  char buf[32];
-  std::snprintf(buf, sizeof buf, "%.17g", v);
-  return buf;
-}
-
 std::string exact(const Eigen::Vector3d& v) {
-  return exact(v.x()) + " " + exact(v.y()) + " " + exact(v.z());
+  return exact_number_text(v.x()) + " " + exact_number_text(v.y()) + " " + exact_number_text(v.z());
 }
 
 // The file's mesh with S applied; a mirroring scale (negative product) reverses the
@@ -42,7 +36,8 @@ LinkSolidPart primitive_part(const LinkPart& part) {
     out.source = "box " + exact(part.size);
   } else {
     out.mesh = make_cylinder(part.size.x(), part.size.z() / 2.0, kCylinderSlices);
-    out.source = "cylinder " + exact(part.size.x()) + " " + exact(part.size.z());
+    out.source =
+        "cylinder " + exact_number_text(part.size.x()) + " " + exact_number_text(part.size.z());
   }
   out.key = out.source;
   return out;
