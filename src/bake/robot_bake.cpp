@@ -82,15 +82,15 @@ std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isom
 }
 
 // The cover of a job's mesh to the job's budget (the request's, or the default).
-BakeOutcome bake_outer(const TriangleMesh& mesh, const BakeRequest& inner, const BakeJob& job,
-                       const std::string& name, const std::string& sha256) {
+BakeOutcome bake_outer(const TriangleMesh& mesh, const MeshReport& report, const BakeRequest& inner,
+                       const BakeJob& job, const std::string& name, const std::string& sha256) {
   BakeRequest request;
   request.method = BakeMethod::kCover;
   request.medial.threads = inner.medial.threads;
   request.seed = inner.seed;
   request.max_spheres = job.budget ? job.budget : inner.max_spheres;
   if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
-  return bake_mesh(mesh, analyze_mesh(mesh), request, name, sha256);
+  return bake_mesh(mesh, report, request, name, sha256);
 }
 
 // What the robot file records of an outer set's certificate.
@@ -119,8 +119,9 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
     const TriangleMesh mesh = one ? solid.parts[0].mesh : solid.placed_mesh();
     const std::string name = one ? solid.parts[0].source : "link '" + solid.link + "'";
     const std::string sha = one ? solid.parts[0].sha256 : "";
-    job.outcome = bake_mesh(mesh, analyze_mesh(mesh), request, name, sha);
-    if (outer) job.outer = bake_outer(mesh, request, job, name, sha);
+    const MeshReport report = analyze_mesh(mesh);
+    job.outcome = bake_mesh(mesh, report, request, name, sha);
+    if (outer) job.outer = bake_outer(mesh, report, request, job, name, sha);
   } catch (...) {
     job.error = std::current_exception();
   }

@@ -7,13 +7,10 @@
 
 namespace medspheres::formats {
 
-std::string exact_number(double v) {
-  return exact_number_text(v);
-}
-
 std::string exact_numbers(const std::vector<double>& values) {
   std::string out;
-  for (std::size_t i = 0; i < values.size(); ++i) out += (i ? " " : "") + exact_number(values[i]);
+  for (std::size_t i = 0; i < values.size(); ++i)
+    out += (i ? " " : "") + exact_number_text(values[i]);
   return out;
 }
 

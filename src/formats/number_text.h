@@ -7,12 +7,10 @@
 #include <string_view>
 #include <vector>
 
+#include "medspheres/number_text.h"
 #include "medspheres/sphere_set.h"
 
 namespace medspheres::formats {
-
-/// The shortest decimal text of \p v that reads back bit-identical ("0.1", "1e-300").
-std::string exact_number(double v);
 
 /// \p values separated by single spaces ("x y z").
 std::string exact_numbers(const std::vector<double>& values);

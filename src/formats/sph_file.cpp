@@ -56,8 +56,8 @@ std::vector<std::vector<Sphere>> parse_sph_levels(const std::string& text,
   double count = 1;  // nodes on this level: degree^level
   for (long level = 0; level < levels; ++level, count *= static_cast<double>(degree)) {
     if (count > static_cast<double>(lines.size() - next))
-      throw InputError(source, "level " + std::to_string(level) + " needs " + exact_number(count) +
-                                   " node lines; the file has " +
+      throw InputError(source, "level " + std::to_string(level) + " needs " +
+                                   exact_number_text(count) + " node lines; the file has " +
                                    std::to_string(lines.size() - next) + " left");
     SphereSet set;
     for (std::size_t i = 0; i < static_cast<std::size_t>(count); ++i, ++next) {

@@ -24,7 +24,7 @@ XMLElement* sphere_collision(tinyxml2::XMLDocument& doc, const Sphere& s) {
   origin->SetAttribute("xyz", exact_numbers({s.center.x(), s.center.y(), s.center.z()}).c_str());
   XMLElement* sphere =
       collision->InsertNewChildElement("geometry")->InsertNewChildElement("sphere");
-  sphere->SetAttribute("radius", exact_number(s.radius).c_str());
+  sphere->SetAttribute("radius", exact_number_text(s.radius).c_str());
   return collision;
 }
 

@@ -12,7 +12,7 @@ namespace {
 void add_sphere(tinyxml2::XMLElement& parent, const Eigen::Vector3d& center, double radius) {
   tinyxml2::XMLElement* s = parent.InsertNewChildElement("sphere");
   s->SetAttribute("center", exact_numbers({center.x(), center.y(), center.z()}).c_str());
-  s->SetAttribute("radius", exact_number(radius).c_str());
+  s->SetAttribute("radius", exact_number_text(radius).c_str());
 }
 
 }  // namespace

@@ -11,7 +11,7 @@ namespace {
 
 void emit_repeated(YAML::Emitter& out, const char* key, double value, std::size_t n) {
   out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (std::size_t i = 0; i < n; ++i) out << exact_number(value);
+  for (std::size_t i = 0; i < n; ++i) out << exact_number_text(value);
   out << YAML::EndSeq;
 }
 

@@ -72,9 +72,9 @@ void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres) {
     out << YAML::Key << l.link << YAML::Value << YAML::BeginSeq;
     for (const Sphere& s : l.spheres) {
       out << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value << YAML::Flow
-          << YAML::BeginSeq << exact_number(s.center.x()) << exact_number(s.center.y())
-          << exact_number(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
-          << exact_number(s.radius) << YAML::EndMap;
+          << YAML::BeginSeq << exact_number_text(s.center.x()) << exact_number_text(s.center.y())
+          << exact_number_text(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
+          << exact_number_text(s.radius) << YAML::EndMap;
     }
     out << YAML::EndSeq;
   }
