@@ -1,5 +1,6 @@
 // Reading robots: urdfdom's model in the file's order, link geometry in link frames
 // (checked against the transform written out by hand), package resolution, bad input.
+#include <algorithm>
 #include <cstdlib>
 #include <filesystem>
 #include <string>
@@ -212,8 +213,14 @@ TEST_CASE("bad robots: each names the URDF, the link and the problem", "[robot]"
       <joint name="j3" type="fixed"><parent link="c"/><child link="b"/></joint>)")),
              Contains("joint cycle") && Contains("'b'") && Contains("'c'"));
   CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
-      <capsule radius="0.1" length="0.2"/></geometry></collision></link>)")),
-             Contains("capsule") && Contains("[a]"));
+      <cone radius="0.1" length="0.2"/></geometry></collision></link>)")),
+             Contains("cone") && Contains("[a]"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a">)" + box + R"(<collision><geometry>
+      <capsule radius="0.1"/></geometry></collision></link>)")),
+             Contains("link 'a'") && Contains("capsule") && Contains("length"));
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
+      <capsule radius="0" length="0.2"/></geometry></collision></link>)")),
+             Contains("link 'a'") && Contains("radius > 0"));
   CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
       <mesh filename="missing.stl"/></geometry></collision></link>)")),
              Contains("link 'a'") && Contains("missing.stl"));
@@ -231,4 +238,56 @@ TEST_CASE("bad robots: each names the URDF, the link and the problem", "[robot]"
   CHECK_THAT(read_error(dir, urdf(R"(<link name="e"><collision><geometry>
       <mesh filename="empty.obj"/></geometry></collision></link>)")),
              Contains("link 'e'"));
+}
+
+TEST_CASE("a <capsule>, which urdfdom 3 does not know, is read and meshed inside it", "[robot]") {
+  TempDir dir;
+  // Second of three collision elements, with a rotated origin; a visual capsule too.
+  const std::string path = dir.write("c.urdf", urdf(R"(<link name="c">
+    <visual><geometry><capsule radius="0.5" length="9"/></geometry></visual>
+    <collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>
+    <collision><origin xyz="1 2 3" rpy="0 1.5707963267948966 0"/>
+      <geometry><capsule radius="0.05" length="0.3"/></geometry></collision>
+    <collision><geometry><sphere radius="0.02"/></geometry></collision></link>
+    <link name="v"><visual><origin xyz="0 0 0.5"/>
+      <geometry><capsule radius="0.1" length="0.4"/></geometry></visual></link>
+    <joint name="j" type="fixed"><parent link="c"/><child link="v"/></joint>)"));
+  UrdfReadOptions options;
+  options.from_visual = true;
+  const UrdfRobot robot = read_urdf(path, options);
+  REQUIRE(robot.links.size() == 2);
+  const std::vector<LinkPart>& parts = robot.links[0].parts;
+  REQUIRE(parts.size() == 3);
+  CHECK(parts[0].shape == PartShape::kBox);
+  CHECK(parts[1].shape == PartShape::kCapsule);
+  CHECK(parts[1].size == Eigen::Vector3d(0.05, 0.05, 0.3));
+  CHECK(parts[2].shape == PartShape::kSphere);
+  CHECK(parts[2].size.x() == 0.02);
+  REQUIRE(robot.links[1].parts.size() == 1);
+  CHECK(robot.links[1].from_visual);
+  CHECK(robot.links[1].parts[0].shape == PartShape::kCapsule);
+  CHECK(robot.links[1].parts[0].size == Eigen::Vector3d(0.1, 0.1, 0.4));
+
+  // The meshed capsule in the link frame: every vertex within r of the axis segment (its
+  // ends at origin * (0, 0, +-l/2), the axis along the link's x after the rotation), and
+  // the poles and the equator ring's vertices on the capsule's surface.
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  REQUIRE(solids[0].parts.size() == 2);
+  CHECK(solids[0].spheres.size() == 1);
+  const LinkSolidPart& capsule = solids[0].parts[1];
+  CHECK(capsule.source == "capsule 0.05 0.3");
+  const Eigen::Vector3d a = capsule.origin * Eigen::Vector3d(0, 0, -0.15);
+  const Eigen::Vector3d b = capsule.origin * Eigen::Vector3d(0, 0, 0.15);
+  CHECK((a - Eigen::Vector3d(0.85, 2, 3)).norm() < 1e-12);
+  double farthest = 0, nearest = 1;
+  for (const Eigen::Vector3d& v : capsule.mesh.vertices) {
+    const Eigen::Vector3d w = capsule.origin * v;
+    const double t = std::clamp((w - a).dot(b - a) / (b - a).squaredNorm(), 0.0, 1.0);
+    const double d = (w - (a + t * (b - a))).norm();
+    farthest = std::max(farthest, d);
+    nearest = std::min(nearest, d);
+  }
+  CHECK(farthest < 0.05 * (1 + 1e-12));
+  CHECK(nearest > 0.05 * (1 - 1e-12));  // every vertex on the surface
+  CHECK(analyze_mesh(capsule.mesh).is_closed_outward());
 }

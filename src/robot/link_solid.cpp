@@ -34,6 +34,10 @@ LinkSolidPart primitive_part(const LinkPart& part) {
   if (part.shape == PartShape::kBox) {
     out.mesh = make_box(part.size / 2.0, 1);
     out.source = "box " + exact(part.size);
+  } else if (part.shape == PartShape::kCapsule) {
+    out.mesh = make_capsule(part.size.x(), part.size.z() / 2.0, kCylinderSlices, kCapsuleStacks);
+    out.source =
+        "capsule " + exact_number_text(part.size.x()) + " " + exact_number_text(part.size.z());
   } else {
     out.mesh = make_cylinder(part.size.x(), part.size.z() / 2.0, kCylinderSlices);
     out.source =

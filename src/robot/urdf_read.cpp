@@ -1,12 +1,14 @@
 // Reading a URDF: urdfdom builds the model; tinyxml2 gives the order of the <link> and
-// <joint> elements in the file (urdfdom keeps them in maps sorted by name) and the
-// parent and child names that the tree checks below need to name the links of a cycle.
+// <joint> elements in the file (urdfdom keeps them in maps sorted by name), the parent and
+// child names that the tree checks below need to name the links of a cycle, and the
+// <capsule> elements (URDF's newer primitive, which urdfdom 3 does not know).
 #include <cmath>
 #include <filesystem>
 #include <map>
 #include <mutex>
 #include <set>
 #include <string>
+#include <tuple>
 #include <vector>
 
 #include <console_bridge/console.h>
@@ -51,9 +53,15 @@ struct XmlJoint {
   std::string name, parent, child;
 };
 
+// A <capsule> by where it stands: the link, visual (true) or collision (false), and its
+// element's position among the link's elements of that kind.
+using CapsuleKey = std::tuple<std::string, bool, std::size_t>;
+
 struct XmlOrder {
   std::vector<std::string> links;
   std::vector<XmlJoint> joints;
+  std::map<CapsuleKey, Eigen::Vector2d> capsules;  // radius, length
+  std::string urdfdom_xml;  // the text urdfdom reads: capsules replaced by sphere placeholders
 };
 
 std::string attribute(const tinyxml2::XMLElement* e, const char* name) {
@@ -66,17 +74,52 @@ std::string child_link(const tinyxml2::XMLElement* joint, const char* which) {
   return e == nullptr ? std::string() : attribute(e, "link");
 }
 
+// Each <capsule radius length> under the link's <visual> or <collision> elements is
+// recorded and replaced by a <sphere> of its radius, which urdfdom reads; to_part turns
+// the placeholder back into the capsule.
+void take_capsules(tinyxml2::XMLElement* link, bool visual, const std::string& source,
+                   XmlOrder& order) {
+  const char* kind = visual ? "visual" : "collision";
+  std::size_t index = 0;
+  for (auto* e = link->FirstChildElement(kind); e; e = e->NextSiblingElement(kind), ++index) {
+    tinyxml2::XMLElement* geometry = e->FirstChildElement("geometry");
+    tinyxml2::XMLElement* capsule = geometry ? geometry->FirstChildElement("capsule") : nullptr;
+    if (capsule == nullptr) continue;
+    const std::string name = attribute(link, "name");
+    double radius = 0, length = 0;
+    if (capsule->QueryDoubleAttribute("radius", &radius) != tinyxml2::XML_SUCCESS ||
+        capsule->QueryDoubleAttribute("length", &length) != tinyxml2::XML_SUCCESS ||
+        !(radius > 0.0 && std::isfinite(radius)) || !(length >= 0.0 && std::isfinite(length)))
+      throw InputError(source, "link '" + name + "': a <capsule> needs a radius > 0 and a " +
+                                   "length >= 0 (finite numbers)");
+    order.capsules[{name, visual, index}] = Eigen::Vector2d(radius, length);
+    tinyxml2::XMLElement* sphere = geometry->InsertNewChildElement("sphere");
+    sphere->SetAttribute("radius", radius);
+    geometry->DeleteChild(capsule);
+  }
+}
+
 XmlOrder scan_xml(const std::string& xml, const std::string& source) {
   tinyxml2::XMLDocument doc;
   if (doc.Parse(xml.data(), xml.size()) != tinyxml2::XML_SUCCESS)
     throw InputError(source, std::string("not well-formed XML: ") + doc.ErrorStr());
-  const tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
+  tinyxml2::XMLElement* robot = doc.FirstChildElement("robot");
   if (robot == nullptr) throw InputError(source, "no <robot> element");
   XmlOrder order;
-  for (auto* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link"))
+  for (auto* e = robot->FirstChildElement("link"); e; e = e->NextSiblingElement("link")) {
     order.links.push_back(attribute(e, "name"));
+    take_capsules(e, false, source, order);
+    take_capsules(e, true, source, order);
+  }
   for (auto* e = robot->FirstChildElement("joint"); e; e = e->NextSiblingElement("joint"))
     order.joints.push_back({attribute(e, "name"), child_link(e, "parent"), child_link(e, "child")});
+  if (order.capsules.empty()) {
+    order.urdfdom_xml = xml;
+  } else {
+    tinyxml2::XMLPrinter printer;
+    doc.Print(&printer);
+    order.urdfdom_xml = printer.CStr();
+  }
   return order;
 }
 
@@ -162,10 +205,17 @@ bool positive(double v) {
   return v > 0.0 && std::isfinite(v);
 }
 
-LinkPart to_part(const urdf::Geometry& g, const urdf::Pose& origin, const std::string& base_dir,
-                 const UrdfReadOptions& options) {
+// \p capsule: (radius, length) when the element was a <capsule> (its geometry here is the
+// sphere placeholder scan_xml put in its place), else nullptr.
+LinkPart to_part(const urdf::Geometry& g, const urdf::Pose& origin, const Eigen::Vector2d* capsule,
+                 const std::string& base_dir, const UrdfReadOptions& options) {
   LinkPart part;
   part.origin = to_isometry(origin);
+  if (capsule != nullptr) {
+    part.shape = PartShape::kCapsule;
+    part.size = Eigen::Vector3d(capsule->x(), capsule->x(), capsule->y());
+    return part;  // sizes checked by scan_xml
+  }
   if (const auto* s = dynamic_cast<const urdf::Sphere*>(&g)) {
     part.shape = PartShape::kSphere;
     part.size = Eigen::Vector3d::Constant(s->radius);
@@ -193,25 +243,34 @@ LinkPart to_part(const urdf::Geometry& g, const urdf::Pose& origin, const std::s
   return part;
 }
 
+// urdfdom keeps a link's elements of each kind in the file's order, so the i-th one is
+// the i-th <visual> or <collision> element that scan_xml counted.
 template <typename Element>
-void add_parts(const std::vector<std::shared_ptr<Element>>& elements, const std::string& base_dir,
+void add_parts(const std::vector<std::shared_ptr<Element>>& elements, const std::string& link,
+               bool visual, const XmlOrder& order, const std::string& base_dir,
                const UrdfReadOptions& options, std::vector<LinkPart>& parts) {
-  for (const auto& e : elements)
-    if (e && e->geometry) parts.push_back(to_part(*e->geometry, e->origin, base_dir, options));
+  for (std::size_t i = 0; i < elements.size(); ++i) {
+    const auto& e = elements[i];
+    if (!e || !e->geometry) continue;
+    const auto capsule = order.capsules.find({link, visual, i});
+    parts.push_back(to_part(*e->geometry, e->origin,
+                            capsule == order.capsules.end() ? nullptr : &capsule->second, base_dir,
+                            options));
+  }
 }
 
-UrdfLink to_link(const urdf::Link& link, const std::string& source, const std::string& base_dir,
-                 const UrdfReadOptions& options) {
+UrdfLink to_link(const urdf::Link& link, const XmlOrder& order, const std::string& source,
+                 const std::string& base_dir, const UrdfReadOptions& options) {
   UrdfLink out;
   out.name = link.name;
   try {
     auto collisions = link.collision_array;
     if (collisions.empty() && link.collision) collisions.push_back(link.collision);
-    add_parts(collisions, base_dir, options, out.parts);
+    add_parts(collisions, link.name, false, order, base_dir, options, out.parts);
     if (out.parts.empty() && options.from_visual) {
       auto visuals = link.visual_array;
       if (visuals.empty() && link.visual) visuals.push_back(link.visual);
-      add_parts(visuals, base_dir, options, out.parts);
+      add_parts(visuals, link.name, true, order, base_dir, options, out.parts);
       out.from_visual = !out.parts.empty();
     }
   } catch (const InputError& e) {
@@ -229,7 +288,7 @@ UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const st
   urdf::ModelInterfaceSharedPtr model;
   {
     UrdfdomMessages messages;
-    model = urdf::parseURDF(xml);
+    model = urdf::parseURDF(order.urdfdom_xml);
     if (!messages.errors().empty()) throw InputError(source, "urdfdom: " + messages.errors());
   }
   if (!model) throw InputError(source, "urdfdom could not read the robot");
@@ -240,7 +299,7 @@ UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const st
   for (const std::string& name : order.links) {
     const urdf::LinkConstSharedPtr link = model->getLink(name);
     if (!link) throw InputError(source, "link '" + name + "' was not read by urdfdom");
-    robot.links.push_back(to_link(*link, source, base_dir, options));
+    robot.links.push_back(to_link(*link, order, source, base_dir, options));
     Link entry;
     entry.name = name;
     robot.model.links.push_back(std::move(entry));

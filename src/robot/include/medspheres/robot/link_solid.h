@@ -11,7 +11,9 @@
 /// Primitives: a box is its 12-triangle mesh (exact); a cylinder is the prism over a
 /// regular kCylinderSlices-gon inscribed in it (make_cylinder: inside the cylinder, at
 /// most radius (1 - cos(pi / kCylinderSlices)) = 0.5% of the radius inside its side); a
-/// sphere is not meshed but kept as the sphere itself.
+/// capsule is the polyhedron make_capsule inscribes in it (kCylinderSlices around,
+/// kCapsuleStacks latitude bands per cap: inside the capsule, its facets at most 1% of
+/// the radius inside the caps); a sphere is not meshed but kept as the sphere itself.
 
 #include <cstddef>
 #include <map>
@@ -25,14 +27,17 @@
 
 namespace medspheres {
 
-/// Sides of the prism a URDF cylinder is meshed as.
+/// Sides of the prism a URDF cylinder is meshed as (and of a capsule's rings).
 inline constexpr int kCylinderSlices = 32;
+/// Latitude bands of each hemispherical cap of a meshed capsule.
+inline constexpr int kCapsuleStacks = 8;
 
 /// One meshed geometry element.
 struct LinkSolidPart {
   TriangleMesh mesh;                                         ///< in G, scale applied
   Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< X_LG
-  std::string source;  ///< the mesh file as resolved, or "box 0.1 0.2 0.3", "cylinder r l"
+  std::string source;  ///< the mesh file as resolved, or "box 0.1 0.2 0.3", "cylinder r l",
+                       ///< "capsule r l"
   std::string sha256;  ///< of the mesh file; empty for primitives
   /// Identifies the geometry in G: the file's sha256 and the scale, or the primitive and
   /// its sizes (to 17 digits). Two parts with the same key have the same mesh.

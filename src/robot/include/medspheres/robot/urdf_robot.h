@@ -21,7 +21,7 @@
 
 namespace medspheres {
 
-enum class PartShape { kMesh, kBox, kCylinder, kSphere };
+enum class PartShape { kMesh, kBox, kCylinder, kSphere, kCapsule };
 
 /// One geometry element of a link.
 struct LinkPart {
@@ -30,7 +30,8 @@ struct LinkPart {
   std::string uri;                                           ///< kMesh: filename as written
   std::string path;                                          ///< kMesh: the resolved file
   Eigen::Vector3d scale = Eigen::Vector3d::Ones();           ///< kMesh: S
-  /// kBox: the full sides; kCylinder: (radius, radius, length); kSphere: (r, r, r).
+  /// kBox: the full sides; kCylinder and kCapsule: (radius, radius, length) (a capsule's
+  /// length is its cylinder's, without the caps); kSphere: (r, r, r).
   Eigen::Vector3d size = Eigen::Vector3d::Zero();
 };
 
@@ -57,8 +58,9 @@ struct UrdfRobot {
 /// Reads the URDF in \p path with urdfdom. Links and joints keep the file's order.
 /// \throws InputError whose source is \p path and whose message names the link or joint
 ///   and the problem: a file that is missing or not well-formed XML, anything urdfdom
-///   reports as an error (its message is kept: a geometry it does not know, such as
-///   <capsule> in urdfdom 3, a malformed vector, ...), a link with an empty name, a joint
+///   reports as an error (its message is kept: a geometry it does not know, a malformed
+///   vector, ...), a <capsule> without a radius > 0 and a length >= 0 (urdfdom 3 does not
+///   know <capsule>: it is read here with tinyxml2), a link with an empty name, a joint
 ///   whose parent or child link does not exist, a link that is the child of two joints, a
 ///   joint cycle (no root, or links not reachable from the root), an unsupported joint type
 ///   (floating, planar), a mesh name that cannot be resolved (package_path.h), a primitive
