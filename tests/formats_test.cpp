@@ -92,6 +92,27 @@ TEST_CASE("XRDF and cuRobo files have the layouts their tools read", "[formats]"
   CHECK(x["self_collision"]["geometry"].as<std::string>() == o.geometry_name);
   CHECK(x["cspace"]["jerk_limits"].size() == 2);
   CHECK(x["geometry"][o.geometry_name]["spheres"]["base"].size() == 4);
+  // cuRobo's XRDF loader: format_version a number (it compares it with 1.0), and
+  // self_collision: ignore and default_joint_positions required.
+  CHECK(x["format_version"].Tag() == "?");  // a plain scalar, not a quoted string
+  CHECK(x["self_collision"]["ignore"].IsMap());
+  CHECK(x["self_collision"]["ignore"].size() == 0);
+  CHECK(x["default_joint_positions"]["j2"].as<double>() == 0.0);
+  CHECK(!x["tool_frames"]);
+  o.default_positions = {0.5, -1.25};
+  o.tool_frames = {"tool"};
+  o.self_collision_ignore = {{"base", {"tool", kAwkwardLink}}};
+  const YAML::Node y = YAML::Load(xrdf_text(s, o));
+  CHECK(y["default_joint_positions"]["j2"].as<double>() == -1.25);
+  CHECK(y["tool_frames"].as<std::vector<std::string>>() == std::vector<std::string>{"tool"});
+  CHECK(y["self_collision"]["ignore"]["base"].as<std::vector<std::string>>() ==
+        std::vector<std::string>{"tool", kAwkwardLink});
+  CHECK(identical(parse_xrdf(xrdf_text(s, o), "f"), s));
+  CuroboOptions co{"base", o.self_collision_ignore};
+  const YAML::Node c = YAML::Load(curobo_yaml_text(s, co));
+  CHECK(c["robot_cfg"]["kinematics"]["self_collision_ignore"]["base"][1].as<std::string>() ==
+        kAwkwardLink);
+  CHECK(!curobo["robot_cfg"]["kinematics"]["self_collision_ignore"]);
 }
 
 TEST_CASE("SRDF: a lone zero-radius sphere means no spheres, as in srdfdom", "[formats]") {
@@ -203,6 +224,27 @@ TEST_CASE("a robot model's document writes every per-link format from its coveri
   m.links[2].spheres.inner.spheres = {{{0.1, 0.2, 0.3}, 0.01}};
   const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
   const RobotSpheres expected{{"l2", {{{0.1, 0.2, 0.3}, 0.05}}}};
+  {
+    // Adjacent links for the planners skip the links without spheres between them (l1
+    // between base and l2, l3 between l2 and tool); the leaf "tool" is the tool frame;
+    // j2's default position is moved into its limits.
+    medspheres::RobotModel n = m;
+    n.links[0].spheres.outer.spheres = {{{0, 0, 0}, 0.1}};
+    n.links[4].spheres.outer.spheres = {{{0, 0, 0}, 0.02}};
+    n.joints[1].limits->lower = 0.125;
+    const SphereDocument d = robot_document(n, SphereChoice::kOuter, "", "arm");
+    const YAML::Node x = YAML::Load(sphere_document_text(d, SphereFormat::kXrdf));
+    const YAML::Node ignore = x["self_collision"]["ignore"];
+    REQUIRE(ignore.size() == 2);
+    CHECK(ignore["base"].as<std::vector<std::string>>() == std::vector<std::string>{"l2"});
+    CHECK(ignore["l2"].as<std::vector<std::string>>() == std::vector<std::string>{"tool"});
+    CHECK(x["tool_frames"].as<std::vector<std::string>>() == std::vector<std::string>{"tool"});
+    CHECK(x["default_joint_positions"]["j1"].as<double>() == 0.0);
+    CHECK(x["default_joint_positions"]["j2"].as<double>() == 0.125);
+    const YAML::Node c = YAML::Load(sphere_document_text(d, SphereFormat::kCurobo));
+    CHECK(c["robot_cfg"]["kinematics"]["self_collision_ignore"]["l2"][0].as<std::string>() ==
+          "tool");
+  }
   // One link with spheres still makes foam's per-link database, not a one-mesh list.
   CHECK(identical(parse_foam_robot_json(sphere_document_text(doc, SphereFormat::kFoam), "f"),
                   expected));

@@ -19,6 +19,10 @@ std::string curobo_yaml_text(const RobotSpheres& spheres, const CuroboOptions& o
   out << YAML::EndSeq << YAML::Key << "collision_spheres" << YAML::Value;
   emit_yaml_link_spheres(out, spheres);
   out << YAML::Key << "collision_sphere_buffer" << YAML::Value << "0.0";
+  if (!options.self_collision_ignore.empty()) {
+    out << YAML::Key << "self_collision_ignore" << YAML::Value;
+    emit_yaml_link_lists(out, options.self_collision_ignore);
+  }
   out << YAML::EndMap << YAML::EndMap << YAML::EndMap;
   return yaml_emitter_text(out);
 }

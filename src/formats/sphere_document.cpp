@@ -1,5 +1,7 @@
 #include "medspheres/formats/sphere_document.h"
 
+#include <algorithm>
+
 #include <nlohmann/json.hpp>
 
 #include "medspheres/error.h"
@@ -197,6 +199,21 @@ RobotSpheres per_link(const SphereDocument& doc, const WriteOptions& options) {
   return {LinkSphereList{options.link, doc.set->spheres}};
 }
 
+// Each joint's default position for XRDF: 0, moved into the joint's limits when it has
+// some (lower < upper) that exclude 0.
+std::vector<double> default_positions(const RobotModel& model,
+                                      const std::vector<std::string>& joints) {
+  std::vector<double> out;
+  for (const std::string& name : joints) {
+    const Joint* j = model.find_joint(name);
+    double q = 0.0;
+    if (j && j->limits && j->limits->lower < j->limits->upper)
+      q = std::clamp(q, j->limits->lower, j->limits->upper);
+    out.push_back(q);
+  }
+  return out;
+}
+
 std::string robot_name(const SphereDocument& doc, const WriteOptions& options) {
   if (!options.robot_name.empty()) return options.robot_name;
   return doc.robot_name.empty() ? "robot" : doc.robot_name;
@@ -220,14 +237,24 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
                          "only a robot file (or the robot command) provides");
       return robot_to_json(*doc.model);
     case SphereFormat::kCurobo: {
+      const RobotSpheres spheres = per_link(doc, options);
       CuroboOptions o;
-      if (doc.model) o.base_link = doc.model->root_link;
-      return curobo_yaml_text(per_link(doc, options), o);
+      if (doc.model) {
+        o.base_link = doc.model->root_link;
+        o.self_collision_ignore = adjacent_sphere_links(*doc.model, spheres);
+      }
+      return curobo_yaml_text(spheres, o);
     }
     case SphereFormat::kXrdf: {
+      const RobotSpheres spheres = per_link(doc, options);
       XrdfOptions o;
-      if (doc.model) o.joint_names = KinematicTree(*doc.model).joint_names();
-      return xrdf_text(per_link(doc, options), o);
+      if (doc.model) {
+        o.joint_names = KinematicTree(*doc.model).joint_names();
+        o.default_positions = default_positions(*doc.model, o.joint_names);
+        o.tool_frames = leaf_links(*doc.model);
+        o.self_collision_ignore = adjacent_sphere_links(*doc.model, spheres);
+      }
+      return xrdf_text(spheres, o);
     }
     case SphereFormat::kUrdf: {
       const bool given = !options.urdf_text.empty();

@@ -1,5 +1,7 @@
 #include "medspheres/formats/xrdf.h"
 
+#include <stdexcept>
+
 #include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "number_text.h"
@@ -29,17 +31,30 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
                   options.joint_names.size());
     emit_repeated(out, "jerk_limits", options.jerk_limit, options.joint_names.size());
     out << YAML::EndMap;
+    if (!options.default_positions.empty() &&
+        options.default_positions.size() != options.joint_names.size())
+      throw std::invalid_argument("xrdf_text: default_positions and joint_names differ in size");
+    out << YAML::Key << "default_joint_positions" << YAML::Value << YAML::Flow << YAML::BeginMap;
+    for (std::size_t i = 0; i < options.joint_names.size(); ++i)
+      out << YAML::Key << options.joint_names[i] << YAML::Value
+          << exact_number_text(options.default_positions.empty() ? 0.0
+                                                                 : options.default_positions[i]);
+    out << YAML::EndMap;
   }
+  if (!options.tool_frames.empty())
+    out << YAML::Key << "tool_frames" << YAML::Value << YAML::Flow << options.tool_frames;
   out << YAML::Key << "geometry" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << options.geometry_name << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "spheres" << YAML::Value;
   emit_yaml_link_spheres(out, spheres);
   out << YAML::EndMap << YAML::EndMap;
-  for (const char* section : {"collision", "self_collision"}) {
-    out << YAML::Key << section << YAML::Value << YAML::BeginMap;
-    out << YAML::Key << "geometry" << YAML::Value << options.geometry_name << YAML::EndMap;
-  }
-  out << YAML::EndMap;
+  out << YAML::Key << "collision" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "geometry" << YAML::Value << options.geometry_name << YAML::EndMap;
+  out << YAML::Key << "self_collision" << YAML::Value << YAML::BeginMap;
+  out << YAML::Key << "geometry" << YAML::Value << options.geometry_name;
+  out << YAML::Key << "ignore" << YAML::Value;
+  emit_yaml_link_lists(out, options.self_collision_ignore);
+  out << YAML::EndMap << YAML::EndMap;
   return yaml_emitter_text(out);
 }
 

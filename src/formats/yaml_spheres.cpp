@@ -81,6 +81,17 @@ void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres) {
   out << YAML::EndMap;
 }
 
+void emit_yaml_link_lists(YAML::Emitter& out, const LinkPairLists& lists) {
+  if (lists.empty()) {
+    out << YAML::Flow << YAML::BeginMap << YAML::EndMap;
+    return;
+  }
+  out << YAML::BeginMap;
+  for (const auto& [link, others] : lists)
+    out << YAML::Key << link << YAML::Value << YAML::Flow << others;
+  out << YAML::EndMap;
+}
+
 std::string yaml_emitter_text(const YAML::Emitter& out) {
   if (!out.good()) throw std::logic_error("YAML emitter: " + out.GetLastError());
   return std::string(out.c_str()) + "\n";

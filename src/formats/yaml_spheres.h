@@ -23,6 +23,9 @@ RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& so
 /// line in flow style, numbers in their shortest exact form.
 void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres);
 
+/// Writes a mapping link -> [links] (flow lists), `{}` when empty.
+void emit_yaml_link_lists(YAML::Emitter& out, const LinkPairLists& lists);
+
 /// The emitter's text, with a final newline. \throws std::logic_error if it failed.
 std::string yaml_emitter_text(const YAML::Emitter& out);
 

@@ -13,8 +13,12 @@
 ///       link_a:
 ///         - {center: [x, y, z], radius: r}
 ///     collision_sphere_buffer: 0.0
+///     self_collision_ignore: {link_a: [link_b]}   # when given
 /// \endcode
-/// cuRobo's loader reads "robot_cfg" and ignores the "format_version" beside it. Read
+/// cuRobo's loaders read "robot_cfg: kinematics:" (the older one: RobotConfig.from_dict of
+/// the file's "robot_cfg"; the current one, load_robot_yaml, also takes "kinematics:" at
+/// the top level or a bare kinematics mapping); neither reads "format_version", which
+/// marks the layout for other readers. Read
 /// layouts: "collision_spheres" under "robot_cfg: kinematics:", under a top-level
 /// "kinematics:" (cuRobo's newer files, e.g. its Unitree G1), or at the top level (cuRobo's
 /// separate sphere files). Every other key is ignored. Numbers are written in their
@@ -28,6 +32,8 @@ namespace medspheres::formats {
 
 struct CuroboOptions {
   std::string base_link;  ///< written as kinematics.base_link when not empty
+  /// Written as kinematics.self_collision_ignore when not empty.
+  LinkPairLists self_collision_ignore;
 };
 
 /// The YAML text. \throws InputError (source "cuRobo YAML") for invalid spheres or names.
