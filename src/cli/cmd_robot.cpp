@@ -16,6 +16,8 @@
 #include <stdio.h>
 #include <unistd.h>
 
+#include <nlohmann/json.hpp>
+
 #include "bake_flags.h"
 #include "cli_common.h"
 #include "medspheres/bake/bake_pipeline.h"
@@ -286,6 +288,34 @@ void print_summary(const RobotBakeResult& r, const std::string& out) {
             << "wrote " << out << "\n";
 }
 
+// The options of the run as the robot file's provenance ("options" in its metadata): every
+// flag that changes the spheres, as given (lengths as written, before L is resolved).
+std::string with_options(const std::string& metadata_json, const RobotArgs& a) {
+  nlohmann::ordered_json meta = nlohmann::ordered_json::parse(metadata_json);
+  auto optional = [](const auto& v) {
+    return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
+  };
+  nlohmann::ordered_json o;
+  o["packages"] = a.packages;
+  o["from_visual"] = a.from_visual;
+  o["spheres_per_link"] = optional(a.spheres_per_link);
+  o["budget"] = optional(a.budget);
+  o["link"] = a.link_budgets;
+  o["resolution"] = a.resolution_given ? nlohmann::ordered_json(a.resolution) : nullptr;
+  o["object_angle"] = a.object_angle;
+  o["target_error"] = optional(a.target_error);
+  o["dilate"] = a.dilation.dilate;
+  o["vertex_tolerance"] = optional(a.dilation.vertex_tolerance);
+  o["max_protrusion"] = optional(a.dilation.max_protrusion);
+  o["cover"] = optional(a.dilation.cover);
+  o["seed"] = a.dilation.seed;
+  o["measure"] = !a.no_measure;
+  o["outer"] = !a.no_outer;
+  o["set"] = a.set;
+  meta["options"] = std::move(o);
+  return meta.dump();
+}
+
 int run_robot(const RobotArgs& a) {
   // Everything that needs no work first: options, formats, the output folder.
   RobotBakeOptions options;
@@ -308,7 +338,8 @@ int run_robot(const RobotArgs& a) {
     std::cerr << "baking " << robot.links.size() << " links of " << a.urdf << "\n";
     options.progress = print_progress;
   }
-  const RobotBakeResult result = bake_robot(robot, solids, options);
+  RobotBakeResult result = bake_robot(robot, solids, options);
+  result.model.metadata_json = with_options(result.model.metadata_json, a);
 
   const formats::SphereChoice choice = sphere_choice(a.set, result.model);
   StagingDir staging(a.out);
