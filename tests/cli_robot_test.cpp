@@ -1,6 +1,8 @@
 // medspheres robot and eval of a robot, run as a user runs them: the output folder, the
 // robot file's spheres inside their links, bad robots (exit 2, no output), jobs.
+#include <algorithm>
 #include <filesystem>
+#include <set>
 #include <string>
 
 #include <catch2/catch.hpp>
@@ -161,8 +163,8 @@ TEST_CASE("robot: bad robots exit 2 naming the URDF and the link, with no output
          </geometry></collision></link></robot>)",
        "link 'a'"},
       {"unsupported geometry", head + R"(<link name="a"><collision><geometry>
-         <capsule radius="0.1" length="0.2"/></geometry></collision></link></robot>)",
-       "capsule"},
+         <cone radius="0.1" length="0.2"/></geometry></collision></link></robot>)",
+       "cone"},
   };
   for (const Case& c : cases) {
     INFO(c.what);
@@ -237,11 +239,132 @@ TEST_CASE("eval of a robot: one row per link", "[cli][robot]") {
   }
   CHECK(j["links"][2]["primitives"] == 1);
   CHECK(j["links"][3]["note"] == "no collision geometry");
-  // The same from the cuRobo file.
-  const CommandResult y =
-      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/arm.curobo.yml")) + pkg +
-          " --samples 20000 --surface-samples 2000 --json");
-  REQUIRE(y.exit_code == 0);
-  const auto jy = nlohmann::json::parse(y.out);
-  for (int i = 0; i < 3; ++i) CHECK(jy["links"][i]["nerr"] == j["links"][i]["nerr"]);
+  // The same from every planner file, which carry the same spheres.
+  for (const std::string name :
+       {"arm.curobo.yml", "arm.xrdf", "arm.srdf", "arm.spherized.urdf", "arm.foam.json"}) {
+    INFO(name);
+    const CommandResult y =
+        cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/" + name)) + pkg +
+            " --samples 20000 --surface-samples 2000 --json");
+    INFO(y.err);
+    REQUIRE(y.exit_code == 0);
+    const auto jy = nlohmann::json::parse(y.out);
+    for (int i = 0; i < 3; ++i) CHECK(jy["links"][i]["nerr"] == j["links"][i]["nerr"]);
+  }
+}
+
+TEST_CASE("robot: budgets, --link, --format, --no-outer and the tree reach the output",
+          "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  const std::string out = dir.file("out");
+  const std::string pkg =
+      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
+  const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + shell_quote(out) + pkg +
+                              " --budget 12 --link forearm=5 --no-outer --format robot,xrdf -q");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  // Only the chosen formats.
+  std::set<std::string> files;
+  for (const auto& e : fs::directory_iterator(out)) files.insert(e.path().filename().string());
+  CHECK(files == std::set<std::string>{"arm.robot.json", "arm.xrdf"});
+  const medspheres::RobotModel m = medspheres::load_robot(out + "/arm.robot.json");
+  std::size_t total = 0;
+  for (const medspheres::Link& l : m.links) {
+    CHECK(l.spheres.outer.empty());  // --no-outer
+    total += l.spheres.inner.size();
+  }
+  CHECK(total <= 12);
+  CHECK(m.find_link("forearm")->spheres.inner.size() <= 5);
+  CHECK(!m.find_link("base")->spheres.inner.empty());
+  CHECK(!m.find_link("hand")->spheres.inner.empty());
+  // The kinematic tree as the URDF has it: limits, mimic, axis, origin.
+  const medspheres::Joint* j1 = m.find_joint("j1");
+  const medspheres::Joint* j2 = m.find_joint("j2");
+  REQUIRE((j1 && j2));
+  CHECK(j1->type == medspheres::JointType::kRevolute);
+  CHECK(j1->axis == Eigen::Vector3d::UnitZ());
+  CHECK(j1->origin.translation() == Eigen::Vector3d(0, 0, 0.1));
+  CHECK((j1->origin.linear() - Eigen::AngleAxisd(0.5, Eigen::Vector3d::UnitZ()).toRotationMatrix())
+            .norm() < 1e-15);
+  REQUIRE(j1->limits);
+  CHECK(j1->limits->lower == -1.5);
+  CHECK(j1->limits->effort == 10);
+  REQUIRE(j2->mimic);
+  CHECK(j2->mimic->joint == "j1");
+  CHECK(j2->mimic->multiplier == 0.5);
+  CHECK(j2->mimic->offset == 0.01);
+  // Provenance: the URDF, each mesh's sha256, the options, per-link statistics.
+  const auto meta = nlohmann::json::parse(m.metadata_json);
+  CHECK(meta["urdf"] == urdf);
+  CHECK(meta["options"]["budget"] == 12);
+  CHECK(meta["options"]["link"] == nlohmann::json::array({"forearm=5"}));
+  CHECK(meta["options"]["outer"] == false);
+  CHECK(meta["links"]["forearm"]["parts"][0]["sha256"].get<std::string>().size() == 64);
+  CHECK(meta["links"]["forearm"]["budget"] == 5);
+}
+
+TEST_CASE("robot: --from-visual bakes a link's visual geometry where it has no collision",
+          "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = dir.write("v.urdf", R"(<robot name="v">
+  <link name="c"><collision><geometry><box size="0.1 0.2 0.3"/></geometry></collision></link>
+  <link name="v"><visual><geometry><capsule radius="0.05" length="0.2"/></geometry></visual></link>
+  <joint name="j" type="continuous"><parent link="c"/><child link="v"/><axis xyz="0 1 0"/></joint>
+</robot>)");
+  for (const bool visual : {false, true}) {
+    INFO(visual);
+    const std::string out = dir.file(visual ? "with" : "without");
+    const CommandResult r =
+        cli("robot " + shell_quote(urdf) + " -o " + shell_quote(out) +
+            " --spheres-per-link 4 --no-outer --format robot" + (visual ? " --from-visual" : ""));
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    const medspheres::RobotModel m = medspheres::load_robot(out + "/v.robot.json");
+    const medspheres::Link* v = m.find_link("v");
+    REQUIRE(v != nullptr);
+    CHECK(v->spheres.inner.empty() == !visual);
+    CHECK_THAT(r.out, Contains(visual ? "visual geometry" : "no collision geometry"));
+    // The capsule's inner spheres lie inside it: within r of its axis segment.
+    for (const medspheres::Sphere& s : v->spheres.inner.spheres) {
+      const double z = std::clamp(s.center.z(), -0.1, 0.1);
+      CHECK((s.center - Eigen::Vector3d(0, 0, z)).norm() + s.radius <= 0.05 * (1 + 1e-12));
+    }
+  }
+}
+
+TEST_CASE("robot: --target-error and --dilate apply to every link", "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  const std::string pkg =
+      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
+  auto run = [&](const std::string& name, const std::string& flags) {
+    const std::string out = dir.file(name);
+    const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + shell_quote(out) + pkg +
+                                " --no-outer --format robot -q" + flags);
+    INFO(r.err);
+    REQUIRE(r.exit_code == 0);
+    return medspheres::load_robot(out + "/arm.robot.json");
+  };
+  // A target error without a budget: each meshed link baked to it (nerr is exact here: the
+  // inner spheres are inside, so it is the true error).
+  const medspheres::RobotModel t = run("target", " --target-error 0.3");
+  const auto meta = nlohmann::json::parse(t.metadata_json);
+  CHECK(meta["options"]["target_error"] == 0.3);
+  for (const char* link : {"forearm", "hand"}) {
+    INFO(link);
+    CHECK(meta["links"][link]["nerr_kind"] == "exact");
+    CHECK(meta["links"][link]["nerr"].get<double>() <= 0.3);
+  }
+  // Dilation grows the spheres of every baked link toward the surface.
+  const medspheres::RobotModel plain = run("plain", " --spheres-per-link 6");
+  const medspheres::RobotModel dilated = run("dilated", " --spheres-per-link 6 --dilate");
+  CHECK(nlohmann::json::parse(dilated.metadata_json)["options"]["dilate"] == true);
+  for (const char* link : {"forearm", "hand"}) {
+    INFO(link);
+    double r_plain = 0, r_dilated = 0;
+    for (const auto& s : plain.find_link(link)->spheres.inner.spheres) r_plain += s.radius;
+    for (const auto& s : dilated.find_link(link)->spheres.inner.spheres) r_dilated += s.radius;
+    CHECK(r_dilated > r_plain);
+  }
 }
