@@ -257,3 +257,47 @@ TEST_CASE("a robot model's document writes every per-link format from its coveri
             .links[2]
             .spheres.inner.size() == 1);
 }
+
+TEST_CASE("the cuRobo reader takes the current, the older and the sphere-file layouts",
+          "[formats]") {
+  // The same two links in cuRobo's three layouts: spheres under robot_cfg: kinematics:
+  // (older configurations, and what medspheres writes), under a top-level kinematics:
+  // (current configurations, block style as cuRobo's own files), and a separate sphere
+  // file whose top level is collision_spheres:.
+  const RobotSpheres want{{"a", {{{0.5, -1, 2}, 0.25}}},
+                          {"b", {{{1e-3, 0, 0}, 0.125}, {{0, 0, 3}, 1.5}}}};
+  const std::string older = R"(robot_cfg:
+  kinematics:
+    base_link: a
+    collision_spheres:
+      a: [{center: [0.5, -1, 2], radius: 0.25}]
+      b:
+        - {center: [1e-3, 0, 0], radius: 0.125}
+        - {center: [0, 0, 3], radius: 1.5}
+)";
+  const std::string current = R"(kinematics:
+  collision_link_names:
+  - a
+  - b
+  collision_spheres:
+    a:
+    - center:
+      - 0.5
+      - -1
+      - 2
+      radius: 0.25
+    b:
+    - center: [0.001, 0, 0]
+      radius: 0.125
+    - center: [0, 0, 3.0]
+      radius: 1.5
+)";
+  const std::string sphere_file = R"(collision_spheres:
+  a: [{center: [0.5, -1, 2], radius: 0.25}]
+  b: [{center: [0.001, 0, 0], radius: 0.125}, {center: [0, 0, 3], radius: 1.5}]
+)";
+  for (const std::string& text : {older, current, sphere_file, curobo_yaml_text(want)}) {
+    INFO(text);
+    CHECK(identical(parse_curobo_yaml(text, "f"), want));
+  }
+}
