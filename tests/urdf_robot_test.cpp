@@ -291,3 +291,38 @@ TEST_CASE("a <capsule>, which urdfdom 3 does not know, is read and meshed inside
   CHECK(nearest > 0.05 * (1 - 1e-12));  // every vertex on the surface
   CHECK(analyze_mesh(capsule.mesh).is_closed_outward());
 }
+
+TEST_CASE(
+    "quirks of published URDFs are read: XML version 0.0, joint names equal to link "
+    "names, limits without bounds",
+    "[robot]") {
+  // As bullet3's Minitaur has them.
+  TempDir dir;
+  const std::string path = dir.write("q.urdf", R"(<?xml version="0.0" ?>
+<robot name="quadruped">
+  <link name="base"><collision><geometry><box size=".34 0.14 .07"/></geometry></collision></link>
+  <link name="motor"><collision><geometry><cylinder length="0.026" radius="0.0434"/></geometry>
+  </collision></link>
+  <link name="leg"><collision><origin rpy="0.0 0 0" xyz="0 0 .1"/>
+    <geometry><box size=".01 0.01 .2"/></geometry></collision></link>
+  <joint name="motor" type="continuous"><axis xyz="0 0 1"/><parent link="base"/>
+    <child link="motor"/><origin rpy="1.57075 0 3.141592" xyz="0.21 0.04 0"/>
+    <limit effort="100" velocity="100"/><joint_properties damping="0.0" friction="0.0"/></joint>
+  <joint name="leg" type="revolute"><axis xyz="0 1 0"/><parent link="motor"/><child link="leg"/>
+    <origin rpy="0 0 0" xyz="0.0 0.01 .055"/><limit effort="100" velocity="100"/></joint>
+</robot>)");
+  const UrdfRobot robot = read_urdf(path);
+  REQUIRE(robot.model.links.size() == 3);
+  REQUIRE(robot.model.joints.size() == 2);
+  CHECK(robot.model.joints[0].name == "motor");
+  CHECK(robot.model.joints[0].child == "motor");
+  CHECK(robot.model.joints[0].type == JointType::kContinuous);
+  const Joint& knee = robot.model.joints[1];
+  CHECK(knee.type == JointType::kRevolute);
+  REQUIRE(knee.limits);  // urdfdom's defaults for the missing bounds
+  CHECK(knee.limits->lower == 0.0);
+  CHECK(knee.limits->upper == 0.0);
+  CHECK(knee.limits->velocity == 100.0);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  for (const LinkSolid& s : solids) CHECK(s.parts.size() == 1);
+}
