@@ -7,6 +7,7 @@
 // surface lies outside the ball, so certify_cover leaves all of it uncertified and the
 // page must draw red over the whole cube), and the same cube with a ball that contains
 // it (every triangle certified: no red at all, the blue ball seen through the mesh).
+#include <algorithm>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -78,9 +79,12 @@ struct Counts {
   std::size_t total = 0, drawn = 0, red = 0, blue = 0;
 };
 
+// The pixels of rows 140 .. 459: below the check boxes' panel (whose colour swatches are
+// red and blue) and above the status line.
 Counts count(const Pixels& p) {
   Counts c;
-  for (std::size_t i = 0; i + 2 < p.rgb.size(); i += 3) {
+  const std::size_t row = std::size_t(3) * p.width;
+  for (std::size_t i = 140 * row; i + 2 < std::min(p.rgb.size(), 460 * row); i += 3) {
     const int r = p.rgb[i], g = p.rgb[i + 1], b = p.rgb[i + 2];
     ++c.total;
     c.drawn += r < 245 || g < 245 || b < 245;
@@ -95,11 +99,14 @@ struct PageResult {
   Counts pixels;
 };
 
+// One Chromium run: the DOM after the page ran, and a 640 x 480 screenshot.
 PageResult load_page(const std::string& chromium, const std::string& html, const std::string& dir) {
   PageResult out;
-  const std::string url = "file://" + html;
-  const test::CommandResult dom =
-      run_command(chromium_command(chromium, "--dump-dom " + shell_quote(url)));
+  const std::string shot = dir + "/shot.png";
+  std::filesystem::remove(shot);
+  const test::CommandResult dom = run_command(
+      chromium_command(chromium, "--window-size=640,480 --screenshot=" + shell_quote(shot) +
+                                     " --dump-dom " + shell_quote("file://" + html)));
   const std::size_t at = dom.out.find("data-status=\"");
   if (at != std::string::npos) {
     const std::size_t from = at + 13;
@@ -108,10 +115,6 @@ PageResult load_page(const std::string& chromium, const std::string& html, const
     out.status = "(no status; chromium exit " + std::to_string(dom.exit_code) + ": " +
                  dom.err.substr(0, 400) + ")";
   }
-  const std::string shot = dir + "/shot.png";
-  std::filesystem::remove(shot);
-  run_command(chromium_command(chromium, "--window-size=640,480 --screenshot=" + shell_quote(shot) +
-                                             " " + shell_quote(url)));
   const Pixels p = read_png(shot);
   check(p.width == 640 && p.height == 480, "the screenshot is a 640x480 PNG");
   out.pixels = count(p);

@@ -25,7 +25,7 @@ function piecesObject(corners) {
   g.setAttribute('position', new THREE.Float32BufferAttribute(corners, 3));
   g.computeVertexNormals();
   const m = new THREE.MeshLambertMaterial({ color: COLORS.uncovered, transparent: true,
-    opacity: 0.8, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -1,
+    opacity: 0.65, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -1,
     polygonOffsetUnits: -1 });
   return new THREE.Mesh(g, m);
 }
