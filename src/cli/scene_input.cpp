@@ -126,7 +126,10 @@ SceneInput load_scene_input(const SceneArgs& args) {
   if (is_robot_description(args.model) || ends_with(args.model, ".robot.json")) {
     if (!args.outer.empty())
       throw InputError("--outer", "is for a mesh; a robot's sphere file gives its sets");
-    return robot_input(args);
+    SceneInput in = robot_input(args);
+    for (const std::string& w : in.scene.warnings)
+      std::cerr << "medspheres: warning: " << w << "\n";
+    return in;
   }
   if (!args.joints.empty()) throw InputError("--joints", "is for a robot, not a mesh");
   if (args.spheres.empty()) throw InputError(args.model, "a mesh needs a sphere-set file after it");

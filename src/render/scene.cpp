@@ -2,7 +2,6 @@
 
 #include <stdexcept>
 
-#include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
 
 namespace medspheres::render {
@@ -42,15 +41,14 @@ Scene mesh_scene(const TriangleMesh& mesh, const SphereSet& inner, const SphereS
 Scene robot_scene(const RobotModel& model, const std::vector<Eigen::Isometry3d>& X_WL,
                   const std::vector<LinkSolid>& solids,
                   const std::map<std::string, LinkSpheres>& spheres, const std::string& source) {
+  // Solids come from the same URDF as the model: every one has its link.
   if (X_WL.size() != model.links.size())
     throw std::invalid_argument("robot_scene: one pose per link is needed");
-  for (const LinkSolid& s : solids)
-    if (model.find_link(s.link) == nullptr)
-      throw InputError(source, "link \"" + s.link + "\" has a solid but is not in the robot");
+  Scene scene;
   for (const auto& [name, sets] : spheres)
     if (model.find_link(name) == nullptr)
-      throw InputError(source, "link \"" + name + "\" has spheres but is not in the robot");
-  Scene scene;
+      scene.warnings.push_back(source + ": link \"" + name +
+                               "\" has spheres but is not in the robot: left out");
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     const std::string& name = model.links[i].name;
     ScenePart part;

@@ -27,6 +27,7 @@ struct ScenePart {
 
 struct Scene {
   std::vector<ScenePart> parts;
+  std::vector<std::string> warnings;  ///< what was left out, and why
 };
 
 /// A lone mesh with its inner and outer sets (either may be empty), W = their frame.
@@ -36,8 +37,9 @@ Scene mesh_scene(const TriangleMesh& mesh, const SphereSet& inner, const SphereS
 /// KinematicTree::link_poses gives them): a part per link with a solid or spheres.
 /// \p solids are in link frames (load_link_solids; may be empty: spheres only; a sphere
 /// element of a link is meshed as an icosphere inside it); \p spheres are in link frames,
-/// by link name. \throws InputError (source \p source) naming a solid or sphere set whose
-///   link is not in \p model; std::invalid_argument when \p X_WL has the wrong size.
+/// by link name. A solid or sphere set whose link is not in \p model is left out with a
+/// warning (a sphere file made for a variant of the robot). \throws std::invalid_argument
+/// when \p X_WL has the wrong size.
 Scene robot_scene(const RobotModel& model, const std::vector<Eigen::Isometry3d>& X_WL,
                   const std::vector<LinkSolid>& solids,
                   const std::map<std::string, LinkSpheres>& spheres, const std::string& source);
