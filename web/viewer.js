@@ -5,6 +5,12 @@ import { OrbitControls } from 'three/addons/controls/OrbitControls.js';
 
 const COLORS = { mesh: 0xafafaa, uncovered: 0xe11e1e, inner: 0x3c6edc, outer: 0x2ca05a };
 
+// A typed array the page carries as base64 of its little-endian bytes.
+function unpack(text, Type) {
+  const bytes = Uint8Array.from(atob(text), (c) => c.charCodeAt(0));
+  return new Type(bytes.buffer);
+}
+
 function setStatus(text) {
   document.body.dataset.status = text;
   document.getElementById('status').textContent = text;
@@ -12,8 +18,8 @@ function setStatus(text) {
 
 function meshObject(part) {
   const g = new THREE.BufferGeometry();
-  g.setAttribute('position', new THREE.Float32BufferAttribute(part.positions, 3));
-  g.setIndex(part.triangles);
+  g.setAttribute('position', new THREE.BufferAttribute(unpack(part.positions, Float32Array), 3));
+  g.setIndex(new THREE.BufferAttribute(unpack(part.triangles, Uint32Array), 1));
   g.computeVertexNormals();
   const m = new THREE.MeshLambertMaterial({ color: COLORS.mesh, transparent: true, opacity: 0.45,
     depthWrite: false, side: THREE.DoubleSide });
@@ -22,7 +28,7 @@ function meshObject(part) {
 
 function piecesObject(corners) {
   const g = new THREE.BufferGeometry();
-  g.setAttribute('position', new THREE.Float32BufferAttribute(corners, 3));
+  g.setAttribute('position', new THREE.BufferAttribute(corners, 3));
   g.computeVertexNormals();
   const m = new THREE.MeshLambertMaterial({ color: COLORS.uncovered, transparent: true,
     opacity: 0.65, side: THREE.DoubleSide, polygonOffset: true, polygonOffsetFactor: -1,
@@ -84,9 +90,10 @@ function main() {
   const parts = data.parts.map((p) => {
     const group = new THREE.Group();
     const o = { group, name: p.name, inner: null, outer: null, mesh: null, red: {} };
-    if (p.triangles.length > 0) group.add(o.mesh = meshObject(p));
+    if (p.triangle_count > 0) group.add(o.mesh = meshObject(p));
     for (const kind of ['inner', 'outer']) {
-      if (p['uncovered_' + kind].length > 0) group.add(o.red[kind] = piecesObject(p['uncovered_' + kind]));
+      const red = unpack(p['uncovered_' + kind], Float32Array);
+      if (red.length > 0) group.add(o.red[kind] = piecesObject(red));
       if (p[kind].length > 0)
         group.add(o[kind] = spheresObject(p[kind], COLORS[kind], kind === 'inner' ? 0.6 : 0.3, p.name, kind));
     }
@@ -94,7 +101,7 @@ function main() {
     return o;
   });
   const count = (kind) => data.parts.reduce((n, p) => n + p[kind].length, 0);
-  const triangles = data.parts.reduce((n, p) => n + p.triangles.length / 3, 0);
+  const triangles = data.parts.reduce((n, p) => n + p.triangle_count, 0);
 
   const draw = () => renderer.render(scene, camera);
   const update = () => {

@@ -45,10 +45,12 @@ Scene robot_scene(const RobotModel& model, const std::vector<Eigen::Isometry3d>&
   if (X_WL.size() != model.links.size())
     throw std::invalid_argument("robot_scene: one pose per link is needed");
   Scene scene;
+  std::string unknown;
   for (const auto& [name, sets] : spheres)
-    if (model.find_link(name) == nullptr)
-      scene.warnings.push_back(source + ": link \"" + name +
-                               "\" has spheres but is not in the robot: left out");
+    if (model.find_link(name) == nullptr) unknown += (unknown.empty() ? "" : ", ") + name;
+  if (!unknown.empty())
+    scene.warnings.push_back(source + ": spheres of links the robot does not have, left out: " +
+                             unknown);
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     const std::string& name = model.links[i].name;
     ScenePart part;

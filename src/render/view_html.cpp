@@ -1,5 +1,7 @@
 #include "medspheres/render/view_html.h"
 
+#include <cstdint>
+#include <cstring>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -40,6 +42,24 @@ void push_point(Json& out, const Eigen::Vector3d& p) {
   for (int k = 0; k < 3; ++k) out.push_back(static_cast<float>(p[k]));
 }
 
+void push_point(std::vector<float>& out, const Eigen::Vector3d& p) {
+  for (int k = 0; k < 3; ++k) out.push_back(static_cast<float>(p[k]));
+}
+
+// A typed array for the page: its bytes, little-endian, in base64 (viewer.js decodes it
+// into a Float32Array or an Int32Array).
+template <class T>
+std::string packed(const std::vector<T>& values) {
+  static_assert(sizeof(T) == 4, "4-byte values");
+  std::string bytes(values.size() * 4, '\0');
+  for (std::size_t i = 0; i < values.size(); ++i) {
+    std::uint32_t u = 0;
+    std::memcpy(&u, &values[i], 4);
+    for (int b = 0; b < 4; ++b) bytes[4 * i + b] = static_cast<char>((u >> (8 * b)) & 0xff);
+  }
+  return base64(bytes);
+}
+
 Json spheres_json(const std::vector<Sphere>& spheres) {
   Json out = Json::array();
   for (const Sphere& s : spheres) {
@@ -53,10 +73,10 @@ Json spheres_json(const std::vector<Sphere>& spheres) {
 
 // The corners of the pieces certify_cover leaves uncertified, 9 numbers a piece; an
 // uncertified triangle whose pieces were not all listed is added whole.
-Json uncovered_json(const TriangleMesh& mesh, const std::vector<Sphere>& balls,
-                    const ViewOptions& options) {
-  Json out = Json::array();
-  if (balls.empty() || mesh.triangles.empty()) return out;
+std::string uncovered_pieces(const TriangleMesh& mesh, const std::vector<Sphere>& balls,
+                             const ViewOptions& options) {
+  std::vector<float> out;
+  if (balls.empty() || mesh.triangles.empty()) return packed(out);
   CoverCertificateOptions o;
   o.max_depth = options.cover_depth;
   o.max_pieces_reported = 2000000;
@@ -68,26 +88,28 @@ Json uncovered_json(const TriangleMesh& mesh, const std::vector<Sphere>& balls,
     for (const Eigen::Vector3d& c : p.corners) push_point(out, c);
     last_listed = p.triangle;
   }
-  if (cert.uncertified_pieces.size() == cert.uncertified_pieces_total) return out;
-  for (std::size_t t = static_cast<std::size_t>(last_listed + 1); t < mesh.num_triangles(); ++t)
-    if (!cert.triangle_certified[t])
-      for (int k = 0; k < 3; ++k) push_point(out, mesh.corner(t, k));
-  return out;
+  if (cert.uncertified_pieces.size() < cert.uncertified_pieces_total)
+    for (std::size_t t = static_cast<std::size_t>(last_listed + 1); t < mesh.num_triangles(); ++t)
+      if (!cert.triangle_certified[t])
+        for (int k = 0; k < 3; ++k) push_point(out, mesh.corner(t, k));
+  return packed(out);
 }
 
 Json part_json(const ScenePart& part, const ViewOptions& options) {
   Json j;
   j["name"] = part.name;
-  Json positions = Json::array(), triangles = Json::array();
+  std::vector<float> positions;
+  std::vector<std::int32_t> triangles;
   for (const Eigen::Vector3d& v : part.mesh.vertices) push_point(positions, v);
   for (const auto& t : part.mesh.triangles)
     for (int k : t) triangles.push_back(k);
-  j["positions"] = std::move(positions);
-  j["triangles"] = std::move(triangles);
+  j["triangle_count"] = part.mesh.num_triangles();
+  j["positions"] = packed(positions);
+  j["triangles"] = packed(triangles);
   j["inner"] = spheres_json(part.inner);
   j["outer"] = spheres_json(part.outer);
-  j["uncovered_inner"] = uncovered_json(part.mesh, part.inner, options);
-  j["uncovered_outer"] = uncovered_json(part.mesh, part.outer, options);
+  j["uncovered_inner"] = uncovered_pieces(part.mesh, part.inner, options);
+  j["uncovered_outer"] = uncovered_pieces(part.mesh, part.outer, options);
   return j;
 }
 
