@@ -131,9 +131,13 @@ function main() {
   checkbox(panel, `inner spheres (${count('inner')})`, true, (v) => { show.inner = v; update(); }, COLORS.inner);
   checkbox(panel, `outer spheres (${count('outer')})`, true, (v) => { show.outer = v; update(); }, COLORS.outer);
   if (parts.length > 1 || (parts.length === 1 && parts[0].name)) {
-    const links = document.createElement('div');
+    // A list to open: a robot's links would hide the robot.
+    const links = document.createElement('details');
     links.className = 'links';
-    links.appendChild(document.createTextNode('links'));
+    links.open = parts.length <= 6;
+    const summary = document.createElement('summary');
+    summary.textContent = `links (${parts.length})`;
+    links.appendChild(summary);
     for (const o of parts) checkbox(links, o.name, true, (v) => { o.group.visible = v; draw(); });
     panel.appendChild(links);
   }

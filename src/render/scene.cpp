@@ -49,8 +49,8 @@ Scene robot_scene(const RobotModel& model, const std::vector<Eigen::Isometry3d>&
   for (const auto& [name, sets] : spheres)
     if (model.find_link(name) == nullptr) unknown += (unknown.empty() ? "" : ", ") + name;
   if (!unknown.empty())
-    scene.warnings.push_back(source + ": spheres of links the robot does not have, left out: " +
-                             unknown);
+    scene.warnings.push_back(source +
+                             ": spheres of links the robot does not have, left out: " + unknown);
   for (std::size_t i = 0; i < model.links.size(); ++i) {
     const std::string& name = model.links[i].name;
     ScenePart part;
