@@ -8,6 +8,8 @@
 
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/render/bitmap_font.h"
+#include "medspheres/render/legend_overlay.h"
 #include "medspheres/render/png_write.h"
 #include "medspheres/render/render.h"
 #include "support/mesh_writers.h"
@@ -175,4 +177,104 @@ TEST_CASE("render on the command line: a PNG, the legend, and bad input", "[rend
   CHECK_THAT(r.err, Contains("no-such-dir"));
   CHECK(!std::filesystem::exists(missing));
   CHECK(std::distance(std::filesystem::directory_iterator(dir.path()), {}) == 3);
+}
+
+TEST_CASE("the legend's font: lit pixels inside their cells, scale 2 lights four times as many",
+          "[render]") {
+  const auto lit = [](const Image& im) {
+    std::size_t n = 0;
+    for (std::size_t i = 0; i < im.rgb.size(); i += 3) n += im.rgb[i] == 0;
+    return n;
+  };
+  const auto blank = [](int w, int h) {
+    Image im;
+    im.width = w, im.height = h;
+    im.rgb.assign(std::size_t(3) * w * h, 255);
+    return im;
+  };
+  const std::string text = "uncovered 12.5 %";
+  Image one = blank(200, 40), two = blank(400, 80);
+  draw_text(one, 3, 5, text, Rgb{0, 0, 0}, 1);
+  draw_text(two, 6, 10, text, Rgb{0, 0, 0}, 2);
+  CHECK(lit(one) > 0);
+  CHECK(lit(two) == 4 * lit(one));
+  for (int y = 0; y < one.height; ++y)
+    for (int x = 0; x < one.width; ++x)
+      if (one.at(x, y)[0] == 0) {
+        CHECK(x >= 3);
+        CHECK(x < 3 + kCellWidth * int(text.size()));
+        CHECK(y >= 5);
+        CHECK(y < 5 + kCellHeight);
+      }
+  // Different characters are different glyphs.
+  Image a = blank(20, 12), b = blank(20, 12);
+  draw_text(a, 0, 0, "8", Rgb{0, 0, 0});
+  draw_text(b, 0, 0, "0", Rgb{0, 0, 0});
+  CHECK(a.rgb != b.rgb);
+}
+
+TEST_CASE("render draws the legend into the image's lower left corner", "[render]") {
+  const RayScene scene(make_box({0.4, 0.4, 0.4}, 3), one_sphere({0, 0, 0}, 0.3));
+  RenderOptions o;
+  o.width = 480, o.height = 360;
+  Rendering r = render::render(scene, o);
+  const Image before = r.image;
+  draw_legend(r.image, legend(scene, o, r.counts), "", o.palette);
+  std::size_t changed_low = 0, changed_top = 0, dark = 0;
+  for (int y = 0; y < o.height; ++y)
+    for (int x = 0; x < o.width; ++x) {
+      const bool changed = r.image.at(x, y) != before.at(x, y);
+      (y > o.height / 2 ? changed_low : changed_top) += changed;
+      dark += y > o.height / 2 && r.image.at(x, y)[0] < 60 && r.image.at(x, y)[2] < 60;
+    }
+  CHECK(changed_top == 0);
+  CHECK(changed_low > 0);
+  CHECK(dark > 100);  // the text's pixels
+}
+
+TEST_CASE("render a robot file at a joint vector: each link's sphere where kinematics puts it",
+          "[render][cli]") {
+  using test::run_cli;
+  using test::shell_quote;
+  test::TempDir dir;
+  // Two links, one ball of radius 0.5 each at the link's origin; a prismatic joint along x.
+  const std::string robot = dir.write("two.robot.json", R"({
+    "format": "medspheres.robot", "version": 1, "name": "two", "root_link": "a",
+    "links": [{"name": "a", "inner": [[0, 0, 0, 0.5]], "outer": []},
+              {"name": "b", "inner": [[0, 0, 0, 0.5]], "outer": []}],
+    "joints": [{"name": "slide", "type": "prismatic", "parent": "a", "child": "b",
+                "origin": {"xyz": [0, 0, 0], "quaternion_xyzw": [0, 0, 0, 1]},
+                "axis": [1, 0, 0]}],
+    "metadata": {}})");
+  const auto sphere_pixels = [](const std::string& out) {
+    const std::size_t at = out.find(" sphere pixels");
+    REQUIRE(at != std::string::npos);
+    const std::size_t from = out.rfind("of ", at) + 3;
+    return std::stod(out.substr(from, at - from));
+  };
+  const auto disk_pixels = [](double length_x, int disks) {
+    // frame_camera: pixel = 2.1 * half diagonal / 300 of the box [-0.5, length_x - 0.5] x
+    // [-0.5, 0.5]^2.
+    const double half_diagonal = 0.5 * std::sqrt(length_x * length_x + 2.0);
+    const double pixel = 2.1 * half_diagonal / 300.0;
+    return disks * kPi * 0.25 / (pixel * pixel);
+  };
+  const std::string out = dir.file("r.png");
+  const std::string base =
+      "render " + shell_quote(robot) + " -o " + shell_quote(out) + " --view top --size 400x300 ";
+  const auto zero = run_cli(base);
+  REQUIRE(zero.exit_code == 0);
+  CHECK(sphere_pixels(zero.out) == Approx(disk_pixels(1.0, 1)).epsilon(0.03));
+  for (const std::string joints : {"3", "slide=3"}) {
+    const auto moved = run_cli(base + "--joints " + joints);
+    CAPTURE(joints, moved.err);
+    REQUIRE(moved.exit_code == 0);
+    CHECK(sphere_pixels(moved.out) == Approx(disk_pixels(4.0, 2)).epsilon(0.03));
+  }
+  for (const std::string bad : {"1,2", "x", "nope=1"}) {
+    const auto r = run_cli(base + "--joints " + bad);
+    CAPTURE(bad, r.err);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains("--joints"));
+  }
 }

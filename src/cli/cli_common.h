@@ -26,6 +26,7 @@ Runner register_eval(CLI::App& app);
 Runner register_convert(CLI::App& app);
 Runner register_robot(CLI::App& app);
 Runner register_render(CLI::App& app);
+Runner register_view(CLI::App& app);
 
 /// A one-line progress bar on stderr, drawn only when stderr is a terminal and not
 /// silenced; redraws at most ten times a second and erases itself when done.

@@ -93,6 +93,10 @@ void print_text(const RobotEvalArgs& args, const std::vector<LinkFit>& fits) {
 
 }  // namespace
 
+std::map<std::string, SphereSet> read_robot_spheres(const std::string& path) {
+  return robot_spheres(path);
+}
+
 bool is_robot_description(const std::string& path) {
   if (path.size() < 5) return false;
   std::string ext = path.substr(path.size() - 5);

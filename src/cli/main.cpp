@@ -22,6 +22,7 @@ int main(int argc, char** argv) {
   Runner convert = register_convert(app);
   Runner robot = register_robot(app);
   Runner render = register_render(app);
+  Runner view = register_view(app);
 
   try {
     app.parse(argc, argv);
@@ -44,6 +45,7 @@ int main(int argc, char** argv) {
       if (sub->get_name() == "convert") return convert();
       if (sub->get_name() == "robot") return robot();
       if (sub->get_name() == "render") return render();
+      if (sub->get_name() == "view") return view();
     }
     std::cerr << "medspheres: error: no subcommand given\n";
     return kExitBadInput;

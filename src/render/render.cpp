@@ -82,12 +82,13 @@ void render_tile(const RayScene& scene, const Tile& tile, const RenderOptions& o
   total.protruding += protruding, total.background += background;
 }
 
-std::string mismatch_warning(const RayScene& s) {
-  if (s.num_triangles() == 0 || s.num_spheres() == 0) return {};
-  const Eigen::Vector3d lo = s.mesh_lo().cwiseMax(s.spheres_lo());
-  const Eigen::Vector3d hi = s.mesh_hi().cwiseMin(s.spheres_hi());
-  const double mesh_size = (s.mesh_hi() - s.mesh_lo()).norm();
-  const double sphere_size = (s.spheres_hi() - s.spheres_lo()).norm();
+// Boxes: the mesh's triangles' (m) and the balls' (s).
+std::string box_mismatch(const Eigen::Vector3d& m_lo, const Eigen::Vector3d& m_hi,
+                         const Eigen::Vector3d& s_lo, const Eigen::Vector3d& s_hi) {
+  const Eigen::Vector3d lo = m_lo.cwiseMax(s_lo);
+  const Eigen::Vector3d hi = m_hi.cwiseMin(s_hi);
+  const double mesh_size = (m_hi - m_lo).norm();
+  const double sphere_size = (s_hi - s_lo).norm();
   std::ostringstream w;
   if ((hi - lo).minCoeff() < 0.0)
     w << "the sphere set's bounding box does not overlap the mesh's: are they in the same "
@@ -115,7 +116,9 @@ Rendering render(const RayScene& scene, const RenderOptions& options) {
     throw std::invalid_argument("render: protrusion_tolerance must be finite and >= 0");
   const int threads = thread_count(options.threads);
   Rendering r;
-  r.mismatch = mismatch_warning(scene);
+  if (scene.num_triangles() > 0 && scene.num_spheres() > 0)
+    r.mismatch =
+        box_mismatch(scene.mesh_lo(), scene.mesh_hi(), scene.spheres_lo(), scene.spheres_hi());
   Eigen::Vector3d lo = scene.mesh_lo().cwiseMin(scene.spheres_lo());
   Eigen::Vector3d hi = scene.mesh_hi().cwiseMax(scene.spheres_hi());
   if ((hi - lo).minCoeff() < 0.0) lo = hi = Eigen::Vector3d::Zero();  // nothing at all
@@ -135,6 +138,20 @@ Rendering render(const RayScene& scene, const RenderOptions& options) {
   }
   for (const Tile& tile : tiles) render_tile(scene, tile, options, threads, r.image, r.counts);
   return r;
+}
+
+std::string mismatch_warning(const TriangleMesh& mesh, const SphereSet& spheres) {
+  if (mesh.triangles.empty() || spheres.spheres.empty()) return {};
+  Eigen::Vector3d m_lo = Eigen::Vector3d::Constant(HUGE_VAL), m_hi = -m_lo;
+  Eigen::Vector3d s_lo = m_lo, s_hi = m_hi;
+  for (const auto& t : mesh.triangles)
+    for (int k : t)
+      m_lo = m_lo.cwiseMin(mesh.vertices.at(k)), m_hi = m_hi.cwiseMax(mesh.vertices.at(k));
+  for (const Sphere& s : spheres.spheres) {
+    s_lo = s_lo.cwiseMin(s.center - Eigen::Vector3d::Constant(s.radius));
+    s_hi = s_hi.cwiseMax(s.center + Eigen::Vector3d::Constant(s.radius));
+  }
+  return box_mismatch(m_lo, m_hi, s_lo, s_hi);
 }
 
 std::string legend(const RayScene& scene, const RenderOptions& options, const PixelCounts& c) {

@@ -73,6 +73,10 @@ struct Rendering {
 ///   negative or non-finite protrusion_tolerance.
 Rendering render(const RayScene& scene, const RenderOptions& options);
 
+/// The warning for a mesh and a sphere set that do not belong together (Rendering::
+/// mismatch), or empty.
+std::string mismatch_warning(const TriangleMesh& mesh, const SphereSet& spheres);
+
 /// The sentences of the legend: the mesh and set sizes and the pixel counts.
 std::string legend(const RayScene& scene, const RenderOptions& options, const PixelCounts& c);
 
