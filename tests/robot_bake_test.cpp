@@ -269,3 +269,108 @@ TEST_CASE("the Unitree G1 bakes, every inner sphere inside its link", "[robot][b
   CHECK(baked > 20);
 }
 #endif
+
+namespace {
+
+// Points of a cylinder's true surface (axis z, centred at 0): a grid over the side and
+// over each disc, the rims included.
+std::vector<Eigen::Vector3d> cylinder_surface_points(double r, double half_length) {
+  std::vector<Eigen::Vector3d> out;
+  const int around = 720;
+  for (int i = 0; i < around; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * (i + 0.5) / around;
+    const Eigen::Vector2d u(std::cos(a), std::sin(a));
+    for (int k = 0; k <= 40; ++k)
+      out.emplace_back(r * u.x(), r * u.y(), half_length * (k / 20.0 - 1));
+    for (int k = 0; k <= 10; ++k)
+      for (const double z : {-half_length, half_length})
+        out.emplace_back(r * k / 10.0 * u.x(), r * k / 10.0 * u.y(), z);
+  }
+  return out;
+}
+
+// Points of a capsule's true surface (axis z): the side and two hemispheres.
+std::vector<Eigen::Vector3d> capsule_surface_points(double r, double half_length) {
+  std::vector<Eigen::Vector3d> out;
+  for (int i = 0; i < 360; ++i) {
+    const double a = 2.0 * 3.14159265358979323846 * (i + 0.5) / 360;
+    for (int k = 0; k <= 90; ++k) {
+      const double b = 3.14159265358979323846 / 2 * k / 90;
+      for (const double side : {-1.0, 1.0})
+        out.emplace_back(r * std::cos(b) * std::cos(a), r * std::cos(b) * std::sin(a),
+                         side * (half_length + r * std::sin(b)));
+    }
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("meshed primitives: the surface gap bounds the true surface's distance to the mesh",
+          "[robot]") {
+  LinkPart cylinder;
+  cylinder.shape = PartShape::kCylinder;
+  cylinder.size = {0.03, 0.03, 0.12};
+  LinkPart capsule = cylinder;
+  capsule.shape = PartShape::kCapsule;
+  for (const LinkPart& part : {cylinder, capsule}) {
+    UrdfRobot robot;
+    robot.path = "gap.urdf";
+    robot.links.push_back({});
+    robot.links[0].name = "l";
+    robot.links[0].parts.push_back(part);
+    const std::vector<LinkSolid> solids = load_link_solids(robot);
+    REQUIRE(solids.size() == 1);
+    const LinkSolidPart& meshed = solids[0].parts.at(0);
+    INFO(meshed.source);
+    const bool is_cylinder = part.shape == PartShape::kCylinder;
+    const std::vector<Eigen::Vector3d> points =
+        is_cylinder ? cylinder_surface_points(0.03, 0.06) : capsule_surface_points(0.03, 0.06);
+    const MeshQuery query(meshed.mesh);
+    double worst = 0.0;
+    for (const Eigen::Vector3d& p : points)
+      worst = std::max(worst, query.closest_point(p).distance());
+    CHECK(worst <= meshed.surface_gap);
+    CHECK(worst >= 0.5 * meshed.surface_gap);  // the bound is not loose
+    if (is_cylinder)
+      CHECK(meshed.surface_gap ==
+            Approx(0.03 * (1 - std::cos(3.14159265358979323846 / kCylinderSlices))));
+    CHECK(solids[0].surface_gap() == meshed.surface_gap);
+  }
+}
+
+TEST_CASE("robot bake: the outer set covers a cylinder's true surface, not only its mesh",
+          "[robot][bake]") {
+  TempDir dir;
+  const UrdfRobot robot = read_urdf(dir.write("rod.urdf", R"(<?xml version="1.0"?>
+<robot name="rod">
+  <link name="rod">
+    <collision>
+      <origin xyz="0 0 0.05" rpy="0 1.5707963267948966 0"/>
+      <geometry><cylinder radius="0.03" length="0.12"/></geometry>
+    </collision>
+  </link>
+</robot>
+)"));
+  Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();
+  origin.linear() = test::rpy_matrix(0, 1.5707963267948966, 0);
+  origin.translation() = Eigen::Vector3d(0, 0, 0.05);
+  for (const std::size_t budget : {8, 24}) {
+    INFO(budget << " spheres");
+    const RobotBakeResult result =
+        bake_robot(robot, load_link_solids(robot), budget_options(budget, 1));
+    const Link& link = result.model.links.at(0);
+    REQUIRE(!link.spheres.outer.empty());
+    CHECK(link.spheres.outer_certificate_json.find("\"primitive_surface_gap\":") !=
+          std::string::npos);
+    std::size_t outside = 0;
+    for (const Eigen::Vector3d& p : cylinder_surface_points(0.03, 0.06)) {
+      const Eigen::Vector3d q = origin * p;
+      bool in = false;
+      for (const Sphere& s : link.spheres.outer.spheres)
+        in = in || (q - s.center).norm() <= s.radius;
+      outside += in ? 0 : 1;
+    }
+    CHECK(outside == 0);
+  }
+}

@@ -94,7 +94,9 @@ BakeOutcome bake_outer(const TriangleMesh& mesh, const MeshReport& report, const
 }
 
 // What the robot file records of an outer set's certificate.
-std::string certificate_json(const CoverResult& cover, bool moved) {
+// `gap`: how much every radius grew past the certified cover of the link's mesh so that it
+// also covers the true surface of primitives meshed inside it (LinkSolid::surface_gap).
+std::string certificate_json(const CoverResult& cover, bool moved, double gap) {
   const CoverCertificate& c = cover.certificate;
   nlohmann::ordered_json j = {{"certified", c.certified},
                               {"surface_covered", c.certified},
@@ -103,7 +105,8 @@ std::string certificate_json(const CoverResult& cover, bool moved) {
                               {"pieces_tested", c.pieces_tested},
                               {"max_depth", c.max_depth_reached},
                               {"uncertified_triangles", c.uncertified_triangles},
-                              {"moved_to_link_frame", moved}};
+                              {"moved_to_link_frame", moved},
+                              {"primitive_surface_gap", gap}};
   return j.dump();
 }
 
@@ -190,13 +193,15 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   const CoverResult& cover = *job.outer->cover;
   spheres.outer.spheres =
       one ? placed(cover.spheres.spheres, solid.parts[0].origin, true) : cover.spheres.spheres;
+  const double gap = solid.surface_gap();
+  for (Sphere& s : spheres.outer.spheres) s.radius += gap;
   spheres.outer.spheres.insert(spheres.outer.spheres.end(), solid.spheres.begin(),
                                solid.spheres.end());
   spheres.outer.metadata_json = job.outer->spheres.metadata_json;
-  spheres.outer_certificate_json = certificate_json(cover, one);
+  spheres.outer_certificate_json = certificate_json(cover, one, gap);
   stats.outer_spheres = spheres.outer.size();
   stats.outer_certified = cover.certificate.certified;
-  stats.outer_protrusion = cover.stats.max_protrusion;
+  stats.outer_protrusion = cover.stats.max_protrusion + gap;
 }
 
 nlohmann::ordered_json number(double v) {

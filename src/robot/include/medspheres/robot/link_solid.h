@@ -14,6 +14,9 @@
 /// capsule is the polyhedron make_capsule inscribes in it (kCylinderSlices around,
 /// kCapsuleStacks latitude bands per cap: inside the capsule, its facets at most 1% of
 /// the radius inside the caps); a sphere is not meshed but kept as the sphere itself.
+/// Because these meshes lie inside the true shape, LinkSolidPart::surface_gap bounds how
+/// far the true surface can be from the mesh: a set that covers the mesh's surface covers
+/// the true surface once every radius grows by that much.
 
 #include <cstddef>
 #include <map>
@@ -42,6 +45,11 @@ struct LinkSolidPart {
   /// Identifies the geometry in G: the file's sha256 and the scale, or the primitive and
   /// its sizes (to 17 digits). Two parts with the same key have the same mesh.
   std::string key;
+  /// An upper bound, rounded up, on the distance from any point of the element's true
+  /// surface to the mesh: 0 for mesh files and boxes; radius (1 - cos(pi / slices)) for a
+  /// cylinder; for a capsule, radius minus the least distance from an end of its axis to
+  /// a facet plane. Unaffected by X_LG (rigid).
+  double surface_gap = 0.0;
 };
 
 struct LinkSolid {
@@ -54,6 +62,8 @@ struct LinkSolid {
   /// link has no meshed part.
   TriangleMesh placed_mesh() const;
   std::size_t triangles() const;
+  /// The largest LinkSolidPart::surface_gap of the parts; 0 without parts.
+  double surface_gap() const;
 };
 
 /// Loads every link's solid. Each mesh file is loaded once (load_mesh, one after the
