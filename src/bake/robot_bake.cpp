@@ -243,8 +243,8 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
 RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
                            const RobotBakeOptions& options) {
   const Clock::time_point start = Clock::now();
-  if (solids.size() != robot.links.size())
-    throw std::invalid_argument("bake_robot: one solid per link is needed");
+  if (solids.size() != robot.links.size() || robot.model.links.size() != robot.links.size())
+    throw std::invalid_argument("bake_robot: one solid and one model link per link are needed");
   check_threads(options.jobs);
   validate(options.request);
   const std::vector<std::optional<std::size_t>> budgets =

@@ -115,7 +115,7 @@ struct RobotBakeResult {
 ///   failure of a link's bake (the first in link order when several fail), and as
 ///   link_bake_budgets and validate(request).
 /// \throws std::invalid_argument for jobs outside [0, kMaxThreads] or solids that do not
-///   match the robot's links.
+///   match the robot's links, or a model whose links do not match them.
 RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
                            const RobotBakeOptions& options);
 
