@@ -1,12 +1,14 @@
 // medspheres bake over many inputs, run as a user runs it: folders and lists, the report,
 // exit codes when some inputs fail, progress lines, shards and the cache.
 #include <filesystem>
+#include <map>
 #include <string>
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
 #include "medspheres/mesh/mesh_generators.h"
+#include "support/mesh_library.h"
 #include "support/mesh_writers.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
@@ -24,6 +26,16 @@ void write_inputs(const TempDir& dir) {
   dir.write("in/box.off", to_off(make_box({1, 0.5, 0.25}, 2)));
   dir.write("in/sub/ball.stl", to_stl_binary(make_icosphere(1.0, 2)));
   dir.write("in/sub/bad.obj", "v 0 0 0\nf 1 2 3\n");
+}
+
+// Every regular file below \p dir but its reports: relative path -> bytes.
+std::map<std::string, std::string> outputs(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const std::string rel = e.path().lexically_relative(dir).generic_string();
+    if (e.is_regular_file() && rel.rfind("reports/", 0) != 0) out[rel] = read_file(e.path());
+  }
+  return out;
 }
 
 }  // namespace
@@ -101,4 +113,29 @@ TEST_CASE("bake batch flags: bad values are exit 2 before any work", "[cli][batc
     CHECK_THAT(r.err, Contains(c.flag));
     CHECK_FALSE(fs::exists(dir.file("out")));
   }
+}
+
+TEST_CASE("the Slurm example's array tasks, one after another, give the unsharded files",
+          "[cli][batch]") {
+  TempDir dir;
+  write_mesh_library(dir.file("assets"), 9, 5, 100, 1200);
+  const CommandResult whole = run_cli("bake -q " + shell_quote(dir.file("assets")) + " -o " +
+                                          shell_quote(dir.file("whole")) + " --resolution 10",
+                                      600);
+  REQUIRE(whole.exit_code == 0);
+  const auto expected = outputs(dir.file("whole"));
+  REQUIRE(expected.size() == 9);
+  const std::string script = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/batch/slurm_bake.sh";
+  for (int k = 0; k < 3; ++k) {
+    const CommandResult task = run_command(
+        "env ASSETS=" + shell_quote(dir.file("assets")) + " OUT=" + shell_quote(dir.file("out")) +
+        " CACHE=" + shell_quote(dir.file("cache")) + " MEDSPHERES=" + shell_quote(MEDSPHERES_CLI) +
+        " SLURM_ARRAY_TASK_ID=" + std::to_string(k + 4) +
+        " SLURM_ARRAY_TASK_MIN=4 SLURM_ARRAY_TASK_COUNT=3 bash " + shell_quote(script) +
+        " -q --resolution 10");
+    INFO(task.err);
+    REQUIRE(task.exit_code == 0);
+    CHECK(fs::exists(dir.file("out/reports/shard-" + std::to_string(k) + "-of-3.json")));
+  }
+  CHECK(outputs(dir.file("out")) == expected);
 }
