@@ -37,20 +37,46 @@ double peak_mib(int who) {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
 }
 
-void row(const char* name, const BatchResult& r, int jobs, int threads) {
-  std::printf("%-28s %6zu %6zu %6zu %6zu %5d %7d %10.2f %9.1f\n", name, r.rows.size(),
-              r.count(BatchOutcome::kBaked), r.count(BatchOutcome::kCached),
-              r.count(BatchOutcome::kFailed), jobs, threads, r.seconds,
-              static_cast<double>(r.rows.size()) / r.seconds);
+// CPU seconds (user + system) of this process and its reaped children so far.
+double cpu_seconds() {
+  double total = 0.0;
+  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage u{};
+    getrusage(who, &u);
+    total += static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+             1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  return total;
 }
 
-BatchResult run(const std::vector<medspheres::BatchInput>& inputs, const std::string& out,
-                const std::string& cache, int jobs) {
+struct Run {
+  BatchResult result;
+  double cpu = 0.0;  ///< CPU seconds it took
+};
+
+void row(const char* name, const Run& run, int jobs, int threads) {
+  const BatchResult& r = run.result;
+  const double n = static_cast<double>(r.rows.size());
+  std::printf("%-26s %6zu %6zu %6zu %6zu %4d %7d %9.2f %9.2f %9.2f %11.2f\n", name, r.rows.size(),
+              r.count(BatchOutcome::kBaked), r.count(BatchOutcome::kCached),
+              r.count(BatchOutcome::kFailed), jobs, threads, r.seconds, n / r.seconds, run.cpu,
+              n / run.cpu);
+  std::fflush(stdout);
+}
+
+Run run(const std::vector<medspheres::BatchInput>& inputs, const std::string& out,
+        const std::string& cache, int jobs) {
   medspheres::BatchOptions o;
   o.output_dir = out;
   o.cache_dir = cache;
   o.jobs = jobs;
-  return medspheres::bake_batch(inputs, o);
+  o.progress = [](const medspheres::BatchRow&, std::size_t done, std::size_t total) {
+    if (done % 100 == 0 || done == total) std::fprintf(stderr, "  %zu/%zu\n", done, total);
+  };
+  const double cpu0 = cpu_seconds();
+  Run r{medspheres::bake_batch(inputs, o), 0.0};
+  r.cpu = cpu_seconds() - cpu0;
+  return r;
 }
 
 }  // namespace
@@ -82,12 +108,18 @@ int main(int argc, char** argv) {
   const std::vector<medspheres::BatchInput> inputs = medspheres::collect_inputs({dir + "/lib"});
   const int cores = medspheres::thread_count(0);
 
-  std::printf("\n%-28s %6s %6s %6s %6s %5s %7s %10s %9s\n", "run", "inputs", "baked", "cached",
-              "failed", "jobs", "threads", "seconds", "meshes/s");
-  const BatchResult cold = run(inputs, dir + "/out-cold", dir + "/cache", 0);
-  row("cold, cache filled", cold, cores, 1);
-  const BatchResult warm = run(inputs, dir + "/out-warm", dir + "/cache", 0);
-  row("warm, all from the cache", warm, cores, 1);
+  std::printf(
+      "seconds: wall clock; cpu s: user + system time of the process and its import "
+      "children\n(on a loaded machine meshes/s falls, meshes per CPU second does "
+      "not)\n");
+  std::printf("\n%-26s %6s %6s %6s %6s %4s %7s %9s %9s %9s %11s\n", "run", "inputs", "baked",
+              "cached", "failed", "jobs", "threads", "seconds", "meshes/s", "cpu s", "meshes/cpu");
+  const Run cold_run = run(inputs, dir + "/out-cold", dir + "/cache", 0);
+  row("cold, cache filled", cold_run, cores, 1);
+  const Run warm_run = run(inputs, dir + "/out-warm", dir + "/cache", 0);
+  row("warm, all from the cache", warm_run, cores, 1);
+  const BatchResult& cold = cold_run.result;
+  const BatchResult& warm = warm_run.result;
 
   const std::vector<medspheres::BatchInput> some(
       inputs.begin(), inputs.begin() + static_cast<long>(std::min(compare, inputs.size())));
