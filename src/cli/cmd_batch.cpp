@@ -86,21 +86,16 @@ BatchProgressFn progress_printer(bool quiet, std::shared_ptr<ProgressBar> bar) {
   };
 }
 
-std::string cell(const std::string& text, std::size_t width) {
-  return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
-}
-
 void print_summary(const BatchResult& r, const std::string& out) {
-  std::cout << cell("outcome", 10) << cell("inputs", 8) << "\n";
+  std::printf("%-10s %7s\n", "outcome", "inputs");
   for (BatchOutcome o : {BatchOutcome::kBaked, BatchOutcome::kCached, BatchOutcome::kFailed})
-    std::cout << cell(to_string(o), 10) << cell(std::to_string(r.count(o)), 8) << "\n";
-  if (r.other_shards > 0)
-    std::cout << cell("elsewhere", 10) << cell(std::to_string(r.other_shards), 8)
-              << "(other shards)\n";
-  std::cout << cell("total", 10) << cell(std::to_string(r.rows.size()), 8)
-            << number_text(r.seconds, 3) << " s wall clock, outputs under " << out << "\n";
+    std::printf("%-10s %7zu\n", to_string(o), r.count(o));
+  if (r.other_shards > 0) std::printf("%-10s %7zu (other shards)\n", "elsewhere", r.other_shards);
+  std::printf("%-10s %7zu %s s wall clock, outputs under %s\n", "total", r.rows.size(),
+              number_text(r.seconds, 3).c_str(), out.c_str());
   for (const BatchRow& row : r.rows)
-    if (row.outcome == BatchOutcome::kFailed) std::cout << "  " << row_line(row) << "\n";
+    if (row.outcome == BatchOutcome::kFailed) std::printf("  %s\n", row_line(row).c_str());
+  std::fflush(stdout);
 }
 
 int exit_code(const BatchResult& r) {
