@@ -58,7 +58,7 @@ std::string clock_text(double seconds) {
 
 std::string row_line(const BatchRow& r) {
   if (r.outcome == BatchOutcome::kFailed)
-    return "failed " + r.input.path + ": " + (r.input_error ? message_of(*r.input_error) : r.error);
+    return "failed " + (r.input_error ? message_of(*r.input_error) : r.input.path + ": " + r.error);
   return std::string(to_string(r.outcome)) + " " + r.input.path + " -> " + r.output + " (" +
          std::to_string(r.spheres) + " spheres, " + number_text(r.seconds, 3) + " s)";
 }
