@@ -1,23 +1,9 @@
 # Builds the Debian package (cpack -G DEB), installs it into a temporary root with
 # dpkg-deb, and runs the installed CLI from there: --version and a bake.
 # Run as: cmake -DBUILD_DIR=... -DSOURCE_DIR=... -DWORK_DIR=... -DVERSION=... -P deb_package_test.cmake
-foreach(var BUILD_DIR SOURCE_DIR WORK_DIR VERSION)
-  if(NOT DEFINED ${var})
-    message(FATAL_ERROR "deb_package_test.cmake needs -D${var}=...")
-  endif()
-endforeach()
-
-file(REMOVE_RECURSE "${WORK_DIR}")
+include(${CMAKE_CURRENT_LIST_DIR}/script_steps.cmake)
+require_script_vars(deb_package_test.cmake BUILD_DIR SOURCE_DIR WORK_DIR VERSION)
 file(MAKE_DIRECTORY "${WORK_DIR}/root")
-
-function(step name)
-  execute_process(COMMAND ${ARGN} RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-  if(NOT rc EQUAL 0)
-    message(FATAL_ERROR "${name} failed (${rc}):\n${out}\n${err}")
-  endif()
-  message(STATUS "${name}: ok")
-  set(step_output "${out}" PARENT_SCOPE)
-endfunction()
 
 step(cpack cpack -G DEB --config "${BUILD_DIR}/CPackConfig.cmake" -B "${WORK_DIR}/package")
 file(GLOB debs "${WORK_DIR}/package/medspheres_*.deb")
