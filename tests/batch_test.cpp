@@ -150,7 +150,7 @@ TEST_CASE("bake_cache_key: every result-changing option, not threads", "[batch]"
   CHECK(keys.size() == 13);
 }
 
-TEST_CASE("bake_batch: each row as a single bake; a bad mesh is a row, not a stop", "[batch]") {
+TEST_CASE("bake_batch: each row as a single bake, a bad mesh is a row and not a stop", "[batch]") {
   TempDir dir;
   for (const std::string sub : {"in/sub"}) fs::create_directories(dir.path() / sub);
   dir.write("in/box.off", to_off(make_box({1, 0.5, 0.25}, 2)));
@@ -235,7 +235,7 @@ TEST_CASE("shards run one after another give the unsharded run's files, bit for 
   CHECK(tree(dir.file("again")) == expected);
 }
 
-TEST_CASE("cache: a rerun after a kill bakes only what is missing; torn entries rebaked",
+TEST_CASE("cache: a rerun after a kill bakes only what is missing, torn entries are rebaked",
           "[batch]") {
   TempDir dir;
   write_mesh_library(dir.file("lib"), 6, 3, 100, 800);

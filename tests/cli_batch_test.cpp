@@ -71,7 +71,7 @@ TEST_CASE("bake FOLDER -o DIR: mirrored outputs, a report, exit 2 for a bad mesh
   }
 }
 
-TEST_CASE("bake --from-list - with --cache: the second run copies; CSV report", "[cli][batch]") {
+TEST_CASE("bake --from-list - with --cache: the second run copies, CSV report", "[cli][batch]") {
   TempDir dir;
   write_inputs(dir);
   const std::string list = dir.write("list.txt", "in/box.off\n# skipped\nin/sub/ball.stl\n");
