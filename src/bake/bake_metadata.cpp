@@ -84,6 +84,11 @@ std::string bake_metadata_json(const BakeRecord& r) {
   // Non-finite numbers (a nerr that is not defined) are written as null.
   for (const auto& [k, v] : r.extra_stats) st[k] = std::isfinite(v) ? Json(v) : Json();
   for (const auto& [k, v] : r.extra_strings) st[k] = v;
+  if (!r.record_seconds) {
+    st.erase("bake_seconds");
+    st.erase("final_bake_seconds");
+    if (st.contains("dilation")) st["dilation"].erase("seconds");
+  }
   meta["stats"] = st;
   return meta.dump();
 }

@@ -179,6 +179,7 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
   out.cover = bake_cover(fit.query(), *r.max_spheres, options);
   out.self_intersecting_pairs = fit.self_intersections().count();
   out.record = cover_bake_record(out.record.source, *out.cover);
+  out.record.record_seconds = r.record_seconds;
   out.spheres = out.cover->spheres;
   out.spheres.metadata_json = cover_metadata_json(out.record);
 }
@@ -225,6 +226,7 @@ BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
                              name);
   BakeOutcome out;
   out.record.source = {name, sha256, report};
+  out.record.record_seconds = request.record_seconds;
   if (request.method == BakeMethod::kCover) {
     cover_output(fit, request, out);
     return out;

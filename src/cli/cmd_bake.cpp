@@ -3,11 +3,13 @@
 #include <filesystem>
 #include <iostream>
 #include <optional>
+#include <stdexcept>
 #include <string>
 #include <vector>
 
 #include "bake_flags.h"
 #include "cli_common.h"
+#include "cmd_batch.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
@@ -17,6 +19,8 @@ namespace medspheres::cli {
 namespace {
 
 struct BakeArgs {
+  std::vector<std::string> inputs;  ///< one mesh, or a batch's files and folders
+  BatchFlags batch;
   std::string mesh;
   std::string out;
   int resolution = BakeOptions{}.resolution;
@@ -165,9 +169,12 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
   std::cout << "\n";
 }
 
-int run_bake(const BakeArgs& args) {
+int run_bake(BakeArgs& args) {
   // Options first, then the output path: both are reported before any work is done.
   BakeRequest request = bake_request(args);
+  if (is_batch(args.inputs, args.batch))
+    return run_batch(args.inputs, args.out, args.batch, request, args.quiet);
+  args.mesh = args.inputs.front();
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_output_path(out);
 
@@ -202,9 +209,12 @@ Runner register_bake(CLI::App& app) {
   auto a = std::make_shared<BakeArgs>();
   CLI::App* sub =
       app.add_subcommand("bake", "Bake medial spheres of a mesh into a sphere-set file");
-  sub->add_option("mesh", a->mesh, "Mesh file (STL, OBJ, PLY, OFF, DAE, glTF, ...)")->required();
+  sub->add_option("mesh", a->inputs,
+                  "Mesh file (STL, OBJ, PLY, OFF, DAE, glTF, ...); several files or folders "
+                  "bake a batch into the folder -o");
   sub->add_option("-o,--output", a->out,
-                  "Output file (default: MESH's stem + .spheres.json, here)");
+                  "Output file (default: MESH's stem + .spheres.json, here); a batch's output "
+                  "folder");
   sub->add_option("--resolution", a->resolution, "Grid cells along the bounding box's longest side")
       ->capture_default_str();
   sub->add_option("--object-angle", a->object_angle,
@@ -242,7 +252,12 @@ Runner register_bake(CLI::App& app) {
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");
-  return [a] { return run_bake(*a); };
+  add_batch_flags(*sub, a->batch);
+  return [a] {
+    if (a->inputs.empty() && a->batch.from_list.empty())
+      throw std::invalid_argument("bake: no mesh given (a mesh file, folders, or --from-list)");
+    return run_bake(*a);
+  };
 }
 
 }  // namespace medspheres::cli

@@ -31,6 +31,7 @@ struct BakeRecord {
   std::optional<DilateStats> dilation_stats;
   std::map<std::string, double> extra_stats;         ///< numbers, such as nerr
   std::map<std::string, std::string> extra_strings;  ///< such as nerr_kind
+  bool record_seconds = true;  ///< false: no wall-clock time is written (every "*seconds")
 };
 
 /// The JSON object text for SphereSet::metadata_json:
@@ -43,7 +44,8 @@ struct BakeRecord {
 ///   for a search "final_bake_seconds" (the chosen resolution's bake) and "search"
 ///   ({"resolutions": [...], "spheres": [...]} in the order baked, plus "errors" for an
 ///   error target), "dilation" with the dilation statistics when dilated, and every extra
-///   entry (a non-finite number is written as null).
+///   entry (a non-finite number is written as null). Without record_seconds, the three
+///   times (bake_seconds, final_bake_seconds, the dilation's seconds) are left out.
 std::string bake_metadata_json(const BakeRecord& record);
 
 }  // namespace medspheres

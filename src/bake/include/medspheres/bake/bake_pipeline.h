@@ -54,6 +54,9 @@ struct BakeRequest {
   std::optional<Length> vertex_tolerance, max_protrusion, cover;
   std::uint64_t seed = 1;  ///< of the dilation's random points
   bool measure = true;     ///< compute the volume, nerr and protrusion of the output
+  /// Record the bake's wall-clock times in the file's stats; false makes the file a pure
+  /// function of the mesh, its name and the request (batch bakes, caches).
+  bool record_seconds = true;
 };
 
 struct BakeOutcome {

@@ -1,0 +1,141 @@
+// medspheres bake over many inputs, run as a user runs it: folders and lists, the report,
+// exit codes when some inputs fail, progress lines, shards and the cache.
+#include <filesystem>
+#include <map>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "medspheres/mesh/mesh_generators.h"
+#include "support/mesh_library.h"
+#include "support/mesh_writers.h"
+#include "support/run_command.h"
+#include "support/temp_dir.h"
+
+using namespace medspheres;
+using namespace medspheres::test;
+using Catch::Matchers::Contains;
+namespace fs = std::filesystem;
+
+namespace {
+
+// Two good meshes in nested folders and one bad one.
+void write_inputs(const TempDir& dir) {
+  fs::create_directories(dir.path() / "in/sub");
+  dir.write("in/box.off", to_off(make_box({1, 0.5, 0.25}, 2)));
+  dir.write("in/sub/ball.stl", to_stl_binary(make_icosphere(1.0, 2)));
+  dir.write("in/sub/bad.obj", "v 0 0 0\nf 1 2 3\n");
+}
+
+// Every regular file below \p dir but its reports: relative path -> bytes.
+std::map<std::string, std::string> outputs(const fs::path& dir) {
+  std::map<std::string, std::string> out;
+  for (const auto& e : fs::recursive_directory_iterator(dir)) {
+    const std::string rel = e.path().lexically_relative(dir).generic_string();
+    if (e.is_regular_file() && rel.rfind("reports/", 0) != 0) out[rel] = read_file(e.path());
+  }
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("bake FOLDER -o DIR: mirrored outputs, a report, exit 2 for a bad mesh", "[cli][batch]") {
+  TempDir dir;
+  write_inputs(dir);
+  const std::string out = dir.file("out"), report = dir.file("report.json");
+  const CommandResult r =
+      run_cli("bake " + shell_quote(dir.file("in")) + " -o " + shell_quote(out) +
+                  " --resolution 10 --report " + shell_quote(report),
+              300);
+  CHECK(r.exit_code == 2);
+  CHECK(fs::exists(out + "/box.spheres.json"));
+  CHECK(fs::exists(out + "/sub/ball.spheres.json"));
+  CHECK_FALSE(fs::exists(out + "/sub/bad.spheres.json"));
+  // Not a terminal: one plain line per input, and the summary on stdout.
+  CHECK_THAT(r.err, Contains("[3/3]") && Contains("failed ") && Contains("bad.obj"));
+  CHECK_THAT(r.out, Contains("baked") && Contains("failed"));
+  const nlohmann::json j = nlohmann::json::parse(read_file(report));
+  REQUIRE(j["rows"].size() == 3);
+  CHECK(j["totals"]["baked"] == 2);
+  CHECK(j["totals"]["failed"] == 1);
+  for (const auto& row : j["rows"]) {
+    if (row["relative"] == "sub/bad.obj") {
+      CHECK(row["outcome"] == "failed");
+      CHECK(row["error"].is_string());
+    } else {
+      CHECK(row["outcome"] == "baked");
+      CHECK(row["spheres"].get<int>() > 0);
+      CHECK(row["error"].is_null());
+    }
+  }
+}
+
+TEST_CASE("bake --from-list - with --cache: the second run copies, CSV report", "[cli][batch]") {
+  TempDir dir;
+  write_inputs(dir);
+  const std::string list = dir.write("list.txt", "in/box.off\n# skipped\nin/sub/ball.stl\n");
+  const std::string cmd = "cd " + shell_quote(dir.path().string()) + " && " +
+                          shell_quote(MEDSPHERES_CLI) +
+                          " bake --from-list - -o out --resolution 10 --cache cache --jobs 2 "
+                          "--report r.csv < list.txt";
+  const CommandResult first = run_command(cmd);
+  REQUIRE(first.exit_code == 0);
+  CHECK(fs::exists(dir.file("out/in/box.spheres.json")));
+  const std::string baked = read_file(dir.file("out/in/sub/ball.spheres.json"));
+  CHECK_THAT(read_file(dir.file("r.csv")), Contains("in/box.off,") && Contains(",baked,"));
+  fs::remove_all(dir.file("out"));
+  const CommandResult second = run_command(cmd);
+  REQUIRE(second.exit_code == 0);
+  const std::string csv = read_file(dir.file("r.csv"));
+  CHECK_THAT(csv, Contains(",cached,"));
+  CHECK(csv.find(",baked,") == std::string::npos);
+  CHECK(read_file(dir.file("out/in/sub/ball.spheres.json")) == baked);
+  (void)list;
+}
+
+TEST_CASE("bake batch flags: bad values are exit 2 before any work", "[cli][batch]") {
+  TempDir dir;
+  write_inputs(dir);
+  const std::string in = shell_quote(dir.file("in")), out = shell_quote(dir.file("out"));
+  struct Case {
+    std::string args, flag;
+  };
+  const std::string file = dir.write("file.txt", "x");
+  for (const Case& c : {Case{in + " -o " + out + " --shard 3/3", "--shard"},
+                        Case{in + " -o " + out + " --shard x", "--shard"},
+                        Case{in + " -o " + out + " --report r.txt", "--report"},
+                        Case{in + " -o " + shell_quote(file), "--output"}, Case{in, "--output"},
+                        Case{in + " -o " + out + " --jobs -1", "--jobs"}}) {
+    INFO(c.args);
+    const CommandResult r = run_cli("bake " + c.args, 60);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(c.flag));
+    CHECK_FALSE(fs::exists(dir.file("out")));
+  }
+}
+
+TEST_CASE("the Slurm example's array tasks, one after another, give the unsharded files",
+          "[cli][batch]") {
+  TempDir dir;
+  write_mesh_library(dir.file("assets"), 9, 5, 100, 1200);
+  const CommandResult whole = run_cli("bake -q " + shell_quote(dir.file("assets")) + " -o " +
+                                          shell_quote(dir.file("whole")) + " --resolution 10",
+                                      600);
+  REQUIRE(whole.exit_code == 0);
+  const auto expected = outputs(dir.file("whole"));
+  REQUIRE(expected.size() == 9);
+  const std::string script = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/batch/slurm_bake.sh";
+  for (int k = 0; k < 3; ++k) {
+    const CommandResult task = run_command(
+        "env ASSETS=" + shell_quote(dir.file("assets")) + " OUT=" + shell_quote(dir.file("out")) +
+        " CACHE=" + shell_quote(dir.file("cache")) + " MEDSPHERES=" + shell_quote(MEDSPHERES_CLI) +
+        " SLURM_ARRAY_TASK_ID=" + std::to_string(k + 4) +
+        " SLURM_ARRAY_TASK_MIN=4 SLURM_ARRAY_TASK_COUNT=3 bash " + shell_quote(script) +
+        " -q --resolution 10");
+    INFO(task.err);
+    REQUIRE(task.exit_code == 0);
+    CHECK(fs::exists(dir.file("out/reports/shard-" + std::to_string(k) + "-of-3.json")));
+  }
+  CHECK(outputs(dir.file("out")) == expected);
+}
