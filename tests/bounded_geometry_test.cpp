@@ -195,6 +195,10 @@ TEST_CASE("three-valued collide is never wrong and uses the mesh only when undec
       if (full.path == mf::AnswerPath::mesh) {
         ++fallback;
         if (!is_nested) CHECK((full.verdict == BoundsVerdict::colliding) == (d <= margin));
+        // FCL's search is pruned at the margin: exact within it, above it otherwise.
+        if (!is_nested && d > 0.0 && d <= margin - kOracleRounding)
+          CHECK(std::abs(full.mesh_distance - d) <= kOracleRounding);
+        if (!is_nested && d > margin + kOracleRounding) CHECK(full.mesh_distance > margin);
       } else {
         ++decided;
       }
