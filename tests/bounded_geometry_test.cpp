@@ -380,3 +380,65 @@ TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bou
   CHECK(colliding > 0);
   CHECK(free > 0);
 }
+
+TEST_CASE("decide then settle is collide", "[bounds]") {
+  for (const PosedPair& p : seeded_pairs(29, 10, 0.5)) {
+    const mf::CollideResult whole =
+        mf::collide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.02);
+    const mf::CollideResult first =
+        mf::decide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.02);
+    const mf::CollideResult two =
+        mf::settle(first, *p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.02);
+    CHECK(first.path == mf::AnswerPath::spheres);
+    CHECK(two.verdict == whole.verdict);
+    CHECK(two.path == whole.path);
+    CHECK(two.mesh_distance == whole.mesh_distance);
+    const mf::CollideResult g = mf::decide(*p.a->geometry, p.X_WA, *p.b->bvh, p.X_WB, 0.02);
+    CHECK(mf::settle(g, *p.a->geometry, p.X_WA, *p.b->bvh, p.X_WB, 0.02).verdict ==
+          mf::collide(*p.a->geometry, p.X_WA, *p.b->bvh, p.X_WB, 0.02).verdict);
+  }
+}
+
+TEST_CASE("robot collide: meshes only when no pair surely collides; scene AABBs may be stale",
+          "[bounds][robot]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  std::map<std::string, const Solid*> solid_of;
+  const RobotModel model = solid_arm(&meshes, &solid_of);
+  const mf::RobotBounds robot(model, meshes);
+  const auto& names = robot.kinematics().link_names();
+  auto box = std::make_shared<::fcl::Boxd>(0.3, 0.2, 0.2);
+  ::fcl::CollisionObjectd o1(box), o2(solids()[1]->bvh);  // AABBs computed at the origin
+  const std::vector<const ::fcl::CollisionObjectd*> scene = {&o1, &o2};
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> q1(-3.0, 3.0), q2(0.0, 0.5);
+  int colliding = 0, free = 0, fallbacks = 0;
+  for (int k = 0; k < 60; ++k) {
+    o1.setTransform(mt::random_pose(rng, 1.2));  // no computeAABB(): the world AABB is stale
+    o2.setTransform(mt::random_pose(rng, 1.2));
+    const Eigen::VectorXd q = Eigen::Vector2d(q1(rng), q2(rng));
+    const std::vector<::fcl::Transform3d> X = robot.poses(q, Eigen::Isometry3d::Identity());
+    double min_exact = std::numeric_limits<double>::infinity();
+    bool any_nested = false, sure = false;
+    for (const mf::LinkPairBounds& p : mf::robot_bounds(robot, q, scene, true, true).pairs) {
+      const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
+      bool nested = false;
+      const double d =
+          p.self ? exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]),
+                                  X[p.other], &nested)
+                 : exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
+                                  scene[p.other]->getTransform(), &nested);
+      min_exact = std::min(min_exact, d);
+      any_nested = any_nested || nested;
+      sure = sure || p.bounds.upper <= 0.01;
+    }
+    const mf::RobotCollideResult c = mf::robot_collide(robot, q, scene, true, 0.01);
+    INFO("q " << q.transpose() << ": exact " << min_exact);
+    if (!any_nested) CHECK((c.verdict == BoundsVerdict::colliding) == (min_exact <= 0.01));
+    if (sure) CHECK(c.mesh_fallbacks == 0);
+    fallbacks += static_cast<int>(c.mesh_fallbacks);
+    (c.verdict == BoundsVerdict::colliding ? colliding : free)++;
+  }
+  CHECK(colliding > 0);
+  CHECK(free > 0);
+  CHECK(fallbacks > 0);
+}
