@@ -180,6 +180,7 @@ struct MethodRun {
   double micros = 0.0;          // per configuration
   std::vector<char> colliding;  // per configuration
   std::size_t mesh_free = 0;    // configurations decided without a mesh query
+  std::size_t undecided = 0;    // configurations left undecided (counted as colliding)
   bool uses_mesh = false;
 };
 
@@ -271,6 +272,26 @@ void print_row(const MethodRun& m, const Reference& ref, double exact_micros, co
 }  // namespace
 
 namespace {
+
+// Every pair of a configuration that is within the margin by the reference, with the
+// verdict of its sphere bounds.
+void explain_near(const mf::RobotBounds& robot, mb::ExactRobot& exact, const Eigen::VectorXd& q,
+                  const std::vector<const ::fcl::CollisionObjectd*>& scene, bool self,
+                  double margin) {
+  const Poses X = robot.poses(q, Eigen::Isometry3d::Identity());
+  const auto& g = robot.geometries();
+  for (const mf::LinkPairBounds& p : mf::robot_bounds(robot, q, scene, self, true).pairs) {
+    const double d = exact.pair(X, p.link, p.other, p.self);
+    if (d > margin) continue;
+    const mf::CollideResult c =
+        p.self ? mf::decide(g[p.link], X[p.link], g[p.other], X[p.other], margin)
+               : mf::decide(g[p.link], X[p.link], *scene[p.other]->collisionGeometry(),
+                            scene[p.other]->getTransform(), margin);
+    std::printf("  %s vs %s %zu: exact %.6f, bounds [%.6f, %.6f], decided %d\n",
+                g[p.link].link().c_str(), p.self ? g[p.other].link().c_str() : "scene object",
+                p.other, d, p.bounds.lower, p.bounds.upper, static_cast<int>(c.verdict));
+  }
+}
 
 void print_table(const std::vector<MethodRun>& runs, const Reference& ref) {
   std::printf("%-8s %12s %9s %10s %10s %8s %8s %10s %10s %6s\n", "method", "us/config", "speedup",
@@ -364,14 +385,20 @@ int run(const Options& o) {
     r.uses_mesh = true;
     const mf::RobotCollideResult c =
         mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
-    if (c.mesh_fallbacks == 0) ++r.mesh_free;
-    return c.verdict == medspheres::BoundsVerdict::colliding;
+    if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
+    if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
+    // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link
+    // of sphere primitives only against a meshed link) counts as colliding, as a planner
+    // must take it.
+    return c.verdict != medspheres::BoundsVerdict::free;
   }));
   const auto t0 = Clock::now();
   const Reference ref = reference(bounds, exact_reference, configs, objects, o.self, o.margin,
                                   std::max<std::size_t>(o.distance_every, 1));
   const double ref_seconds = mb::seconds_since(t0);
   print_table(runs, ref);
+  std::printf("\nbounds: %zu configurations left undecided (counted as colliding)\n",
+              runs[3].undecided);
   std::size_t truth = 0, disagree = 0;
   for (std::size_t i = 0; i < configs.size(); ++i) {
     truth += ref.colliding[i];
@@ -382,6 +409,14 @@ int run(const Options& o) {
       "and the cells as a mesh disagree on %zu; distance errors over %zu "
       "configurations (every %zu-th)\n",
       truth, configs.size(), o.margin, ref_seconds, disagree, ref.sampled.size(), o.distance_every);
+  for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
+    if (ref.colliding[i] && !runs[3].colliding[i]) {
+      const mf::RobotCollideResult c =
+          mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
+      std::printf("bounds missed configuration %zu: verdict %d, %zu mesh fallbacks\n", i,
+                  static_cast<int>(c.verdict), c.mesh_fallbacks);
+      explain_near(bounds, exact_reference, configs[i], objects, o.self, o.margin);
+    }
   for (std::size_t k = 0; k < ref.sampled.size() && o.explain; ++k)
     if (ref.exact[k] < ref.lower[k] || ref.exact[k] > ref.upper[k]) {
       std::printf("configuration %zu: exact %.6f outside [%.6f, %.6f]\n", ref.sampled[k],
