@@ -324,6 +324,24 @@ RobotModel solid_arm(std::map<std::string, std::shared_ptr<const mf::MeshModel>>
 
 }  // namespace
 
+namespace {
+
+// The exact distance of one pair of robot_bounds (a link against a link or a scene object).
+double pair_exact(const mf::RobotBounds& robot, const std::map<std::string, const Solid*>& solid_of,
+                  const std::vector<::fcl::Transform3d>& X,
+                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                  const mf::LinkPairBounds& p, bool* nested) {
+  const auto& names = robot.kinematics().link_names();
+  const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
+  if (p.self)
+    return exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]), X[p.other],
+                          nested);
+  return exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
+                        scene[p.other]->getTransform(), nested);
+}
+
+}  // namespace
+
 TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bounds][robot]") {
   std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
   std::map<std::string, const Solid*> solid_of;
@@ -356,13 +374,8 @@ TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bou
     bool any_nested = false;
     REQUIRE(r.pairs.size() == 4 * scene.size() + 3);
     for (const mf::LinkPairBounds& p : r.pairs) {
-      const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
       bool nested = false;
-      const double d =
-          p.self ? exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]),
-                                  X[p.other], &nested)
-                 : exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
-                                  scene[p.other]->getTransform(), &nested);
+      const double d = pair_exact(robot, solid_of, X, scene, p, &nested);
       INFO("q " << q.transpose() << " pair " << p.link << "/" << p.other
                 << (p.self ? " self" : ""));
       CHECK(d <= p.bounds.upper + 1e-6);
@@ -405,7 +418,6 @@ TEST_CASE("robot collide: meshes only when no pair surely collides; scene AABBs 
   std::map<std::string, const Solid*> solid_of;
   const RobotModel model = solid_arm(&meshes, &solid_of);
   const mf::RobotBounds robot(model, meshes);
-  const auto& names = robot.kinematics().link_names();
   auto box = std::make_shared<::fcl::Boxd>(0.3, 0.2, 0.2);
   ::fcl::CollisionObjectd o1(box), o2(solids()[1]->bvh);  // AABBs computed at the origin
   const std::vector<const ::fcl::CollisionObjectd*> scene = {&o1, &o2};
@@ -420,13 +432,8 @@ TEST_CASE("robot collide: meshes only when no pair surely collides; scene AABBs 
     double min_exact = std::numeric_limits<double>::infinity();
     bool any_nested = false, sure = false;
     for (const mf::LinkPairBounds& p : mf::robot_bounds(robot, q, scene, true, true).pairs) {
-      const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
       bool nested = false;
-      const double d =
-          p.self ? exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]),
-                                  X[p.other], &nested)
-                 : exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
-                                  scene[p.other]->getTransform(), &nested);
+      const double d = pair_exact(robot, solid_of, X, scene, p, &nested);
       min_exact = std::min(min_exact, d);
       any_nested = any_nested || nested;
       sure = sure || p.bounds.upper <= 0.01;
