@@ -7,7 +7,8 @@
 //           SphereSetGeometry, the margin preset as min_distance);
 //   inner   the inner sets alone, the same way;
 //   bounds  both sets at once with the exact meshes as fallback
-//           (medspheres::fcl::robot_collide), the library's certified query.
+//           (medspheres::fcl::robot_collide), the library's certified query; a verdict
+//           left undecided (no mesh pair to settle a pair) counts as colliding.
 // Every method visits the same pairs (the links against every scene object, and the
 // self-collision pairs of RobotBounds); exact skips the pairs whose world AABBs are
 // farther apart than the margin (a broadphase that never changes its answer).
