@@ -14,9 +14,9 @@ namespace medspheres::bench {
 
 // FCL's exact mesh representation of `mesh`, in the mesh's frame, finished (endModel()).
 template <class BV>
-std::shared_ptr<fcl::BVHModel<BV>> make_bvh(const TriangleMesh& mesh) {
-  auto model = std::make_shared<fcl::BVHModel<BV>>();
-  std::vector<fcl::Triangle> tris;
+std::shared_ptr<::fcl::BVHModel<BV>> make_bvh(const TriangleMesh& mesh) {
+  auto model = std::make_shared<::fcl::BVHModel<BV>>();
+  std::vector<::fcl::Triangle> tris;
   tris.reserve(mesh.triangles.size());
   for (const auto& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
   model->beginModel(static_cast<int>(tris.size()), static_cast<int>(mesh.vertices.size()));

@@ -195,6 +195,10 @@ TEST_CASE("three-valued collide is never wrong and uses the mesh only when undec
       if (full.path == mf::AnswerPath::mesh) {
         ++fallback;
         if (!is_nested) CHECK((full.verdict == BoundsVerdict::colliding) == (d <= margin));
+        // FCL's search is pruned at the margin: exact within it, above it otherwise.
+        if (!is_nested && d > 0.0 && d <= margin - kOracleRounding)
+          CHECK(std::abs(full.mesh_distance - d) <= kOracleRounding);
+        if (!is_nested && d > margin + kOracleRounding) CHECK(full.mesh_distance > margin);
       } else {
         ++decided;
       }
@@ -320,6 +324,24 @@ RobotModel solid_arm(std::map<std::string, std::shared_ptr<const mf::MeshModel>>
 
 }  // namespace
 
+namespace {
+
+// The exact distance of one pair of robot_bounds (a link against a link or a scene object).
+double pair_exact(const mf::RobotBounds& robot, const std::map<std::string, const Solid*>& solid_of,
+                  const std::vector<::fcl::Transform3d>& X,
+                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                  const mf::LinkPairBounds& p, bool* nested) {
+  const auto& names = robot.kinematics().link_names();
+  const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
+  if (p.self)
+    return exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]), X[p.other],
+                          nested);
+  return exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
+                        scene[p.other]->getTransform(), nested);
+}
+
+}  // namespace
+
 TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bounds][robot]") {
   std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
   std::map<std::string, const Solid*> solid_of;
@@ -352,13 +374,8 @@ TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bou
     bool any_nested = false;
     REQUIRE(r.pairs.size() == 4 * scene.size() + 3);
     for (const mf::LinkPairBounds& p : r.pairs) {
-      const Solid& a = *solid_of.at(names[robot.link_of()[p.link]]);
       bool nested = false;
-      const double d =
-          p.self ? exact_distance(a, X[p.link], *solid_of.at(names[robot.link_of()[p.other]]),
-                                  X[p.other], &nested)
-                 : exact_distance(a, X[p.link], *scene[p.other]->collisionGeometry(),
-                                  scene[p.other]->getTransform(), &nested);
+      const double d = pair_exact(robot, solid_of, X, scene, p, &nested);
       INFO("q " << q.transpose() << " pair " << p.link << "/" << p.other
                 << (p.self ? " self" : ""));
       CHECK(d <= p.bounds.upper + 1e-6);
@@ -375,4 +392,60 @@ TEST_CASE("robot bounds hold every pair's and the minimum exact distance", "[bou
   }
   CHECK(colliding > 0);
   CHECK(free > 0);
+}
+
+TEST_CASE("decide then settle is collide", "[bounds]") {
+  for (const PosedPair& p : seeded_pairs(29, 10, 0.5)) {
+    const mf::CollideResult whole =
+        mf::collide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.02);
+    const mf::CollideResult first =
+        mf::decide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.02);
+    const mf::CollideResult two =
+        mf::settle(first, *p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, 0.02);
+    CHECK(first.path == mf::AnswerPath::spheres);
+    CHECK(two.verdict == whole.verdict);
+    CHECK(two.path == whole.path);
+    CHECK(two.mesh_distance == whole.mesh_distance);
+    const mf::CollideResult g = mf::decide(*p.a->geometry, p.X_WA, *p.b->bvh, p.X_WB, 0.02);
+    CHECK(mf::settle(g, *p.a->geometry, p.X_WA, *p.b->bvh, p.X_WB, 0.02).verdict ==
+          mf::collide(*p.a->geometry, p.X_WA, *p.b->bvh, p.X_WB, 0.02).verdict);
+  }
+}
+
+TEST_CASE("robot collide: meshes only when no pair surely collides; scene AABBs may be stale",
+          "[bounds][robot]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  std::map<std::string, const Solid*> solid_of;
+  const RobotModel model = solid_arm(&meshes, &solid_of);
+  const mf::RobotBounds robot(model, meshes);
+  auto box = std::make_shared<::fcl::Boxd>(0.3, 0.2, 0.2);
+  ::fcl::CollisionObjectd o1(box), o2(solids()[1]->bvh);  // AABBs computed at the origin
+  const std::vector<const ::fcl::CollisionObjectd*> scene = {&o1, &o2};
+  std::mt19937 rng(13);
+  std::uniform_real_distribution<double> q1(-3.0, 3.0), q2(0.0, 0.5);
+  int colliding = 0, free = 0, fallbacks = 0;
+  for (int k = 0; k < 60; ++k) {
+    o1.setTransform(mt::random_pose(rng, 1.2));  // no computeAABB(): the world AABB is stale
+    o2.setTransform(mt::random_pose(rng, 1.2));
+    const Eigen::VectorXd q = Eigen::Vector2d(q1(rng), q2(rng));
+    const std::vector<::fcl::Transform3d> X = robot.poses(q, Eigen::Isometry3d::Identity());
+    double min_exact = std::numeric_limits<double>::infinity();
+    bool any_nested = false, sure = false;
+    for (const mf::LinkPairBounds& p : mf::robot_bounds(robot, q, scene, true, true).pairs) {
+      bool nested = false;
+      const double d = pair_exact(robot, solid_of, X, scene, p, &nested);
+      min_exact = std::min(min_exact, d);
+      any_nested = any_nested || nested;
+      sure = sure || p.bounds.upper <= 0.01;
+    }
+    const mf::RobotCollideResult c = mf::robot_collide(robot, q, scene, true, 0.01);
+    INFO("q " << q.transpose() << ": exact " << min_exact);
+    if (!any_nested) CHECK((c.verdict == BoundsVerdict::colliding) == (min_exact <= 0.01));
+    if (sure) CHECK(c.mesh_fallbacks == 0);
+    fallbacks += static_cast<int>(c.mesh_fallbacks);
+    (c.verdict == BoundsVerdict::colliding ? colliding : free)++;
+  }
+  CHECK(colliding > 0);
+  CHECK(free > 0);
+  CHECK(fallbacks > 0);
 }

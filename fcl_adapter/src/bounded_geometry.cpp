@@ -6,6 +6,7 @@
 #include "medspheres/fcl/bounded_geometry.h"
 
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 #include <utility>
 
@@ -33,27 +34,37 @@ void check_margin(double margin) {
     throw std::invalid_argument("medspheres::fcl::collide: margin must be finite and >= 0");
 }
 
-// FCL's distance between the exact geometries (a mesh, and a mesh or any FCL geometry).
+// FCL's distance between the exact geometries (a mesh, and a mesh or any FCL geometry),
+// exact when it is <= margin, else some value > margin: the margin's successor is preset
+// as min_distance, which FCL's traversals (BVH pairs, octrees) prune at and report only
+// strictly closer pairs below.
 double exact_distance(const MeshModel& a, const ::fcl::Transform3d& X_WA,
-                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB) {
+                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                      double margin) {
   ::fcl::DistanceRequestd request;
   ::fcl::DistanceResultd result;
+  result.min_distance = std::nextafter(margin, std::numeric_limits<double>::infinity());
   return ::fcl::distance(&a, X_WA, &b, X_WB, request, result);
 }
 
-// The decision, completed by the exact distance when undecided and a mesh pair exists.
-CollideResult finish(const BoundsDecision& d, double margin, const MeshModel* mesh_a,
+// The result's verdict completed by the exact distance when undecided and a mesh pair
+// exists.
+CollideResult finish(CollideResult out, double margin, const MeshModel* mesh_a,
                      const ::fcl::Transform3d& X_WA, const ::fcl::CollisionGeometryd* exact_b,
-                     const ::fcl::Transform3d& X_WB, bool certified) {
+                     const ::fcl::Transform3d& X_WB) {
+  if (out.verdict == BoundsVerdict::undecided && mesh_a != nullptr && exact_b != nullptr) {
+    out.path = AnswerPath::mesh;
+    out.mesh_distance = exact_distance(*mesh_a, X_WA, *exact_b, X_WB, margin);
+    out.verdict = out.mesh_distance <= margin ? BoundsVerdict::colliding : BoundsVerdict::free;
+  }
+  return out;
+}
+
+CollideResult from_decision(const BoundsDecision& d, bool certified) {
   CollideResult out;
   out.verdict = d.verdict;
   out.bounds = d.bounds;
   out.certified = certified;
-  if (d.verdict == BoundsVerdict::undecided && mesh_a != nullptr && exact_b != nullptr) {
-    out.path = AnswerPath::mesh;
-    out.mesh_distance = exact_distance(*mesh_a, X_WA, *exact_b, X_WB);
-    out.verdict = out.mesh_distance <= margin ? BoundsVerdict::colliding : BoundsVerdict::free;
-  }
   return out;
 }
 
@@ -116,23 +127,48 @@ BoundsResult distance_bounds(const BoundedGeometry& a, const ::fcl::Transform3d&
   return r;
 }
 
-CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
-                      const BoundedGeometry& b, const ::fcl::Transform3d& X_WB, double margin) {
+CollideResult decide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                     const BoundedGeometry& b, const ::fcl::Transform3d& X_WB, double margin) {
   check_margin(margin);
-  const BoundsDecision d =
-      decide_collision(a.inner(), a.outer(), X_WA, b.inner(), b.outer(), X_WB, margin);
-  return finish(d, margin, a.mesh(), X_WA, b.mesh(), X_WB, a.certified() && b.certified());
+  return from_decision(
+      decide_collision(a.inner(), a.outer(), X_WA, b.inner(), b.outer(), X_WB, margin),
+      a.certified() && b.certified());
 }
 
-CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
-                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
-                      double margin) {
+CollideResult decide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                     const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                     double margin) {
   check_margin(margin);
   BoundsDecision d;
   detail::with_target_view(b, [&](const ProximityTarget& target) {
     d = decide_collision(a.inner(), a.outer(), X_WA, target, X_WB, margin);
   });
-  return finish(d, margin, a.mesh(), X_WA, &b, X_WB, a.certified());
+  return from_decision(d, a.certified());
+}
+
+CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
+                     const ::fcl::Transform3d& X_WA, const BoundedGeometry& b,
+                     const ::fcl::Transform3d& X_WB, double margin) {
+  check_margin(margin);
+  return finish(decided, margin, a.mesh(), X_WA, b.mesh(), X_WB);
+}
+
+CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
+                     const ::fcl::Transform3d& X_WA, const ::fcl::CollisionGeometryd& b,
+                     const ::fcl::Transform3d& X_WB, double margin) {
+  check_margin(margin);
+  return finish(decided, margin, a.mesh(), X_WA, &b, X_WB);
+}
+
+CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                      const BoundedGeometry& b, const ::fcl::Transform3d& X_WB, double margin) {
+  return settle(decide(a, X_WA, b, X_WB, margin), a, X_WA, b, X_WB, margin);
+}
+
+CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                      double margin) {
+  return settle(decide(a, X_WA, b, X_WB, margin), a, X_WA, b, X_WB, margin);
 }
 
 }  // namespace medspheres::fcl

@@ -4,6 +4,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 
 #include <algorithm>
+#include <cmath>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -57,6 +58,41 @@ void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::Collis
   if (include_self)
     for (const auto& [a, b] : robot.self_pairs())
       if (on_self(a, b)) return;
+}
+
+// A ball that contains a posed geometry, in W.
+struct Ball {
+  Eigen::Vector3d centre;
+  double radius;
+};
+
+// Each geometry's outer root ball (which contains its outer set, and so its surface, and
+// its inner set, which lies inside the surface) at the poses X.
+std::vector<Ball> link_balls(const RobotBounds& robot, const std::vector<::fcl::Transform3d>& X) {
+  std::vector<Ball> out;
+  out.reserve(X.size());
+  for (std::size_t l = 0; l < X.size(); ++l) {
+    const Sphere s = robot.geometries()[l].outer().bounding_ball(0);
+    out.push_back({X[l] * s.center, s.radius});
+  }
+  return out;
+}
+
+// The ball about the object's local AABB centre of radius aabb_radius (set by
+// computeLocalAABB, which fcl::CollisionObject's constructor calls): it contains the
+// geometry at the object's current transform, whether or not its world AABB is up to date.
+Ball object_ball(const ::fcl::CollisionObjectd& o) {
+  const ::fcl::CollisionGeometryd& g = *o.collisionGeometry();
+  return {o.getTransform() * g.aabb_center, g.aabb_radius};
+}
+
+// True when the balls are certainly farther apart than margin, so that every pair of
+// sets inside them is: the gap is computed in doubles, so it must exceed the margin by a
+// relative allowance (1e-12 of the magnitudes involved, far above the few ulps of error).
+bool apart(const Ball& a, const Ball& b, double margin) {
+  const double gap = (a.centre - b.centre).norm() - a.radius - b.radius;
+  const double scale = a.centre.norm() + b.centre.norm() + a.radius + b.radius + margin;
+  return std::isfinite(gap) && gap - 1e-12 * scale > margin;
 }
 
 }  // namespace
@@ -121,13 +157,19 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
                                  bool include_self, double margin, const Eigen::Isometry3d& X_WB) {
   const std::vector<::fcl::Transform3d> X = robot.poses(q, X_WB);
   const std::vector<BoundedGeometry>& g = robot.geometries();
+  const std::vector<Ball> links = link_balls(robot, X);
   RobotCollideResult out;
-  // Returns true when the answer is known (a colliding pair).
-  auto record = [&](const CollideResult& c) {
+  struct Open {
+    std::size_t link, other;
+    bool self;
+    CollideResult decided;
+  };
+  std::vector<Open> open;  // undecided by the spheres
+  // First the spheres alone, for every pair: one certainly colliding pair decides.
+  auto record = [&](std::size_t l, std::size_t o, bool self, const CollideResult& c) {
     ++out.pairs_tested;
-    if (c.path == AnswerPath::mesh) ++out.mesh_fallbacks;
     out.certified = out.certified && c.certified;
-    if (c.verdict == BoundsVerdict::undecided) out.verdict = BoundsVerdict::undecided;
+    if (c.verdict == BoundsVerdict::undecided) open.push_back({l, o, self, c});
     if (c.verdict != BoundsVerdict::colliding) return false;
     out.verdict = BoundsVerdict::colliding;
     return true;
@@ -136,11 +178,32 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
       robot, scene, include_self,
       [&](std::size_t l, std::size_t o) {
         const ::fcl::CollisionObjectd& obj = *scene[o];
-        return record(collide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
+        if (apart(links[l], object_ball(obj), margin)) return false;
+        return record(l, o, false,
+                      decide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
       },
       [&](std::size_t a, std::size_t b) {
-        return record(collide(g[a], X[a], g[b], X[b], margin));
+        if (apart(links[a], links[b], margin)) return false;
+        return record(a, b, true, decide(g[a], X[a], g[b], X[b], margin));
       });
+  if (out.verdict == BoundsVerdict::colliding) return out;
+  // Then the exact meshes for the undecided pairs, until one collides.
+  for (const Open& p : open) {
+    CollideResult c;
+    if (p.self) {
+      c = settle(p.decided, g[p.link], X[p.link], g[p.other], X[p.other], margin);
+    } else {
+      const ::fcl::CollisionObjectd& obj = *scene[p.other];
+      c = settle(p.decided, g[p.link], X[p.link], *obj.collisionGeometry(), obj.getTransform(),
+                 margin);
+    }
+    if (c.path == AnswerPath::mesh) ++out.mesh_fallbacks;
+    if (c.verdict == BoundsVerdict::undecided) out.verdict = BoundsVerdict::undecided;
+    if (c.verdict == BoundsVerdict::colliding) {
+      out.verdict = BoundsVerdict::colliding;
+      break;
+    }
+  }
   return out;
 }
 

@@ -99,7 +99,8 @@ struct CollideResult {
   BoundsVerdict verdict = BoundsVerdict::undecided;
   AnswerPath path = AnswerPath::spheres;
   DistanceBounds bounds;  ///< as tight as the verdict needed (BoundsDecision)
-  /// The exact distance, when the mesh answered (FCL's mesh distance: meshes are surfaces).
+  /// When the mesh answered: FCL's mesh distance (meshes are surfaces), exact when it is
+  /// <= margin, otherwise some value > margin (FCL's search is pruned at the margin).
   double mesh_distance = -1.0;
   bool certified = true;
 };
@@ -122,5 +123,22 @@ CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
 CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
                       const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
                       double margin = 0.0);
+
+/// collide() in two steps, for callers that weigh many pairs before touching a mesh (a
+/// robot: one certainly colliding pair makes every mesh query moot). decide() is the
+/// bounds' verdict alone (path spheres, possibly undecided); settle() completes an
+/// undecided result with the exact meshes as collide() does and returns a decided one
+/// unchanged. collide(a, X_WA, b, X_WB, m) == settle(decide(a, X_WA, b, X_WB, m), ...).
+CollideResult decide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                     const BoundedGeometry& b, const ::fcl::Transform3d& X_WB, double margin = 0.0);
+CollideResult decide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
+                     const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                     double margin = 0.0);
+CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
+                     const ::fcl::Transform3d& X_WA, const BoundedGeometry& b,
+                     const ::fcl::Transform3d& X_WB, double margin = 0.0);
+CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
+                     const ::fcl::Transform3d& X_WA, const ::fcl::CollisionGeometryd& b,
+                     const ::fcl::Transform3d& X_WB, double margin = 0.0);
 
 }  // namespace medspheres::fcl

@@ -82,15 +82,20 @@ RobotBoundsResult robot_bounds(const RobotBounds& robot, const Eigen::VectorXd& 
                                const Eigen::Isometry3d& X_WB = Eigen::Isometry3d::Identity());
 
 struct RobotCollideResult {
-  /// colliding when a pair is (the walk stops there), free when every pair is, else
-  /// undecided (a pair was undecided and had no mesh to fall back on).
+  /// colliding when a pair is, free when every pair is, else undecided (a pair was
+  /// undecided and had no mesh to fall back on).
   BoundsVerdict verdict = BoundsVerdict::free;
-  std::size_t pairs_tested = 0;
+  std::size_t pairs_tested = 0;    ///< pairs whose sphere bounds were walked
   std::size_t mesh_fallbacks = 0;  ///< pairs answered by the exact meshes
   bool certified = true;
 };
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
+/// First every pair's sphere bounds (decide()), stopping at the first certainly colliding
+/// pair; pairs whose bounding balls (a link's outer root ball, a scene object's local AABB
+/// ball about its transform) are farther apart than the margin are free without a walk.
+/// Only when no pair certainly collides are the undecided pairs settled by the exact
+/// meshes (settle()), stopping at the first colliding one.
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
                                  bool include_self, double margin = 0.0,

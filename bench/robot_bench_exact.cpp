@@ -1,0 +1,146 @@
+// bench_robot's exact side (robot_bench_exact.h).
+
+#include "robot_bench_exact.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+
+#include <fcl/fcl.h>
+
+namespace medspheres::bench {
+namespace {
+
+double successor(double x) {
+  return std::nextafter(x, std::numeric_limits<double>::infinity());
+}
+
+}  // namespace
+
+// Whether the sphere object s has its centre inside the solid of the mesh object m.
+bool ExactRobot::sphere_inside(const ::fcl::CollisionObjectd* s,
+                               const ::fcl::CollisionObjectd* m) const {
+  if (s->getObjectType() != ::fcl::OT_GEOM || s->getNodeType() != ::fcl::GEOM_SPHERE) return false;
+  const auto solid = solids_.find(m->collisionGeometry().get());
+  return solid != solids_.end() &&
+         solid->second->inside(m->getTransform().inverse() * s->getTranslation());
+}
+
+// FCL's distance, or a value >= `below` when the pair is not closer than `below` (a
+// preset min_distance, which FCL's traversals prune at); negative answers clamped to 0,
+// and 0 for a sphere inside a mesh's solid.
+double ExactRobot::pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::CollisionObjectd* b,
+                                 double below) const {
+  ::fcl::DistanceRequestd request;
+  ::fcl::DistanceResultd result;
+  result.min_distance = below;
+  const double d = std::max(::fcl::distance(a, b, request, result), 0.0);
+  return d > 0.0 && (sphere_inside(a, b) || sphere_inside(b, a)) ? 0.0 : d;
+}
+
+ExactRobot::ExactRobot(const fcl::RobotBounds& robot, const std::map<std::string, ExactLink>& links,
+                       const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids)
+    : robot_(robot), scene_(scene), solids_(std::move(solids)) {
+  for (const fcl::BoundedGeometry& g : robot.geometries()) {
+    std::vector<Part> parts;
+    const auto it = links.find(g.link());
+    if (it != links.end()) {
+      // FCL's objects hold non-const geometry; the meshes are only read.
+      if (it->second.mesh)
+        parts.push_back({std::make_unique<::fcl::CollisionObjectd>(
+                             std::const_pointer_cast<fcl::MeshModel>(it->second.mesh)),
+                         ::fcl::Transform3d::Identity()});
+      for (const Sphere& s : it->second.spheres) {
+        ::fcl::Transform3d X = ::fcl::Transform3d::Identity();
+        X.translation() = s.center;
+        parts.push_back(
+            {std::make_unique<::fcl::CollisionObjectd>(std::make_shared<::fcl::Sphered>(s.radius)),
+             X});
+      }
+    }
+    if (parts.empty()) ++missing_;
+    links_.push_back(std::move(parts));
+  }
+}
+
+void ExactRobot::pose(const std::vector<::fcl::Transform3d>& X) {
+  for (std::size_t l = 0; l < links_.size(); ++l)
+    for (Part& p : links_[l]) {
+      p.object->setTransform(X[l] * p.X_LP);
+      p.object->computeAABB();
+    }
+}
+
+void ExactRobot::add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd* a,
+                     const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other,
+                     double below) const {
+  const double d = a->getAABB().distance(b->getAABB());
+  if (d <= below) out.push_back({d, a, b, link, other});
+}
+
+// The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order.
+std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, bool include_self,
+                                                          double below) const {
+  std::vector<Candidate> out;
+  if (include_scene)
+    for (std::size_t l = 0; l < links_.size(); ++l)
+      for (std::size_t o = 0; o < scene_.size(); ++o)
+        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below);
+  if (include_self)
+    for (const auto& [a, b] : robot_.self_pairs())
+      for (const Part& pa : links_[a])
+        for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+  return out;
+}
+
+bool ExactRobot::collide(const std::vector<::fcl::Transform3d>& X, bool include_self,
+                         double margin) {
+  pose(X);
+  const double above = successor(margin);
+  for (const Candidate& c : candidates(true, include_self, margin))
+    if (pair_distance(c.a, c.b, above) <= margin) return true;
+  return false;
+}
+
+double ExactRobot::distance(const std::vector<::fcl::Transform3d>& X, bool include_self) {
+  pose(X);
+  std::vector<Candidate> c =
+      candidates(true, include_self, std::numeric_limits<double>::infinity());
+  std::sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) {
+    return a.aabb_distance < b.aabb_distance;
+  });
+  double best = std::numeric_limits<double>::infinity();
+  for (const Candidate& p : c) {
+    if (p.aabb_distance >= best) break;  // no later pair can be closer
+    best = std::min(best, pair_distance(p.a, p.b, best));
+    if (best <= 0.0) break;
+  }
+  return best;
+}
+
+double ExactRobot::pair(const std::vector<::fcl::Transform3d>& X, std::size_t link,
+                        std::size_t other, bool self) {
+  pose(X);
+  double best = std::numeric_limits<double>::infinity();
+  for (const Part& p : links_[link]) {
+    if (!self) best = std::min(best, pair_distance(p.object.get(), scene_[other], best));
+    if (self)
+      for (const Part& q : links_[other])
+        best = std::min(best, pair_distance(p.object.get(), q.object.get(), best));
+  }
+  return best;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> ExactRobot::self_pairs_within(
+    const std::vector<::fcl::Transform3d>& X, double margin) {
+  pose(X);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  const double above = successor(margin);
+  for (const Candidate& c : candidates(false, true, margin))
+    if (pair_distance(c.a, c.b, above) <= margin &&
+        (out.empty() || out.back() != std::make_pair(c.link, c.other)))
+      out.emplace_back(c.link, c.other);
+  return out;
+}
+
+}  // namespace medspheres::bench

@@ -1,0 +1,106 @@
+// bench_robot's robot: URDF, link meshes, and sphere sets from a robot file, the cache or
+// a fresh bake (robot_bench_robot.h).
+
+#include "robot_bench_robot.h"
+
+#include <cstdio>
+#include <filesystem>
+#include <sstream>
+
+#include "bench_util.h"
+#include "medspheres/bake/robot_bake.h"
+#include "medspheres/error.h"
+#include "medspheres/io.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/robot/link_solid.h"
+#include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_file.h"
+
+namespace medspheres::bench {
+namespace fs = std::filesystem;
+
+namespace {
+
+// The robot file's links must be the URDF's, in any order.
+void check_same_links(const RobotModel& sets, const UrdfRobot& robot, const std::string& file) {
+  for (const Link& l : robot.model.links)
+    if (sets.find_link(l.name) == nullptr)
+      throw InputError(file, "link \"" + l.name + "\" of " + robot.path + " is missing");
+  if (sets.links.size() != robot.model.links.size())
+    throw InputError(file, "its links are not those of " + robot.path);
+}
+
+RobotModel bake(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
+                const RobotSource& source) {
+  RobotBakeOptions options;
+  options.jobs = source.jobs;
+  options.budget.per_link = source.spheres_per_link;
+  options.outer = true;
+  return bake_robot(robot, solids, options).model;
+}
+
+// The sets for the URDF's links, and a line saying where they came from.
+RobotModel robot_sets(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
+                      const RobotSource& source, std::string& from) {
+  if (!source.robot_file.empty()) {
+    RobotModel m = load_robot(source.robot_file);
+    check_same_links(m, robot, source.robot_file);
+    from = "robot file " + source.robot_file;
+    return m;
+  }
+  std::vector<std::string> keys;
+  for (const LinkSolid& s : solids)
+    for (const LinkSolidPart& p : s.parts) keys.push_back(s.link + " " + p.key);
+  const std::string key =
+      robot_cache_key(read_text_file(robot.path), keys, source.spheres_per_link);
+  const fs::path cached = fs::path(source.cache_dir) / (key + ".robot.json");
+  if (!source.cache_dir.empty() && fs::exists(cached)) {
+    from = "cached bake " + cached.string();
+    return load_robot(cached.string());
+  }
+  const auto t0 = std::chrono::steady_clock::now();
+  RobotModel m = bake(robot, solids, source);
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  char text[64];
+  std::snprintf(text, sizeof text, "baked in %.1f s", s);
+  from = text;
+  if (!source.cache_dir.empty()) {
+    fs::create_directories(source.cache_dir);
+    save_robot(m, cached.string());
+    from += ", cached as " + cached.string();
+  }
+  return m;
+}
+
+}  // namespace
+
+std::string robot_cache_key(const std::string& urdf_text, const std::vector<std::string>& part_keys,
+                            std::size_t spheres_per_link) {
+  std::ostringstream text;
+  text << "medspheres bench_robot v1\nspheres_per_link " << spheres_per_link << "\nurdf "
+       << sha256_hex(urdf_text) << "\n";
+  for (const std::string& k : part_keys) text << "part " << k << "\n";
+  return sha256_hex(text.str());
+}
+
+BenchRobot load_bench_robot(const RobotSource& source) {
+  UrdfReadOptions read;
+  for (const std::string& p : source.packages) add_package_dir(read.packages, p);
+  const UrdfRobot robot = read_urdf(source.urdf, read);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  BenchRobot out;
+  out.model = robot_sets(robot, solids, source, out.spheres_from);
+  for (const LinkSolid& s : solids) {
+    if (s.empty()) continue;
+    ExactLink& exact = out.exact[s.link];
+    exact.spheres = s.spheres;
+    if (s.parts.empty()) continue;
+    const TriangleMesh mesh = s.placed_mesh();
+    out.triangles += mesh.triangles.size();
+    exact.mesh = out.meshes[s.link] = make_bvh<::fcl::OBBRSSd>(mesh);
+    out.solids[exact.mesh.get()] = std::make_shared<MeshQuery>(mesh);
+  }
+  return out;
+}
+
+}  // namespace medspheres::bench
