@@ -68,6 +68,7 @@ struct CoverStats {
   std::size_t spheres = 0;
   std::size_t elements = 0;         ///< surface elements of step 1
   std::size_t interior_points = 0;  ///< interior grid points of step 1
+  std::size_t patches = 0;          ///< surface patches of step 1b
   int rounds_run = 0;               ///< step 3
   int best_round = 0;
   std::size_t repaired = 0;  ///< balls grown by step 5, counted per growth
