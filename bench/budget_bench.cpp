@@ -11,7 +11,9 @@
 //   the solid; for other sets see mc_out), the Monte-Carlo volume of the spheres outside
 //   the solid over V (mc_out), the max protrusion and the largest uncovered distance
 //   found by the certificate (% of the mesh's largest side L), the Monte-Carlo
-//   symmetric-difference error (fit_metrics.h), and the seconds the method took.
+//   symmetric-difference error (fit_metrics.h), and the seconds the method took: wall
+//   clock (sec) and CPU time of the process (cpu, user + system over every thread: the
+//   work, whatever the load of the machine).
 //   --methods curobo: on each G1 link with cuRobo spheres (../shared/robots/unitree_g1/
 //   curobo_unitree_g1.yml, link = mesh stem without "_rev_1_0"), at cuRobo's own count K:
 //   cuRobo's spheres as shipped, the same grown by the largest uncovered distance (the
@@ -19,6 +21,8 @@
 //   is at most a third of the grown set's and its excess volume at most half of it.
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
 // cores.
+#include <sys/resource.h>
+
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -46,13 +50,31 @@ struct Row {
   std::size_t spheres = 0;
   bool certified = false;
   double excess = 0, mc_out = 0, protrusion = 0, uncovered = 0, mc_error = 0, seconds = 0;
+  double cpu = 0;
 };
 
-Row measure(const FitEvaluator& fit, const SphereSet& set, double seconds, std::size_t samples,
+// User + system CPU seconds of the process so far.
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+// Wall and CPU time since a start.
+struct Stopwatch {
+  std::chrono::steady_clock::time_point wall = std::chrono::steady_clock::now();
+  double cpu = cpu_seconds();
+};
+
+Row measure(const FitEvaluator& fit, const SphereSet& set, const Stopwatch* t, std::size_t samples,
             int threads) {
   Row r;
   r.spheres = set.size();
-  r.seconds = seconds;
+  if (t) {
+    r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t->wall).count();
+    r.cpu = cpu_seconds() - t->cpu;
+  }
   CoverCertificateOptions co;
   co.threads = threads;
   const CoverCertificate c = certify_cover(fit.query().mesh(), set.spheres, co);
@@ -72,14 +94,10 @@ Row measure(const FitEvaluator& fit, const SphereSet& set, double seconds, std::
   return r;
 }
 
-double since(std::chrono::steady_clock::time_point t) {
-  return std::chrono::duration<double>(std::chrono::steady_clock::now() - t).count();
-}
-
 void print(const std::string& mesh, std::size_t k, const char* method, const Row& r) {
-  std::printf("%-34s %3zu %-6s %5zu %-4s %9.2f %8.2f %7.2f %7.3f %8.4f %7.3f\n", mesh.c_str(), k,
-              method, r.spheres, r.certified ? "yes" : "NO", r.excess, r.mc_out, r.protrusion,
-              r.uncovered, r.mc_error, r.seconds);
+  std::printf("%-34s %3zu %-6s %5zu %-4s %9.2f %8.2f %7.2f %7.3f %8.4f %7.3f %7.3f\n", mesh.c_str(),
+              k, method, r.spheres, r.certified ? "yes" : "NO", r.excess, r.mc_out, r.protrusion,
+              r.uncovered, r.mc_error, r.seconds, r.cpu);
   std::fflush(stdout);
 }
 
@@ -92,15 +110,15 @@ void run_mesh(const std::string& name, const std::string& path, const std::vecto
     if (methods.find("cover") != std::string::npos) {
       CoverOptions o;
       o.threads = threads;
-      const auto t = std::chrono::steady_clock::now();
+      const Stopwatch t;
       const CoverResult c = bake_cover(fit.query(), K, o);
-      print(name, K, "cover", measure(fit, c.spheres, since(t), samples, threads));
+      print(name, K, "cover", measure(fit, c.spheres, &t, samples, threads));
     }
     if (methods.find("sd") == std::string::npos && methods.find("splus") == std::string::npos)
       continue;
     BakeOptions bo;
     bo.threads = threads;
-    auto t = std::chrono::steady_clock::now();
+    const Stopwatch t;
     BakeResult sd;
     try {
       sd = bake_max_spheres(fit.query(), K, bo);
@@ -108,16 +126,18 @@ void run_mesh(const std::string& name, const std::string& path, const std::vecto
       std::printf("%-34s %3d S_D    failed: %s\n", name.c_str(), k, e.what());
       continue;
     }
-    const double sd_seconds = since(t);
-    if (methods.find("sd") != std::string::npos)
-      print(name, K, "S_D", measure(fit, sd.spheres, sd_seconds, samples, threads));
+    Row sd_row = measure(fit, sd.spheres, &t, samples, threads);
+    if (methods.find("sd") != std::string::npos) print(name, K, "S_D", sd_row);
     if (methods.find("splus") != std::string::npos) {
       DilateOptions d;
       d.threads = threads;
       d.cover_tolerance = 0.003 * loaded.report.largest_side();
-      t = std::chrono::steady_clock::now();
+      const Stopwatch td;
       const DilateResult plus = dilate(fit.query(), sd.spheres, d);
-      print(name, K, "S+", measure(fit, plus.spheres, sd_seconds + since(t), samples, threads));
+      Row plus_row = measure(fit, plus.spheres, &td, samples, threads);
+      plus_row.seconds += sd_row.seconds;  // S+ is S_D dilated: both count
+      plus_row.cpu += sd_row.cpu;
+      print(name, K, "S+", plus_row);
     }
   }
 }
@@ -152,19 +172,19 @@ void run_curobo(const std::string& name, const std::string& path,
   const std::size_t K = link->spheres.size();
   SphereSet shipped;
   shipped.spheres = link->spheres;
-  print(name, K, "cuRobo", measure(fit, shipped, 0.0, samples, threads));
+  print(name, K, "cuRobo", measure(fit, shipped, nullptr, samples, threads));
   CoverCertificateOptions co;
   co.threads = threads;
   const CoverCertificate c = certify_cover(loaded.mesh, shipped.spheres, co);
   SphereSet grown = shipped;
   for (Sphere& s : grown.spheres) s.radius += c.certified ? 0.0 : c.worst_bound + 1e-9 * L;
-  const Row g = measure(fit, grown, 0.0, samples, threads);
+  const Row g = measure(fit, grown, nullptr, samples, threads);
   print(name, K, "grown", g);
   CoverOptions o;
   o.threads = threads;
-  const auto t = std::chrono::steady_clock::now();
+  const Stopwatch t;
   const CoverResult cover = bake_cover(fit.query(), K, o);
-  const Row r = measure(fit, cover.spheres, since(t), samples, threads);
+  const Row r = measure(fit, cover.spheres, &t, samples, threads);
   print(name, K, "cover", r);
   ++tally.links;
   tally.protrusion_third += r.protrusion <= g.protrusion / 3.0;
@@ -209,8 +229,8 @@ int main(int argc, char** argv) {
     std::sort(links.begin(), links.end());
     for (const auto& p : links) meshes.emplace_back("g1/" + p.filename().string(), p.string());
   }
-  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s\n", "mesh", "K", "method", "n",
-              "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec");
+  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s %7s\n", "mesh", "K", "method", "n",
+              "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec", "cpu");
   for (const auto& [name, path] : meshes) {
     if (!only.empty() && name.find(only) == std::string::npos) continue;
     try {

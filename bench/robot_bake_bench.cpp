@@ -1,10 +1,14 @@
 // A whole robot baked with the defaults of `medspheres robot`, end to end: the URDF read,
 // every mesh loaded, every link baked (links in parallel, one job per core) and measured.
-// Prints the per-link table and the total wall clock. Target: the Unitree G1 (40 links)
-// in at most 10 s on 2 cores.
+// Prints the per-link table (the inner set's spheres and nerr, the covering set's spheres,
+// certificate and max protrusion in mm (the URDF's metres), the seconds of the link's bake and of
+// its cover) and the total wall clock and CPU time of the process (user + system: the work,
+// whatever the load of the machine). Target: the Unitree G1 (40 links) in at most 10 s on 2 cores.
 //
 // Usage: bench_robot_bake [URDF] [--package PKG=DIR]... [--jobs N]
 //   URDF defaults to ../shared/robots/unitree_g1/g1_29dof_rev_1_0.urdf when present.
+#include <sys/resource.h>
+
 #include <chrono>
 #include <cstdio>
 #include <filesystem>
@@ -17,6 +21,18 @@
 #include "medspheres/bake/robot_bake.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
+
+namespace {
+
+// User + system CPU seconds of the process so far.
+double cpu_seconds() {
+  rusage u{};
+  getrusage(RUSAGE_SELF, &u);
+  return static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+         1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+}
+
+}  // namespace
 
 int main(int argc, char** argv) {
   using namespace medspheres;
@@ -50,19 +66,29 @@ int main(int argc, char** argv) {
 
   std::printf("%s: %zu links, jobs %d (%d cores)\n\n", urdf.c_str(), robot.links.size(), jobs,
               static_cast<int>(std::thread::hardware_concurrency()));
-  std::printf("%-28s %9s %8s %10s %12s %8s\n", "link", "triangles", "spheres", "nerr", "kind",
-              "seconds");
-  std::size_t spheres = 0, triangles = 0;
+  std::printf("%-28s %9s %7s %8s %12s %6s %5s %8s %8s %8s\n", "link", "triangles", "inner", "nerr",
+              "kind", "outer", "cert", "prot mm", "seconds", "cover s");
+  std::size_t spheres = 0, outer = 0, triangles = 0, certified = 0, covered = 0;
   for (const LinkBakeStats& s : result.links) {
     spheres += s.spheres;
+    outer += s.outer_spheres;
     triangles += s.triangles;
-    std::printf("%-28s %9zu %8zu %10.4f %12s %8.3f %s%s\n", s.link.c_str(), s.triangles, s.spheres,
-                s.nerr, s.nerr_kind.c_str(), s.seconds,
+    covered += s.outer_spheres > 0;
+    certified += s.outer_spheres > 0 && s.outer_certified;
+    std::printf("%-28s %9zu %7zu %8.4f %12s %6zu %5s %8.2f %8.3f %8.3f %s%s\n", s.link.c_str(),
+                s.triangles, s.spheres, s.nerr, s.nerr_kind.c_str(), s.outer_spheres,
+                s.outer_spheres == 0 ? "-"
+                : s.outer_certified  ? "yes"
+                                     : "NO",
+                1000.0 * s.outer_protrusion, s.seconds, s.outer_seconds,
                 s.baked_as.empty() ? "" : ("same bake as " + s.baked_as + " ").c_str(),
                 s.note.c_str());
   }
-  std::printf("%-28s %9zu %8zu\n\n", "total", triangles, spheres);
-  std::printf("read URDF and meshes %.3f s, bake %.3f s, end to end %.3f s\n", load_seconds,
-              result.seconds, total);
+  std::printf("%-28s %9zu %7zu %8s %12s %6zu %5s\n\n", "total", triangles, spheres, "", "", outer,
+              (std::to_string(certified) + "/" + std::to_string(covered)).c_str());
+  std::printf(
+      "read URDF and meshes %.3f s, bake %.3f s, end to end %.3f s wall; CPU %.3f s (user + "
+      "system)\n",
+      load_seconds, result.seconds, total, cpu_seconds());
   return 0;
 }

@@ -300,3 +300,26 @@ TEST_CASE("a budget gives exactly that many inner spheres, or a cover within it"
   CHECK(error_of([&] { validate(cover); }).field() == "dilate");
 }
 #endif
+
+TEST_CASE("bake_mesh on a shared FitEvaluator gives the same spheres as on the mesh",
+          "[bake_pipeline]") {
+  const TriangleMesh m = make_torus(1.0, 0.35, 32, 16);
+  const MeshReport report = analyze_mesh(m);
+  const FitEvaluator fit(m, 1);
+  for (const BakeMethod method : {BakeMethod::kMedial, BakeMethod::kCover}) {
+    BakeRequest r;
+    r.method = method;
+    r.max_spheres = 6;
+    r.medial.threads = 1;
+    const BakeOutcome own = bake_mesh(m, report, r, "torus");
+    const BakeOutcome shared = bake_mesh(fit, report, r, "torus");
+    REQUIRE(own.spheres.size() == shared.spheres.size());
+    for (std::size_t i = 0; i < own.spheres.size(); ++i) {
+      CHECK(own.spheres.spheres[i].center == shared.spheres.spheres[i].center);
+      CHECK(own.spheres.spheres[i].radius == shared.spheres.spheres[i].radius);
+    }
+  }
+  BakeRequest bad;
+  bad.max_spheres = 0;
+  CHECK_THROWS_AS(bake_mesh(fit, report, bad, "torus"), InputError);
+}

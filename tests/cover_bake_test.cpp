@@ -44,6 +44,7 @@ TEST_CASE("bake_cover: certified, within budget, on generated solids at K = 1..6
     for (std::size_t k : {1, 2, 3, 4, 8, 16, 32, 64}) {
       INFO(solid.name << " K = " << k);
       const CoverResult r = bake_cover(query, k);
+      INFO("repaired " << r.stats.repaired << " union " << r.stats.union_volume);
       CHECK(r.stats.certified);
       CHECK(r.certificate.certified);
       CHECK(r.spheres.size() >= 1);

@@ -41,6 +41,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "medspheres/min_enclosing_ball.h"
 #include "medspheres/proximity_target.h"
 #include "medspheres/rss.h"
 #include "medspheres/sphere_set.h"
@@ -75,7 +76,7 @@ class SphereTree {
   /// A node's bounding ball (bounding_ball()) has radius R with R* <= R <=
   /// (1 + ball_slack) R*, R* the minimum enclosing ball's, to rounding, and encloses every
   /// sphere below the node exactly (rounded up).
-  static constexpr double ball_slack = 1e-9;
+  static constexpr double ball_slack = kEnclosingBallSlack;
 
   /// An empty tree.
   SphereTree();

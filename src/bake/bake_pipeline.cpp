@@ -214,10 +214,16 @@ BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
                       const BakeRequest& request, const std::string& name,
                       const std::string& sha256) {
   validate(request);
+  check_medial_tolerance(request, report.largest_side(), name);
+  // Orients a copy (a no-op after the loader), builds the mesh query, computes the volume.
+  return bake_mesh(FitEvaluator(mesh, request.medial.threads), report, request, name, sha256);
+}
+
+BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& request,
+                      const std::string& name, const std::string& sha256) {
+  validate(request);
   const double longest = report.largest_side();
   check_medial_tolerance(request, longest, name);
-  // Orients a copy (a no-op after the loader), builds the mesh query, computes the volume.
-  const FitEvaluator fit(mesh, request.medial.threads);
   if (request.target_error && !fit.volume())
     throw InputError::option(ErrorKind::kUnsupported, "target_error",
                              number_text(*request.target_error),

@@ -22,12 +22,13 @@
 #include <limits>
 #include <stdexcept>
 #include <string>
+#include <unordered_map>
 #include <vector>
 
-#include "../runtime/bvh_build.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/bake/union_volume.h"
 #include "medspheres/mesh/threads.h"
+#include "medspheres/min_enclosing_ball.h"
 
 namespace medspheres {
 
@@ -35,15 +36,23 @@ namespace {
 
 constexpr int kMaxElementDepth = 5;
 constexpr double kElementCap = 40000.0;
+// Patches (step 1b): at most max(kPatchFloor, kPatchesPerBall K) on the surface.
+constexpr double kPatchFloor = 1500.0;
+constexpr double kPatchesPerBall = 60.0;
 
 // Constraint points and the elements made of them: elements [0, surface) are surface
 // pieces (three point indices), the rest interior points (one index, thrice).
+// Patches (step 1b) are elements too, without points: each is the ball (centroid, reach)
+// that holds the points of the fine elements it stands for.
 struct Elements {
   std::vector<Eigen::Vector3d> points;
-  std::vector<std::array<int, 3>> items;
+  std::vector<std::array<int, 3>> items;  // empty for patches
   std::vector<Eigen::Vector3d> centroids;
   std::vector<double> reach;  // largest centroid-corner distance
   std::size_t surface = 0;
+  double element_size = 0.0;  // the surface elements' target length
+  bool patches() const { return items.empty(); }
+  std::size_t size() const { return centroids.size(); }
 };
 
 void push_element(Elements& e, int a, int b, int c) {
@@ -103,6 +112,7 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOp
     h *= 1.5;
   }
   Elements e;
+  e.element_size = h;
   e.points = mesh.vertices;
   for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
     const int d = depth(edge[t], h);
@@ -130,21 +140,88 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOp
 }
 
 // The growth ball (c, r) needs to hold element i: max over its points of |p - c| - r.
-double need(const Elements& e, std::size_t i, const detail::Ball& b) {
+// The distance from c to the farthest point of element i (of its ball, for a patch).
+double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
+  if (e.patches()) return (e.centroids[i] - c).norm() + e.reach[i];
   double m = 0.0;
-  for (int p : e.items[i])
-    m = std::max(m, (e.points[static_cast<std::size_t>(p)] - b.center).norm());
-  return m - b.radius;
+  for (int p : e.items[i]) m = std::max(m, (e.points[static_cast<std::size_t>(p)] - c).norm());
+  return m;
+}
+
+double need(const Elements& e, std::size_t i, const Sphere& b) {
+  return farthest(e, i, b.center) - b.radius;
+}
+
+// Step 1b. The surface elements grouped by the cell (side \p cell) of a grid that holds
+// their centroid; each group becomes one patch, the ball about its points' bounding box
+// that holds them. Interior points stay patches of their own. Patches are numbered by
+// their first element, so the grouping depends on nothing but the elements.
+struct Patching {
+  Elements patches;
+  std::vector<int> patch_of;  // per element
+};
+
+// The grid cell of side \p cell that holds g (21 bits per axis).
+std::uint64_t cell_key(const Eigen::Vector3d& g, const Eigen::Vector3d& origin, double cell) {
+  std::uint64_t key = 0;
+  for (int a = 0; a < 3; ++a)
+    key = key << 21 |
+          (static_cast<std::uint64_t>(std::max(0.0, std::floor((g[a] - origin[a]) / cell))) &
+           0x1FFFFF);
+  return key;
+}
+
+Patching make_patches(const Elements& e, double cell, const Eigen::Vector3d& origin) {
+  Patching out;
+  out.patch_of.resize(e.size());
+  std::unordered_map<std::uint64_t, int> index;
+  std::vector<std::vector<std::size_t>> groups;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    const std::uint64_t key = cell_key(e.centroids[i], origin, cell);
+    const int fresh = static_cast<int>(groups.size());
+    const int g = i < e.surface ? index.emplace(key, fresh).first->second : fresh;
+    if (g == fresh) groups.emplace_back();
+    groups[static_cast<std::size_t>(g)].push_back(i);
+    out.patch_of[i] = g;
+    if (i + 1 == e.surface) out.patches.surface = groups.size();
+  }
+  Elements& p = out.patches;
+  for (const std::vector<std::size_t>& group : groups) {
+    Eigen::AlignedBox3d box;
+    for (std::size_t i : group)
+      for (int q : e.items[i]) box.extend(e.points[static_cast<std::size_t>(q)]);
+    const Eigen::Vector3d c = box.center();
+    double r = 0.0;
+    for (std::size_t i : group) r = std::max(r, farthest(e, i, c));
+    p.centroids.push_back(c);
+    p.reach.push_back(r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()));
+  }
+  return out;
+}
+
+// The side of the patch grid: half the element size, coarsened (by 1.25 at a time) until
+// there are at most max(kPatchFloor, kPatchesPerBall K) surface patches.
+double patch_cell(const Elements& e, std::size_t budget, double element_size,
+                  const Eigen::Vector3d& origin) {
+  const double cap = std::max(kPatchFloor, kPatchesPerBall * static_cast<double>(budget));
+  std::unordered_map<std::uint64_t, char> seen;
+  for (double cell = 0.5 * element_size;; cell *= 1.25) {
+    seen.clear();
+    for (std::size_t i = 0; i < e.surface && static_cast<double>(seen.size()) <= cap; ++i) {
+      seen.emplace(cell_key(e.centroids[i], origin, cell), 1);
+    }
+    if (static_cast<double>(seen.size()) <= cap) return cell;
+  }
 }
 
 // Each element to the centre whose farthest point of the element is nearest (ties: lowest
 // index), a Voronoi assignment of whole elements. (Assigning by the growth a ball needs,
 // which favours large balls, gave larger unions on most meshes tried.) The centroid
 // bounds the farthest distance within |g - c| +- reach, which skips most centres.
-void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vector<int>& owner,
+void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int>& owner,
             int threads) {
-  const long long n = static_cast<long long>(e.items.size());
-  owner.resize(e.items.size());
+  const long long n = static_cast<long long>(e.size());
+  owner.resize(e.size());
 #pragma omp parallel num_threads(threads)
   {
     std::vector<double> lo(balls.size());
@@ -161,7 +238,7 @@ void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vect
       int arg = 0;
       for (std::size_t j = 0; j < balls.size(); ++j) {
         if (lo[j] > best_hi || lo[j] >= best) continue;
-        const double v = need(e, i, balls[j]) + balls[j].radius;
+        const double v = farthest(e, i, balls[j].center);
         if (v < best) {
           best = v;
           arg = static_cast<int>(j);
@@ -174,16 +251,16 @@ void assign(const Elements& e, const std::vector<detail::Ball>& balls, std::vect
 
 // Farthest-point sampling of the centroids up to k centres, after the centres of \p start;
 // for an empty start the first centre is centroid \p first.
-std::vector<detail::Ball> seeds(const Elements& e, std::size_t k, std::vector<detail::Ball> start,
-                                std::size_t first) {
+std::vector<Sphere> seeds(const Elements& e, std::size_t k, std::vector<Sphere> start,
+                          std::size_t first) {
   std::vector<double> d(e.centroids.size(), std::numeric_limits<double>::infinity());
   auto add = [&](const Eigen::Vector3d& c) {
     for (std::size_t i = 0; i < d.size(); ++i)
       d[i] = std::min(d[i], (e.centroids[i] - c).squaredNorm());
   };
   if (start.empty()) start.push_back({e.centroids[first], 0.0});
-  for (const detail::Ball& b : start) add(b.center);
-  std::vector<detail::Ball> out = std::move(start);
+  for (const Sphere& b : start) add(b.center);
+  std::vector<Sphere> out = std::move(start);
   while (out.size() < k) {
     const std::size_t far =
         static_cast<std::size_t>(std::max_element(d.begin(), d.end()) - d.begin());
@@ -212,53 +289,67 @@ std::size_t first_seed(const Elements& e, std::uint64_t seed, int s) {
   return far;
 }
 
-// The distinct points of the elements in \p members.
-std::vector<Eigen::Vector3d> points_of(const Elements& e, const std::vector<std::size_t>& members,
-                                       std::vector<char>& mark) {
-  std::vector<Eigen::Vector3d> pts;
+// What a ball must hold to hold the elements in \p members: their distinct points (balls
+// of radius 0), or for patches their balls.
+std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
+                             std::vector<char>& mark) {
+  std::vector<Sphere> atoms;
+  if (e.patches()) {
+    for (std::size_t i : members) atoms.push_back({e.centroids[i], e.reach[i]});
+    return atoms;
+  }
   for (std::size_t i : members)
     for (int p : e.items[i])
       if (!mark[static_cast<std::size_t>(p)]) {
         mark[static_cast<std::size_t>(p)] = 1;
-        pts.push_back(e.points[static_cast<std::size_t>(p)]);
+        atoms.push_back({e.points[static_cast<std::size_t>(p)], 0.0});
       }
   for (std::size_t i : members)
     for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
-  return pts;
+  return atoms;
+}
+
+// The radius that the ball centred at c needs to hold \p atoms.
+double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (const Sphere& a : atoms) r = std::max(r, (a.center - c).norm() + a.radius);
+  return r;
 }
 
 // The minimum enclosing ball of the points of the elements in \p members, by a core set:
 // the minimum ball of a subset (first the extreme points along the axes and the
 // diagonals) is the answer once it holds every point; otherwise the farthest points
 // outside join the subset. The subset stays small, so each exact solve is cheap.
-detail::Ball fit(const Elements& e, const std::vector<std::size_t>& members,
-                 std::vector<char>& mark) {
-  const std::vector<Eigen::Vector3d> pts = points_of(e, members, mark);
-  std::vector<detail::Ball> core;
+Sphere fit(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark) {
+  const std::vector<Sphere> pts = atoms_of(e, members, mark);
+  std::vector<Sphere> core;
   static const double kDirections[13][3] = {
       {1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
       {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
   for (const auto& d : kDirections) {
     const Eigen::Vector3d dir(d[0], d[1], d[2]);
+    const double norm = dir.norm();
+    auto low = [&](std::size_t i) { return pts[i].center.dot(dir) - pts[i].radius * norm; };
+    auto high = [&](std::size_t i) { return pts[i].center.dot(dir) + pts[i].radius * norm; };
     std::size_t lo = 0, hi = 0;
     for (std::size_t i = 1; i < pts.size(); ++i) {
-      if (pts[i].dot(dir) < pts[lo].dot(dir)) lo = i;
-      if (pts[i].dot(dir) > pts[hi].dot(dir)) hi = i;
+      if (low(i) < low(lo)) lo = i;
+      if (high(i) > high(hi)) hi = i;
     }
-    core.push_back({pts[lo], 0.0});
-    core.push_back({pts[hi], 0.0});
+    core.push_back(pts[lo]);
+    core.push_back(pts[hi]);
   }
   for (;;) {
-    const detail::Ball b = detail::min_enclosing_ball(core);
+    const Sphere b = min_enclosing_ball(core);
     std::vector<std::pair<double, std::size_t>> out;
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      const double d = (pts[i] - b.center).norm();
+      const double d = (pts[i].center - b.center).norm() + pts[i].radius;
       if (d > b.radius) out.emplace_back(-d, i);
     }
     if (out.empty()) return b;
     const std::size_t take = std::min<std::size_t>(out.size(), 32);
     std::partial_sort(out.begin(), out.begin() + static_cast<long>(take), out.end());
-    for (std::size_t k = 0; k < take; ++k) core.push_back({pts[out[k].second], 0.0});
+    for (std::size_t k = 0; k < take; ++k) core.push_back(pts[out[k].second]);
   }
 }
 
@@ -268,22 +359,21 @@ std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, 
   return m;
 }
 
-double union_volume(const std::vector<detail::Ball>& balls) {
+double union_volume(const std::vector<Sphere>& balls) {
   std::vector<Sphere> s;
-  for (const detail::Ball& b : balls)
+  for (const Sphere& b : balls)
     if (b.radius > 0.0) s.push_back({b.center, b.radius});
   return measure_union(s).volume;
 }
 
 // Step 3. An empty cluster is reseeded at the element that needs the most growth.
 struct Clustering {
-  std::vector<detail::Ball> balls;
+  std::vector<Sphere> balls;
   std::vector<int> owner;
   int rounds = 0, best_round = 0;
 };
 
-Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const CoverOptions& o,
-                 int threads) {
+Clustering lloyd(const Elements& e, std::vector<Sphere> balls, const CoverOptions& o, int threads) {
   Clustering best;
   std::vector<int> owner;
   std::vector<char> mark(e.points.size(), 0);
@@ -299,7 +389,7 @@ Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const Cover
       }
       std::size_t worst = 0;
       double worst_need = -1.0;
-      for (std::size_t i = 0; i < e.items.size(); ++i) {
+      for (std::size_t i = 0; i < e.size(); ++i) {
         const double v = need(e, i, balls[static_cast<std::size_t>(owner[i])]);
         if (v > worst_need) worst_need = v, worst = i;
       }
@@ -324,22 +414,18 @@ Clustering lloyd(const Elements& e, std::vector<detail::Ball> balls, const Cover
 
 namespace {
 
-bool holds(const Elements& e, std::size_t i, const detail::Ball& b) {
+bool holds(const Elements& e, std::size_t i, const Sphere& b) {
   const double reach = b.radius + e.reach[i];
   if ((e.centroids[i] - b.center).squaredNorm() > reach * reach) return false;
-  for (int p : e.items[i])
-    if ((e.points[static_cast<std::size_t>(p)] - b.center).norm() > b.radius) return false;
-  return true;
+  return farthest(e, i, b.center) <= b.radius;
 }
 
 // How far the ball centred at c that holds \p pts sticks out of the solid: its radius
 // minus the signed distance of c (positive inside).
-double protrusion_at(const MeshQuery& query, const std::vector<Eigen::Vector3d>& pts,
+double protrusion_at(const MeshQuery& query, const std::vector<Sphere>& atoms,
                      const Eigen::Vector3d& c) {
-  double r = 0.0;
-  for (const Eigen::Vector3d& p : pts) r = std::max(r, (p - c).squaredNorm());
   const double d = query.closest_point(c).distance();
-  return std::sqrt(r) - (query.inside(c) ? d : -d);
+  return reach_from(atoms, c) - (query.inside(c) ? d : -d);
 }
 
 // Step 3b. The minimum enclosing ball is the smallest ball holding a patch, not the one
@@ -357,7 +443,7 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
     for (long long jj = 0; jj < k; ++jj) {
       const std::size_t j = static_cast<std::size_t>(jj);
       if (members[j].empty()) continue;
-      const std::vector<Eigen::Vector3d> pts = points_of(e, members[j], mark);
+      const std::vector<Sphere> pts = atoms_of(e, members[j], mark);
       Eigen::Vector3d x = c.balls[j].center;
       double fx = protrusion_at(query, pts, x);
       for (double step = 0.25 * c.balls[j].radius; step > 1e-3 * c.balls[j].radius;) {
@@ -369,9 +455,7 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
         }
         if (!moved) step *= 0.5;
       }
-      double r = 0.0;
-      for (const Eigen::Vector3d& p : pts) r = std::max(r, (p - x).norm());
-      c.balls[j] = {x, r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
+      c.balls[j] = {x, reach_from(pts, x) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
     }
   }
 }
@@ -403,9 +487,8 @@ void shrink(const Elements& e, Clustering& c) {
       if (keep.size() == members[j].size()) continue;
       members[j] = keep;
       const double before = c.balls[j].radius;
-      double r = 0.0;  // the same centre, just large enough for what it keeps
-      for (const Eigen::Vector3d& p : points_of(e, keep, mark))
-        r = std::max(r, (p - c.balls[j].center).norm());
+      // The same centre, just large enough for what it keeps.
+      const double r = reach_from(atoms_of(e, keep, mark), c.balls[j].center);
       c.balls[j].radius =
           keep.empty() ? 0.0 : r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
       changed = changed || c.balls[j].radius < before;
@@ -415,7 +498,7 @@ void shrink(const Elements& e, Clustering& c) {
 }
 
 // Steps 3 and 4 from the centres \p start.
-Clustering optimise(const MeshQuery& query, const Elements& e, std::vector<detail::Ball> start,
+Clustering optimise(const MeshQuery& query, const Elements& e, std::vector<Sphere> start,
                     const CoverOptions& o, int threads) {
   Clustering c = lloyd(e, std::move(start), o, threads);
   deepen(query, e, c, threads);
@@ -446,6 +529,56 @@ std::size_t repair(std::vector<Sphere>& balls, const CoverCertificate& cert, dou
     if (r > balls[arg].radius) balls[arg].radius = r, ++grown;
   }
   return grown;
+}
+
+// Step 4b. The elements follow the patches that stood for them (\p c clusters the
+// patches); each ball is refitted as the minimum enclosing ball of its elements' points,
+// then the inward moves of step 3 and the shrink of step 4 run on the elements themselves,
+// whose points are tighter than the patches' balls. (So one ball is the same whatever the
+// patches: the minimum ball of the surface, moved inward.)
+Clustering follow(const MeshQuery& query, const Elements& e, const Patching& patching, Clustering c,
+                  int threads) {
+  std::vector<int> owner(e.size());
+  for (std::size_t i = 0; i < e.size(); ++i)
+    owner[i] = c.owner[static_cast<std::size_t>(patching.patch_of[i])];
+  c.owner = std::move(owner);
+  const auto members = members_of(c.owner, c.balls.size());
+  std::vector<char> mark(e.points.size(), 0);
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    c.balls[j] = members[j].empty() ? Sphere{c.balls[j].center, 0.0} : fit(e, members[j], mark);
+  deepen(query, e, c, threads);
+  shrink(e, c);
+  return c;
+}
+
+// Steps 2 to 4 from every start, on the patches, each result carried over to the elements
+// (step 4b); the smallest union of the elements' balls wins.
+Clustering search(const MeshQuery& query, const Elements& e, const Patching& patching,
+                  std::size_t budget, const CoverOptions& options, int threads) {
+  const Elements& p = patching.patches;
+  Clustering c;
+  double best = std::numeric_limits<double>::infinity();
+  for (int start = 0; start < options.starts; ++start) {
+    // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
+    // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
+    const std::size_t first_k = start == 0 ? 1 : budget;
+    Clustering d = optimise(query, p, seeds(p, first_k, {}, first_seed(p, options.seed, start)),
+                            options, threads);
+    // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
+    // centre, and keep the result if its union is smaller.
+    std::vector<Sphere> live;
+    for (const Sphere& b : d.balls)
+      if (b.radius > 0.0) live.push_back(b);
+    Clustering f;
+    if (live.size() < budget)
+      f = follow(query, e, patching,
+                 optimise(query, p, seeds(p, budget, live, 0), options, threads), threads);
+    d = follow(query, e, patching, std::move(d), threads);
+    if (!f.balls.empty() && union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
+    const double v = union_volume(d.balls);
+    if (v < best) best = v, c = std::move(d);
+  }
+  return c;
 }
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {
@@ -490,32 +623,16 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Elements e = make_elements(query, budget, options);
   s.elements = e.surface;
   s.interior_points = e.items.size() - e.surface;
-  Clustering c;
-  double best = std::numeric_limits<double>::infinity();
-  for (int start = 0; start < options.starts; ++start) {
-    // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
-    // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
-    const std::size_t first_k = start == 0 ? 1 : budget;
-    Clustering d = optimise(query, e, seeds(e, first_k, {}, first_seed(e, options.seed, start)),
-                            options, threads);
-    // Balls the shrink removed leave budget: reseed it where the surface is farthest from a
-    // centre, and keep the result if its union is smaller.
-    std::vector<detail::Ball> live;
-    for (const detail::Ball& b : d.balls)
-      if (b.radius > 0.0) live.push_back(b);
-    if (live.size() < budget) {
-      Clustering f = optimise(query, e, seeds(e, budget, live, 0), options, threads);
-      if (union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
-    }
-    const double v = union_volume(d.balls);
-    if (v < best) best = v, c = std::move(d);
-  }
+  const Eigen::Vector3d origin = mesh.bounds().min();
+  const Patching patching = make_patches(e, patch_cell(e, budget, e.element_size, origin), origin);
+  s.patches = patching.patches.surface;
+  const Clustering c = search(query, e, patching, budget, options, threads);
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;
   const double coordinates =
       mesh.bounds().min().cwiseAbs().cwiseMax(mesh.bounds().max().cwiseAbs()).maxCoeff();
   std::vector<Sphere>& balls = out.spheres.spheres;
-  for (const detail::Ball& b : c.balls)
+  for (const Sphere& b : c.balls)
     if (b.radius > 0.0)
       balls.push_back({b.center, b.radius + radius_slack(s.largest_side, coordinates + b.radius)});
   CoverCertificateOptions co = options.certificate;

@@ -39,6 +39,7 @@ struct BakeJob {
   BakeOutcome outcome;
   std::optional<BakeOutcome> outer;  ///< the cover, when outer sets are baked
   double seconds = 0.0;
+  double outer_seconds = 0.0;  ///< of seconds, the cover's
   std::exception_ptr error;
 };
 
@@ -82,7 +83,7 @@ std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isom
 }
 
 // The cover of a job's mesh to the job's budget (the request's, or the default).
-BakeOutcome bake_outer(const TriangleMesh& mesh, const MeshReport& report, const BakeRequest& inner,
+BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& inner,
                        const BakeJob& job, const std::string& name, const std::string& sha256) {
   BakeRequest request;
   request.method = BakeMethod::kCover;
@@ -90,7 +91,7 @@ BakeOutcome bake_outer(const TriangleMesh& mesh, const MeshReport& report, const
   request.seed = inner.seed;
   request.max_spheres = job.budget ? job.budget : inner.max_spheres;
   if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
-  return bake_mesh(mesh, report, request, name, sha256);
+  return bake_mesh(fit, report, request, name, sha256);
 }
 
 // What the robot file records of an outer set's certificate.
@@ -123,30 +124,46 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
     const std::string name = one ? solid.parts[0].source : "link '" + solid.link + "'";
     const std::string sha = one ? solid.parts[0].sha256 : "";
     const MeshReport report = analyze_mesh(mesh);
-    job.outcome = bake_mesh(mesh, report, request, name, sha);
-    if (outer) job.outer = bake_outer(mesh, report, request, job, name, sha);
+    // One query (and volume, and self-intersections) for both sets; the request is
+    // checked before it is built, as bake_mesh(mesh, ...) would.
+    validate(request);
+    const FitEvaluator fit(mesh, threads);
+    job.outcome = bake_mesh(fit, report, request, name, sha);
+    if (outer) {
+      const Clock::time_point cover_start = Clock::now();
+      job.outer = bake_outer(fit, report, request, job, name, sha);
+      job.outer_seconds = seconds_since(cover_start);
+    }
   } catch (...) {
     job.error = std::current_exception();
   }
   job.seconds = seconds_since(start);
 }
 
-// Runs every job on `workers` threads; `done(j)` is called after job j, one call at a time.
+// Runs every job on `workers` threads, the largest (most triangles; ties: lower index)
+// first, so that the last to finish is a small one; `done(j)` is called after job j, one
+// call at a time. After a failure only jobs of a lower index than the lowest failure so far
+// still run, so the lowest failing job is always known, whatever the order of completion.
 void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
               const BakeRequest& request, bool outer, int workers,
               const std::function<void(std::size_t)>& done) {
   const int per_bake = std::max(1, thread_count(request.medial.threads) / workers);
+  std::vector<std::size_t> order(jobs.size());
+  for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return solids[jobs[a].link].triangles() > solids[jobs[b].link].triangles();
+  });
   std::atomic<std::size_t> next{0};
-  std::atomic<bool> failed{false};
+  std::atomic<std::size_t> lowest_failed{jobs.size()};
   std::mutex report;
-  // After a failure no new job starts. Jobs start in index order, so every job before the
-  // failed one has started and runs to its end: the lowest failing job is always known.
   auto work = [&] {
-    for (std::size_t j = next++; j < jobs.size() && !failed; j = next++) {
+    for (std::size_t k = next++; k < order.size(); k = next++) {
+      const std::size_t j = order[k];
+      if (j > lowest_failed) continue;
       run_job(jobs[j], solids[jobs[j].link], request,
               workers == 1 ? request.medial.threads : per_bake, outer);
-      if (jobs[j].error) failed = true;
       std::lock_guard<std::mutex> lock(report);
+      if (jobs[j].error) lowest_failed = std::min<std::size_t>(lowest_failed, j);
       done(j);
     }
   };
@@ -188,6 +205,7 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
     stats.nerr_kind = to_string(job.outcome.volume->kind);
   }
   stats.seconds = own ? job.seconds : 0.0;
+  stats.outer_seconds = own ? job.outer_seconds : 0.0;
   if (!job.outer) return;
   const bool one = solid.parts.size() == 1;
   const CoverResult& cover = *job.outer->cover;
@@ -274,7 +292,7 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
       continue;
     }
     const auto [it, fresh] = job_by_key.emplace(job_key(solids[i], budgets[i]), jobs.size());
-    if (fresh) jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, 0.0, nullptr});
+    if (fresh) jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, 0.0, 0.0, nullptr});
     job_of[i] = it->second;
   }
 

@@ -4,12 +4,10 @@
 #include <cmath>
 #include <cstddef>
 #include <limits>
-#include <list>
 #include <numeric>
 #include <utility>
 
 #include <Eigen/Eigenvalues>
-#include <Eigen/LU>
 
 #include "medspheres/assert.h"
 #include "medspheres/sphere_tree.h"
@@ -39,92 +37,6 @@ Eigen::Matrix3d pca_axes(const std::vector<Ball>& balls) {
   axes.col(2) = axes.col(0).cross(axes.col(1)).normalized();
   if (!axes.allFinite()) return Eigen::Matrix3d::Identity();
   return axes;
-}
-
-// The exact (to rounding) smallest ball containing a finite point set: Welzl's
-// move-to-front algorithm with an explicit support set of at most four points, as in
-// Gärtner's "Fast and robust smallest enclosing balls" (1999). A point that is affinely
-// dependent on the current support set, up to a relative tolerance, is not pushed; the
-// caller's cutting-plane loop makes the final ball enclose everything regardless.
-class PointMiniball {
- public:
-  explicit PointMiniball(std::list<Eigen::Vector3d>& points) : points_(points) {
-    mtf(points_.end());
-  }
-
-  const Eigen::Vector3d& center() const { return center_; }
-  double radius() const { return sqr_radius_ < 0.0 ? 0.0 : std::sqrt(sqr_radius_); }
-
- private:
-  // The smallest ball of the points before `end` with the support set on its boundary.
-  // The current ball is changed by push() only: after a recursive call it is the ball
-  // that call found, which is what the loop continues from.
-  void mtf(std::list<Eigen::Vector3d>::iterator end) {
-    if (size_ == 4) return;
-    for (auto it = points_.begin(); it != end;) {
-      const auto next = std::next(it);
-      const double e = (*it - center_).squaredNorm() - sqr_radius_;
-      if (e > 1e-13 * std::max(sqr_radius_, 0.0) && push(*it)) {
-        mtf(it);
-        --size_;
-        points_.splice(points_.begin(), points_, it);
-      }
-      it = next;
-    }
-  }
-
-  // Adds p to the support set and makes the current ball the smallest one with the whole
-  // support set on its boundary; false (and no change) when p is nearly affinely
-  // dependent on the set.
-  bool push(const Eigen::Vector3d& p) {
-    const int k = size_;  // points already in the support set
-    if (k == 0) {
-      support_[0] = p;
-      center_ = p;
-      sqr_radius_ = 0.0;
-      size_ = 1;
-      return true;
-    }
-    // Centre c = q0 + sum_j lambda_j d_j with d_j = q_j - q0, j = 1..k, and
-    // 2 d_j . (c - q0) = |d_j|^2.
-    support_[k] = p;
-    Eigen::Matrix<double, 3, Eigen::Dynamic> d(3, k);
-    for (int j = 1; j <= k; ++j) d.col(j - 1) = support_[j] - support_[0];
-    const Eigen::MatrixXd gram = d.transpose() * d;
-    double diag_product = 1.0;
-    for (int j = 0; j < k; ++j) diag_product *= gram(j, j);
-    if (!(diag_product > 0.0)) return false;
-    if (!(gram.determinant() > 1e-12 * diag_product)) return false;
-    Eigen::VectorXd rhs(k);
-    for (int j = 0; j < k; ++j) rhs[j] = 0.5 * gram(j, j);
-    const Eigen::VectorXd lambda = gram.partialPivLu().solve(rhs);
-    const Eigen::Vector3d offset = d * lambda;
-    if (!offset.allFinite()) return false;
-    center_ = support_[0] + offset;
-    sqr_radius_ = offset.squaredNorm();
-    size_ = k + 1;
-    return true;
-  }
-
-  std::list<Eigen::Vector3d>& points_;
-  Eigen::Vector3d support_[4];
-  Eigen::Vector3d center_ = Eigen::Vector3d::Zero();
-  double sqr_radius_ = -1.0;  // negative: the empty ball
-  int size_ = 0;
-};
-
-// The farthest point of ball b from x, and its distance.
-Eigen::Vector3d farthest_point(const Ball& b, const Eigen::Vector3d& x) {
-  const Eigen::Vector3d v = b.center - x;
-  const double len = v.norm();
-  if (len > 0.0) return b.center + v * (b.radius / len);
-  return b.center + Eigen::Vector3d::UnitX() * b.radius;
-}
-
-double enclosing_radius(const std::vector<Ball>& balls, const Eigen::Vector3d& c) {
-  double r = 0.0;
-  for (const Ball& b : balls) r = std::max(r, (b.center - c).norm() + b.radius);
-  return r;
 }
 
 // Box, in the frame of `axes`, of the balls of one item, grown into [lo, hi].
@@ -337,42 +249,6 @@ Rss fit_rss(const Eigen::Matrix3d& axes, const std::vector<Ball>& balls) {
   const double extent = rss.corner.cwiseAbs().maxCoeff() + rss.length[0] + rss.length[1] + need;
   rss.radius = need + 16.0 * kEps * extent;
   return rss;
-}
-
-Ball min_enclosing_ball(const std::vector<Ball>& balls) {
-  MEDSPHERES_ASSERT(!balls.empty());
-  if (balls.size() == 1) return balls.front();
-
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  for (const Ball& b : balls) center += b.center;
-  center /= static_cast<double>(balls.size());
-
-  // Cutting planes: P holds points on the spheres, so its smallest ball (radius r_p)
-  // is no larger than the answer; stop once the ball of the same centre that encloses
-  // every sphere is within ball_slack of it.
-  std::list<Eigen::Vector3d> points;
-  double r_p = -1.0;
-  // Each round grows r_p strictly; 200 rounds are far more than the tests ever need.
-  constexpr int kMaxRounds = 200;
-  for (int round = 0; round <= kMaxRounds; ++round) {
-    const double r = enclosing_radius(balls, center);
-    if (r_p >= 0.0 && r <= r_p * (1.0 + SphereTree::ball_slack)) break;
-    MEDSPHERES_ASSERT(round < kMaxRounds);
-    if (round == kMaxRounds) break;
-    const double add_above = r_p * (1.0 + 0.5 * SphereTree::ball_slack);
-    for (const Ball& b : balls) {
-      if ((b.center - center).norm() + b.radius > add_above)
-        points.push_back(farthest_point(b, center));
-    }
-    const PointMiniball miniball(points);
-    center = miniball.center();
-    r_p = miniball.radius();
-  }
-  Ball ball;
-  ball.center = center;
-  const double r = enclosing_radius(balls, center);
-  ball.radius = r + 16.0 * kEps * (center.cwiseAbs().maxCoeff() + r);
-  return ball;
 }
 
 }  // namespace medspheres::detail

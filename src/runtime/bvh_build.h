@@ -1,21 +1,19 @@
 #pragma once
 // Top-down construction shared by SphereTree and TriangleTree: the PCA split of paper
-// §5.2, the RSS fit of Larsen et al. to a set of balls, and the minimum enclosing ball of
-// balls. Private to the runtime target.
+// §5.2 and the RSS fit of Larsen et al. to a set of balls (their minimum enclosing ball:
+// medspheres/min_enclosing_ball.h). Private to the runtime target.
 
 #include <vector>
 
 #include <Eigen/Core>
 
 #include "medspheres/rss.h"
+#include "medspheres/sphere_set.h"
 
 namespace medspheres::detail {
 
 /// A closed ball; radius 0 makes it a point (a triangle is fitted as its three corners).
-struct Ball {
-  Eigen::Vector3d center = Eigen::Vector3d::Zero();
-  double radius = 0.0;
-};
+using Ball = Sphere;
 
 /// One node of a hierarchy under construction.
 struct BuildNode {
@@ -52,10 +50,5 @@ Rss fit_rss(const Eigen::Matrix3d& axes, const std::vector<Ball>& balls);
 
 /// The largest value of dist(c, rectangle) + r over the balls, computed in double.
 double rss_containment_radius(const Rss& rss, const std::vector<Ball>& balls);
-
-/// The minimum enclosing ball of the balls, within SphereTree::ball_slack, with its
-/// radius recomputed to enclose every ball and rounded up (see SphereTree::ball_slack).
-/// Precondition: balls is not empty.
-Ball min_enclosing_ball(const std::vector<Ball>& balls);
 
 }  // namespace medspheres::detail

@@ -7,6 +7,7 @@
 #include <string>
 
 #include "bvh_build.h"
+#include "medspheres/min_enclosing_ball.h"
 #include "sphere_tree_layout.h"
 
 namespace medspheres {
@@ -49,7 +50,7 @@ void node_links(const SphereTree::Layout& l, std::size_t node, std::int32_t& fir
 void write_node(BoundingVolumeKind kind, const Eigen::Matrix3d& axes,
                 const std::vector<detail::Ball>& balls, double max_r, std::int32_t first,
                 std::int32_t count, unsigned char* base, std::size_t k) {
-  const detail::Ball ball = detail::min_enclosing_ball(balls);
+  const detail::Ball ball = min_enclosing_ball(balls);
   if (kind == BoundingVolumeKind::rss) {
     const Rss rss = detail::fit_rss(axes, balls);
     const Eigen::Vector3d offset = rss.center() - ball.center;

@@ -75,6 +75,12 @@ BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
                       const BakeRequest& request, const std::string& name,
                       const std::string& sha256 = "");
 
+/// As bake_mesh above, on a mesh whose FitEvaluator \p fit is built already (from the same
+/// mesh as \p report describes): requests on one mesh (an inner and a covering set) then
+/// share its query, volume and self-intersections.
+BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& request,
+                      const std::string& name, const std::string& sha256 = "");
+
 /// Validates the request, loads \p path (mesh_io.h) and bakes it; the loader's warnings
 /// go to \p warnings (when given), one sentence each.
 BakeOutcome bake_file(const std::string& path, const BakeRequest& request,

@@ -11,10 +11,13 @@
 ///    the three corners of a piece the certificate also tests. Points of a grid inside the
 ///    solid (winding number > 1/2) are added as one-point elements, so that the balls also
 ///    fill the interior and centres sit inside; their coverage is not certified.
+/// 1b. Patches: the elements grouped by the cell of a grid (half the element size, coarser
+///    until there are at most max(1500, 60 K) groups) that holds their centroid; each group
+///    is one patch, a ball holding its points. Steps 2 to 4 run on the patches.
 /// 2. Starts: the first is one ball (then refilled to K as in step 4, so that one ball is
 ///    kept where it is the tightest cover); the others are K centres by farthest-point
-///    sampling of the element centroids from a centroid drawn with `seed`. Steps 3 and 4
-///    run from each start, and the smallest union is kept.
+///    sampling of the patch centres from one drawn with `seed`. Steps 3 to 4b run from
+///    each start.
 /// 3. Lloyd-like rounds: each element goes to the centre whose distance to the element's
 ///    farthest point is least; each ball becomes the minimum enclosing ball of its
 ///    elements' points. The round of smallest exact union volume is kept. Then each
@@ -24,6 +27,10 @@
 ///    the rest; repeated while it shrinks a ball. Coverage of every element is kept. When
 ///    balls were dropped, steps 3 and 4 run again from the survivors plus farthest-point
 ///    seeds up to K (once), kept when the union is smaller.
+/// 4b. Each start's result is carried over to the elements (each element to its patch's
+///    ball), each ball refitted as the minimum enclosing ball of its elements' points, and
+///    the inward moves of step 3 and the shrink of step 4 run again on the elements; the
+///    start with the smallest union of these balls wins.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
@@ -68,6 +75,7 @@ struct CoverStats {
   std::size_t spheres = 0;
   std::size_t elements = 0;         ///< surface elements of step 1
   std::size_t interior_points = 0;  ///< interior grid points of step 1
+  std::size_t patches = 0;          ///< surface patches of step 1b
   int rounds_run = 0;               ///< step 3
   int best_round = 0;
   std::size_t repaired = 0;  ///< balls grown by step 5, counted per growth

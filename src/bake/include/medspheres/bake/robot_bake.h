@@ -82,9 +82,10 @@ struct LinkBakeStats {
   /// nerr of the baked part (NaN when not measured or not defined), and its kind.
   double nerr = std::numeric_limits<double>::quiet_NaN();
   std::string nerr_kind;
-  double seconds = 0.0;  ///< its bake (0 for a reused one)
-  std::string baked_as;  ///< the link whose bake it reuses; empty for its own
-  std::string note;      ///< "no collision geometry" and the like
+  double seconds = 0.0;        ///< its bake (0 for a reused one)
+  double outer_seconds = 0.0;  ///< of seconds, the outer set's bake
+  std::string baked_as;        ///< the link whose bake it reuses; empty for its own
+  std::string note;            ///< "no collision geometry" and the like
 };
 
 /// Called once per link as its spheres are ready (in completion order, one call at a
