@@ -9,33 +9,12 @@
 
 #include "medspheres/mesh/threads.h"
 #include "medspheres/sphere_tree.h"
-#include "medspheres/triangle_tree.h"
 
 namespace medspheres::render {
 
 namespace {
 
 constexpr double kInf = std::numeric_limits<double>::infinity();
-
-// Entry distance of the ray into the box [lo, hi] given in the box's own frame (slabs);
-// +infinity when it misses or the box lies behind.
-double box_entry(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& lo,
-                 const Eigen::Vector3d& hi) {
-  double t0 = 0.0, t1 = kInf;
-  for (int k = 0; k < 3; ++k) {
-    if (d[k] == 0.0) {
-      if (o[k] < lo[k] || o[k] > hi[k]) return kInf;
-      continue;
-    }
-    const double inv = 1.0 / d[k];
-    double a = (lo[k] - o[k]) * inv, b = (hi[k] - o[k]) * inv;
-    if (a > b) std::swap(a, b);
-    t0 = std::max(t0, a);
-    t1 = std::min(t1, b);
-    if (t0 > t1) return kInf;
-  }
-  return t0;
-}
 
 // First t >= 0 where the ray enters the ball, or +infinity (d is a unit vector).
 double ball_entry(const Eigen::Vector3d& o, const Eigen::Vector3d& d, const Eigen::Vector3d& c,
@@ -57,55 +36,25 @@ void grow(Eigen::Vector3d& lo, Eigen::Vector3d& hi, const T& p, double r) {
 }  // namespace
 
 RayScene::RayScene(const TriangleMesh& mesh, const SphereSet& spheres, int threads)
-    : vertices_(mesh.vertices), triangles_(mesh.triangles), spheres_(spheres.spheres) {
+    : num_triangles_(mesh.triangles.size()), spheres_(spheres.spheres) {
   const bool parallel = thread_count(threads) >= 2;
   mesh_lo_ = spheres_lo_ = Eigen::Vector3d::Constant(kInf);
   mesh_hi_ = spheres_hi_ = Eigen::Vector3d::Constant(-kInf);
-  for (const auto& t : triangles_)
-    for (int k : t) grow(mesh_lo_, mesh_hi_, vertices_.at(k), 0.0);
+  for (const auto& t : mesh.triangles)
+    for (int k : t) grow(mesh_lo_, mesh_hi_, mesh.vertices.at(k), 0.0);
   for (const Sphere& s : spheres_) grow(spheres_lo_, spheres_hi_, s.center, s.radius);
-  // The TriangleTree takes most of the time: on a thread of its own when allowed; get()
-  // rethrows what it threw.
-  std::future<void> mesh_done = std::async(parallel ? std::launch::async : std::launch::deferred,
-                                           [this, &mesh] { flatten_mesh(mesh); });
+  // MeshQuery's hierarchy takes most of the time: on a thread of its own when allowed;
+  // get() rethrows what it threw.
+  std::future<void> mesh_done =
+      std::async(parallel ? std::launch::async : std::launch::deferred, [this, &mesh] {
+        if (!mesh.triangles.empty()) query_ = std::make_unique<const MeshQuery>(mesh);
+      });
   flatten_spheres(spheres);
-  if (!triangles_.empty()) query_ = std::make_unique<const MeshQuery>(mesh);
   mesh_done.get();
 }
 
 double RayScene::distance_to_mesh(const Eigen::Vector3d& p) const {
   return query_ ? query_->closest_point(p).distance() : kInf;
-}
-
-// The TriangleTree's nodes, breadth first, so that siblings are contiguous.
-void RayScene::flatten_mesh(const TriangleMesh& mesh) {
-  const TriangleTree tree(mesh);
-  const std::optional<TargetNode> root = tree.root();
-  if (!root) return;
-  std::vector<TargetNode> pending{*root};
-  boxes_.emplace_back();
-  for (std::size_t i = 0; i < pending.size(); ++i) {
-    const TargetNode node = pending[i];  // copy: pending grows below
-    BoxNode& box = boxes_[i];
-    if (node.is_leaf) {
-      box.first = -1;
-      box.count = static_cast<int>(node.primitive);
-      continue;
-    }
-    box.axis_t = node.bounds.axis.transpose();
-    box.corner = node.bounds.corner;
-    const double r = node.bounds.radius;
-    box.lo = Eigen::Vector3d::Constant(-r);
-    box.hi = Eigen::Vector3d(node.bounds.length[0] + r, node.bounds.length[1] + r, r);
-    TargetNode children[ProximityTarget::kMaxChildren];
-    const int n = tree.children(node, children);
-    boxes_[i].first = static_cast<int>(pending.size());
-    boxes_[i].count = n;
-    for (int c = 0; c < n; ++c) {
-      pending.push_back(children[c]);
-      boxes_.emplace_back();
-    }
-  }
 }
 
 void RayScene::flatten_spheres(const SphereSet& spheres) {
@@ -175,60 +124,19 @@ void RayScene::trace_spheres(const Eigen::Vector3d& o, const Eigen::Vector3d& d,
   }
 }
 
-// Moller-Trumbore. The determinant is -d . n, n = e1 x e2 the outward normal of an
-// outward-wound triangle, so det > 0 means the ray enters the solid there.
+// MeshQuery::cast_ray: the nearest crossing, and with count_crossings every crossing
+// before limit, +1 into the solid and -1 out of it.
 void RayScene::trace_mesh(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double limit,
                           bool count_crossings, RayHit& hit) const {
-  if (boxes_.empty()) return;
-  double best = limit;
-  std::pair<int, double> stack[512];  // > the depth of a TriangleTree
-  int top = 0;
-  stack[top++] = {0, 0.0};
-  while (top > 0) {
-    const auto [i, entry] = stack[--top];
-    if (entry >= best) continue;
-    const BoxNode& node = boxes_[i];
-    if (node.first < 0) {
-      const auto& tri = triangles_[node.count];
-      const Eigen::Vector3d a = vertices_[tri[0]];
-      const Eigen::Vector3d e1 = vertices_[tri[1]] - a, e2 = vertices_[tri[2]] - a;
-      const Eigen::Vector3d p = d.cross(e2);
-      const double det = e1.dot(p);
-      if (det == 0.0) continue;
-      const double inv = 1.0 / det;
-      const Eigen::Vector3d s = o - a;
-      const double u = s.dot(p) * inv;
-      if (u < 0.0 || u > 1.0) continue;
-      const Eigen::Vector3d q = s.cross(e1);
-      const double v = d.dot(q) * inv;
-      if (v < 0.0 || u + v > 1.0) continue;
-      const double t = e2.dot(q) * inv;
-      if (t < 0.0 || t >= limit) continue;
-      if (count_crossings) hit.sphere_winding += det > 0.0 ? 1 : -1;
-      if (t < hit.mesh_t) {
-        hit.mesh_t = t;
-        hit.triangle = node.count;
-        const Eigen::Vector3d n = e1.cross(e2).normalized();
-        hit.mesh_normal = n.dot(d) > 0.0 ? Eigen::Vector3d(-n) : n;
-        if (!count_crossings) best = t;
-      }
-      continue;
-    }
-    std::pair<int, double> near[ProximityTarget::kMaxChildren];
-    int n = 0;
-    for (int c = node.first; c < node.first + node.count; ++c) {
-      const BoxNode& child = boxes_[c];
-      const double t = child.first < 0 ? 0.0
-                                       : box_entry(child.axis_t * (o - child.corner),
-                                                   child.axis_t * d, child.lo, child.hi);
-      if (t < best) near[n++] = {c, t};
-    }
-    // Farthest first, so that the nearest child is on top of the stack (n is small).
-    for (int a = 1; a < n; ++a)
-      for (int b = a; b > 0 && near[b - 1].second < near[b].second; --b)
-        std::swap(near[b - 1], near[b]);
-    for (int c = 0; c < n; ++c) stack[top++] = near[c];
-  }
+  if (!query_) return;
+  const RayCrossings c = query_->cast_ray(o, d, limit, count_crossings);
+  if (count_crossings) hit.sphere_winding += c.winding;
+  if (c.triangle < 0 || !(c.t < hit.mesh_t)) return;
+  hit.mesh_t = c.t;
+  hit.triangle = c.triangle;
+  const auto corner = query_->triangle_corners(c.triangle);
+  const Eigen::Vector3d n = (corner[1] - corner[0]).cross(corner[2] - corner[0]).normalized();
+  hit.mesh_normal = n.dot(d) > 0.0 ? Eigen::Vector3d(-n) : n;
 }
 
 }  // namespace medspheres::render

@@ -19,6 +19,7 @@
 #include <array>
 #include <cstddef>
 #include <cstdint>
+#include <limits>
 #include <memory>
 #include <vector>
 
@@ -76,6 +77,15 @@ struct MeshBvhStats {
   std::size_t bytes = 0;          ///< memory held by the query structure
 };
 
+/// What a ray meets on the mesh (MeshQuery::cast_ray).
+struct RayCrossings {
+  double t = std::numeric_limits<double>::infinity();  ///< nearest crossing; +infinity: none
+  int triangle = -1;                                   ///< its index into mesh().triangles
+  /// With count_all: the sum over every crossing of +1 where the ray enters the solid
+  /// (against the outward normal (b - a) x (c - a)) and -1 where it leaves; else 0.
+  int winding = 0;
+};
+
 class MeshQuery {
  public:
   /// Builds the hierarchy over \p mesh (which is copied; the original may go away).
@@ -119,6 +129,17 @@ class MeshQuery {
                                            int threads = 0) const;
   std::vector<double> winding_numbers(const std::vector<Eigen::Vector3d>& points,
                                       int threads = 0) const;
+
+  /// The crossings of the ray origin + t direction, t in [0, limit), with the triangles
+  /// of mesh() (not the caps), by the Moller-Trumbore test in double precision; the
+  /// hierarchy culls only boxes the ray provably misses, so the answer is that of the
+  /// test over every triangle. A triangle the ray lies in the plane of is not crossed.
+  /// Ties in t: the triangle found first, which depends only on the mesh and the ray.
+  /// \throws std::invalid_argument unless origin and direction are finite, direction
+  ///   is nonzero and limit is not NaN.
+  RayCrossings cast_ray(const Eigen::Vector3d& origin, const Eigen::Vector3d& direction,
+                        double limit = std::numeric_limits<double>::infinity(),
+                        bool count_all = false) const;
 
   const TriangleMesh& mesh() const;
   /// The hole caps (MeshQueryOptions::cap_holes): a mesh of its own, empty when there are

@@ -1,9 +1,9 @@
 #pragma once
 /// \file
-/// RayScene: ray casting against a mesh's TriangleTree and a sphere set's SphereTree,
-/// through flat copies of those two hierarchies (their nodes' bounds, read once through
-/// the trees' public accessors). Frame and units: the mesh's and the set's, which must
-/// share them. Immutable once built; trace() may be called from many threads at once.
+/// RayScene: ray casting against a mesh (through MeshQuery's hierarchy, which also
+/// answers distances) and a sphere set's SphereTree (a flat copy of its nodes' bounds,
+/// read once through the tree's public accessors). Frame and units: the mesh's and the set's, which
+/// must share them. Immutable once built; trace() may be called from many threads at once.
 
 #include <array>
 #include <cstddef>
@@ -42,7 +42,7 @@ class RayScene {
  public:
   /// Copies the mesh and the set; with \p threads allowing two or more (threads.h), the
   /// mesh's hierarchy is built on a thread of its own beside the rest.
-  /// \throws std::invalid_argument as TriangleTree, MeshQuery and SphereTree do
+  /// \throws std::invalid_argument as MeshQuery and SphereTree do
   ///   (non-finite vertices, bad indices, bad spheres) and for a bad thread count.
   RayScene(const TriangleMesh& mesh, const SphereSet& spheres, int threads = 0);
 
@@ -54,7 +54,7 @@ class RayScene {
   /// for a mesh without triangles.
   double distance_to_mesh(const Eigen::Vector3d& p) const;
 
-  std::size_t num_triangles() const { return triangles_.size(); }
+  std::size_t num_triangles() const { return num_triangles_; }
   std::size_t num_spheres() const { return spheres_.size(); }
 
   /// Bounding boxes; lo > hi componentwise when the mesh or the set is empty.
@@ -64,27 +64,19 @@ class RayScene {
   Eigen::Vector3d spheres_hi() const { return spheres_hi_; }
 
  private:
-  struct BoxNode {                   ///< a TriangleTree node: its RSS as an oriented box
-    Eigen::Matrix3d axis_t;          ///< transpose of Rss::axis
-    Eigen::Vector3d corner, lo, hi;  ///< box in the RSS frame, relative to corner
-    int first = -1, count = 0;       ///< children (internal), or -1 and the triangle (leaf)
-  };
   struct BallNode {  ///< a SphereTree node: its bounding ball
     Eigen::Vector3d center;
     double radius = 0.0;
     int left = -1, right = -1;  ///< children, or -1 for a leaf
     int begin = 0, end = 0;     ///< a leaf's spheres: leaf_spheres_[begin, end)
   };
-  void flatten_mesh(const TriangleMesh& mesh);
   void flatten_spheres(const SphereSet& spheres);
   void trace_spheres(const Eigen::Vector3d& o, const Eigen::Vector3d& d, RayHit& hit) const;
   void trace_mesh(const Eigen::Vector3d& o, const Eigen::Vector3d& d, double limit,
                   bool count_crossings, RayHit& hit) const;
 
   std::unique_ptr<const MeshQuery> query_;  ///< null for a mesh without triangles
-  std::vector<Eigen::Vector3d> vertices_;
-  std::vector<std::array<int, 3>> triangles_;
-  std::vector<BoxNode> boxes_;
+  std::size_t num_triangles_ = 0;
   std::vector<Sphere> spheres_;
   std::vector<BallNode> balls_;
   std::vector<int> leaf_spheres_;
