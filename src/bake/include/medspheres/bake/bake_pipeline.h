@@ -22,6 +22,7 @@
 #include "medspheres/bake/cover.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/robust_solid.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/triangle_mesh.h"
 
@@ -54,6 +55,12 @@ struct BakeRequest {
   std::optional<Length> vertex_tolerance, max_protrusion, cover;
   std::uint64_t seed = 1;  ///< of the dilation's random points
   bool measure = true;     ///< compute the volume, nerr and protrusion of the output
+  /// The solid baked (robust_solid.h). kAuto: the winding-number solid of a closed,
+  /// outward mesh; for any other mesh the winding-number solid unless its bake finds no
+  /// well-defined interior (kNoInterior), then the robust solid, with a warning.
+  SolidKind solid = SolidKind::kAuto;
+  RobustSolidOptions robust;               ///< of the robust solid, when it is used
+  std::optional<Length> robust_thickness;  ///< overrides robust.thickness (>= 0)
 };
 
 struct BakeOutcome {
@@ -64,16 +71,22 @@ struct BakeOutcome {
   std::optional<VolumeError> volume, internal;
   std::size_t self_intersecting_pairs = 0;  ///< of the mesh's triangles
   std::optional<CoverResult> cover;         ///< kCover: the cover, its certificate and stats
+  /// The solid baked, kWinding or kRobust (recorded as stats "solid" in the file); every
+  /// measure and guarantee of the outcome is of that solid.
+  SolidKind solid = SolidKind::kWinding;
+  std::vector<std::string> warnings;  ///< one sentence each: a fallback to the robust solid
 };
 
-/// Bakes \p mesh (with its \p report, as analyze_mesh or load_mesh gives it); \p name
-/// names it in errors and provenance, \p sha256 is recorded as given (may be empty).
+/// Bakes the solid of \p mesh that request.solid chooses (with its \p report, as
+/// analyze_mesh or load_mesh gives it); \p name names it in errors and provenance,
+/// \p sha256 is recorded as given (may be empty). The source recorded is \p mesh, also
+/// when the robust solid is baked.
 BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
                       const BakeRequest& request, const std::string& name,
                       const std::string& sha256 = "");
 
-/// Validates the request, loads \p path (mesh_io.h) and bakes it; the loader's warnings
-/// go to \p warnings (when given), one sentence each.
+/// Validates the request, loads \p path (mesh_io.h) and bakes it; the loader's and the
+/// bake's warnings go to \p warnings (when given), one sentence each.
 BakeOutcome bake_file(const std::string& path, const BakeRequest& request,
                       std::vector<std::string>* warnings = nullptr);
 
