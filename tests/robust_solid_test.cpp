@@ -125,17 +125,17 @@ TEST_CASE("holes narrower than the walls are closed, wider ones leave no volume"
     CHECK(e.kind() == ErrorKind::kNoInterior);
     CHECK(std::string(e.what()).find("open.obj") != std::string::npos);
   }
-  // A hole of 0.25 x 0.25 leaks at resolution 32 without thickness, and is closed by a
-  // thickness beyond its half diagonal (0.18); the closing keeps the box's volume.
-  const TriangleMesh box = box_with_hole(0.0, 0.25);
+  // A hole of 0.5 x 0.5 leaks at resolution 32 without thickness (walls of 0.117), and is
+  // closed by a thickness beyond its half diagonal (0.354); the closing keeps the box.
+  const TriangleMesh box = box_with_hole(0.0, 0.5);
   CHECK_THROWS_AS(make_robust_solid(box, {32, 0.0}, "hole.obj"), InputError);
-  const RobustSolid s = make_robust_solid(box, {32, 0.2}, "hole.obj");
+  const RobustSolid s = make_robust_solid(box, {32, 0.4}, "hole.obj");
   check_closed_solid(s);
   const double v = analyze_mesh(s.mesh).signed_volume;
   CHECK(v >= 8.0);
   CHECK(v <= std::pow(2.0 + 2.0 * offset(s), 3));
   const MeshQuery q(s.mesh);
-  CHECK(q.winding_number_exact(Eigen::Vector3d(0.1, 0.1, 0.9)) > 0.5);
+  CHECK(q.winding_number_exact(Eigen::Vector3d(0.25, 0.25, 0.95)) > 0.5);
 }
 
 TEST_CASE("a flat sheet has no robust solid: a clear error", "[robust_solid]") {
