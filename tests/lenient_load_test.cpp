@@ -93,7 +93,7 @@ TEST_CASE("headers that announce 10^12 elements fail fast, naming the file", "[m
   const std::uint32_t count = 4000000000u;
   stl.append(reinterpret_cast<const char*>(&count), 4);
   stl.append(50, '\0');
-  check_fails_fast(write(dir, "big.stl", stl), "big.stl");
+  check_fails_fast(write(dir, "big.stl", stl), "announces 4000000000 triangles");
   check_fails_fast(write(dir, "big.obj", "v 0 0 0\nv 1 0 0\nv 0 1 0\nf 1 2 1000000000000\n"),
                    "big.obj");
 }

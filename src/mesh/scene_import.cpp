@@ -259,10 +259,10 @@ void check_stl_counts(const std::string& path, std::uintmax_t file_size) {
   const std::uintmax_t need = 84 + 50 * static_cast<std::uintmax_t>(count);
   if (need != file_size)
     throw InputError(path,
-                     "not an STL file: no 'solid' keyword (ASCII), and as binary STL its "
-                     "header announces " +
-                         std::to_string(count) + " triangles (" + std::to_string(need) +
-                         " bytes) but the file has " + std::to_string(file_size) + " bytes");
+                     "cannot parse the file (not ASCII STL: no 'solid' keyword; as "
+                     "binary STL its header announces " +
+                         std::to_string(count) + " triangles, " + std::to_string(need) +
+                         " bytes, but the file has " + std::to_string(file_size) + ")");
 }
 
 namespace {
