@@ -180,6 +180,7 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
   out.self_intersecting_pairs = fit.self_intersections().count();
   out.record = cover_bake_record(out.record.source, *out.cover);
   out.record.record_seconds = r.record_seconds;
+  out.record.extra_strings["solid"] = to_string(SolidKind::kWinding);
   out.spheres = out.cover->spheres;
   out.spheres.metadata_json = cover_metadata_json(out.record);
 }
@@ -208,20 +209,16 @@ void validate(const BakeRequest& r) {
   check_length(r.vertex_tolerance, "vertex_tolerance", false);
   check_length(r.max_protrusion, "max_protrusion", true);
   check_length(r.cover, "cover", false);
+  check_length(r.robust_thickness, "robust_thickness", true);
 }
 
-BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
-                      const BakeRequest& request, const std::string& name,
-                      const std::string& sha256) {
-  validate(request);
-  check_medial_tolerance(request, report.largest_side(), name);
-  // Orients a copy (a no-op after the loader), builds the mesh query, computes the volume.
-  return bake_mesh(FitEvaluator(mesh, request.medial.threads), report, request, name, sha256);
-}
+namespace {
 
-BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& request,
-                      const std::string& name, const std::string& sha256) {
-  validate(request);
+// The bake of the winding-number solid of the mesh \p fit was built from (report: of that
+// mesh); \p source is recorded.
+BakeOutcome bake_solid(const FitEvaluator& fit, const MeshReport& report,
+                       const MeshProvenance& source, const BakeRequest& request,
+                       const std::string& name) {
   const double longest = report.largest_side();
   check_medial_tolerance(request, longest, name);
   if (request.target_error && !fit.volume())
@@ -231,8 +228,9 @@ BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const B
                              "error are not defined",
                              name);
   BakeOutcome out;
-  out.record.source = {name, sha256, report};
+  out.record.source = source;
   out.record.record_seconds = request.record_seconds;
+  out.record.extra_strings["solid"] = to_string(SolidKind::kWinding);
   if (request.method == BakeMethod::kCover) {
     cover_output(fit, request, out);
     return out;
@@ -257,12 +255,70 @@ BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const B
   return out;
 }
 
+// The bake of the robust solid of \p mesh, recorded as such; with a \p fallback reason,
+// a warning that says what was done.
+BakeOutcome bake_robust(const TriangleMesh& mesh, const MeshProvenance& source,
+                        const BakeRequest& request, const std::string& name,
+                        const std::string& fallback = "") {
+  RobustSolidOptions options = request.robust;
+  if (request.robust_thickness)
+    options.thickness = request.robust_thickness->in(source.report.largest_side());
+  const RobustSolid solid = make_robust_solid(mesh, options, name);
+  BakeOutcome out = bake_solid(FitEvaluator(solid.mesh, request.medial.threads),
+                               analyze_mesh(solid.mesh), source, request, name);
+  out.solid = SolidKind::kRobust;
+  out.record.extra_strings["solid"] = to_string(SolidKind::kRobust);
+  out.record.extra_stats["robust_cell"] = solid.cell;
+  out.record.extra_stats["robust_wall_radius"] = solid.wall_radius;
+  out.record.extra_stats["robust_resolution"] = options.resolution;
+  out.record.extra_stats["robust_thickness"] = options.thickness;
+  out.spheres.metadata_json =
+      out.cover ? cover_metadata_json(out.record) : bake_metadata_json(out.record);
+  if (!fallback.empty())
+    out.warnings.push_back("its winding-number solid is not well defined (" + fallback +
+                           "); baked " + describe(solid) + " (solid robust)");
+  return out;
+}
+
+}  // namespace
+
+BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
+                      const BakeRequest& request, const std::string& name,
+                      const std::string& sha256) {
+  validate(request);
+  if (request.solid == SolidKind::kRobust)
+    return bake_robust(mesh, {name, sha256, report}, request, name);
+  check_medial_tolerance(request, report.largest_side(), name);
+  // Orients a copy (a no-op after the loader), builds the mesh query, computes the volume.
+  return bake_mesh(FitEvaluator(mesh, request.medial.threads), report, request, name, sha256);
+}
+
+BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& request,
+                      const std::string& name, const std::string& sha256) {
+  validate(request);
+  const MeshProvenance source{name, sha256, report};
+  const TriangleMesh& mesh = fit.query().mesh();
+  if (request.solid == SolidKind::kRobust) return bake_robust(mesh, source, request, name);
+  if (request.solid == SolidKind::kWinding || report.is_closed_outward())
+    return bake_solid(fit, report, source, request, name);
+  try {
+    return bake_solid(fit, report, source, request, name);
+  } catch (const InputError& e) {
+    if (e.kind() != ErrorKind::kNoInterior) throw;
+    return bake_robust(mesh, source, request, name, e.problem());
+  }
+}
+
 BakeOutcome bake_file(const std::string& path, const BakeRequest& request,
                       std::vector<std::string>* warnings) {
   validate(request);
   const LoadedMesh loaded = load_mesh(path);
-  if (warnings) *warnings = loaded.warnings;
-  return bake_mesh(loaded.mesh, loaded.report, request, path, file_sha256(path));
+  BakeOutcome out = bake_mesh(loaded.mesh, loaded.report, request, path, file_sha256(path));
+  if (warnings) {
+    *warnings = loaded.warnings;
+    warnings->insert(warnings->end(), out.warnings.begin(), out.warnings.end());
+  }
+  return out;
 }
 
 }  // namespace medspheres

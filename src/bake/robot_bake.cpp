@@ -89,6 +89,9 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
   request.method = BakeMethod::kCover;
   request.medial.threads = inner.medial.threads;
   request.seed = inner.seed;
+  request.solid = inner.solid;
+  request.robust = inner.robust;
+  request.robust_thickness = inner.robust_thickness;
   request.max_spheres = job.budget ? job.budget : inner.max_spheres;
   if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
   return bake_mesh(fit, report, request, name, sha256);
@@ -206,6 +209,8 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   }
   stats.seconds = own ? job.seconds : 0.0;
   stats.outer_seconds = own ? job.outer_seconds : 0.0;
+  if (job.outcome.solid == SolidKind::kRobust)
+    stats.note += std::string(stats.note.empty() ? "" : "; ") + "robust solid";
   if (!job.outer) return;
   const bool one = solid.parts.size() == 1;
   const CoverResult& cover = *job.outer->cover;

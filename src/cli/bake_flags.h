@@ -4,6 +4,8 @@
 #include <optional>
 #include <string>
 
+#include <CLI/CLI.hpp>
+
 #include "medspheres/bake/bake_pipeline.h"
 
 namespace medspheres::cli {
@@ -21,5 +23,18 @@ struct DilationFlags {
 
 /// Sets the request's dilation from \p flags (lengths parsed; ranges are validate()'s).
 void set_dilation(const DilationFlags& flags, BakeRequest& request);
+
+/// The solid flags (--solid, --robust-resolution, --robust-thickness).
+struct SolidFlags {
+  std::string solid = "auto";
+  int robust_resolution = RobustSolidOptions{}.resolution;
+  std::optional<std::string> robust_thickness;
+};
+
+/// Adds the solid flags to \p sub.
+void add_solid_flags(CLI::App* sub, SolidFlags& flags);
+
+/// Sets the request's solid from \p flags (an unknown --solid is an InputError).
+void set_solid(const SolidFlags& flags, BakeRequest& request);
 
 }  // namespace medspheres::cli

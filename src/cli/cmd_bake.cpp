@@ -30,6 +30,7 @@ struct BakeArgs {
   std::optional<double> target_error;
   std::string method = "medial";
   DilationFlags dilation;
+  SolidFlags solid;
   int threads = 0;
   bool quiet = false;
 };
@@ -56,6 +57,7 @@ BakeRequest bake_request(const BakeArgs& a) {
   }
   r.target_error = a.target_error;
   set_dilation(a.dilation, r);
+  set_solid(a.solid, r);
   validate(r);
   return r;
 }
@@ -76,20 +78,22 @@ const char* nerr_note(NerrKind kind) {
 }
 
 // The mesh line of the summary: closed, or what makes the winding number define the solid.
-std::string mesh_description(const MeshReport& report, std::size_t self_intersecting_pairs) {
+std::string mesh_description(const MeshReport& report, std::size_t self_intersecting_pairs,
+                             SolidKind solid) {
   std::vector<std::string> flaws;
   if (report.boundary_edges > 0)
     flaws.push_back("open (" + std::to_string(report.boundary_edges) +
                     " boundary edges; radii also respect the holes, capped)");
   if (report.nonmanifold_edges > 0)
     flaws.push_back("non-manifold (" + std::to_string(report.nonmanifold_edges) + " edges)");
-  if (self_intersecting_pairs > 0)
+  if (self_intersecting_pairs > 0 && solid != SolidKind::kRobust)
     flaws.push_back("self-intersecting (" + std::to_string(self_intersecting_pairs) +
                     " triangle pairs)");
+  if (solid == SolidKind::kRobust) flaws.push_back("baked against its robust solid");
   if (flaws.empty()) return "closed";
   std::string out;
   for (const std::string& f : flaws) out += (out.empty() ? "" : ", ") + f;
-  return out + ": baked against its winding-number solid";
+  return solid == SolidKind::kRobust ? out : out + ": baked against its winding-number solid";
 }
 
 // The dilation line of the summary, and the protrusion of S+.
@@ -113,7 +117,7 @@ void print_cover_summary(const BakeArgs& args, const std::string& out, const Bak
   const CoverResult& r = *o.cover;
   std::cout << "baked " << args.mesh << " -> " << out << "\n"
             << "  mesh          " << o.record.source.report.triangles << " triangles, "
-            << mesh_description(o.record.source.report, o.self_intersecting_pairs) << "\n"
+            << mesh_description(o.record.source.report, o.self_intersecting_pairs, o.solid) << "\n"
             << "  cover         " << o.spheres.size() << " spheres (budget " << r.stats.budget
             << "), surface " << (r.stats.certified ? "certified covered" : "NOT certified") << " ("
             << r.certificate.pieces_tested << " pieces, depth " << r.certificate.max_depth_reached
@@ -131,7 +135,7 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
   const double target = record.mode_target;
   std::cout << "baked " << args.mesh << " -> " << out << "\n"
             << "  mesh          " << record.source.report.triangles << " triangles, "
-            << mesh_description(record.source.report, o.self_intersecting_pairs) << "\n"
+            << mesh_description(record.source.report, o.self_intersecting_pairs, o.solid) << "\n"
             << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
             << " x " << s.grid[2] << ", cell " << number_text(s.cell_size, 4) << ")";
   if (mode != "resolution")
@@ -249,6 +253,7 @@ Runner register_bake(CLI::App& app) {
                   "length outside, e.g. 0.003L (implies --dilate)");
   sub->add_option("--seed", a->dilation.seed, "Dilation: seed of its random points")
       ->capture_default_str();
+  add_solid_flags(sub, a->solid);
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");

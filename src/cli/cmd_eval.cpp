@@ -6,9 +6,11 @@
 
 #include <nlohmann/json.hpp>
 
+#include "bake_flags.h"
 #include "cli_common.h"
 #include "cmd_eval_robot.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/bake/solid_choice.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/cover_certificate.h"
@@ -28,6 +30,7 @@ struct EvalArgs {
   std::uint64_t seed = FitOptions{}.seed;
   int threads = 0;
   std::vector<std::string> packages;  // robots: PKG=DIR
+  SolidFlags solid;
 };
 
 // A number, or null where it is not defined (NaN).
@@ -205,13 +208,23 @@ int run_eval(const EvalArgs& args) {
 
   const LoadedMesh loaded = load_mesh(args.mesh);
   const SphereSet set = load_sphere_set(args.spheres);
+  BakeRequest solid_request;
+  set_solid(args.solid, solid_request);
+  RobustSolidOptions robust = solid_request.robust;
+  if (solid_request.robust_thickness)
+    robust.thickness = solid_request.robust_thickness->in(loaded.report.largest_side());
+  const bool robust_explicit = args.solid.robust_thickness ||
+                               args.solid.robust_resolution != RobustSolidOptions{}.resolution;
+  const SolidChoice choice =
+      choose_solid(solid_request.solid, robust, robust_explicit, set.metadata_json);
+  const TriangleMesh solid = solid_mesh(loaded.mesh, choice, args.mesh);
   FitReport report;
   CoverCertificate cert;
   try {
-    report = FitEvaluator(loaded.mesh, options.threads).evaluate(set.spheres, options);
+    report = FitEvaluator(solid, options.threads).evaluate(set.spheres, options);
     CoverCertificateOptions co;
     co.threads = args.threads;
-    cert = certify_cover(loaded.mesh, set.spheres, co);
+    cert = certify_cover(solid, set.spheres, co);
   } catch (const InputError& e) {
     // The library speaks of "the sphere set"; the user knows it by its file name.
     if (e.file() == "sphere set") throw e.with_file(args.spheres);
@@ -219,6 +232,9 @@ int run_eval(const EvalArgs& args) {
   }
   std::vector<std::string> warnings;
   for (const std::string& w : loaded.warnings) warnings.push_back(args.mesh + ": " + w);
+  if (choice.kind == SolidKind::kRobust)
+    warnings.push_back(args.mesh + ": measured against its robust solid at resolution " +
+                       std::to_string(choice.robust.resolution) + " (solid robust)");
   for (const std::string& w : report.warnings) warnings.push_back(w);
   const double longest = loaded.report.largest_side();
   if (args.json)
@@ -253,6 +269,7 @@ Runner register_eval(CLI::App& app) {
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_option("--package", a->packages, "Robots: PKG=DIR for package:// (repeatable)");
+  add_solid_flags(sub, a->solid);
   return [a] { return run_eval(*a); };
 }
 

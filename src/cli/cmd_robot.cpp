@@ -50,6 +50,7 @@ struct RobotArgs {
   double object_angle = BakeOptions{}.object_angle;
   std::optional<double> target_error;
   DilationFlags dilation;
+  SolidFlags solid;
   bool no_measure = false;
   bool no_outer = false;
   std::string set = "auto";
@@ -168,6 +169,7 @@ BakeRequest bake_request(const RobotArgs& a) {
   r.medial.object_angle = a.object_angle;
   r.target_error = a.target_error;
   set_dilation(a.dilation, r);
+  set_solid(a.solid, r);
   r.measure = !a.no_measure;
   validate(r);
   return r;
@@ -392,6 +394,7 @@ Runner register_robot(CLI::App& app) {
                   "Dilation: cover the surface to this length (or L)");
   sub->add_option("--seed", a->dilation.seed, "Dilation: seed of its random points")
       ->capture_default_str();
+  add_solid_flags(sub, a->solid);
   sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
   sub->add_flag("--no-outer", a->no_outer,
                 "Bake inner sets only (default: also a certified covering set per link, which "

@@ -18,6 +18,7 @@
 
 #include "isolated_call.h"
 #include "medspheres/error.h"
+#include "medspheres/mesh/canonical_order.h"
 #include "medspheres/number_text.h"
 #include "scene_import.h"
 
@@ -238,6 +239,8 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   // In this process, also for the isolated import: the child should do no more than
   // assimp's part (see "Threads" in mesh_io.h).
   if (ext == ".off") detail::check_off_faces(path);
+  if (ext == ".ply") detail::check_ply_counts(path, static_cast<std::uintmax_t>(st.st_size));
+  if (ext == ".stl") detail::check_stl_counts(path, static_cast<std::uintmax_t>(st.st_size));
 
   const detail::FlatScene scene =
       options.isolate_import
@@ -256,11 +259,15 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
     for (std::size_t t = 0; t + 2 < m.index.size(); t += 3)
       mesh.triangles.push_back({ids[m.index[t]], ids[m.index[t + 1]], ids[m.index[t + 2]]});
   }
+  if (!scene.validation_failure.empty())
+    out.warnings.push_back("assimp's validation rejected the scene (" + scene.validation_failure +
+                           "); its meshes were read without it and checked, the rest ignored");
   if (scene.orphans > 0)
     out.warnings.push_back(std::to_string(scene.orphans) +
                            " mesh(es) not placed by any scene node were kept untransformed");
 
   check_mesh_usable(mesh, path);
+  canonicalize_order(mesh);
 
   if (options.fix_orientation) {
     out.orientation_fix = orient_mesh(mesh);

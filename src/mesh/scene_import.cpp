@@ -1,12 +1,15 @@
 #include "scene_import.h"
 
+#include <algorithm>
 #include <cmath>
+#include <cstdint>
 #include <cstring>
 #include <fstream>
 #include <functional>
 #include <iterator>
 #include <new>
 #include <string_view>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -189,6 +192,102 @@ void check_off_faces(const std::string& path) {
   }
 }
 
+namespace {
+
+// The bytes one value of a PLY property type takes in binary ("char" ... "double", and
+// the sized names); 0 for a name that is not a type.
+int ply_type_bytes(std::string_view t) {
+  if (t == "char" || t == "uchar" || t == "int8" || t == "uint8") return 1;
+  if (t == "short" || t == "ushort" || t == "int16" || t == "uint16") return 2;
+  if (t == "int" || t == "uint" || t == "float" || t == "int32" || t == "uint32" || t == "float32")
+    return 4;
+  if (t == "double" || t == "float64") return 8;
+  return 0;
+}
+
+}  // namespace
+
+void check_ply_counts(const std::string& path, std::uintmax_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  std::string line;
+  if (!std::getline(in, line) || line.rfind("ply", 0) != 0) return;  // assimp decides
+  bool ascii = false;
+  std::vector<std::pair<std::string, long long>> elements;  // name, count
+  std::vector<long long> min_bytes;                         // per instance
+  while (std::getline(in, line) && in.tellg() < (1 << 20)) {
+    const std::vector<std::string_view> tok = split_blanks(line);
+    if (tok.empty()) continue;
+    if (tok[0] == "end_header") break;
+    if (tok[0] == "format" && tok.size() > 1) ascii = tok[1] == "ascii";
+    if (tok[0] == "element" && tok.size() > 2 && is_digits(tok[2])) {
+      elements.emplace_back(std::string(tok[1]), digits_value(tok[2]));
+      min_bytes.push_back(0);
+    }
+    // A value takes at least 2 bytes in ASCII (a digit and a separator); a list at least
+    // its count (in binary, the count's type).
+    if (tok[0] == "property" && !min_bytes.empty() && tok.size() > 1)
+      min_bytes.back() +=
+          ascii ? 2
+                : std::max(1, ply_type_bytes(tok[1] == "list" && tok.size() > 2 ? tok[2] : tok[1]));
+  }
+  if (!in) return;  // no end_header: assimp reports it
+  const long double after_header =
+      static_cast<long double>(file_size) -
+      static_cast<long double>(static_cast<std::streamoff>(in.tellg()));
+  long double need = 0;
+  for (std::size_t e = 0; e < elements.size(); ++e) {
+    need += static_cast<long double>(elements[e].second) * static_cast<long double>(min_bytes[e]);
+    if (need > after_header)
+      throw InputError(path, "truncated: the header announces " +
+                                 std::to_string(elements[e].second) + " '" + elements[e].first +
+                                 "' elements, which take more than the " +
+                                 std::to_string(static_cast<long long>(after_header)) +
+                                 " bytes that follow the header");
+  }
+}
+
+void check_stl_counts(const std::string& path, std::uintmax_t file_size) {
+  std::ifstream in(path, std::ios::binary);
+  char head[84] = {};
+  if (file_size < 84 || !in.read(head, 84)) return;
+  // ASCII (assimp skips blanks before the keyword), or assimp's own test decides.
+  std::string_view start(head, 84);
+  const std::size_t word = start.find_first_not_of(" \t\r\n");
+  if (word == std::string_view::npos || start.substr(word, 5) == "solid") return;
+  std::uint32_t count = 0;
+  std::memcpy(&count, head + 80, 4);
+  const std::uintmax_t need = 84 + 50 * static_cast<std::uintmax_t>(count);
+  if (need != file_size)
+    throw InputError(path,
+                     "cannot parse the file (not ASCII STL: no 'solid' keyword; as "
+                     "binary STL its header announces " +
+                         std::to_string(count) + " triangles, " + std::to_string(need) +
+                         " bytes, but the file has " + std::to_string(file_size) + ")");
+}
+
+namespace {
+
+// What assimp's validation guarantees of the meshes and what import_flat relies on, for a
+// scene read without it: every mesh and array present, every face index in range (checked
+// as faces are read).
+void check_mesh_arrays(const std::string& path, const aiScene* scene) {
+  if (scene->mNumMeshes > 0 && scene->mMeshes == nullptr)
+    throw InputError(path, "cannot parse the file (the scene lists meshes but holds none)");
+  for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
+    const aiMesh* m = scene->mMeshes[mi];
+    if (m == nullptr || (m->mNumVertices > 0 && m->mVertices == nullptr) ||
+        (m->mNumFaces > 0 && m->mFaces == nullptr))
+      throw InputError(path, "cannot parse the file (mesh " + std::to_string(mi) +
+                                 " lacks its vertices or faces)");
+    for (unsigned f = 0; f < m->mNumFaces; ++f)
+      if (m->mFaces[f].mNumIndices > 0 && m->mFaces[f].mIndices == nullptr)
+        throw InputError(path, "cannot parse the file (face " + std::to_string(f) + " of mesh " +
+                                   std::to_string(mi) + " lacks its indices)");
+  }
+}
+
+}  // namespace
+
 FlatScene import_flat(const std::string& path) {
   Assimp::Importer importer;
   // Drop point and line primitives; triangulate polygons. No vertex joining: load_mesh
@@ -198,8 +297,18 @@ FlatScene import_flat(const std::string& path) {
   // Keep COLLADA coordinates as written: no Z-up to Y-up rotation (robot description
   // formats place DAE meshes in the file's own axes).
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
-  const aiScene* scene = importer.ReadFile(
-      path, aiProcess_Triangulate | aiProcess_SortByPType | aiProcess_ValidateDataStructure);
+  const unsigned steps = aiProcess_Triangulate | aiProcess_SortByPType;
+  const aiScene* scene = importer.ReadFile(path, steps | aiProcess_ValidateDataStructure);
+  std::string validation_failure;
+  if (scene == nullptr) {
+    // assimp's validation reports "Validation failed: ..."; the rest of the scene (its
+    // cameras, lights, names) is no concern of a mesh, and the meshes are checked below.
+    const std::string why = importer.GetErrorString();
+    if (why.rfind("Validation failed", 0) == 0) {
+      validation_failure = why;
+      scene = importer.ReadFile(path, steps);
+    }
+  }
   if (scene == nullptr) {
     std::string why = importer.GetErrorString();
     // assimp catches std::bad_alloc and keeps only its text.
@@ -208,6 +317,7 @@ FlatScene import_flat(const std::string& path) {
     throw InputError(path, "cannot parse the file (assimp: " + why + ")");
   }
 
+  check_mesh_arrays(path, scene);
   // The file's own coordinates first, so that the message can name the vertex as read.
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* m = scene->mMeshes[mi];
@@ -223,6 +333,7 @@ FlatScene import_flat(const std::string& path) {
   }
 
   FlatScene out;
+  out.validation_failure = validation_failure;
   std::vector<char> referenced(scene->mNumMeshes, 0);
   auto add_mesh = [&](unsigned mesh_index, const Eigen::Matrix4d& X, const aiNode* node) {
     const aiMesh* m = scene->mMeshes[mesh_index];
@@ -261,13 +372,14 @@ FlatScene import_flat(const std::string& path) {
   std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk =
       [&](const aiNode* node, const Eigen::Matrix4d& parent) {
         const Eigen::Matrix4d X = parent * to_eigen(node->mTransformation);
-        for (unsigned i = 0; i < node->mNumMeshes; ++i) {
+        for (unsigned i = 0; node->mMeshes != nullptr && i < node->mNumMeshes; ++i) {
           const unsigned mi = node->mMeshes[i];
           if (mi >= scene->mNumMeshes) continue;
           referenced[mi] = 1;
           add_mesh(mi, X, node);
         }
-        for (unsigned c = 0; c < node->mNumChildren; ++c) walk(node->mChildren[c], X);
+        for (unsigned c = 0; node->mChildren != nullptr && c < node->mNumChildren; ++c)
+          if (node->mChildren[c] != nullptr) walk(node->mChildren[c], X);
       };
   if (scene->mRootNode != nullptr) walk(scene->mRootNode, Eigen::Matrix4d::Identity());
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
@@ -341,11 +453,12 @@ class Decoder {
 }  // namespace
 
 std::string encode_scene(const FlatScene& scene) {
-  std::size_t bytes = 17;
+  std::size_t bytes = 25 + scene.validation_failure.size();
   for (const FlatMesh& m : scene.meshes)
     bytes += 16 + m.xyz.size() * sizeof(double) + m.index.size() * sizeof(std::uint32_t);
   Encoder e('R', bytes);
   e.u64(scene.orphans);
+  e.text(scene.validation_failure);
   e.u64(scene.meshes.size());
   for (const FlatMesh& m : scene.meshes) {
     e.array(m.xyz);
@@ -367,7 +480,7 @@ ImportAnswer decode_answer(const std::string& bytes) {
   Decoder r(bytes.data() + 1, bytes.data() + bytes.size());
   if (a.tag == 'R') {
     std::uint64_t n = 0;
-    if (!r.u64(&a.scene.orphans) || !r.u64(&n)) return a;
+    if (!r.u64(&a.scene.orphans) || !r.text(&a.scene.validation_failure) || !r.u64(&n)) return a;
     for (std::uint64_t i = 0; i < n; ++i) {
       FlatMesh m;
       if (!r.array(&m.xyz) || !r.array(&m.index)) return a;

@@ -18,12 +18,18 @@ struct FlatMesh {
 struct FlatScene {
   std::vector<FlatMesh> meshes;  ///< placed meshes in node order, then the orphans
   std::uint64_t orphans = 0;     ///< meshes no node places, kept with the identity
+  /// Empty, or assimp's validation message when the scene failed validation and was read
+  /// again without it (its meshes checked here instead).
+  std::string validation_failure;
 };
 
 /// Reads \p path with assimp, checks that every coordinate is finite, and flattens the
-/// scene. This is what runs in the import child: it uses no C++ streams (see "Threads"
-/// in mesh_io.h). OFF files must have passed check_off_faces first.
-/// \throws InputError naming \p path for a file that cannot be read as a mesh;
+/// scene. A scene that assimp's validation rejects (for instance two cameras that share a
+/// name) is read again without it, as viewers do: the meshes are checked here (every
+/// array present, every index in range) and the message is kept in validation_failure. This is what
+/// runs in the import child: it uses no C++ streams (see "Threads" in mesh_io.h). OFF files must
+/// have passed check_off_faces first. \throws InputError naming \p path for a file that cannot be
+/// read as a mesh;
 ///   std::bad_alloc when the import runs out of memory.
 FlatScene import_flat(const std::string& path);
 
@@ -33,6 +39,19 @@ FlatScene import_flat(const std::string& path);
 /// recognise are left to assimp. Runs in the caller's process, before any fork.
 /// \throws InputError naming \p path, the face (counted from 0) and the bad index.
 void check_off_faces(const std::string& path);
+
+/// Checks the element counts of the PLY header of \p path (of \p file_size bytes)
+/// against the bytes after the header, at the fewest bytes an element can take (2 per
+/// ASCII value, the type's size in binary), so that a header announcing 10^12 vertices is
+/// an error before anything is allocated. Other files are left to assimp.
+/// \throws InputError naming \p path and the element.
+void check_ply_counts(const std::string& path, std::uintmax_t file_size);
+
+/// A file of \p file_size bytes that does not start with "solid" is binary STL, whose
+/// size follows from the triangle count in its header; a size that does not is an error
+/// before anything is allocated (assimp's own message does not say why).
+/// \throws InputError naming \p path, the count and both sizes.
+void check_stl_counts(const std::string& path, std::uintmax_t file_size);
 
 // The byte format of the child's answer: one tag byte, then the payload.
 //   'R' FlatScene; 'E' problem text of an InputError; 'M' out of memory; 'X' other

@@ -22,6 +22,7 @@
 #include "medspheres/bake/cover.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/robust_solid.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/triangle_mesh.h"
 
@@ -57,6 +58,12 @@ struct BakeRequest {
   /// Record the bake's wall-clock times in the file's stats; false makes the file a pure
   /// function of the mesh, its name and the request (batch bakes, caches).
   bool record_seconds = true;
+  /// The solid baked (robust_solid.h). kAuto: the winding-number solid of a closed,
+  /// outward mesh; for any other mesh the winding-number solid unless its bake finds no
+  /// well-defined interior (kNoInterior), then the robust solid, with a warning.
+  SolidKind solid = SolidKind::kAuto;
+  RobustSolidOptions robust;               ///< of the robust solid, when it is used
+  std::optional<Length> robust_thickness;  ///< overrides robust.thickness (>= 0)
 };
 
 struct BakeOutcome {
@@ -67,22 +74,29 @@ struct BakeOutcome {
   std::optional<VolumeError> volume, internal;
   std::size_t self_intersecting_pairs = 0;  ///< of the mesh's triangles
   std::optional<CoverResult> cover;         ///< kCover: the cover, its certificate and stats
+  /// The solid baked, kWinding or kRobust (recorded as stats "solid" in the file); every
+  /// measure and guarantee of the outcome is of that solid.
+  SolidKind solid = SolidKind::kWinding;
+  std::vector<std::string> warnings;  ///< one sentence each: a fallback to the robust solid
 };
 
-/// Bakes \p mesh (with its \p report, as analyze_mesh or load_mesh gives it); \p name
-/// names it in errors and provenance, \p sha256 is recorded as given (may be empty).
+/// Bakes the solid of \p mesh that request.solid chooses (with its \p report, as
+/// analyze_mesh or load_mesh gives it); \p name names it in errors and provenance,
+/// \p sha256 is recorded as given (may be empty). The source recorded is \p mesh, also
+/// when the robust solid is baked.
 BakeOutcome bake_mesh(const TriangleMesh& mesh, const MeshReport& report,
                       const BakeRequest& request, const std::string& name,
                       const std::string& sha256 = "");
 
 /// As bake_mesh above, on a mesh whose FitEvaluator \p fit is built already (from the same
 /// mesh as \p report describes): requests on one mesh (an inner and a covering set) then
-/// share its query, volume and self-intersections.
+/// share its query, volume and self-intersections. A robust solid is built from the
+/// evaluator's mesh.
 BakeOutcome bake_mesh(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& request,
                       const std::string& name, const std::string& sha256 = "");
 
-/// Validates the request, loads \p path (mesh_io.h) and bakes it; the loader's warnings
-/// go to \p warnings (when given), one sentence each.
+/// Validates the request, loads \p path (mesh_io.h) and bakes it; the loader's and the
+/// bake's warnings go to \p warnings (when given), one sentence each.
 BakeOutcome bake_file(const std::string& path, const BakeRequest& request,
                       std::vector<std::string>* warnings = nullptr);
 

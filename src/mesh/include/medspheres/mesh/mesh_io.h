@@ -9,8 +9,11 @@
 ///    polygons are triangulated, points and lines dropped;
 /// 2. merges vertices whose transformed coordinates are bit-identical in double
 ///    (-0.0 == +0.0). No tolerance: a seam that is open in the file stays open;
-/// 3. check_mesh_usable; 4. unless told not to, orient_mesh, with a warning per kind of
-///    repair.
+/// 3. check_mesh_usable, then canonicalize_order (canonical_order.h), so that a file that
+///    lists the same vertices and triangles in another order loads identically;
+/// 4. unless told not to, orient_mesh, with a warning per kind of repair.
+/// A scene that assimp's validation rejects for its non-mesh parts (two cameras of one
+/// name) gives its triangles with a warning (scene_import.h).
 /// Frame and units: the scene root's frame, the file's units; COLLADA's <unit> scale is
 /// applied and its <up_axis> ignored, as robot description tools do. Coordinates are
 /// assimp's floats widened to double; transforms are composed in double.

@@ -1,0 +1,318 @@
+#include "medspheres/mesh/robust_solid.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <stdexcept>
+#include <unordered_map>
+#include <vector>
+
+#include "medspheres/error.h"
+#include "medspheres/number_text.h"
+#include "medspheres/point_triangle.h"
+
+namespace medspheres {
+
+namespace {
+
+constexpr int kMinResolution = 8;
+constexpr int kMaxResolution = 1024;
+
+// kWall: within the base radius (1 + sqrt(3)/2) h of a triangle; kThick: within the
+// wall radius only (the thickness t).
+enum : std::uint8_t { kFree = 0, kWall = 1, kOutside = 2, kAdded = 3, kThick = 4 };
+
+// Cells of the padded grid: cell (i, j, k) spans origin + h [i, i+1] x [j, j+1] x [k, k+1].
+struct CellGrid {
+  Eigen::Vector3d origin;
+  double h = 0;
+  std::array<std::int64_t, 3> n = {0, 0, 0};
+  std::vector<std::uint8_t> state;
+
+  std::int64_t index(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return i + n[0] * (j + n[1] * k);
+  }
+  bool solid(std::array<std::int64_t, 3> c) const {
+    for (int a = 0; a < 3; ++a)
+      if (c[a] < 0 || c[a] >= n[a]) return false;
+    return state[static_cast<std::size_t>(index(c[0], c[1], c[2]))] != kOutside;
+  }
+  Eigen::Vector3d lattice(std::int64_t i, std::int64_t j, std::int64_t k) const {
+    return {origin.x() + static_cast<double>(i) * h, origin.y() + static_cast<double>(j) * h,
+            origin.z() + static_cast<double>(k) * h};
+  }
+};
+
+// The grid over the mesh's box, padded so that walls stay two cells off its outer layer.
+CellGrid make_cell_grid(const Eigen::AlignedBox3d& box, int resolution, double wall_radius) {
+  CellGrid g;
+  g.h = box.sizes().maxCoeff() / resolution;
+  const std::int64_t pad = static_cast<std::int64_t>(std::ceil(wall_radius / g.h)) + 2;
+  g.origin = box.min() - Eigen::Vector3d::Constant(static_cast<double>(pad) * g.h);
+  for (int a = 0; a < 3; ++a)
+    g.n[a] = static_cast<std::int64_t>(std::ceil(box.sizes()[a] / g.h)) + 2 * pad + 1;
+  g.state.assign(static_cast<std::size_t>(g.n[0] * g.n[1] * g.n[2]), kFree);
+  return g;
+}
+
+// Step 2: cells whose centre is within wall_radius of a triangle: kWall within
+// base_radius, kThick beyond. A cell is tested only inside the triangle's box grown by
+// wall_radius, which holds every such centre.
+void mark_walls(const TriangleMesh& mesh, double base_radius, double wall_radius, CellGrid& g) {
+  const double base2 = base_radius * base_radius * (1.0 + 1e-9);
+  const double r2 = wall_radius * wall_radius * (1.0 + 1e-9);
+  for (const auto& t : mesh.triangles) {
+    const Eigen::Vector3d& a = mesh.vertices[static_cast<std::size_t>(t[0])];
+    const Eigen::Vector3d& b = mesh.vertices[static_cast<std::size_t>(t[1])];
+    const Eigen::Vector3d& c = mesh.vertices[static_cast<std::size_t>(t[2])];
+    const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - wall_radius;
+    const Eigen::Vector3d hi = a.cwiseMax(b).cwiseMax(c).array() + wall_radius;
+    std::array<std::int64_t, 3> from{}, to{};
+    for (int x = 0; x < 3; ++x) {
+      from[x] = std::max<std::int64_t>(
+          0, static_cast<std::int64_t>(std::floor((lo[x] - g.origin[x]) / g.h - 0.5)));
+      to[x] = std::min<std::int64_t>(
+          g.n[x] - 1, static_cast<std::int64_t>(std::ceil((hi[x] - g.origin[x]) / g.h - 0.5)));
+    }
+    for (std::int64_t k = from[2]; k <= to[2]; ++k)
+      for (std::int64_t j = from[1]; j <= to[1]; ++j)
+        for (std::int64_t i = from[0]; i <= to[0]; ++i) {
+          std::uint8_t& s = g.state[static_cast<std::size_t>(g.index(i, j, k))];
+          if (s == kWall) continue;
+          const Eigen::Vector3d centre = g.lattice(i, j, k) + Eigen::Vector3d::Constant(0.5 * g.h);
+          const double d2 = (closest_point_on_triangle(centre, a, b, c) - centre).squaredNorm();
+          if (d2 <= base2)
+            s = kWall;
+          else if (d2 <= r2)
+            s = kThick;
+        }
+  }
+}
+
+// A 6-connected breadth-first spread from the cells of \p queue (marked outside) into
+// cells of state \p into, at most \p depth steps; each cell reached is marked outside.
+void spread_outside(CellGrid& g, std::vector<std::int64_t> queue, std::uint8_t into,
+                    std::int64_t depth) {
+  const std::array<std::int64_t, 3> stride = {1, g.n[0], g.n[0] * g.n[1]};
+  std::vector<std::int64_t> steps(queue.size(), 0);
+  for (std::size_t head = 0; head < queue.size(); ++head) {
+    const std::int64_t v = queue[head];
+    if (steps[head] >= depth) continue;
+    const std::array<std::int64_t, 3> c = {v % g.n[0], (v / g.n[0]) % g.n[1],
+                                           v / (g.n[0] * g.n[1])};
+    for (int a = 0; a < 3; ++a)
+      for (int dir : {-1, 1}) {
+        const std::int64_t next = c[a] + dir;
+        if (next < 0 || next >= g.n[a]) continue;
+        const std::int64_t w = v + dir * stride[a];
+        if (g.state[static_cast<std::size_t>(w)] != into) continue;
+        g.state[static_cast<std::size_t>(w)] = kOutside;
+        queue.push_back(w);
+        steps.push_back(steps[head] + 1);
+      }
+  }
+}
+
+// Step 3: the flood fill from cell (0, 0, 0) over free cells; then, for a thickness t,
+// the outside grows back into the kThick cells by floor(t / h) 6-connected steps (a
+// closing: what the thickness added on the outside is taken away again, what it plugged
+// stays). Returns the cells of the solid beyond the base walls.
+std::size_t flood_outside(CellGrid& g, double thickness) {
+  g.state[0] = kOutside;
+  spread_outside(g, {0}, kFree, std::numeric_limits<std::int64_t>::max());
+  const auto back = static_cast<std::int64_t>(std::floor(thickness / g.h));
+  if (back > 0) {
+    std::vector<std::int64_t> seeds;
+    for (std::size_t v = 0; v < g.state.size(); ++v)
+      if (g.state[v] == kOutside) seeds.push_back(static_cast<std::int64_t>(v));
+    spread_outside(g, std::move(seeds), kThick, back);
+  }
+  return static_cast<std::size_t>(std::count_if(
+      g.state.begin(), g.state.end(), [](std::uint8_t s) { return s == kFree || s == kThick; }));
+}
+
+// Step 4: around each grid edge, two diagonal solid cells and two non-solid ones make
+// the boundary non-manifold there; the first non-solid one (in cell order) becomes solid.
+// Repeats until a pass changes nothing (cells are only added, so it ends).
+void fill_diagonal_contacts(CellGrid& g) {
+  bool changed = true;
+  while (changed) {
+    changed = false;
+    for (int a = 0; a < 3; ++a) {
+      const int u = (a + 1) % 3, v = (a + 2) % 3;
+      for (std::int64_t k = 0; k < g.n[2]; ++k)
+        for (std::int64_t j = 0; j < g.n[1]; ++j)
+          for (std::int64_t i = 0; i < g.n[0]; ++i) {
+            // The edge along axis a whose four cells are c + {0, e_u, e_v, e_u + e_v}.
+            std::array<std::int64_t, 3> c = {i, j, k};
+            if (c[u] + 1 >= g.n[u] || c[v] + 1 >= g.n[v]) continue;
+            auto at = [&](int du, int dv) {
+              std::array<std::int64_t, 3> x = c;
+              x[u] += du;
+              x[v] += dv;
+              return x;
+            };
+            const bool s00 = g.solid(at(0, 0)), s11 = g.solid(at(1, 1));
+            const bool s10 = g.solid(at(1, 0)), s01 = g.solid(at(0, 1));
+            std::array<std::int64_t, 3> fill;
+            if (s00 && s11 && !s10 && !s01)
+              fill = at(1, 0);
+            else if (s10 && s01 && !s00 && !s11)
+              fill = at(0, 0);
+            else
+              continue;
+            g.state[static_cast<std::size_t>(g.index(fill[0], fill[1], fill[2]))] = kAdded;
+            changed = true;
+          }
+    }
+  }
+}
+
+// Step 5: the faces between solid and non-solid cells, wound outward.
+TriangleMesh boundary_mesh(const CellGrid& g) {
+  TriangleMesh mesh;
+  std::unordered_map<std::int64_t, int> ids;
+  const std::int64_t m0 = g.n[0] + 1, m1 = g.n[1] + 1;
+  auto vertex = [&](const std::array<std::int64_t, 3>& p) {
+    const std::int64_t key = p[0] + m0 * (p[1] + m1 * p[2]);
+    const auto [it, fresh] = ids.emplace(key, static_cast<int>(mesh.vertices.size()));
+    if (fresh) mesh.vertices.push_back(g.lattice(p[0], p[1], p[2]));
+    return it->second;
+  };
+  for (std::int64_t k = 0; k < g.n[2]; ++k)
+    for (std::int64_t j = 0; j < g.n[1]; ++j)
+      for (std::int64_t i = 0; i < g.n[0]; ++i) {
+        const std::array<std::int64_t, 3> c = {i, j, k};
+        if (!g.solid(c)) continue;
+        for (int a = 0; a < 3; ++a)
+          for (int dir : {-1, 1}) {
+            std::array<std::int64_t, 3> nb = c;
+            nb[a] += dir;
+            if (g.solid(nb)) continue;
+            // Corners base, base + e_u, base + e_u + e_v, base + e_v: e_u x e_v = e_a.
+            const int u = (a + 1) % 3, v = (a + 2) % 3;
+            std::array<std::int64_t, 3> p[4] = {c, c, c, c};
+            for (auto& q : p) q[a] += dir > 0 ? 1 : 0;
+            p[1][u] += 1;
+            p[2][u] += 1;
+            p[2][v] += 1;
+            p[3][v] += 1;
+            int id[4];
+            for (int q = 0; q < 4; ++q) id[q] = vertex(p[q]);
+            if (dir > 0) {
+              mesh.triangles.push_back({id[0], id[1], id[2]});
+              mesh.triangles.push_back({id[0], id[2], id[3]});
+            } else {
+              mesh.triangles.push_back({id[0], id[2], id[1]});
+              mesh.triangles.push_back({id[0], id[3], id[2]});
+            }
+          }
+      }
+  return mesh;
+}
+
+// Step 6: Laplacian smoothing of the boundary's vertices (kSmoothingSteps Jacobi steps of
+// weight 1/2 towards the mean of the edge neighbours), each vertex kept within h/2 per
+// axis of its lattice point, so that no point moves by more than sqrt(3)/2 h < h. The
+// connectivity is kept: the surface stays closed and consistently wound.
+constexpr int kSmoothingSteps = 8;
+
+void smooth(TriangleMesh& mesh, const std::vector<Eigen::Vector3d>& lattice, double h) {
+  const std::size_t n = mesh.vertices.size();
+  std::vector<std::vector<int>> next(n);
+  for (const auto& t : mesh.triangles)
+    for (int k = 0; k < 3; ++k) next[static_cast<std::size_t>(t[k])].push_back(t[(k + 1) % 3]);
+  std::vector<Eigen::Vector3d> moved(n);
+  for (int step = 0; step < kSmoothingSteps; ++step) {
+    for (std::size_t v = 0; v < n; ++v) {
+      Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+      for (int w : next[v]) mean += mesh.vertices[static_cast<std::size_t>(w)];
+      mean /= static_cast<double>(next[v].size());
+      const Eigen::Vector3d p = 0.5 * (mesh.vertices[v] + mean);
+      const Eigen::Vector3d half = Eigen::Vector3d::Constant(0.5 * h);
+      moved[v] = p.cwiseMax(lattice[v] - half).cwiseMin(lattice[v] + half);
+    }
+    mesh.vertices.swap(moved);
+  }
+}
+
+InputError option_error(const char* field, double value, const std::string& problem) {
+  return InputError::option(ErrorKind::kOutOfRange, field, number_text(value), problem);
+}
+
+}  // namespace
+
+const char* to_string(SolidKind kind) {
+  switch (kind) {
+    case SolidKind::kAuto:
+      return "auto";
+    case SolidKind::kWinding:
+      return "winding";
+    case SolidKind::kRobust:
+      return "robust";
+  }
+  return "?";
+}
+
+SolidKind parse_solid_kind(const std::string& text) {
+  for (SolidKind k : {SolidKind::kAuto, SolidKind::kWinding, SolidKind::kRobust})
+    if (text == to_string(k)) return k;
+  throw InputError::option(ErrorKind::kOutOfRange, "solid", text,
+                           "must be auto, winding or robust, got '" + text + "'");
+}
+
+RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
+                              const std::string& name) {
+  if (!(options.resolution >= kMinResolution && options.resolution <= kMaxResolution))
+    throw option_error("robust_resolution", options.resolution,
+                       "must be in [8, 1024], got " + std::to_string(options.resolution));
+  if (!(std::isfinite(options.thickness) && options.thickness >= 0.0))
+    throw option_error("robust_thickness", options.thickness,
+                       "must be a finite length >= 0, got " + number_text(options.thickness));
+  if (mesh.triangles.empty()) throw std::invalid_argument("make_robust_solid: no triangles");
+  for (const auto& t : mesh.triangles)
+    for (int v : t)
+      if (v < 0 || static_cast<std::size_t>(v) >= mesh.vertices.size())
+        throw std::invalid_argument("make_robust_solid: vertex index out of range");
+  Eigen::AlignedBox3d box;
+  for (const auto& t : mesh.triangles)
+    for (int v : t) box.extend(mesh.vertices[static_cast<std::size_t>(v)]);
+  if (!(box.sizes().maxCoeff() > 0.0))
+    throw InputError(ErrorKind::kNoInterior, name,
+                     "the mesh is a single point: it bounds no volume");
+  RobustSolid out;
+  out.cell = box.sizes().maxCoeff() / options.resolution;
+  out.wall_radius = (1.0 + std::sqrt(3.0) / 2.0) * out.cell + options.thickness;
+  CellGrid g = make_cell_grid(box, options.resolution, out.wall_radius);
+  const double base_radius = (1.0 + std::sqrt(3.0) / 2.0) * out.cell;
+  mark_walls(mesh, base_radius, out.wall_radius, g);
+  out.wall_cells = static_cast<std::size_t>(std::count_if(
+      g.state.begin(), g.state.end(), [](std::uint8_t s) { return s == kWall || s == kThick; }));
+  out.enclosed_cells = flood_outside(g, options.thickness);
+  if (out.enclosed_cells == 0)
+    throw InputError(ErrorKind::kNoInterior, name,
+                     "the mesh bounds no volume: walls of " + number_text(out.wall_radius) +
+                         " around its triangles (robust solid at resolution " +
+                         std::to_string(options.resolution) +
+                         ") enclose no cell, so it is a sheet or its holes are wider than "
+                         "the walls close (raise robust_thickness to close them)");
+  fill_diagonal_contacts(g);
+  out.solid_cells = static_cast<std::size_t>(
+      std::count_if(g.state.begin(), g.state.end(), [](std::uint8_t s) { return s != kOutside; }));
+  out.mesh = boundary_mesh(g);
+  const std::vector<Eigen::Vector3d> lattice = out.mesh.vertices;
+  smooth(out.mesh, lattice, g.h);
+  return out;
+}
+
+std::string describe(const RobustSolid& s) {
+  return "the robust solid: cells of " + number_text(s.cell) + " within " +
+         number_text(s.wall_radius) + " of the surface made walls, and the " +
+         std::to_string(s.enclosed_cells) +
+         " cells they enclose were added, the boundary smoothed (an outward offset of at most " +
+         number_text(s.wall_radius + std::sqrt(3.0) * s.cell) + ")";
+}
+
+}  // namespace medspheres

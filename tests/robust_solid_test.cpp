@@ -1,0 +1,260 @@
+// The robust solid (robust_solid.h) on generated shapes of known volume, and the bake
+// that falls back to it.
+#include <cmath>
+#include <random>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/robust_solid.h"
+#include "support/shared_meshes.h"
+
+using namespace medspheres;
+
+namespace {
+
+constexpr double kPi = 3.14159265358979323846;
+
+// The largest distance from the input's surface a point of the robust solid can have.
+double offset(const RobustSolid& s) {
+  return s.wall_radius + std::sqrt(3.0) * s.cell;
+}
+
+// Every triangle on its own three vertices, shrunk towards its centroid by \p shrink (gaps
+// between neighbours), and with probability \p flip wound the other way.
+TriangleMesh soup_of(const TriangleMesh& m, double shrink, double flip, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  TriangleMesh soup;
+  for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+    const Eigen::Vector3d c = (m.corner(t, 0) + m.corner(t, 1) + m.corner(t, 2)) / 3.0;
+    const int b = static_cast<int>(soup.vertices.size());
+    for (int k = 0; k < 3; ++k) soup.vertices.push_back(c + (1.0 - shrink) * (m.corner(t, k) - c));
+    if (u(rng) < flip)
+      soup.triangles.push_back({b, b + 2, b + 1});
+    else
+      soup.triangles.push_back({b, b + 1, b + 2});
+  }
+  return soup;
+}
+
+// The box [-1, 1]^3 (8 x 8 quads a face) without the triangles of its top face (z = 1)
+// whose centroid lies in [lo, hi]^2: a square hole.
+TriangleMesh box_with_hole(double lo, double hi) {
+  TriangleMesh box = make_box({1.0, 1.0, 1.0}, 8);
+  TriangleMesh out;
+  out.vertices = box.vertices;
+  for (std::size_t t = 0; t < box.num_triangles(); ++t) {
+    const Eigen::Vector3d c = (box.corner(t, 0) + box.corner(t, 1) + box.corner(t, 2)) / 3.0;
+    bool top = true;
+    for (int k = 0; k < 3; ++k) top = top && box.corner(t, k).z() == 1.0;
+    const bool hole = top && c.x() > lo && c.x() < hi && c.y() > lo && c.y() < hi;
+    if (!hole) out.triangles.push_back(box.triangles[t]);
+  }
+  return out;
+}
+
+void check_closed_solid(const RobustSolid& s) {
+  const MeshReport r = analyze_mesh(s.mesh);
+  CHECK(r.closed);
+  CHECK(r.inconsistent_edges == 0);
+  CHECK(r.is_closed_outward());
+}
+
+// Each sphere inside the solid bounded by \p q's closed mesh: its centre inside (exact
+// winding number) and its radius at most the centre's distance to the boundary.
+void check_spheres_inside(const SphereSet& set, const MeshQuery& q) {
+  for (const Sphere& s : set.spheres) {
+    CHECK(q.winding_number_exact(s.center) > 0.5);
+    CHECK(s.radius <= q.closest_point(s.center).distance());
+  }
+}
+
+}  // namespace
+
+TEST_CASE("the robust solid of a closed box holds the box and stays within the walls",
+          "[robust_solid]") {
+  const TriangleMesh box = make_box({1.0, 1.0, 1.0}, 3);
+  for (int n : {16, 40}) {
+    INFO("resolution " << n);
+    const RobustSolid s = make_robust_solid(box, {n, 0.0}, "box");
+    check_closed_solid(s);
+    CHECK(s.cell == Approx(2.0 / n));
+    const double v = analyze_mesh(s.mesh).signed_volume;
+    const double d = offset(s);
+    CHECK(v >= 8.0);
+    CHECK(v <= std::pow(2.0 + 2.0 * d, 3));
+    // Every point of the box is in the solid (corners and centre, exactly).
+    const MeshQuery q(s.mesh);
+    for (const auto& v3 : box.vertices) CHECK(q.winding_number_exact(v3) > 0.5);
+    CHECK(q.winding_number_exact(Eigen::Vector3d::Zero()) > 0.5);
+    CHECK(q.winding_number_exact(Eigen::Vector3d(1.0 + d + 1e-9, 0, 0)) < 0.5);
+  }
+}
+
+TEST_CASE("the robust solid of a triangle soup of a ball has the ball's volume within the walls",
+          "[robust_solid]") {
+  const double r = 1.0;
+  const TriangleMesh soup = soup_of(make_icosphere(r, 4), 0.02, 0.5, 7);
+  const RobustSolid s = make_robust_solid(soup, {64, 0.0}, "soup");
+  check_closed_solid(s);
+  const double v = analyze_mesh(s.mesh).signed_volume;
+  // The icosphere is inscribed in the ball of radius r and contains the ball of its
+  // inradius; the solid holds the polyhedron and lies within offset() of its surface.
+  const double inner = 4.0 / 3.0 * kPi * std::pow(0.99 * r, 3);
+  const double outer = 4.0 / 3.0 * kPi * std::pow(r + offset(s), 3);
+  CHECK(v >= inner);
+  CHECK(v <= outer);
+}
+
+TEST_CASE("holes narrower than the walls are closed, wider ones leave no volume",
+          "[robust_solid]") {
+  // A hole of width 2 (the whole top) leaks: the flood fill fills the box.
+  try {
+    make_robust_solid(box_with_hole(-1.0, 1.0), {32, 0.0}, "open.obj");
+    FAIL("an open box without thickness enclosed a volume");
+  } catch (const InputError& e) {
+    CHECK(e.kind() == ErrorKind::kNoInterior);
+    CHECK(std::string(e.what()).find("open.obj") != std::string::npos);
+  }
+  // A hole of 0.5 x 0.5 leaks at resolution 32 without thickness (walls of 0.117), and is
+  // closed by a thickness beyond its half diagonal (0.354); the closing keeps the box.
+  const TriangleMesh box = box_with_hole(0.0, 0.5);
+  CHECK_THROWS_AS(make_robust_solid(box, {32, 0.0}, "hole.obj"), InputError);
+  const RobustSolid s = make_robust_solid(box, {32, 0.4}, "hole.obj");
+  check_closed_solid(s);
+  const double v = analyze_mesh(s.mesh).signed_volume;
+  CHECK(v >= 8.0);
+  CHECK(v <= std::pow(2.0 + 2.0 * offset(s), 3));
+  const MeshQuery q(s.mesh);
+  CHECK(q.winding_number_exact(Eigen::Vector3d(0.25, 0.25, 0.95)) > 0.5);
+}
+
+TEST_CASE("a flat sheet has no robust solid: a clear error", "[robust_solid]") {
+  TriangleMesh sheet;
+  sheet.vertices = {{0, 0, 0}, {1, 0, 0}, {1, 1, 0}, {0, 1, 0}};
+  sheet.triangles = {{0, 1, 2}, {0, 2, 3}};
+  CHECK_THROWS_AS(make_robust_solid(sheet, {}, "sheet.obj"), InputError);
+  BakeRequest request;
+  try {
+    bake_mesh(sheet, analyze_mesh(sheet), request, "sheet.obj");
+    FAIL("a flat sheet was baked");
+  } catch (const InputError& e) {
+    CHECK(e.kind() == ErrorKind::kNoInterior);
+  }
+}
+
+TEST_CASE("robust solid options out of range name the option", "[robust_solid]") {
+  const TriangleMesh box = make_box({1.0, 1.0, 1.0});
+  for (const RobustSolidOptions& o :
+       {RobustSolidOptions{7, 0.0}, RobustSolidOptions{1025, 0.0}, RobustSolidOptions{32, -1.0},
+        RobustSolidOptions{32, std::nan("")}}) {
+    try {
+      make_robust_solid(box, o, "box");
+      FAIL("accepted");
+    } catch (const InputError& e) {
+      CHECK(e.kind() == ErrorKind::kOutOfRange);
+      CHECK(e.field().rfind("robust_", 0) == 0);
+    }
+  }
+  CHECK(parse_solid_kind("robust") == SolidKind::kRobust);
+  CHECK_THROWS_AS(parse_solid_kind("voxel"), InputError);
+}
+
+TEST_CASE("the robust solid does not depend on the order of triangles and vertices",
+          "[robust_solid]") {
+  const TriangleMesh soup = soup_of(make_torus(1.0, 0.3, 24, 12), 0.01, 0.3, 3);
+  TriangleMesh shuffled = soup;
+  std::mt19937 rng(11);
+  std::vector<int> perm(soup.vertices.size());
+  for (std::size_t i = 0; i < perm.size(); ++i) perm[i] = static_cast<int>(i);
+  std::shuffle(perm.begin(), perm.end(), rng);
+  for (std::size_t i = 0; i < perm.size(); ++i)
+    shuffled.vertices[static_cast<std::size_t>(perm[i])] = soup.vertices[i];
+  for (auto& t : shuffled.triangles)
+    for (int& v : t) v = perm[static_cast<std::size_t>(v)];
+  std::shuffle(shuffled.triangles.begin(), shuffled.triangles.end(), rng);
+  const RobustSolid a = make_robust_solid(soup, {48, 0.0}, "a");
+  const RobustSolid b = make_robust_solid(shuffled, {48, 0.0}, "b");
+  CHECK(a.mesh.vertices == b.mesh.vertices);
+  CHECK(a.mesh.triangles == b.mesh.triangles);
+}
+
+TEST_CASE("auto bakes the robust solid of an ambiguous soup, with a warning, and records it",
+          "[robust_solid][bake_pipeline]") {
+  const TriangleMesh soup = soup_of(make_icosphere(1.0, 3), 0.02, 0.5, 5);
+  BakeRequest request;
+  request.medial.resolution = 20;
+  const BakeOutcome out = bake_mesh(soup, analyze_mesh(soup), request, "soup.stl");
+  CHECK(out.solid == SolidKind::kRobust);
+  REQUIRE(out.warnings.size() == 1);
+  CHECK(out.warnings[0].find("robust solid") != std::string::npos);
+  const auto meta = nlohmann::json::parse(out.spheres.metadata_json);
+  CHECK(meta["stats"]["solid"] == "robust");
+  CHECK(meta["source"]["triangles"] == soup.num_triangles());
+  REQUIRE(out.spheres.size() > 0);
+  // The guarantee holds for the solid used: every sphere inside the robust solid.
+  const RobustSolid s = make_robust_solid(soup, request.robust, "soup.stl");
+  check_spheres_inside(out.spheres, MeshQuery(s.mesh));
+  // The winding-number solid, asked for explicitly, is refused.
+  request.solid = SolidKind::kWinding;
+  CHECK_THROWS_AS(bake_mesh(soup, analyze_mesh(soup), request, "soup.stl"), InputError);
+}
+
+TEST_CASE("auto keeps the winding-number solid of a closed mesh; robust is there on request",
+          "[robust_solid][bake_pipeline]") {
+  const TriangleMesh ball = make_icosphere(1.0, 3);
+  BakeRequest request;
+  request.medial.resolution = 20;
+  const BakeOutcome w = bake_mesh(ball, analyze_mesh(ball), request, "ball");
+  CHECK(w.solid == SolidKind::kWinding);
+  CHECK(w.warnings.empty());
+  CHECK(nlohmann::json::parse(w.spheres.metadata_json)["stats"]["solid"] == "winding");
+  request.solid = SolidKind::kRobust;
+  const BakeOutcome r = bake_mesh(ball, analyze_mesh(ball), request, "ball");
+  CHECK(r.solid == SolidKind::kRobust);
+  CHECK(r.warnings.empty());
+  CHECK(nlohmann::json::parse(r.spheres.metadata_json)["stats"]["solid"] == "robust");
+  // The robust solid's exact volume is recorded, and it holds the ball's polyhedron.
+  REQUIRE(r.volume.has_value());
+  CHECK(nlohmann::json::parse(r.spheres.metadata_json)["stats"]["mesh_volume"].get<double>() >=
+        analyze_mesh(ball).signed_volume);
+}
+
+#ifdef MEDSPHERES_SHARED_MESHES
+TEST_CASE("every awkward shared mesh with a volume bakes, inside the solid it records",
+          "[robust_solid][shared]") {
+  for (const auto& row : test::shared_meshes()) {
+    if (row.classic()) continue;
+    INFO(row.file);
+    const LoadedMesh loaded = load_mesh(row.path);
+    BakeRequest request;
+    request.measure = false;
+    BakeOutcome out;
+    try {
+      out = bake_mesh(loaded.mesh, loaded.report, request, row.file);
+    } catch (const InputError& e) {
+      // Only a mesh that bounds nothing may be refused: 100 random triangles.
+      CHECK(row.category == "awkward:soup");
+      CHECK(e.kind() == ErrorKind::kNoInterior);
+      continue;
+    }
+    REQUIRE(out.spheres.size() > 0);
+    const bool robust = out.solid == SolidKind::kRobust;
+    CHECK(nlohmann::json::parse(out.spheres.metadata_json)["stats"]["solid"] ==
+          to_string(out.solid));
+    CHECK(robust == !out.warnings.empty());
+    if (!robust) continue;
+    const MeshQuery q(make_robust_solid(loaded.mesh, request.robust, row.file).mesh);
+    check_spheres_inside(out.spheres, q);
+  }
+}
+#endif
