@@ -133,7 +133,7 @@ TEST_CASE("bake_cache_key: every result-changing option, not threads", "[batch]"
   BakeRequest threads = base;
   threads.medial.threads = 7;
   CHECK(bake_cache_key(sha, ".off", threads) == key);
-  std::vector<BakeRequest> changed(10, base);
+  std::vector<BakeRequest> changed(13, base);
   changed[0].medial.resolution = 11;
   changed[1].medial.object_angle = 0.61;
   changed[2].max_spheres = 5;
@@ -144,10 +144,13 @@ TEST_CASE("bake_cache_key: every result-changing option, not threads", "[batch]"
   changed[7].measure = false;
   changed[8].method = BakeMethod::kCover;
   changed[9].medial.medial_tolerance = 1e-4;
+  changed[10].solid = SolidKind::kRobust;
+  changed[11].robust.resolution = 64;
+  changed[12].robust_thickness = Length{0.01, true};
   std::set<std::string> keys = {key, bake_cache_key(std::string(64, 'b'), ".off", base),
                                 bake_cache_key(sha, ".stl", base)};
   for (const BakeRequest& r : changed) keys.insert(bake_cache_key(sha, ".off", r));
-  CHECK(keys.size() == 13);
+  CHECK(keys.size() == 16);
 }
 
 TEST_CASE("bake_batch: each row as a single bake, a bad mesh is a row and not a stop", "[batch]") {

@@ -48,6 +48,10 @@ std::string request_text(const BakeRequest& r) {
   line("seed", std::to_string(r.seed));
   line("measure", r.measure ? "1" : "0");
   line("record_seconds", r.record_seconds ? "1" : "0");
+  line("solid", to_string(r.solid));
+  line("robust_resolution", std::to_string(r.robust.resolution));
+  line("robust_thickness", r.robust_thickness ? optional_text(r.robust_thickness)
+                                              : exact_number_text(r.robust.thickness));
   return t;
 }
 
