@@ -94,14 +94,16 @@ class BinaryBuilder {
     cbox.sizes().maxCoeff(&axis);
     const double lo = cbox.min()[axis], width = cbox.sizes()[axis];
     std::size_t mid = b + (e - b) / 2;
-    bool use_median = depth >= kSahDepth || !(width > 0.0);
+    // A width that overflows (centroids near +-DBL_MAX) cannot be binned: median split.
+    bool use_median = depth >= kSahDepth || !(width > 0.0) || !std::isfinite(width);
     if (!use_median) {
-      // Bin centroids along the axis and sweep for the cheapest split.
+      // Bin centroids along the axis and sweep for the cheapest split. kBins * (c - lo)
+      // overflows for c - lo beyond DBL_MAX / kBins: clamp before converting to int.
       std::size_t count[kBins] = {};
       Eigen::AlignedBox3d bin_box[kBins];
       auto bin_of = [&](int id) {
-        const int k = static_cast<int>(kBins * (centroids_[id][axis] - lo) / width);
-        return std::clamp(k, 0, kBins - 1);
+        const double x = kBins * (centroids_[id][axis] - lo) / width;
+        return x < kBins ? (x > 0.0 ? static_cast<int>(x) : 0) : kBins - 1;
       };
       for (std::size_t i = b; i < e; ++i) {
         const int k = bin_of(ids[i]);
