@@ -13,6 +13,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/formats/sph_file.h"
 #include "medspheres/formats/xrdf.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/point_triangle.h"
@@ -72,6 +73,21 @@ TEST_CASE("XRDF whose keys hold scalars or mappings where others belong is an in
   }
   // The well-formed file still reads.
   CHECK(formats::parse_xrdf(head, "in.xrdf").size() == 1);
+}
+
+TEST_CASE(".sph headers with counts beyond any integer type are an input error",
+          "[fuzz][formats]") {
+  // The counts were converted to long before their range was checked (undefined behaviour,
+  // which the sanitizer build reports).
+  for (const std::string text :
+       {std::string("8294726277218876156038 1\n0 0 0 1 1\n"), std::string("1 1e300\n0 0 0 1 1\n"),
+        std::string("nan 1\n0 0 0 1 1\n"), std::string("2.5 1\n0 0 0 1 1\n"),
+        corpus_file("fuzz_sph/crash-huge-level-count.sph")}) {
+    INFO(text);
+    CHECK_THAT(input_error_of(formats::parse_sph_levels, text),
+               Catch::Contains("the first line is not \"levels degree\""));
+  }
+  CHECK(formats::parse_sph_levels("1 1\n0 0 0 1 1\n", "in.sph").size() == 1);
 }
 
 TEST_CASE("MeshQuery builds over centroids spread across the whole double range",
