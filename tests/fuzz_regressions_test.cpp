@@ -47,7 +47,7 @@ std::string input_error_of(Read read, const std::string& text) {
 TEST_CASE("cuRobo YAML whose keys hold scalars where mappings belong is an input error",
           "[fuzz][formats]") {
   // yaml-cpp throws its own BadSubscript for a key looked up in a scalar.
-  for (const std::string text :
+  for (const std::string& text :
        {std::string("robot_cfg: 3\n"), std::string("robot_cfg:\n  kinematics: 1\n"),
         std::string("kinematics: x\n"), std::string("collision_spheres: {a: 1}\n"),
         corpus_file("fuzz_curobo_yaml/crash-scalar-robot-cfg.yml")}) {
@@ -64,10 +64,11 @@ TEST_CASE("XRDF whose keys hold scalars or mappings where others belong is an in
   const std::string head =
       "format: xrdf\ngeometry:\n  g:\n    spheres:\n      a:\n"
       "        - {center: [0, 0, 0], radius: 1}\n";
-  for (const std::string text : {head + "collision: 3\n", head + "collision:\n  geometry: {x: 1}\n",
-                                 std::string("format: xrdf\ngeometry:\n  g: 3\n"),
-                                 std::string("format: xrdf\ngeometry:\n  [a]: {spheres: {}}\n"),
-                                 corpus_file("fuzz_xrdf/crash-scalar-collision.xrdf")}) {
+  for (const std::string& text :
+       {head + "collision: 3\n", head + "collision:\n  geometry: {x: 1}\n",
+        std::string("format: xrdf\ngeometry:\n  g: 3\n"),
+        std::string("format: xrdf\ngeometry:\n  [a]: {spheres: {}}\n"),
+        corpus_file("fuzz_xrdf/crash-scalar-collision.xrdf")}) {
     INFO(text);
     CHECK_THAT(input_error_of(formats::parse_xrdf, text), Catch::StartsWith("in.yml: "));
   }
@@ -79,7 +80,7 @@ TEST_CASE(".sph headers with counts beyond any integer type are an input error",
           "[fuzz][formats]") {
   // The counts were converted to long before their range was checked (undefined behaviour,
   // which the sanitizer build reports).
-  for (const std::string text :
+  for (const std::string& text :
        {std::string("8294726277218876156038 1\n0 0 0 1 1\n"), std::string("1 1e300\n0 0 0 1 1\n"),
         std::string("nan 1\n0 0 0 1 1\n"), std::string("2.5 1\n0 0 0 1 1\n"),
         corpus_file("fuzz_sph/crash-huge-level-count.sph")}) {
