@@ -119,3 +119,19 @@ TEST_CASE("MeshQuery builds over centroids spread across the whole double range"
     CHECK(std::abs(query.closest_point(p).distance() - brute) <= 32 * 0x1p-53 * scale);
   }
 }
+
+TEST_CASE("MeshQuery caps a hole whose vertices lie near the largest double",
+          "[fuzz][mesh_query]") {
+  // The centre of the cap's fan was the sum of the hole's vertices over their count: the
+  // sum overflowed, and the cap's non-finite vertex made the constructor throw.
+  TriangleMesh mesh;
+  mesh.vertices = {{1.5e308, 0, 0}, {1.5e308, 1e308, 0}, {1.5e308, 0, 1e308}};
+  mesh.triangles = {{0, 1, 2}};
+  MeshQueryOptions options;
+  options.cap_holes = true;
+  const MeshQuery query(mesh, options);
+  REQUIRE(query.cap_mesh().num_triangles() == 3);
+  for (const Eigen::Vector3d& v : query.cap_mesh().vertices) CHECK(v.allFinite());
+  // The fan's centre is the mean of the three corners.
+  CHECK(query.cap_mesh().vertices.back().isApprox(Eigen::Vector3d(1.5e308, 1e308 / 3, 1e308 / 3)));
+}

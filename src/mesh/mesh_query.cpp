@@ -586,6 +586,11 @@ TriangleMesh hole_caps(const TriangleMesh& mesh) {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     for (int v : loop) centre += mesh.vertices[static_cast<std::size_t>(v)];
     centre /= static_cast<double>(loop.size());
+    if (!centre.allFinite()) {  // the sum overflowed (coordinates near +-DBL_MAX)
+      centre.setZero();
+      for (int v : loop)
+        centre += mesh.vertices[static_cast<std::size_t>(v)] / static_cast<double>(loop.size());
+    }
     const int base = static_cast<int>(caps.vertices.size());
     for (int v : loop) caps.vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
     caps.vertices.push_back(centre);
