@@ -9,6 +9,26 @@ if(MEDSPHERES_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
 endif()
 
+if(MEDSPHERES_FUZZ OR MEDSPHERES_TSAN)
+  if(NOT CMAKE_CXX_COMPILER_ID STREQUAL "Clang")
+    message(FATAL_ERROR "MEDSPHERES_FUZZ and MEDSPHERES_TSAN need clang (-DCMAKE_CXX_COMPILER=clang++-14)")
+  endif()
+endif()
+if(MEDSPHERES_FUZZ)
+  # Coverage feedback for libFuzzer in every target; the fuzz targets alone link libFuzzer's
+  # main (fuzz/CMakeLists.txt).
+  add_compile_options(-fsanitize=fuzzer-no-link,address,undefined -fno-sanitize-recover=undefined
+                      -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=address,undefined)
+endif()
+if(MEDSPHERES_TSAN)
+  # clang's OpenMP runtime (libomp) tells ThreadSanitizer about its barriers and tasks through
+  # the Archer tool (libarcher, loaded with OMP_TOOL_LIBRARIES, see .ci/tsan); GCC's libgomp
+  # cannot, and would be reported as racing with itself.
+  add_compile_options(-fsanitize=thread -fno-omit-frame-pointer)
+  add_link_options(-fsanitize=thread)
+endif()
+
 if(MEDSPHERES_ASSERTS)
   add_compile_definitions(MEDSPHERES_ENABLE_ASSERTS=1)
 endif()

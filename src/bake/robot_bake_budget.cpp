@@ -51,7 +51,7 @@ void check_overrides(const std::vector<LinkSolid>& solids, const RobotBudget& bu
                      const std::string& source) {
   for (const auto& [name, k] : budget.links) {
     const auto it = std::find_if(solids.begin(), solids.end(),
-                                 [&](const LinkSolid& s) { return s.link == name; });
+                                 [&link = name](const LinkSolid& s) { return s.link == link; });
     if (it == solids.end())
       throw InputError::option(ErrorKind::kOutOfRange, "link", "",
                                "no link named '" + name + "' in " + source);

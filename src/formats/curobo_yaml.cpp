@@ -28,22 +28,23 @@ std::string curobo_yaml_text(const RobotSpheres& spheres, const CuroboOptions& o
 }
 
 RobotSpheres parse_curobo_yaml(const std::string& text, const std::string& source) {
-  const YAML::Node doc = parse_yaml(text, source);
-  if (!doc.IsMap()) throw InputError(source, "the top level is not a YAML mapping");
-  YAML::Node kinematics = doc;
-  if (doc["robot_cfg"] && doc["robot_cfg"]["kinematics"])
-    kinematics = doc["robot_cfg"]["kinematics"];
-  else if (doc["kinematics"])
-    kinematics = doc["kinematics"];
-  const YAML::Node spheres = kinematics["collision_spheres"];
-  if (!spheres)
-    throw InputError(source,
-                     "no \"collision_spheres\" (looked under robot_cfg: kinematics:, "
-                     "under kinematics: and at the top level)");
-  if (spheres.IsScalar())
-    throw InputError(source, "\"collision_spheres\" names a separate file (\"" +
-                                 spheres.as<std::string>() + "\"); convert that file instead");
-  return read_yaml_link_spheres(spheres, source, "collision_spheres");
+  return read_yaml(text, source, [&](const YAML::Node& doc) {
+    if (!doc.IsMap()) throw InputError(source, "the top level is not a YAML mapping");
+    YAML::Node kinematics = doc;
+    if (doc["robot_cfg"] && doc["robot_cfg"]["kinematics"])
+      kinematics = doc["robot_cfg"]["kinematics"];
+    else if (doc["kinematics"])
+      kinematics = doc["kinematics"];
+    const YAML::Node spheres = kinematics["collision_spheres"];
+    if (!spheres)
+      throw InputError(source,
+                       "no \"collision_spheres\" (looked under robot_cfg: kinematics:, "
+                       "under kinematics: and at the top level)");
+    if (spheres.IsScalar())
+      throw InputError(source, "\"collision_spheres\" names a separate file (\"" +
+                                   spheres.as<std::string>() + "\"); convert that file instead");
+    return read_yaml_link_spheres(spheres, source, "collision_spheres");
+  });
 }
 
 RobotSpheres load_curobo_yaml(const std::string& path) {

@@ -1,6 +1,7 @@
 #include "medspheres/formats/sph_file.h"
 
 #include <algorithm>
+#include <cmath>
 #include <sstream>
 
 #include "medspheres/error.h"
@@ -22,6 +23,12 @@ std::vector<std::pair<std::size_t, std::string>> content_lines(const std::string
   for (std::size_t n = 1; std::getline(in, line); ++n)
     if (line.find_first_not_of(" \t\r") != std::string::npos) out.emplace_back(n, line);
   return out;
+}
+
+// Whether x is a whole number in [1, 2^53]: checked before any conversion to long, which
+// is undefined beyond 2^63 (and above 2^53 a double holds no odd numbers anyway).
+bool whole_count(double x) {
+  return x >= 1 && x <= 0x1p53 && x == std::floor(x);
 }
 
 }  // namespace
@@ -46,9 +53,7 @@ std::vector<std::vector<Sphere>> parse_sph_levels(const std::string& text,
                                                   const std::string& source) {
   const auto lines = content_lines(text);
   const auto header = lines.empty() ? std::nullopt : parse_numbers(lines[0].second);
-  if (!header || header->size() != 2 || (*header)[0] < 1 || (*header)[1] < 1 ||
-      (*header)[0] != static_cast<long>((*header)[0]) ||
-      (*header)[1] != static_cast<long>((*header)[1]))
+  if (!header || header->size() != 2 || !whole_count((*header)[0]) || !whole_count((*header)[1]))
     throw InputError(source, "the first line is not \"levels degree\" (two whole numbers >= 1)");
   const long levels = static_cast<long>((*header)[0]), degree = static_cast<long>((*header)[1]);
   std::vector<std::vector<Sphere>> out;

@@ -59,28 +59,30 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
 }
 
 RobotSpheres parse_xrdf(const std::string& text, const std::string& source) {
-  const YAML::Node doc = parse_yaml(text, source);
-  if (!doc.IsMap() || !doc["format"] || !doc["format"].IsScalar() ||
-      doc["format"].as<std::string>() != "xrdf")
-    throw InputError(source, "not an XRDF file: no \"format: xrdf\"");
-  const YAML::Node geometry = doc["geometry"];
-  if (!geometry || !geometry.IsMap() || geometry.size() == 0)
-    throw InputError(source, "no \"geometry\" groups");
-  std::string group;
-  if (doc["collision"] && doc["collision"]["geometry"]) {
-    group = doc["collision"]["geometry"].as<std::string>();
-  } else if (geometry.size() == 1) {
-    group = geometry.begin()->first.as<std::string>();
-  } else {
-    throw InputError(source, "several geometry groups and no \"collision: geometry:\" to pick one");
-  }
-  const YAML::Node g = geometry[group];
-  if (!g)
-    throw InputError(source, "\"collision\" names the geometry group \"" + group +
-                                 "\", which \"geometry\" does not define");
-  if (!g["spheres"])
-    throw InputError(source, "the geometry group \"" + group + "\" has no \"spheres\"");
-  return read_yaml_link_spheres(g["spheres"], source, "geometry: " + group + ": spheres");
+  return read_yaml(text, source, [&](const YAML::Node& doc) {
+    if (!doc.IsMap() || !doc["format"] || !doc["format"].IsScalar() ||
+        doc["format"].as<std::string>() != "xrdf")
+      throw InputError(source, "not an XRDF file: no \"format: xrdf\"");
+    const YAML::Node geometry = doc["geometry"];
+    if (!geometry || !geometry.IsMap() || geometry.size() == 0)
+      throw InputError(source, "no \"geometry\" groups");
+    std::string group;
+    if (doc["collision"] && doc["collision"]["geometry"]) {
+      group = doc["collision"]["geometry"].as<std::string>();
+    } else if (geometry.size() == 1) {
+      group = geometry.begin()->first.as<std::string>();
+    } else {
+      throw InputError(source,
+                       "several geometry groups and no \"collision: geometry:\" to pick one");
+    }
+    const YAML::Node g = geometry[group];
+    if (!g)
+      throw InputError(source, "\"collision\" names the geometry group \"" + group +
+                                   "\", which \"geometry\" does not define");
+    if (!g["spheres"])
+      throw InputError(source, "the geometry group \"" + group + "\" has no \"spheres\"");
+    return read_yaml_link_spheres(g["spheres"], source, "geometry: " + group + ": spheres");
+  });
 }
 
 RobotSpheres load_xrdf(const std::string& path) {

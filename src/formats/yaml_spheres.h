@@ -6,12 +6,28 @@
 
 #include <yaml-cpp/yaml.h>
 
+#include "medspheres/error.h"
 #include "medspheres/formats/robot_spheres.h"
 
 namespace medspheres::formats {
 
 /// Parses YAML text. \throws InputError naming \p source and the line on a syntax error.
 YAML::Node parse_yaml(const std::string& text, const std::string& source);
+
+/// read(root) on the YAML document \p text. yaml-cpp's own exceptions, from the parse or
+/// from reading a node as what it is not (a key looked up in a scalar, a mapping read as
+/// text), become InputErrors naming \p source and the line.
+template <class Read>
+auto read_yaml(const std::string& text, const std::string& source, Read&& read) {
+  const YAML::Node root = parse_yaml(text, source);
+  try {
+    return read(root);
+  } catch (const YAML::Exception& e) {
+    const std::string line =
+        e.mark.is_null() ? "" : " (line " + std::to_string(e.mark.line + 1) + ")";
+    throw InputError(source, "unexpected YAML structure" + line + ": " + e.msg);
+  }
+}
 
 /// Reads a mapping link -> list of {center, radius}, in the file's order, and validates it
 /// (validate_robot_spheres). \p where names the mapping ("collision_spheres").

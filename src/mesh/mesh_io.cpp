@@ -247,6 +247,12 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
           ? import_isolated(path, static_cast<std::uintmax_t>(st.st_size), options)
           : detail::import_flat(path);
 
+  return detail::mesh_from_scene(scene, path, options.fix_orientation);
+}
+
+// Steps 2 to 4 of load_mesh on the imported scene (scene_import.h).
+LoadedMesh detail::mesh_from_scene(const detail::FlatScene& scene, const std::string& path,
+                                   bool fix_orientation) {
   LoadedMesh out;
   TriangleMesh& mesh = out.mesh;
   Welder welder(mesh);
@@ -269,7 +275,7 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   check_mesh_usable(mesh, path);
   canonicalize_order(mesh);
 
-  if (options.fix_orientation) {
+  if (fix_orientation) {
     out.orientation_fix = orient_mesh(mesh);
     if (out.orientation_fix.triangles_flipped_for_consistency > 0)
       out.warnings.push_back("flipped " +

@@ -94,14 +94,16 @@ class BinaryBuilder {
     cbox.sizes().maxCoeff(&axis);
     const double lo = cbox.min()[axis], width = cbox.sizes()[axis];
     std::size_t mid = b + (e - b) / 2;
-    bool use_median = depth >= kSahDepth || !(width > 0.0);
+    // A width that overflows (centroids near +-DBL_MAX) cannot be binned: median split.
+    bool use_median = depth >= kSahDepth || !(width > 0.0) || !std::isfinite(width);
     if (!use_median) {
-      // Bin centroids along the axis and sweep for the cheapest split.
+      // Bin centroids along the axis and sweep for the cheapest split. kBins * (c - lo)
+      // overflows for c - lo beyond DBL_MAX / kBins: clamp before converting to int.
       std::size_t count[kBins] = {};
       Eigen::AlignedBox3d bin_box[kBins];
       auto bin_of = [&](int id) {
-        const int k = static_cast<int>(kBins * (centroids_[id][axis] - lo) / width);
-        return std::clamp(k, 0, kBins - 1);
+        const double x = kBins * (centroids_[id][axis] - lo) / width;
+        return x < kBins ? (x > 0.0 ? static_cast<int>(x) : 0) : kBins - 1;
       };
       for (std::size_t i = b; i < e; ++i) {
         const int k = bin_of(ids[i]);
@@ -584,6 +586,11 @@ TriangleMesh hole_caps(const TriangleMesh& mesh) {
     Eigen::Vector3d centre = Eigen::Vector3d::Zero();
     for (int v : loop) centre += mesh.vertices[static_cast<std::size_t>(v)];
     centre /= static_cast<double>(loop.size());
+    if (!centre.allFinite()) {  // the sum overflowed (coordinates near +-DBL_MAX)
+      centre.setZero();
+      for (int v : loop)
+        centre += mesh.vertices[static_cast<std::size_t>(v)] / static_cast<double>(loop.size());
+    }
     const int base = static_cast<int>(caps.vertices.size());
     for (int v : loop) caps.vertices.push_back(mesh.vertices[static_cast<std::size_t>(v)]);
     caps.vertices.push_back(centre);

@@ -6,6 +6,8 @@
 #include <string>
 #include <vector>
 
+#include "medspheres/mesh/mesh_io.h"
+
 namespace medspheres::detail {
 
 /// One placement of one assimp mesh: its vertices under the node's accumulated
@@ -67,5 +69,11 @@ struct ImportAnswer {
   std::string text;  ///< for the other tags
 };
 ImportAnswer decode_answer(const std::string& bytes);
+
+/// Steps 2 to 4 of load_mesh (mesh_io.h) on an imported scene: welds bit-identical
+/// points, checks the mesh (check_mesh_usable, naming \p path), orients it when
+/// \p fix_orientation, and reports it with the user's warnings.
+/// Precondition: every index of a FlatMesh is below its vertex count.
+LoadedMesh mesh_from_scene(const FlatScene& scene, const std::string& path, bool fix_orientation);
 
 }  // namespace medspheres::detail

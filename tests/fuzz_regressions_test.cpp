@@ -1,0 +1,137 @@
+// Inputs the fuzzers of fuzz/ found, each reduced to what triggered the failure, and the
+// committed fuzz inputs themselves (fuzz/corpus/*/crash-*): readers answer with an
+// InputError naming the file, never with another exception, and the mesh query's
+// hierarchy builds on any finite coordinates.
+#include <algorithm>
+#include <cmath>
+#include <fstream>
+#include <limits>
+#include <sstream>
+#include <string>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/formats/sph_file.h"
+#include "medspheres/formats/xrdf.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/point_triangle.h"
+
+using namespace medspheres;
+
+namespace {
+
+std::string corpus_file(const std::string& name) {
+  std::ifstream in(std::string(MEDSPHERES_SOURCE_DIR) + "/fuzz/corpus/" + name, std::ios::binary);
+  REQUIRE(in);
+  std::ostringstream text;
+  text << in.rdbuf();
+  return text.str();
+}
+
+// The message of the InputError that read(text) throws; fails on any other outcome.
+template <class Read>
+std::string input_error_of(Read read, const std::string& text) {
+  try {
+    read(text, "in.yml");
+  } catch (const InputError& e) {
+    return e.what();
+  }
+  FAIL("no InputError");
+  return {};
+}
+
+}  // namespace
+
+TEST_CASE("cuRobo YAML whose keys hold scalars where mappings belong is an input error",
+          "[fuzz][formats]") {
+  // yaml-cpp throws its own BadSubscript for a key looked up in a scalar.
+  for (const std::string& text :
+       {std::string("robot_cfg: 3\n"), std::string("robot_cfg:\n  kinematics: 1\n"),
+        std::string("kinematics: x\n"), std::string("collision_spheres: {a: 1}\n"),
+        corpus_file("fuzz_curobo_yaml/crash-scalar-robot-cfg.yml")}) {
+    INFO(text);
+    const std::string message = input_error_of(formats::parse_curobo_yaml, text);
+    CHECK_THAT(message, Catch::StartsWith("in.yml: "));
+  }
+  CHECK_THAT(input_error_of(formats::parse_curobo_yaml, "robot_cfg: 3\n"),
+             Catch::Contains("unexpected YAML structure (line 1)"));
+}
+
+TEST_CASE("XRDF whose keys hold scalars or mappings where others belong is an input error",
+          "[fuzz][formats]") {
+  const std::string head =
+      "format: xrdf\ngeometry:\n  g:\n    spheres:\n      a:\n"
+      "        - {center: [0, 0, 0], radius: 1}\n";
+  for (const std::string& text :
+       {head + "collision: 3\n", head + "collision:\n  geometry: {x: 1}\n",
+        std::string("format: xrdf\ngeometry:\n  g: 3\n"),
+        std::string("format: xrdf\ngeometry:\n  [a]: {spheres: {}}\n"),
+        corpus_file("fuzz_xrdf/crash-scalar-collision.xrdf")}) {
+    INFO(text);
+    CHECK_THAT(input_error_of(formats::parse_xrdf, text), Catch::StartsWith("in.yml: "));
+  }
+  // The well-formed file still reads.
+  CHECK(formats::parse_xrdf(head, "in.xrdf").size() == 1);
+}
+
+TEST_CASE(".sph headers with counts beyond any integer type are an input error",
+          "[fuzz][formats]") {
+  // The counts were converted to long before their range was checked (undefined behaviour,
+  // which the sanitizer build reports).
+  for (const std::string& text :
+       {std::string("8294726277218876156038 1\n0 0 0 1 1\n"), std::string("1 1e300\n0 0 0 1 1\n"),
+        std::string("nan 1\n0 0 0 1 1\n"), std::string("2.5 1\n0 0 0 1 1\n"),
+        corpus_file("fuzz_sph/crash-huge-level-count.sph")}) {
+    INFO(text);
+    CHECK_THAT(input_error_of(formats::parse_sph_levels, text),
+               Catch::Contains("the first line is not \"levels degree\""));
+  }
+  CHECK(formats::parse_sph_levels("1 1\n0 0 0 1 1\n", "in.sph").size() == 1);
+}
+
+TEST_CASE("MeshQuery builds over centroids spread across the whole double range",
+          "[fuzz][mesh_query]") {
+  // Centroids from -1e307 to 1e307: the binning's 16 (c - lo) overflowed to infinity and
+  // was converted to int (undefined behaviour, which the sanitizer build reports).
+  TriangleMesh mesh;
+  for (int i = 0; i < 8; ++i) {
+    const double x = -1e307 + i * (2e307 / 7);
+    const int v = static_cast<int>(mesh.vertices.size());
+    mesh.vertices.push_back({x, 0, 0});
+    mesh.vertices.push_back({x, 1, 0});
+    mesh.vertices.push_back({x, 0, 1});
+    mesh.triangles.push_back({v, v + 1, v + 2});
+  }
+  const MeshQuery query(mesh);
+  // Brute force over every triangle; the accuracy is the kernel's, relative to the
+  // mesh's size (mesh_query.h).
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(-1e307, 2, 2), Eigen::Vector3d(0.9e307, -1, 0)}) {
+    double brute = std::numeric_limits<double>::infinity();
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t)
+      brute = std::min(brute, (p - closest_point_on_triangle(p, mesh.corner(t, 0),
+                                                             mesh.corner(t, 1), mesh.corner(t, 2)))
+                                  .stableNorm());
+    const double scale = p.stableNorm() + brute + 2 * mesh.bounds().sizes().stableNorm();
+    REQUIRE(std::isfinite(scale));
+    CHECK(std::abs(query.closest_point(p).distance() - brute) <= 32 * 0x1p-53 * scale);
+  }
+}
+
+TEST_CASE("MeshQuery caps a hole whose vertices lie near the largest double",
+          "[fuzz][mesh_query]") {
+  // The centre of the cap's fan was the sum of the hole's vertices over their count: the
+  // sum overflowed, and the cap's non-finite vertex made the constructor throw.
+  TriangleMesh mesh;
+  mesh.vertices = {{1.5e308, 0, 0}, {1.5e308, 1e308, 0}, {1.5e308, 0, 1e308}};
+  mesh.triangles = {{0, 1, 2}};
+  MeshQueryOptions options;
+  options.cap_holes = true;
+  const MeshQuery query(mesh, options);
+  REQUIRE(query.cap_mesh().num_triangles() == 3);
+  for (const Eigen::Vector3d& v : query.cap_mesh().vertices) CHECK(v.allFinite());
+  // The fan's centre is the mean of the three corners.
+  CHECK(query.cap_mesh().vertices.back().isApprox(Eigen::Vector3d(1.5e308, 1e308 / 3, 1e308 / 3)));
+}
