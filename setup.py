@@ -19,7 +19,9 @@ ROOT = pathlib.Path(__file__).resolve().parent
 
 
 class CMakeBuild(build_ext):
-    """Configures and builds the medspheres_python target; copies build/python/medspheres."""
+    """Configures (unless already configured) and builds the medspheres_python target in
+    build/pip, or in MEDSPHERES_PIP_BUILD_DIR (an existing build folder, for instance
+    build); copies the package it makes."""
 
     def build_extension(self, ext):
         build = pathlib.Path(os.environ.get("MEDSPHERES_PIP_BUILD_DIR", ROOT / "build" / "pip"))
@@ -30,7 +32,8 @@ class CMakeBuild(build_ext):
             f"-DPython3_EXECUTABLE={sys.executable}",
         ]
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
-        subprocess.check_call(configure)
+        if not (build / "CMakeCache.txt").exists():  # an existing build keeps its settings
+            subprocess.check_call(configure)
         subprocess.check_call(["cmake", "--build", str(build), "-j", jobs,
                                "--target", "medspheres_python"])
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).parent
