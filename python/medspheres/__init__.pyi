@@ -110,6 +110,33 @@ class BoundedGeometry:
     @property
     def certified(self) -> bool: ...
 
+class RobotBounds:
+    """A robot file's links as inner and certified outer sets, for certified queries."""
+
+    def __init__(
+        self,
+        robot_file: PathLike,
+        disabled: Sequence[Tuple[str, str]] = ...,
+        allow_uncertified: bool = ...,
+    ) -> None: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    def bounds(
+        self,
+        q: npt.ArrayLike,
+        scene: Sequence[Tuple[Spheres, Pose]] = ...,
+        include_self: bool = ...,
+        base_pose: Pose = ...,
+    ) -> Tuple[float, float, bool]: ...
+    def collide(
+        self,
+        q: npt.ArrayLike,
+        scene: Sequence[Tuple[Spheres, Pose]] = ...,
+        include_self: bool = ...,
+        margin: float = ...,
+        base_pose: Pose = ...,
+    ) -> dict[str, Any]: ...
+
 def bake(
     mesh: Mesh,
     *,

@@ -8,6 +8,7 @@
 #include <Eigen/Geometry>
 
 #include "medspheres/sphere_set.h"
+#include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_mesh.h"
 
 namespace medspheres::python {
@@ -19,6 +20,7 @@ void register_sphere_set(py::module_& m);
 void register_bake(py::module_& m);
 void register_robot(py::module_& m);
 void register_queries(py::module_& m);
+void register_robot_bounds(py::module_& m);
 
 /// An n x 4 float64 array (x, y, z, r) as balls; ValueError naming \p what for another shape.
 SphereSet sphere_set_of_array(const py::handle& array, const std::string& what);
@@ -37,6 +39,9 @@ TriangleMesh mesh_of_arrays(const py::handle& pair);
 /// naming \p what for another shape, a last row other than (0, 0, 0, 1), or non-finite
 /// entries.
 Eigen::Isometry3d pose_of(const py::handle& pose, const char* what);
+
+/// "free", "colliding" or "undecided".
+const char* verdict_text(BoundsVerdict verdict);
 
 /// Python's json.loads(text).
 py::object json_loads(const std::string& text);

@@ -43,18 +43,6 @@ py::dict distance_dict(const TreeDistance& d) {
   return out;
 }
 
-const char* verdict_name(BoundsVerdict v) {
-  switch (v) {
-    case BoundsVerdict::free:
-      return "free";
-    case BoundsVerdict::colliding:
-      return "colliding";
-    case BoundsVerdict::undecided:
-      break;
-  }
-  return "undecided";
-}
-
 py::object point_distance_py(const SphereTree& tree, const py::handle& points,
                              const py::handle& pose, bool return_index) {
   auto p = py::array_t<double, py::array::c_style | py::array::forcecast>::ensure(points);
@@ -168,7 +156,7 @@ void register_bounded(py::module_& m) {
           r = fcl::collide(a, X_WA, b, X_WB, margin);
         }
         py::dict out;
-        out["verdict"] = verdict_name(r.verdict);
+        out["verdict"] = verdict_text(r.verdict);
         out["lower"] = r.bounds.lower;
         out["upper"] = r.bounds.upper;
         out["certified"] = r.certified;
@@ -183,9 +171,22 @@ void register_bounded(py::module_& m) {
 
 }  // namespace
 
+const char* verdict_text(BoundsVerdict v) {
+  switch (v) {
+    case BoundsVerdict::free:
+      return "free";
+    case BoundsVerdict::colliding:
+      return "colliding";
+    case BoundsVerdict::undecided:
+      break;
+  }
+  return "undecided";
+}
+
 void register_queries(py::module_& m) {
   register_tree(m);
   register_bounded(m);
+  register_robot_bounds(m);
 }
 
 }  // namespace medspheres::python

@@ -64,3 +64,53 @@ def test_bad_robot_options_raise_the_clis_message(cli, arm, tmp_path, kwargs, fl
         medspheres.bake_robot(arm, tmp_path / "o", **kwargs)
     assert str(info.value) == expected
     assert not (tmp_path / "o").exists()
+
+
+def rz(angle):
+    c, s = np.cos(angle), np.sin(angle)
+    x = np.eye(4)
+    x[:2, :2] = [[c, -s], [s, c]]
+    return x
+
+
+def translate(v):
+    x = np.eye(4)
+    x[:3, 3] = v
+    return x
+
+
+def placed(balls, x):
+    return np.column_stack([balls[:, :3] @ x[:3, :3].T + x[:3, 3], balls[:, 3]])
+
+
+def gap(a, b):
+    d = np.linalg.norm(a[:, None, :3] - b[None, :, :3], axis=2) - a[:, None, 3] - b[None, :, 3]
+    return max(0.0, d.min())
+
+
+def test_robot_bounds_against_brute_force(arm, tmp_path):
+    baked = medspheres.bake_robot(arm, tmp_path / "out", spheres_per_link=6, formats=["robot"])
+    robot = medspheres.RobotBounds(tmp_path / "out" / "arm.robot.json")
+    assert robot.joint_names == ["j1"]
+    obstacle = np.array([[0.0, 0.0, 0.0, 0.02], [0.01, 0.0, 0.0, 0.02]])
+    for q in (0.0, 0.7):
+        # the arm's forward kinematics, written out: base fixed, upper by j1, hand fixed on it
+        poses = {"base": np.eye(4), "upper": translate([0, 0, 0.03]) @ rz(q)}
+        poses["hand"] = poses["upper"] @ translate([0, 0, 0.12])
+        sets = {link: {k: placed(v, poses[link]) for k, v in s.items()} for link, s in
+                baked.links.items()}
+        # self: only base and hand are not adjacent
+        lower, upper, certified = robot.bounds([q])
+        assert certified
+        assert lower <= gap(sets["base"]["outer"], sets["hand"]["outer"]) <= lower + 1e-9
+        assert upper - 1e-9 <= gap(sets["base"]["inner"], sets["hand"]["inner"]) <= upper
+        # a scene object: its own balls on both sides
+        x = translate([0.15, 0.0, 0.2])
+        world = placed(obstacle, x)
+        lower, upper, _ = robot.bounds([q], [(obstacle, x)], include_self=False)
+        assert lower <= min(gap(s["outer"], world) for s in sets.values()) <= lower + 1e-9
+        assert upper - 1e-9 <= min(gap(s["inner"], world) for s in sets.values()) <= upper
+        verdict = robot.collide([q], [(obstacle, x)], include_self=False, margin=lower / 2)
+        assert verdict["verdict"] == "free" and verdict["certified"]
+    with pytest.raises(ValueError):
+        robot.bounds([0.0, 1.0])  # one joint
