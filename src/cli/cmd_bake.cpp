@@ -7,12 +7,13 @@
 #include <string>
 #include <vector>
 
-#include "bake_flags.h"
 #include "cli_common.h"
 #include "cmd_batch.h"
+#include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
+#include "solid_flags.h"
 
 namespace medspheres::cli {
 
@@ -23,43 +24,12 @@ struct BakeArgs {
   BatchFlags batch;
   std::string mesh;
   std::string out;
-  int resolution = BakeOptions{}.resolution;
-  double object_angle = BakeOptions{}.object_angle;
-  double medial_tolerance = 0.0;
-  std::optional<int> max_spheres;
-  std::optional<double> target_error;
-  std::string method = "medial";
-  DilationFlags dilation;
-  SolidFlags solid;
-  int threads = 0;
+  BakeFlags flags;
   bool quiet = false;
 };
 
 std::string default_output(const std::string& mesh) {
   return std::filesystem::path(mesh).stem().string() + ".spheres.json";
-}
-
-// The flags as a request, validated: nonsense is reported before any work is done.
-BakeRequest bake_request(const BakeArgs& a) {
-  BakeRequest r;
-  r.medial.resolution = a.resolution;
-  r.medial.object_angle = a.object_angle;
-  r.medial.medial_tolerance = a.medial_tolerance;
-  r.medial.threads = a.threads;
-  r.method = a.method == "cover" ? BakeMethod::kCover : BakeMethod::kMedial;
-  if (a.max_spheres) {
-    // A negative budget has no size_t; it is out of range as 0 is.
-    if (*a.max_spheres < 0)
-      throw InputError::option(ErrorKind::kOutOfRange, "max_spheres",
-                               std::to_string(*a.max_spheres),
-                               "must be >= 1, got " + std::to_string(*a.max_spheres));
-    r.max_spheres = static_cast<std::size_t>(*a.max_spheres);
-  }
-  r.target_error = a.target_error;
-  set_dilation(a.dilation, r);
-  set_solid(a.solid, r);
-  validate(r);
-  return r;
 }
 
 // What the summary says of a nerr of this kind.
@@ -175,7 +145,7 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
 
 int run_bake(BakeArgs& args) {
   // Options first, then the output path: both are reported before any work is done.
-  BakeRequest request = bake_request(args);
+  BakeRequest request = bake_request(args.flags);
   if (is_batch(args.inputs, args.batch))
     return run_batch(args.inputs, args.out, args.batch, request, args.quiet);
   args.mesh = args.inputs.front();
@@ -219,42 +189,43 @@ Runner register_bake(CLI::App& app) {
   sub->add_option("-o,--output", a->out,
                   "Output file (default: MESH's stem + .spheres.json, here); a batch's output "
                   "folder");
-  sub->add_option("--resolution", a->resolution, "Grid cells along the bounding box's longest side")
+  sub->add_option("--resolution", a->flags.resolution,
+                  "Grid cells along the bounding box's longest side")
       ->capture_default_str();
-  sub->add_option("--object-angle", a->object_angle,
+  sub->add_option("--object-angle", a->flags.object_angle,
                   "Keep medial points with at least this object angle (rad)")
       ->capture_default_str();
   sub->add_option(
-      "--medial-tolerance", a->medial_tolerance,
+      "--medial-tolerance", a->flags.medial_tolerance,
       "Stop the medial search within this distance: at least 1e-9 of the box's largest side L "
       "and below the cell size (default: 1e-3 L, at most half a cell)");
-  sub->add_option("--method", a->method,
+  sub->add_option("--method", a->flags.method,
                   "medial: inner spheres (S_D; S+ with --dilate or --cover); cover: at most "
                   "--max-spheres spheres whose union contains the whole surface, certified")
       ->check(CLI::IsMember({"medial", "cover"}))
       ->capture_default_str();
-  auto* max = sub->add_option("--max-spheres", a->max_spheres,
+  auto* max = sub->add_option("--max-spheres", a->flags.max_spheres,
                               "At most N spheres: the best N inner spheres, or the budget of a "
                               "cover");
   auto* err =
-      sub->add_option("--target-error", a->target_error,
+      sub->add_option("--target-error", a->flags.target_error,
                       "Choose the smallest resolution whose normalized volume error is at most E");
   max->excludes(err);
-  sub->add_flag("--dilate", a->dilation.dilate,
+  sub->add_flag("--dilate", a->flags.dilation.dilate,
                 "Dilate the spheres until they hug the surface (paper section 5.1); writes S+");
-  sub->add_option("--vertex-tolerance", a->dilation.vertex_tolerance,
+  sub->add_option("--vertex-tolerance", a->flags.dilation.vertex_tolerance,
                   "Dilation: cover every mesh vertex within this length, in the mesh's units or "
                   "a multiple of the box's largest side L written 0.005L (default: 0.005L)");
-  sub->add_option("--max-protrusion", a->dilation.max_protrusion,
+  sub->add_option("--max-protrusion", a->flags.dilation.max_protrusion,
                   "Dilation: let no grown or added sphere stick out of the solid by more than "
                   "this length, e.g. 0.002L (default: no cap, as in the paper)");
-  sub->add_option("--cover", a->dilation.cover,
+  sub->add_option("--cover", a->flags.dilation.cover,
                   "Dilate, then add spheres until no surface sample is farther than this "
                   "length outside, e.g. 0.003L (implies --dilate)");
-  sub->add_option("--seed", a->dilation.seed, "Dilation: seed of its random points")
+  sub->add_option("--seed", a->flags.dilation.seed, "Dilation: seed of its random points")
       ->capture_default_str();
-  add_solid_flags(sub, a->solid);
-  sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
+  add_solid_flags(sub, a->flags.solid);
+  sub->add_option("--threads", a->flags.threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");
   add_batch_flags(*sub, a->batch);

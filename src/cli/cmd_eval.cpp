@@ -4,11 +4,10 @@
 #include <string>
 #include <vector>
 
-#include <nlohmann/json.hpp>
-
-#include "bake_flags.h"
 #include "cli_common.h"
 #include "cmd_eval_robot.h"
+#include "medspheres/bake/bake_flags.h"
+#include "medspheres/bake/evaluate_set.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/bake/solid_choice.h"
 #include "medspheres/error.h"
@@ -16,6 +15,7 @@
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/threads.h"
+#include "solid_flags.h"
 
 namespace medspheres::cli {
 
@@ -33,88 +33,8 @@ struct EvalArgs {
   SolidFlags solid;
 };
 
-// A number, or null where it is not defined (NaN).
-nlohmann::ordered_json number(double v) {
-  return std::isnan(v) ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(v);
-}
-
-nlohmann::ordered_json estimate_json(const Estimate95& e) {
-  return {{"estimate", number(e.estimate)},
-          {"lo", number(e.lo)},
-          {"hi", number(e.hi)},
-          {"sigma", number(e.sigma)}};
-}
-
 std::string percent_of(double v, double length) {
   return number_text(100.0 * v / length, 3) + "% of L";
-}
-
-// The certificate of surface coverage (cover_certificate.h), as JSON.
-nlohmann::ordered_json certificate_json(const CoverCertificate& c) {
-  nlohmann::ordered_json j = {{"certified", c.certified},
-                              {"triangles", c.triangles},
-                              {"uncertified_triangles", c.uncertified_triangles},
-                              {"proven_uncovered_triangles", c.proven_uncovered_triangles},
-                              {"pieces_tested", c.pieces_tested},
-                              {"max_depth", c.max_depth_reached}};
-  if (!c.certified) {
-    j["worst_uncovered_distance"] = c.worst_distance;
-    j["worst_uncovered_point"] = {c.worst_point.x(), c.worst_point.y(), c.worst_point.z()};
-    j["worst_uncovered_bound"] = c.worst_bound;
-  }
-  return j;
-}
-
-void print_json(const EvalArgs& args, const FitReport& r, const CoverCertificate& cert,
-                double longest, const std::vector<std::string>& warnings) {
-  const VolumeError& v = r.volume;
-  const MonteCarloError& mc = r.monte_carlo;
-  nlohmann::ordered_json j;
-  j["mesh"] = args.mesh;
-  j["spheres_file"] = args.spheres;
-  j["spheres"] = r.balls;
-  j["mesh_closed"] = r.mesh_closed;
-  j["mesh_volume"] = v.mesh_volume ? nlohmann::ordered_json(*v.mesh_volume) : nullptr;
-  j["union_volume"] = v.union_measures.volume;
-  j["union_area"] = v.union_measures.area;
-  j["hidden_spheres"] = v.union_measures.hidden.size();
-  j["duplicate_spheres"] = v.union_measures.duplicates.size();
-  j["nerr"] = number(v.nerr);
-  j["nerr_kind"] = to_string(v.kind);
-  j["nerr_slack"] = v.nerr_slack;
-  j["self_intersecting_pairs"] = v.self_intersecting_pairs;
-  j["max_protrusion"] = v.max_protrusion;
-  j["max_protrusion_sphere"] = v.max_protrusion_ball;
-  j["protruding_spheres"] = v.protruding;
-  j["protrusion_tolerance"] = v.protrusion_tolerance;
-  nlohmann::ordered_json e = estimate_json(mc.error);
-  e["interval"] = mc.normalized_by_volume ? "wilson" : "delta_method";
-  e["normalized_by"] = mc.normalized_by_volume ? "mesh_volume" : "winding_solid_volume_estimate";
-  e["samples"] = mc.samples;
-  e["seed"] = mc.seed;
-  e["outside_mesh_volume"] = mc.outside_volume;
-  e["uncovered_mesh_volume"] = mc.uncovered_volume;
-  e["winding_solid_volume"] = estimate_json(mc.solid_volume);
-  e["multiply_covered_volume"] = mc.multiple_volume;
-  e["multiply_covered_volume_sigma"] = mc.multiple_volume_sigma;
-  j["mc_error"] = e;
-  j["uncovered_max"] = r.coverage.max;
-  j["uncovered_mean"] = r.coverage.mean;
-  j["uncovered_p95"] = r.coverage.p95;
-  j["uncovered_max_at"] = {r.coverage.max_at.x(), r.coverage.max_at.y(), r.coverage.max_at.z()};
-  j["surface_certificate"] = certificate_json(cert);
-  j["surface_samples"] = r.coverage.area_samples;
-  j["vertices"] = r.coverage.vertices;
-  j["bbox_largest_side"] = longest;
-  j["seconds"] = r.seconds.total;
-  j["seconds_by_part"] = {{"union_volume", r.seconds.union_volume},
-                          {"protrusion", r.seconds.protrusion},
-                          {"grid", r.seconds.grid},
-                          {"monte_carlo", r.seconds.monte_carlo},
-                          {"coverage", r.seconds.coverage},
-                          {"certificate", cert.seconds}};
-  j["warnings"] = warnings;
-  std::cout << j.dump(2) << "\n";
 }
 
 void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport& r,
@@ -187,22 +107,8 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
 
 int run_eval(const EvalArgs& args) {
   // Options first: nonsense is reported before any work is done.
-  auto out_of_range = [](const char* field, const std::string& value, std::string problem) {
-    return InputError::option(ErrorKind::kOutOfRange, field, value, std::move(problem));
-  };
-  if (args.samples < 1)
-    throw out_of_range("samples", std::to_string(args.samples),
-                       "must be >= 1, got " + std::to_string(args.samples));
-  if (args.surface_samples < 1)
-    throw out_of_range("surface_samples", std::to_string(args.surface_samples),
-                       "must be >= 1, got " + std::to_string(args.surface_samples));
-  if (std::string problem = threads_problem(args.threads); !problem.empty())
-    throw out_of_range("threads", std::to_string(args.threads), std::move(problem));
-  FitOptions options;
-  options.volume_samples = static_cast<std::size_t>(args.samples);
-  options.surface_samples = static_cast<std::size_t>(args.surface_samples);
-  options.seed = args.seed;
-  options.threads = args.threads;
+  const FitOptions options =
+      fit_options(args.samples, args.surface_samples, args.seed, args.threads);
   if (is_robot_description(args.mesh))
     return run_eval_robot({args.mesh, args.spheres, args.packages, args.json, options});
 
@@ -218,18 +124,9 @@ int run_eval(const EvalArgs& args) {
   const SolidChoice choice =
       choose_solid(solid_request.solid, robust, robust_explicit, set.metadata_json);
   const TriangleMesh solid = solid_mesh(loaded.mesh, choice, args.mesh);
-  FitReport report;
-  CoverCertificate cert;
-  try {
-    report = FitEvaluator(solid, options.threads).evaluate(set.spheres, options);
-    CoverCertificateOptions co;
-    co.threads = args.threads;
-    cert = certify_cover(solid, set.spheres, co);
-  } catch (const InputError& e) {
-    // The library speaks of "the sphere set"; the user knows it by its file name.
-    if (e.file() == "sphere set") throw e.with_file(args.spheres);
-    throw;
-  }
+  const SetEvaluation evaluation = evaluate_sphere_set(solid, set, options, args.spheres);
+  const FitReport& report = evaluation.fit;
+  const CoverCertificate& cert = evaluation.certificate;
   std::vector<std::string> warnings;
   for (const std::string& w : loaded.warnings) warnings.push_back(args.mesh + ": " + w);
   if (choice.kind == SolidKind::kRobust)
@@ -238,7 +135,7 @@ int run_eval(const EvalArgs& args) {
   for (const std::string& w : report.warnings) warnings.push_back(w);
   const double longest = loaded.report.largest_side();
   if (args.json)
-    print_json(args, report, cert, longest, warnings);
+    std::cout << evaluation_json(evaluation, args.mesh, args.spheres, longest, warnings) << "\n";
   else
     print_text(args, loaded, report, cert, longest, warnings);
   return kExitOk;

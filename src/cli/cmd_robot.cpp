@@ -1,38 +1,28 @@
 // medspheres robot ROBOT.urdf -o OUTDIR: every link's spheres, in the planners' formats.
 #include <algorithm>
-#include <cctype>
-#include <cstdio>
-#include <filesystem>
 #include <iostream>
 #include <memory>
 #include <optional>
-#include <random>
-#include <set>
 #include <string>
-#include <system_error>
 #include <vector>
-
-#include <fcntl.h>
-#include <stdio.h>
-#include <unistd.h>
 
 #include <nlohmann/json.hpp>
 
-#include "bake_flags.h"
 #include "cli_common.h"
+#include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/bake/robot_bake.h"
 #include "medspheres/error.h"
+#include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_file.h"
+#include "solid_flags.h"
 
 namespace medspheres::cli {
-
-namespace fs = std::filesystem;
 
 namespace {
 
@@ -58,111 +48,6 @@ struct RobotArgs {
   bool quiet = false;
 };
 
-// The file each format is written to in OUTDIR, after the robot's name (sanitised);
-// .sph holds one set, so it gets a folder with one file per link.
-std::string file_stem(const std::string& robot_name) {
-  std::string stem = robot_name.empty() ? "robot" : robot_name;
-  for (char& c : stem)
-    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
-  return stem;
-}
-
-std::string format_file(formats::SphereFormat f, const std::string& stem) {
-  using formats::SphereFormat;
-  switch (f) {
-    case SphereFormat::kRobot:
-      return stem + ".robot.json";
-    case SphereFormat::kCurobo:
-      return stem + ".curobo.yml";
-    case SphereFormat::kXrdf:
-      return stem + ".xrdf";
-    case SphereFormat::kUrdf:
-      return stem + ".spherized.urdf";
-    case SphereFormat::kSrdf:
-      return stem + ".srdf";
-    case SphereFormat::kFoam:
-      return stem + ".foam.json";
-    case SphereFormat::kSph:
-      return "sph";
-    case SphereFormat::kSphereSet:
-      break;
-  }
-  return {};
-}
-
-const std::vector<formats::SphereFormat>& robot_formats() {
-  using formats::SphereFormat;
-  static const std::vector<SphereFormat> all = {
-      SphereFormat::kRobot, SphereFormat::kCurobo, SphereFormat::kXrdf, SphereFormat::kUrdf,
-      SphereFormat::kSrdf,  SphereFormat::kFoam,   SphereFormat::kSph};
-  return all;
-}
-
-std::vector<formats::SphereFormat> chosen_formats(const std::vector<std::string>& names) {
-  if (names.empty()) return robot_formats();
-  std::vector<formats::SphereFormat> out;
-  for (const std::string& n : names) {
-    const formats::SphereFormat f = formats::parse_sphere_format(n, "--format");
-    if (std::find(robot_formats().begin(), robot_formats().end(), f) == robot_formats().end())
-      throw InputError("--format", "'" + n +
-                                       "' holds one sphere set, not a robot (robot formats: "
-                                       "robot, curobo, xrdf, urdf, srdf, foam, sph)");
-    if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
-  }
-  return out;
-}
-
-// The set the planner formats carry: the covering set where the links have one (a planner
-// must not miss a collision), else the inner set; --set picks.
-formats::SphereChoice sphere_choice(const std::string& set, const RobotModel& model) {
-  if (set == "inner") return formats::SphereChoice::kInner;
-  if (set == "outer") return formats::SphereChoice::kOuter;
-  const bool any_outer = std::any_of(model.links.begin(), model.links.end(),
-                                     [](const Link& l) { return !l.spheres.outer.empty(); });
-  return any_outer ? formats::SphereChoice::kOuter : formats::SphereChoice::kInner;
-}
-
-// One .sph file per link with spheres, named after the link (sanitised; a clash gets the
-// link's index).
-void write_sph_folder(const formats::SphereDocument& doc, const std::string& dir) {
-  fs::create_directory(dir);
-  std::set<std::string> used;
-  for (std::size_t i = 0; i < doc.links.size(); ++i) {
-    std::string name = file_stem(doc.links[i].link);
-    if (!used.insert(name).second) name += "_" + std::to_string(i);
-    used.insert(name);
-    formats::WriteOptions options;
-    options.link = doc.links[i].link;
-    formats::write_sphere_document((fs::path(dir) / (name + ".sph")).string(), doc,
-                                   formats::SphereFormat::kSph, options);
-  }
-}
-
-void write_formats(const std::vector<formats::SphereFormat>& chosen, const RobotModel& model,
-                   formats::SphereChoice choice, const std::string& urdf, const std::string& dir) {
-  formats::SphereDocument doc;
-  doc.model = model;
-  doc.links = formats::robot_spheres(model, choice);
-  doc.urdf_text = read_text_file(urdf);
-  doc.robot_name = model.name;
-  formats::WriteOptions options;
-  options.urdf_text = doc.urdf_text;
-  options.urdf_source = urdf;
-  const std::string stem = file_stem(model.name);
-  for (const formats::SphereFormat f : chosen) {
-    const std::string path = (fs::path(dir) / format_file(f, stem)).string();
-    if (f == formats::SphereFormat::kSph)
-      write_sph_folder(doc, path);
-    else
-      formats::write_sphere_document(path, doc, f, options);
-  }
-}
-
-std::size_t count_option(long long v, const char* flag) {
-  if (v < 1) throw InputError(flag, "must be >= 1, got " + std::to_string(v));
-  return static_cast<std::size_t>(v);
-}
-
 BakeRequest bake_request(const RobotArgs& a) {
   BakeRequest r;
   r.medial.resolution = a.resolution;
@@ -175,12 +60,9 @@ BakeRequest bake_request(const RobotArgs& a) {
   return r;
 }
 
-RobotBudget robot_budget(const RobotArgs& a) {
-  RobotBudget b;
-  if (a.spheres_per_link) b.per_link = count_option(*a.spheres_per_link, "--spheres-per-link");
-  if (!a.spheres_per_link && !a.budget && !a.target_error && !a.resolution_given)
-    b.per_link = kDefaultSpheresPerLink;
-  if (a.budget) b.total = count_option(*a.budget, "--budget");
+// --link NAME=K as (NAME, K); the counts are checked by the library.
+RobotBudgetFlags budget_flags(const RobotArgs& a) {
+  RobotBudgetFlags f{a.spheres_per_link, a.budget, {}};
   for (const std::string& text : a.link_budgets) {
     const std::size_t eq = text.rfind('=');  // link names may hold '=', counts do not
     long long k = 0;
@@ -193,64 +75,10 @@ RobotBudget robot_budget(const RobotArgs& a) {
     }
     if (used != text.size() - eq - 1)
       throw InputError("--link", "expected NAME=K with K a count, got '" + text + "'");
-    b.links[text.substr(0, eq)] = count_option(k, "--link");
+    f.links.emplace_back(text.substr(0, eq), k);
   }
-  return b;
+  return f;
 }
-
-// OUTDIR must be a folder or nothing, in a folder that exists.
-void check_output_dir(const std::string& out) {
-  std::error_code ec;
-  const fs::file_status st = fs::status(out, ec);
-  if (fs::exists(st) && !fs::is_directory(st))
-    throw InputError(out, "exists and is not a folder (-o names the output folder)");
-  const fs::path parent = fs::absolute(out).parent_path();
-  if (!fs::is_directory(parent, ec))
-    throw InputError(out, "the folder " + parent.string() + " does not exist");
-}
-
-// A fresh folder beside \p out, removed by the destructor unless it was moved into place.
-class StagingDir {
- public:
-  explicit StagingDir(const std::string& out) {
-    const fs::path target = fs::absolute(out).lexically_normal();
-    std::random_device random;
-    for (int attempt = 0; attempt < 100 && path_.empty(); ++attempt) {
-      const fs::path p =
-          target.parent_path() / ("." + target.filename().string() + ".tmp-" +
-                                  std::to_string(::getpid()) + "-" + std::to_string(random()));
-      if (fs::create_directory(p)) path_ = p;
-    }
-    if (path_.empty()) throw Error(out + ": cannot create a temporary folder beside it");
-    target_ = target;
-  }
-  ~StagingDir() {
-    std::error_code ec;
-    if (!path_.empty()) fs::remove_all(path_, ec);
-  }
-  StagingDir(const StagingDir&) = delete;
-  StagingDir& operator=(const StagingDir&) = delete;
-
-  std::string path() const { return path_.string(); }
-
-  // Moves the folder to the target: a rename when nothing is there, an atomic exchange
-  // with an existing folder (whose old contents are then removed).
-  void commit() {
-    if (!fs::exists(target_)) {
-      fs::rename(path_, target_);
-      path_.clear();
-      return;
-    }
-    if (::renameat2(AT_FDCWD, path_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0)
-      throw Error(target_.string() + ": cannot replace the folder: " +
-                  std::error_code(errno, std::generic_category()).message());
-    // path_ now holds the old contents, which the destructor removes.
-  }
-
- private:
-  fs::path path_;
-  fs::path target_;
-};
 
 std::string cell(const std::string& text, std::size_t width) {
   return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
@@ -311,6 +139,9 @@ std::string with_options(const std::string& metadata_json, const RobotArgs& a) {
   o["max_protrusion"] = optional(a.dilation.max_protrusion);
   o["cover"] = optional(a.dilation.cover);
   o["seed"] = a.dilation.seed;
+  o["solid"] = a.solid.solid;
+  o["robust_resolution"] = a.solid.robust_resolution;
+  o["robust_thickness"] = optional(a.solid.robust_thickness);
   o["measure"] = !a.no_measure;
   o["outer"] = !a.no_outer;
   o["set"] = a.set;
@@ -322,14 +153,13 @@ int run_robot(const RobotArgs& a) {
   // Everything that needs no work first: options, formats, the output folder.
   RobotBakeOptions options;
   options.request = bake_request(a);
-  options.budget = robot_budget(a);
+  options.budget = robot_budget(budget_flags(a), options.request, a.resolution_given);
   options.jobs = a.jobs;
   options.outer = !a.no_outer;
   check_threads(a.jobs);
-  const std::vector<formats::SphereFormat> chosen = chosen_formats(a.formats);
-  if (a.set != "auto" && a.set != "inner" && a.set != "outer")
-    throw InputError("--set", "must be auto, inner or outer, got '" + a.set + "'");
-  check_output_dir(a.out);
+  const std::vector<formats::SphereFormat> chosen = formats::robot_output_formats(a.formats);
+  const std::optional<formats::SphereChoice> set = formats::parse_set_choice(a.set);
+  formats::check_output_dir(a.out);
   UrdfReadOptions read;
   for (const std::string& p : a.packages) add_package_dir(read.packages, p);
   read.from_visual = a.from_visual;
@@ -343,10 +173,8 @@ int run_robot(const RobotArgs& a) {
   RobotBakeResult result = bake_robot(robot, solids, options);
   result.model.metadata_json = with_options(result.model.metadata_json, a);
 
-  const formats::SphereChoice choice = sphere_choice(a.set, result.model);
-  StagingDir staging(a.out);
-  write_formats(chosen, result.model, choice, a.urdf, staging.path());
-  staging.commit();
+  const formats::SphereChoice choice = formats::robot_output_choice(set, result.model);
+  formats::write_robot_outputs(a.out, chosen, result.model, choice, a.urdf);
   if (!a.quiet) {
     print_summary(result, a.out);
     std::cout << "the planner formats carry each link's "

@@ -272,11 +272,20 @@ LoadedMesh detail::mesh_from_scene(const detail::FlatScene& scene, const std::st
     out.warnings.push_back(std::to_string(scene.orphans) +
                            " mesh(es) not placed by any scene node were kept untransformed");
 
-  check_mesh_usable(mesh, path);
-  canonicalize_order(mesh);
+  LoadedMesh prepared = prepare_mesh(std::move(mesh), path, fix_orientation);
+  out.warnings.insert(out.warnings.end(), prepared.warnings.begin(), prepared.warnings.end());
+  prepared.warnings = std::move(out.warnings);
+  return prepared;
+}
+
+LoadedMesh prepare_mesh(TriangleMesh mesh, const std::string& source, bool fix_orientation) {
+  LoadedMesh out;
+  out.mesh = std::move(mesh);
+  check_mesh_usable(out.mesh, source);
+  canonicalize_order(out.mesh);
 
   if (fix_orientation) {
-    out.orientation_fix = orient_mesh(mesh);
+    out.orientation_fix = orient_mesh(out.mesh);
     if (out.orientation_fix.triangles_flipped_for_consistency > 0)
       out.warnings.push_back("flipped " +
                              std::to_string(out.orientation_fix.triangles_flipped_for_consistency) +
@@ -286,7 +295,7 @@ LoadedMesh detail::mesh_from_scene(const detail::FlatScene& scene, const std::st
                              std::to_string(out.orientation_fix.components_flipped_outward) +
                              " inward-wound closed component(s) to face outward");
   }
-  out.report = analyze_mesh(mesh);
+  out.report = analyze_mesh(out.mesh);
   if (!out.report.closed)
     out.warnings.push_back("the mesh is not closed (" + std::to_string(out.report.boundary_edges) +
                            " boundary edges, " + std::to_string(out.report.nonmanifold_edges) +

@@ -77,6 +77,12 @@ struct LoadedMesh {
 /// \throws std::invalid_argument for an import_timeout_seconds that is NaN or negative.
 LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options = {});
 
+/// Steps 3 and 4 of load_mesh on a mesh given in memory (an indexed mesh needs no
+/// welding): check_mesh_usable, the canonical order, orient_mesh when \p fix_orientation,
+/// analyze_mesh, and the same warnings. \p source names the mesh in errors.
+/// \throws InputError naming \p source as check_mesh_usable.
+LoadedMesh prepare_mesh(TriangleMesh mesh, const std::string& source, bool fix_orientation = true);
+
 /// Whether this build of the library applies MeshLoadOptions::import_memory_limit_bytes:
 /// false in builds with AddressSanitizer, ThreadSanitizer or MemorySanitizer, which
 /// reserve terabytes of address space up front, so that any address-space limit would

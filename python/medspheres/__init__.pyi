@@ -1,0 +1,208 @@
+"""Type stubs of the medspheres module (the C++ extension medspheres._medspheres)."""
+
+import os
+from typing import Any, Literal, Mapping, Optional, Sequence, Tuple, Union, overload
+
+import numpy as np
+import numpy.typing as npt
+
+__version__: str
+
+PathLike = Union[str, os.PathLike[str]]
+#: (vertices n x 3 float, triangles m x 3 int)
+MeshArrays = Tuple[npt.ArrayLike, npt.ArrayLike]
+Mesh = Union[PathLike, MeshArrays]
+#: a 4 x 4 homogeneous rigid transform, or None for the identity
+Pose = Optional[npt.ArrayLike]
+#: a length in the mesh's units, or text such as "0.003L" (a multiple of the box's largest side)
+Length = Union[float, str]
+Spheres = Union["SphereSet", npt.ArrayLike]
+
+class InputError(ValueError):
+    """Bad input: the command line's message, options named as the keywords."""
+
+    kind: str
+    file: str
+    field: str
+    value: str
+    problem: str
+
+class SphereSet:
+    """Balls in the mesh's frame and units, with provenance and statistics."""
+
+    def __init__(self, spheres: npt.ArrayLike, metadata: Optional[Mapping[str, Any]] = ...) -> None: ...
+    @property
+    def spheres(self) -> npt.NDArray[np.float64]:
+        """n x 4 (x, y, z, r), a read-only view of the set's memory."""
+    @property
+    def metadata(self) -> dict[str, Any]: ...
+    @property
+    def stats(self) -> dict[str, Any]: ...
+    def __len__(self) -> int: ...
+    def to_json(self) -> str: ...
+    def save(
+        self,
+        path: PathLike,
+        format: Optional[str] = ...,
+        link: str = ...,
+        urdf: Optional[str] = ...,
+        name: str = ...,
+    ) -> None: ...
+
+class SphereDocument:
+    """What a sphere file held: one set, or spheres per link."""
+
+    @property
+    def set(self) -> Optional[SphereSet]: ...
+    @property
+    def links(self) -> dict[str, npt.NDArray[np.float64]]: ...
+    @property
+    def robot_name(self) -> str: ...
+    @property
+    def is_robot_file(self) -> bool: ...
+    def save(
+        self,
+        path: PathLike,
+        format: Optional[str] = ...,
+        link: str = ...,
+        urdf: Optional[str] = ...,
+        name: str = ...,
+    ) -> None: ...
+
+class RobotBake:
+    """A baked robot: per-link inner and outer sets in link frames (metres)."""
+
+    @property
+    def links(self) -> dict[str, dict[Literal["inner", "outer"], npt.NDArray[np.float64]]]: ...
+    @property
+    def stats(self) -> list[dict[str, Any]]: ...
+    @property
+    def seconds(self) -> float: ...
+    @property
+    def name(self) -> str: ...
+    def to_json(self) -> str: ...
+    def save(self, output: PathLike, formats: Sequence[str] = ..., set: str = ...) -> None: ...
+
+class SphereTree:
+    """A hierarchy over a sphere set for distance and collision queries (thread-safe)."""
+
+    def __init__(self, spheres: Spheres, kind: Literal["rss", "ball"] = ..., max_leaf_size: int = ...) -> None: ...
+    def __len__(self) -> int: ...
+    def distance(
+        self, other: SphereTree, pose: Pose = ..., other_pose: Pose = ..., signed: bool = ...
+    ) -> dict[str, Any]: ...
+    def collide(self, other: SphereTree, pose: Pose = ..., other_pose: Pose = ...) -> bool: ...
+    @overload
+    def point_distance(
+        self, points: npt.ArrayLike, pose: Pose = ..., return_index: Literal[False] = ...
+    ) -> npt.NDArray[np.float64]: ...
+    @overload
+    def point_distance(
+        self, points: npt.ArrayLike, pose: Pose = ..., *, return_index: Literal[True]
+    ) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.intp]]: ...
+
+class BoundedGeometry:
+    """A solid as an inner set and a certified outer (covering) set."""
+
+    def __init__(
+        self, inner: Spheres, outer: Spheres, name: str = ..., allow_uncertified: bool = ...
+    ) -> None: ...
+    @property
+    def certified(self) -> bool: ...
+
+class RobotBounds:
+    """A robot file's links as inner and certified outer sets, for certified queries."""
+
+    def __init__(
+        self,
+        robot_file: PathLike,
+        disabled: Sequence[Tuple[str, str]] = ...,
+        allow_uncertified: bool = ...,
+    ) -> None: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    def bounds(
+        self,
+        q: npt.ArrayLike,
+        scene: Sequence[Tuple[Spheres, Pose]] = ...,
+        include_self: bool = ...,
+        base_pose: Pose = ...,
+    ) -> Tuple[float, float, bool]: ...
+    def collide(
+        self,
+        q: npt.ArrayLike,
+        scene: Sequence[Tuple[Spheres, Pose]] = ...,
+        include_self: bool = ...,
+        margin: float = ...,
+        base_pose: Pose = ...,
+    ) -> dict[str, Any]: ...
+
+def bake(
+    mesh: Mesh,
+    *,
+    method: Literal["medial", "cover"] = ...,
+    resolution: int = ...,
+    object_angle: float = ...,
+    medial_tolerance: float = ...,
+    max_spheres: Optional[int] = ...,
+    target_error: Optional[float] = ...,
+    dilate: bool = ...,
+    vertex_tolerance: Optional[Length] = ...,
+    max_protrusion: Optional[Length] = ...,
+    cover: Optional[Length] = ...,
+    seed: int = ...,
+    threads: int = ...,
+    name: str = ...,
+) -> SphereSet: ...
+def evaluate(
+    mesh: Mesh,
+    spheres: Union[Spheres, PathLike],
+    *,
+    samples: int = ...,
+    surface_samples: int = ...,
+    seed: int = ...,
+    threads: int = ...,
+) -> dict[str, Any]: ...
+def load_mesh(path: PathLike) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32]]: ...
+def load(path: PathLike, format: Optional[str] = ..., set: str = ..., level: int = ...) -> SphereDocument: ...
+def load_spheres(path: PathLike) -> SphereSet: ...
+def convert(
+    src: PathLike,
+    dst: PathLike,
+    from_format: Optional[str] = ...,
+    to_format: Optional[str] = ...,
+    link: str = ...,
+    urdf: Optional[str] = ...,
+    set: str = ...,
+    level: int = ...,
+    name: str = ...,
+) -> None: ...
+def bake_robot(
+    urdf: PathLike,
+    output: Optional[PathLike] = ...,
+    *,
+    formats: Sequence[str] = ...,
+    set: Literal["auto", "inner", "outer"] = ...,
+    packages: Mapping[str, str] = ...,
+    from_visual: bool = ...,
+    spheres_per_link: Optional[int] = ...,
+    budget: Optional[int] = ...,
+    links: Mapping[str, int] = ...,
+    jobs: int = ...,
+    resolution: Optional[int] = ...,
+    object_angle: float = ...,
+    target_error: Optional[float] = ...,
+    dilate: bool = ...,
+    vertex_tolerance: Optional[str] = ...,
+    max_protrusion: Optional[str] = ...,
+    cover: Optional[str] = ...,
+    seed: int = ...,
+    measure: bool = ...,
+    outer: bool = ...,
+) -> RobotBake: ...
+def distance_bounds(
+    a: BoundedGeometry, b: BoundedGeometry, pose_a: Pose = ..., pose_b: Pose = ...
+) -> Tuple[float, float, bool]: ...
+def collide_bounds(
+    a: BoundedGeometry, b: BoundedGeometry, pose_a: Pose = ..., pose_b: Pose = ..., margin: float = ...
+) -> dict[str, Any]: ...

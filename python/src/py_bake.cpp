@@ -1,0 +1,166 @@
+// bake, evaluate and load_mesh: the library's bake pipeline and evaluation.
+#include <optional>
+#include <string>
+#include <variant>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "medspheres/bake/bake_flags.h"
+#include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/bake/evaluate_set.h"
+#include "medspheres/io.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/number_text.h"
+#include "py_common.h"
+
+namespace medspheres::python {
+
+namespace {
+
+using LengthArg = std::optional<std::variant<double, std::string>>;
+
+// A length keyword: a number in the mesh's units, or text such as "0.003L".
+std::optional<std::string> length_text(const LengthArg& v) {
+  if (!v) return std::nullopt;
+  if (const double* d = std::get_if<double>(&*v)) return exact_number_text(*d);
+  return std::get<std::string>(*v);
+}
+
+void warn_all(const std::vector<std::string>& warnings, const std::string& source) {
+  for (const std::string& w : warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, (source + ": " + w).c_str(), 2) != 0)
+      throw py::error_already_set();  // warnings turned into errors
+}
+
+// The mesh argument loaded (a path) or prepared (a pair of arrays), named \p name.
+LoadedMesh mesh_arg(const py::handle& mesh, std::string& name) {
+  if (is_path(mesh)) {
+    name = path_of(mesh);
+    py::gil_scoped_release release;
+    return load_mesh(name);
+  }
+  TriangleMesh m = mesh_of_arrays(mesh);
+  if (name.empty()) name = "mesh";
+  py::gil_scoped_release release;
+  return prepare_mesh(std::move(m), name);
+}
+
+SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolution,
+                  double object_angle, double medial_tolerance,
+                  std::optional<long long> max_spheres, std::optional<double> target_error,
+                  bool dilate, const LengthArg& vertex_tolerance, const LengthArg& max_protrusion,
+                  const LengthArg& cover, std::uint64_t seed, int threads, std::string name) {
+  BakeFlags f;
+  f.method = method;
+  f.resolution = resolution;
+  f.object_angle = object_angle;
+  f.medial_tolerance = medial_tolerance;
+  f.max_spheres = max_spheres;
+  f.target_error = target_error;
+  f.dilation = {dilate, length_text(vertex_tolerance), length_text(max_protrusion),
+                length_text(cover), seed};
+  f.threads = threads;
+  const BakeRequest request = bake_request(f);
+  BakeOutcome outcome;
+  std::vector<std::string> warnings;
+  if (is_path(mesh)) {
+    const std::string path = path_of(mesh);
+    {
+      py::gil_scoped_release release;
+      outcome = bake_file(path, request, &warnings);
+    }
+    warn_all(warnings, path);
+  } else {
+    const LoadedMesh loaded = mesh_arg(mesh, name);
+    warn_all(loaded.warnings, name);
+    py::gil_scoped_release release;
+    outcome = bake_mesh(loaded.mesh, loaded.report, request, name);
+  }
+  return std::move(outcome.spheres);
+}
+
+py::object evaluate_py(const py::handle& mesh, const py::handle& spheres, long long samples,
+                       long long surface_samples, std::uint64_t seed, int threads) {
+  const FitOptions options = fit_options(samples, surface_samples, seed, threads);
+  std::string mesh_name;
+  const LoadedMesh loaded = mesh_arg(mesh, mesh_name);
+  std::string spheres_name = "spheres";
+  SphereSet set;
+  if (is_path(spheres)) {
+    spheres_name = path_of(spheres);
+    set = load_sphere_set(spheres_name);
+  } else {
+    set = sphere_set_of(spheres, "spheres");
+  }
+  std::string json;
+  {
+    py::gil_scoped_release release;
+    const SetEvaluation e = evaluate_sphere_set(loaded.mesh, set, options, spheres_name);
+    std::vector<std::string> warnings;
+    for (const std::string& w : loaded.warnings) warnings.push_back(mesh_name + ": " + w);
+    for (const std::string& w : e.fit.warnings) warnings.push_back(w);
+    json = evaluation_json(e, mesh_name, spheres_name, loaded.report.largest_side(), warnings);
+  }
+  return json_loads(json);
+}
+
+}  // namespace
+
+void register_bake(py::module_& m) {
+  const BakeOptions d;
+  m.def("bake", &bake_py, py::arg("mesh"), py::kw_only(), py::arg("method") = "medial",
+        py::arg("resolution") = d.resolution, py::arg("object_angle") = d.object_angle,
+        py::arg("medial_tolerance") = 0.0, py::arg("max_spheres") = py::none(),
+        py::arg("target_error") = py::none(), py::arg("dilate") = false,
+        py::arg("vertex_tolerance") = py::none(), py::arg("max_protrusion") = py::none(),
+        py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed, py::arg("threads") = 0,
+        py::arg("name") = "",
+        "Bakes spheres of a mesh, as `medspheres bake` does, and returns a SphereSet.\n\n"
+        "mesh: a file path (STL, OBJ, PLY, OFF, DAE, glTF, ...) or a pair (vertices n x 3, "
+        "triangles m x 3) of arrays, oriented as load_mesh orients a file.\n"
+        "method: 'medial' (inner spheres S_D; S+ with dilate or cover) or 'cover' (at most "
+        "max_spheres spheres whose union contains the whole surface, certified; "
+        "stats['certified'] says whether the certificate holds).\n"
+        "max_spheres / target_error: a budget, or the smallest resolution whose nerr is at "
+        "most E. Lengths (vertex_tolerance, max_protrusion, cover) are numbers in the mesh's "
+        "units or text such as '0.003L' (a multiple of the box's largest side).\n"
+        "name: the mesh's name in errors and provenance for arrays (default 'mesh').\n"
+        "The loader's warnings are issued as UserWarning. The GIL is released while baking.\n"
+        "Raises InputError (a ValueError) for bad options or a bad mesh.");
+  const FitOptions fo;
+  m.def("evaluate", &evaluate_py, py::arg("mesh"), py::arg("spheres"), py::kw_only(),
+        py::arg("samples") = static_cast<long long>(fo.volume_samples),
+        py::arg("surface_samples") = static_cast<long long>(fo.surface_samples),
+        py::arg("seed") = fo.seed, py::arg("threads") = 0,
+        "How well spheres fit a mesh, as `medspheres eval --json` reports it, as a dict "
+        "(nerr, nerr_kind, max_protrusion, mc_error, uncovered_*, surface_certificate, ...).\n\n"
+        "mesh: a path or (vertices, triangles); spheres: a SphereSet, an n x 4 array or a "
+        "sphere-set file path. The GIL is released while measuring.");
+  m.def(
+      "load_mesh",
+      [](const py::object& path) {
+        std::string name;
+        const LoadedMesh loaded = mesh_arg(path, name);
+        warn_all(loaded.warnings, name);
+        py::array_t<double> v(
+            {static_cast<py::ssize_t>(loaded.mesh.vertices.size()), py::ssize_t{3}});
+        auto vw = v.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < loaded.mesh.vertices.size(); ++i)
+          for (int k = 0; k < 3; ++k)
+            vw(static_cast<py::ssize_t>(i), k) = loaded.mesh.vertices[i][k];
+        py::array_t<std::int32_t> f(
+            {static_cast<py::ssize_t>(loaded.mesh.triangles.size()), py::ssize_t{3}});
+        auto fw = f.mutable_unchecked<2>();
+        for (std::size_t i = 0; i < loaded.mesh.triangles.size(); ++i)
+          for (int k = 0; k < 3; ++k)
+            fw(static_cast<py::ssize_t>(i), k) =
+                loaded.mesh.triangles[i][static_cast<std::size_t>(k)];
+        return py::make_tuple(v, f);
+      },
+      py::arg("path"),
+      "Loads a mesh as the bake does (welded, checked, oriented): (vertices n x 3 float64, "
+      "triangles m x 3 int32).");
+}
+
+}  // namespace medspheres::python

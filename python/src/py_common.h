@@ -1,0 +1,53 @@
+#pragma once
+// Conversions the bindings share: numpy arrays to and from the library's types, poses,
+// JSON text to Python objects. No medspheres logic lives here.
+#include <string>
+
+#include <pybind11/numpy.h>
+#include <pybind11/pybind11.h>
+#include <Eigen/Geometry>
+
+#include "medspheres/sphere_set.h"
+#include "medspheres/sphere_tree.h"
+#include "medspheres/triangle_mesh.h"
+
+namespace medspheres::python {
+
+namespace py = pybind11;
+
+void register_errors(py::module_& m);
+void register_sphere_set(py::module_& m);
+void register_bake(py::module_& m);
+void register_robot(py::module_& m);
+void register_queries(py::module_& m);
+void register_robot_bounds(py::module_& m);
+
+/// An n x 4 float64 array (x, y, z, r) as balls; ValueError naming \p what for another shape.
+SphereSet sphere_set_of_array(const py::handle& array, const std::string& what);
+
+/// A SphereSet, or an n x 4 array, as a SphereSet (copied).
+SphereSet sphere_set_of(const py::handle& object, const std::string& what);
+
+/// n x 4 float64 copy of \p spheres.
+py::array_t<double> spheres_array(const std::vector<Sphere>& spheres);
+
+/// (V, F): V n x 3 float, F m x 3 integer, as a TriangleMesh. ValueError for other shapes
+/// or indices out of int's range (indices into V are checked by the library).
+TriangleMesh mesh_of_arrays(const py::handle& pair);
+
+/// A 4 x 4 homogeneous rigid transform (None: identity) as an isometry; ValueError
+/// naming \p what for another shape, a last row other than (0, 0, 0, 1), or non-finite
+/// entries.
+Eigen::Isometry3d pose_of(const py::handle& pose, const char* what);
+
+/// "free", "colliding" or "undecided".
+const char* verdict_text(BoundsVerdict verdict);
+
+/// Python's json.loads(text).
+py::object json_loads(const std::string& text);
+
+/// True for a str or an os.PathLike; its file-system path.
+bool is_path(const py::handle& object);
+std::string path_of(const py::handle& object);
+
+}  // namespace medspheres::python

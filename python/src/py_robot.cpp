@@ -1,0 +1,189 @@
+// bake_robot: the robot command (every link of a URDF through the bake pipeline) and the
+// files it writes.
+#include <map>
+#include <optional>
+#include <string>
+#include <vector>
+
+#include <pybind11/stl.h>
+
+#include "medspheres/bake/bake_flags.h"
+#include "medspheres/bake/robot_bake.h"
+#include "medspheres/formats/robot_outputs.h"
+#include "medspheres/number_text.h"
+#include "medspheres/robot/link_solid.h"
+#include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_file.h"
+#include "py_common.h"
+
+namespace medspheres::python {
+
+namespace {
+
+// What bake_robot returns: the baked model (per-link inner and outer sets) and its rows.
+struct RobotBake {
+  RobotBakeResult result;
+  std::string urdf;
+};
+
+py::dict stats_dict(const LinkBakeStats& s) {
+  py::dict d;
+  d["link"] = s.link;
+  d["parts"] = s.parts;
+  d["primitive_spheres"] = s.primitive_spheres;
+  d["triangles"] = s.triangles;
+  d["budget"] = s.budget ? py::cast(*s.budget) : py::none();
+  d["spheres"] = s.spheres;
+  d["outer_spheres"] = s.outer_spheres;
+  d["outer_certified"] = s.outer_certified;
+  d["outer_protrusion"] = s.outer_protrusion;
+  d["nerr"] = s.nerr;
+  d["nerr_kind"] = s.nerr_kind;
+  d["seconds"] = s.seconds;
+  d["baked_as"] = s.baked_as;
+  d["note"] = s.note;
+  return d;
+}
+
+void write_outputs(const RobotBake& b, const std::string& out,
+                   const std::vector<std::string>& names, const std::string& set) {
+  const std::vector<formats::SphereFormat> chosen = formats::robot_output_formats(names);
+  const std::optional<formats::SphereChoice> choice = formats::parse_set_choice(set);
+  formats::check_output_dir(out);
+  py::gil_scoped_release release;
+  formats::write_robot_outputs(out, chosen, b.result.model,
+                               formats::robot_output_choice(choice, b.result.model), b.urdf);
+}
+
+struct RobotArgs {
+  std::optional<std::string> output;
+  std::vector<std::string> formats;
+  std::string set;
+  std::map<std::string, std::string> packages;
+  bool from_visual;
+  RobotBudgetFlags budget;
+  int jobs;
+  std::optional<int> resolution;
+  BakeFlags flags;
+  bool measure, outer;
+};
+
+RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
+  RobotBakeOptions options;
+  BakeFlags flags = a.flags;
+  if (a.resolution) flags.resolution = *a.resolution;
+  options.request = bake_request(flags);
+  options.request.measure = a.measure;
+  options.budget = robot_budget(a.budget, options.request, a.resolution.has_value());
+  options.jobs = a.jobs;
+  options.outer = a.outer;
+  if (a.output) {
+    formats::robot_output_formats(a.formats);
+    formats::parse_set_choice(a.set);
+    formats::check_output_dir(*a.output);
+  }
+  UrdfReadOptions read;
+  for (const auto& [package, dir] : a.packages) add_package_dir(read.packages, package + "=" + dir);
+  read.from_visual = a.from_visual;
+  RobotBake out;
+  out.urdf = urdf;
+  {
+    py::gil_scoped_release release;
+    const UrdfRobot robot = read_urdf(urdf, read);
+    out.result = bake_robot(robot, load_link_solids(robot), options);
+  }
+  if (a.output) write_outputs(out, *a.output, a.formats, a.set);
+  return out;
+}
+
+}  // namespace
+
+void register_robot(py::module_& m) {
+  py::class_<RobotBake>(m, "RobotBake", "A baked robot: every link's inner and outer sets.")
+      .def_property_readonly(
+          "links",
+          [](const RobotBake& b) {
+            py::dict out;
+            for (const Link& l : b.result.model.links) {
+              py::dict sets;
+              sets["inner"] = spheres_array(l.spheres.inner.spheres);
+              sets["outer"] = spheres_array(l.spheres.outer.spheres);
+              out[py::str(l.name)] = sets;
+            }
+            return out;
+          },
+          "Link name -> {'inner': n x 4, 'outer': k x 4} float64 arrays (x, y, z, r) in the "
+          "link's frame, metres; in the URDF's link order.")
+      .def_property_readonly(
+          "stats",
+          [](const RobotBake& b) {
+            py::list rows;
+            for (const LinkBakeStats& s : b.result.links) rows.append(stats_dict(s));
+            return rows;
+          },
+          "One dict per link (the rows of the robot command's summary).")
+      .def_property_readonly("seconds", [](const RobotBake& b) { return b.result.seconds; })
+      .def_property_readonly("name", [](const RobotBake& b) { return b.result.model.name; })
+      .def(
+          "to_json", [](const RobotBake& b) { return robot_to_json(b.result.model); },
+          "The medspheres robot file's JSON text.")
+      .def(
+          "save",
+          [](const RobotBake& b, const py::object& output, const std::vector<std::string>& formats,
+             const std::string& set) { write_outputs(b, path_of(output), formats, set); },
+          py::arg("output"), py::arg("formats") = std::vector<std::string>{},
+          py::arg("set") = "auto",
+          "Writes the robot command's files into the folder `output` (replaced as a whole): "
+          "`formats` among robot, curobo, xrdf, urdf, srdf, foam, sph (default: all); `set` "
+          "the set the planner formats carry: 'auto' (outer when baked), 'inner', 'outer'.");
+
+  const BakeOptions d;
+  m.def(
+      "bake_robot",
+      [](const py::object& urdf, const py::object& output, const std::vector<std::string>& formats,
+         const std::string& set, const std::map<std::string, std::string>& packages,
+         bool from_visual, std::optional<long long> spheres_per_link,
+         std::optional<long long> budget, const std::map<std::string, long long>& links, int jobs,
+         std::optional<int> resolution, double object_angle, std::optional<double> target_error,
+         bool dilate, std::optional<std::string> vertex_tolerance,
+         std::optional<std::string> max_protrusion, std::optional<std::string> cover,
+         std::uint64_t seed, bool measure, bool outer) {
+        RobotArgs a;
+        if (!output.is_none()) a.output = path_of(output);
+        a.formats = formats;
+        a.set = set;
+        a.packages = packages;
+        a.from_visual = from_visual;
+        a.budget.spheres_per_link = spheres_per_link;
+        a.budget.budget = budget;
+        for (const auto& [link, k] : links) a.budget.links.emplace_back(link, k);
+        a.jobs = jobs;
+        a.resolution = resolution;
+        a.flags.object_angle = object_angle;
+        a.flags.target_error = target_error;
+        a.flags.dilation = {dilate, vertex_tolerance, max_protrusion, cover, seed};
+        a.measure = measure;
+        a.outer = outer;
+        return bake_robot_py(path_of(urdf), a);
+      },
+      py::arg("urdf"), py::arg("output") = py::none(), py::kw_only(),
+      py::arg("formats") = std::vector<std::string>{}, py::arg("set") = "auto",
+      py::arg("packages") = std::map<std::string, std::string>{}, py::arg("from_visual") = false,
+      py::arg("spheres_per_link") = py::none(), py::arg("budget") = py::none(),
+      py::arg("links") = std::map<std::string, long long>{}, py::arg("jobs") = 0,
+      py::arg("resolution") = py::none(), py::arg("object_angle") = d.object_angle,
+      py::arg("target_error") = py::none(), py::arg("dilate") = false,
+      py::arg("vertex_tolerance") = py::none(), py::arg("max_protrusion") = py::none(),
+      py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed,
+      py::arg("measure") = true, py::arg("outer") = true,
+      "Bakes every link of a URDF robot, as `medspheres robot URDF -o OUTPUT` does, and "
+      "returns a RobotBake (per-link arrays, stats); with `output`, also writes the "
+      "planners' files there (see RobotBake.save).\n\n"
+      "packages: {'pkg': '/dir'} for package:// URIs. Budgets: spheres_per_link (default 32 "
+      "unless budget, target_error or resolution is given), budget (the whole robot, shared "
+      "by surface area), links ({'link': K}). outer: also bake a certified covering set per "
+      "link. measure=False skips the exact volume error. Lengths as text ('0.003L') or "
+      "numbers as text. The GIL is released while baking.");
+}
+
+}  // namespace medspheres::python

@@ -1,0 +1,116 @@
+"""bake_robot: the robot command's arrays and files."""
+
+import numpy as np
+import pytest
+
+import medspheres
+
+PLANNER_FILES = ["arm.curobo.yml", "arm.xrdf", "arm.spherized.urdf", "arm.srdf", "arm.foam.json"]
+
+
+def test_bake_robot_equals_cli(cli, arm, tmp_path):
+    ours_dir, theirs_dir = tmp_path / "py", tmp_path / "cli"
+    baked = medspheres.bake_robot(arm, ours_dir, spheres_per_link=6, jobs=2)
+    cli("robot", arm, "-o", theirs_dir, "--spheres-per-link", "6", "-q", "--jobs", "1")
+    for name in PLANNER_FILES:
+        assert (ours_dir / name).read_bytes() == (theirs_dir / name).read_bytes(), name
+    sph = sorted(p.name for p in (theirs_dir / "sph").iterdir())
+    assert sorted(p.name for p in (ours_dir / "sph").iterdir()) == sph
+    for name in sph:
+        assert (ours_dir / "sph" / name).read_bytes() == (theirs_dir / "sph" / name).read_bytes()
+
+    assert list(baked.links) == ["base", "upper", "hand"]
+    for which in ("inner", "outer"):
+        doc = medspheres.load(theirs_dir / "arm.robot.json", set=which)
+        assert doc.is_robot_file and doc.robot_name == "arm"
+        for link, spheres in doc.links.items():
+            ours = baked.links[link][which]
+            assert ours.dtype == np.float64 and ours.shape == spheres.shape
+            assert ours.tobytes() == spheres.tobytes(), (link, which)
+    rows = {r["link"]: r for r in baked.stats}
+    assert rows["upper"]["spheres"] <= 6 and rows["upper"]["outer_certified"]
+    assert rows["hand"]["primitive_spheres"] == 1
+
+
+def test_bake_robot_without_output_and_save(arm, tmp_path):
+    baked = medspheres.bake_robot(arm, spheres_per_link=4, outer=False, formats=["curobo"])
+    assert all(len(sets["outer"]) == 0 for sets in baked.links.values())
+    assert baked.links["upper"]["inner"].shape[1] == 4
+    baked.save(tmp_path / "out", formats=["curobo"], set="inner")
+    assert [p.name for p in (tmp_path / "out").iterdir()] == ["arm.curobo.yml"]
+    doc = medspheres.load(tmp_path / "out" / "arm.curobo.yml")
+    assert np.array_equal(doc.links["upper"], baked.links["upper"]["inner"])
+
+
+@pytest.mark.parametrize(
+    "kwargs, flags",
+    [
+        ({"spheres_per_link": 0}, ["--spheres-per-link", "0"]),
+        ({"budget": -1}, ["--budget", "-1"]),
+        ({"links": {"upper": 0}}, ["--link", "upper=0"]),
+        ({"formats": ["spheres"]}, ["--format", "spheres"]),
+        ({"set": "both"}, ["--set", "both"]),
+        ({"links": {"nope": 3}}, ["--link", "nope=3"]),
+    ],
+)
+def test_bad_robot_options_raise_the_clis_message(cli, arm, tmp_path, kwargs, flags):
+    import re
+
+    r = cli("robot", arm, "-o", tmp_path / "o", "-q", *flags, check=False)
+    assert r.returncode == 2
+    expected = re.sub(r"--([a-z][a-z-]*)", lambda m: m.group(1).replace("-", "_"),
+                      r.stderr.removeprefix("medspheres: error: ").strip())
+    with pytest.raises(medspheres.InputError) as info:
+        medspheres.bake_robot(arm, tmp_path / "o", **kwargs)
+    assert str(info.value) == expected
+    assert not (tmp_path / "o").exists()
+
+
+def rz(angle):
+    c, s = np.cos(angle), np.sin(angle)
+    x = np.eye(4)
+    x[:2, :2] = [[c, -s], [s, c]]
+    return x
+
+
+def translate(v):
+    x = np.eye(4)
+    x[:3, 3] = v
+    return x
+
+
+def placed(balls, x):
+    return np.column_stack([balls[:, :3] @ x[:3, :3].T + x[:3, 3], balls[:, 3]])
+
+
+def gap(a, b):
+    d = np.linalg.norm(a[:, None, :3] - b[None, :, :3], axis=2) - a[:, None, 3] - b[None, :, 3]
+    return max(0.0, d.min())
+
+
+def test_robot_bounds_against_brute_force(arm, tmp_path):
+    baked = medspheres.bake_robot(arm, tmp_path / "out", spheres_per_link=6, formats=["robot"])
+    robot = medspheres.RobotBounds(tmp_path / "out" / "arm.robot.json")
+    assert robot.joint_names == ["j1"]
+    obstacle = np.array([[0.0, 0.0, 0.0, 0.02], [0.01, 0.0, 0.0, 0.02]])
+    for q in (0.0, 0.7):
+        # the arm's forward kinematics, written out: base fixed, upper by j1, hand fixed on it
+        poses = {"base": np.eye(4), "upper": translate([0, 0, 0.03]) @ rz(q)}
+        poses["hand"] = poses["upper"] @ translate([0, 0, 0.12])
+        sets = {link: {k: placed(v, poses[link]) for k, v in s.items()} for link, s in
+                baked.links.items()}
+        # self: only base and hand are not adjacent
+        lower, upper, certified = robot.bounds([q])
+        assert certified
+        assert lower <= gap(sets["base"]["outer"], sets["hand"]["outer"]) <= lower + 1e-9
+        assert upper - 1e-9 <= gap(sets["base"]["inner"], sets["hand"]["inner"]) <= upper
+        # a scene object: its own balls on both sides
+        x = translate([0.15, 0.0, 0.2])
+        world = placed(obstacle, x)
+        lower, upper, _ = robot.bounds([q], [(obstacle, x)], include_self=False)
+        assert lower <= min(gap(s["outer"], world) for s in sets.values()) <= lower + 1e-9
+        assert upper - 1e-9 <= min(gap(s["inner"], world) for s in sets.values()) <= upper
+        verdict = robot.collide([q], [(obstacle, x)], include_self=False, margin=lower / 2)
+        assert verdict["verdict"] == "free" and verdict["certified"]
+    with pytest.raises(ValueError):
+        robot.bounds([0.0, 1.0])  # one joint

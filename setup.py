@@ -1,0 +1,61 @@
+"""pip install . : builds the medspheres Python module with this repository's CMake project.
+
+The module is the C++ library bound with pybind11 (Debian: python3-pybind11, python3-numpy,
+python3-dev); setuptools only drives CMake and copies the package it builds. There is no
+pyproject.toml on purpose: pip then builds in the current environment (no isolated build
+environment to download), so `pip install .` works without a network.
+"""
+
+import os
+import pathlib
+import shutil
+import subprocess
+import sys
+
+from setuptools import Extension, setup
+from setuptools.command.build_ext import build_ext
+
+ROOT = pathlib.Path(__file__).resolve().parent
+
+
+class CMakeBuild(build_ext):
+    """Configures (unless already configured) and builds the medspheres_python target in
+    build/pip, or in MEDSPHERES_PIP_BUILD_DIR (an existing build folder, for instance
+    build); copies the package it makes."""
+
+    def build_extension(self, ext):
+        build = pathlib.Path(os.environ.get("MEDSPHERES_PIP_BUILD_DIR", ROOT / "build" / "pip"))
+        configure = [
+            "cmake", "-S", str(ROOT), "-B", str(build), "-DCMAKE_BUILD_TYPE=Release",
+            "-DMEDSPHERES_BUILD_TESTS=OFF", "-DMEDSPHERES_BUILD_BENCH=OFF",
+            "-DMEDSPHERES_BUILD_PYTHON=ON", f"-DMEDSPHERES_PYTHON_EXECUTABLE={sys.executable}",
+            f"-DPython3_EXECUTABLE={sys.executable}",
+        ]
+        jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
+        if not (build / "CMakeCache.txt").exists():  # an existing build keeps its settings
+            subprocess.check_call(configure)
+        subprocess.check_call(["cmake", "--build", str(build), "-j", jobs,
+                               "--target", "medspheres_python"])
+        target = pathlib.Path(self.get_ext_fullpath(ext.name)).parent
+        target.mkdir(parents=True, exist_ok=True)
+        for f in (build / "python" / "medspheres").iterdir():
+            shutil.copy2(f, target / f.name)
+
+
+def version():
+    text = (ROOT / "CMakeLists.txt").read_text()
+    return text.split("project(medspheres VERSION ", 1)[1].split()[0]
+
+
+setup(
+    name="medspheres",
+    version=version(),
+    description="Medial sphere sets of meshes and robots, their fit, and fast queries",
+    license="GPL-3.0-or-later",
+    packages=[],
+    ext_modules=[Extension("medspheres._medspheres", sources=[])],
+    cmdclass={"build_ext": CMakeBuild},
+    install_requires=["numpy"],
+    python_requires=">=3.9",
+    zip_safe=False,
+)

@@ -1,0 +1,193 @@
+// The files of a robot bake's output folder (robot_outputs.h).
+#include "medspheres/formats/robot_outputs.h"
+
+#include <algorithm>
+#include <cctype>
+#include <cerrno>
+#include <filesystem>
+#include <random>
+#include <set>
+#include <system_error>
+
+#include <fcntl.h>
+#include <stdio.h>
+#include <unistd.h>
+
+#include "medspheres/error.h"
+#include "medspheres/io.h"
+
+namespace medspheres::formats {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The file each format is written to in the folder, after the robot's name (sanitised);
+// .sph holds one set, so it gets a folder with one file per link.
+std::string file_stem(const std::string& robot_name) {
+  std::string stem = robot_name.empty() ? "robot" : robot_name;
+  for (char& c : stem)
+    if (!std::isalnum(static_cast<unsigned char>(c)) && c != '_' && c != '-' && c != '.') c = '_';
+  return stem;
+}
+
+std::string format_file(SphereFormat f, const std::string& stem) {
+  switch (f) {
+    case SphereFormat::kRobot:
+      return stem + ".robot.json";
+    case SphereFormat::kCurobo:
+      return stem + ".curobo.yml";
+    case SphereFormat::kXrdf:
+      return stem + ".xrdf";
+    case SphereFormat::kUrdf:
+      return stem + ".spherized.urdf";
+    case SphereFormat::kSrdf:
+      return stem + ".srdf";
+    case SphereFormat::kFoam:
+      return stem + ".foam.json";
+    case SphereFormat::kSph:
+      return "sph";
+    case SphereFormat::kSphereSet:
+      break;
+  }
+  return {};
+}
+
+// One .sph file per link with spheres, named after the link (sanitised; a clash gets the
+// link's index).
+void write_sph_folder(const SphereDocument& doc, const std::string& dir) {
+  fs::create_directory(dir);
+  std::set<std::string> used;
+  for (std::size_t i = 0; i < doc.links.size(); ++i) {
+    std::string name = file_stem(doc.links[i].link);
+    if (!used.insert(name).second) name += "_" + std::to_string(i);
+    used.insert(name);
+    WriteOptions options;
+    options.link = doc.links[i].link;
+    write_sphere_document((fs::path(dir) / (name + ".sph")).string(), doc, SphereFormat::kSph,
+                          options);
+  }
+}
+
+// A fresh folder beside \p out, removed by the destructor unless it was moved into place.
+class StagingDir {
+ public:
+  explicit StagingDir(const std::string& out) {
+    const fs::path target = fs::absolute(out).lexically_normal();
+    std::random_device random;
+    for (int attempt = 0; attempt < 100 && path_.empty(); ++attempt) {
+      const fs::path p =
+          target.parent_path() / ("." + target.filename().string() + ".tmp-" +
+                                  std::to_string(::getpid()) + "-" + std::to_string(random()));
+      if (fs::create_directory(p)) path_ = p;
+    }
+    if (path_.empty()) throw Error(out + ": cannot create a temporary folder beside it");
+    target_ = target;
+  }
+  ~StagingDir() {
+    std::error_code ec;
+    if (!path_.empty()) fs::remove_all(path_, ec);
+  }
+  StagingDir(const StagingDir&) = delete;
+  StagingDir& operator=(const StagingDir&) = delete;
+
+  std::string path() const { return path_.string(); }
+
+  // Moves the folder to the target: a rename when nothing is there, an atomic exchange
+  // with an existing folder (whose old contents are then removed).
+  void commit() {
+    if (!fs::exists(target_)) {
+      fs::rename(path_, target_);
+      path_.clear();
+      return;
+    }
+    if (::renameat2(AT_FDCWD, path_.c_str(), AT_FDCWD, target_.c_str(), RENAME_EXCHANGE) != 0)
+      throw Error(target_.string() + ": cannot replace the folder: " +
+                  std::error_code(errno, std::generic_category()).message());
+    // path_ now holds the old contents, which the destructor removes.
+  }
+
+ private:
+  fs::path path_;
+  fs::path target_;
+};
+
+}  // namespace
+
+const std::vector<SphereFormat>& robot_formats() {
+  static const std::vector<SphereFormat> all = {
+      SphereFormat::kRobot, SphereFormat::kCurobo, SphereFormat::kXrdf, SphereFormat::kUrdf,
+      SphereFormat::kSrdf,  SphereFormat::kFoam,   SphereFormat::kSph};
+  return all;
+}
+
+std::vector<SphereFormat> robot_output_formats(const std::vector<std::string>& names) {
+  if (names.empty()) return robot_formats();
+  std::vector<SphereFormat> out;
+  for (const std::string& n : names) {
+    SphereFormat f;
+    try {
+      f = parse_sphere_format(n, "format");
+    } catch (const InputError& e) {
+      throw InputError::option(ErrorKind::kOutOfRange, "format", n, e.problem());
+    }
+    if (std::find(robot_formats().begin(), robot_formats().end(), f) == robot_formats().end())
+      throw InputError::option(ErrorKind::kOutOfRange, "format", n,
+                               "'" + n +
+                                   "' holds one sphere set, not a robot (robot formats: robot, "
+                                   "curobo, xrdf, urdf, srdf, foam, sph)");
+    if (std::find(out.begin(), out.end(), f) == out.end()) out.push_back(f);
+  }
+  return out;
+}
+
+std::optional<SphereChoice> parse_set_choice(const std::string& set) {
+  if (set == "inner") return SphereChoice::kInner;
+  if (set == "outer") return SphereChoice::kOuter;
+  if (set == "auto") return std::nullopt;
+  throw InputError::option(ErrorKind::kOutOfRange, "set", set,
+                           "must be auto, inner or outer, got '" + set + "'");
+}
+
+SphereChoice robot_output_choice(std::optional<SphereChoice> chosen, const RobotModel& model) {
+  if (chosen) return *chosen;
+  const bool any_outer = std::any_of(model.links.begin(), model.links.end(),
+                                     [](const Link& l) { return !l.spheres.outer.empty(); });
+  return any_outer ? SphereChoice::kOuter : SphereChoice::kInner;
+}
+
+// OUT must be a folder or nothing, in a folder that exists.
+void check_output_dir(const std::string& out) {
+  std::error_code ec;
+  const fs::file_status st = fs::status(out, ec);
+  if (fs::exists(st) && !fs::is_directory(st))
+    throw InputError(out, "exists and is not a folder (-o names the output folder)");
+  const fs::path parent = fs::absolute(out).parent_path();
+  if (!fs::is_directory(parent, ec))
+    throw InputError(out, "the folder " + parent.string() + " does not exist");
+}
+
+void write_robot_outputs(const std::string& out, const std::vector<SphereFormat>& chosen,
+                         const RobotModel& model, SphereChoice choice, const std::string& urdf) {
+  StagingDir staging(out);
+  const std::string dir = staging.path();
+  SphereDocument doc;
+  doc.model = model;
+  doc.links = robot_spheres(model, choice);
+  doc.urdf_text = read_text_file(urdf);
+  doc.robot_name = model.name;
+  WriteOptions options;
+  options.urdf_text = doc.urdf_text;
+  options.urdf_source = urdf;
+  const std::string stem = file_stem(model.name);
+  for (const SphereFormat f : chosen) {
+    const std::string path = (fs::path(dir) / format_file(f, stem)).string();
+    if (f == SphereFormat::kSph)
+      write_sph_folder(doc, path);
+    else
+      write_sphere_document(path, doc, f, options);
+  }
+  staging.commit();
+}
+
+}  // namespace medspheres::formats
