@@ -152,6 +152,9 @@ def bake(
     cover: Optional[Length] = ...,
     seed: int = ...,
     threads: int = ...,
+    solid: Literal["auto", "winding", "robust"] = ...,
+    robust_resolution: int = ...,
+    robust_thickness: Optional[Length] = ...,
     name: str = ...,
 ) -> SphereSet: ...
 def evaluate(

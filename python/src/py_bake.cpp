@@ -50,7 +50,8 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
                   double object_angle, double medial_tolerance,
                   std::optional<long long> max_spheres, std::optional<double> target_error,
                   bool dilate, const LengthArg& vertex_tolerance, const LengthArg& max_protrusion,
-                  const LengthArg& cover, std::uint64_t seed, int threads, std::string name) {
+                  const LengthArg& cover, std::uint64_t seed, int threads, const std::string& solid,
+                  int robust_resolution, const LengthArg& robust_thickness, std::string name) {
   BakeFlags f;
   f.method = method;
   f.resolution = resolution;
@@ -61,6 +62,7 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
   f.dilation = {dilate, length_text(vertex_tolerance), length_text(max_protrusion),
                 length_text(cover), seed};
   f.threads = threads;
+  f.solid = {solid, robust_resolution, length_text(robust_thickness)};
   const BakeRequest request = bake_request(f);
   BakeOutcome outcome;
   std::vector<std::string> warnings;
@@ -115,7 +117,8 @@ void register_bake(py::module_& m) {
         py::arg("target_error") = py::none(), py::arg("dilate") = false,
         py::arg("vertex_tolerance") = py::none(), py::arg("max_protrusion") = py::none(),
         py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed, py::arg("threads") = 0,
-        py::arg("name") = "",
+        py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
+        py::arg("robust_thickness") = py::none(), py::arg("name") = "",
         "Bakes spheres of a mesh, as `medspheres bake` does, and returns a SphereSet.\n\n"
         "mesh: a file path (STL, OBJ, PLY, OFF, DAE, glTF, ...) or a pair (vertices n x 3, "
         "triangles m x 3) of arrays, oriented as load_mesh orients a file.\n"
@@ -125,6 +128,9 @@ void register_bake(py::module_& m) {
         "max_spheres / target_error: a budget, or the smallest resolution whose nerr is at "
         "most E. Lengths (vertex_tolerance, max_protrusion, cover) are numbers in the mesh's "
         "units or text such as '0.003L' (a multiple of the box's largest side).\n"
+        "solid: 'auto' (the winding number's, the robust solid when that is ambiguous), "
+        "'winding' or 'robust'; robust_resolution and robust_thickness shape the robust solid "
+        "(README: Solids).\n"
         "name: the mesh's name in errors and provenance for arrays (default 'mesh').\n"
         "The loader's warnings are issued as UserWarning. The GIL is released while baking.\n"
         "Raises InputError (a ValueError) for bad options or a bad mesh.");
