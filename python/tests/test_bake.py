@@ -36,6 +36,8 @@ def cli_bake(cli, mesh, out, *flags):
         ({"resolution": 14, "dilate": True, "vertex_tolerance": "0.01L"},
          ["--resolution", "14", "--dilate", "--vertex-tolerance", "0.01L"]),
         ({"method": "cover", "max_spheres": 24}, ["--method", "cover", "--max-spheres", "24"]),
+        ({"resolution": 16, "solid": "robust", "robust_resolution": 32},
+         ["--resolution", "16", "--solid", "robust", "--robust-resolution", "32"]),
     ],
 )
 def test_bake_equals_cli(cli, eight, tmp_path, kwargs, flags):
