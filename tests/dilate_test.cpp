@@ -144,7 +144,7 @@ TEST_CASE("cover rounds bring every sample of the last round within the toleranc
   DilateOptions o;
   o.cover_tolerance = 0.002 * knot().mesh.bounds().sizes().maxCoeff();
   o.cover_samples = 5000;
-  o.cover_max_rounds = 12;
+  o.cover_max_rounds = 64;
   const DilateResult d = dilate(q, knot().internal, o);
   REQUIRE(d.stats.cover_reached);
   CHECK(d.stats.cover_rounds >= 1);  // the rounds had work to do
