@@ -513,3 +513,19 @@ TEST_CASE("file_sha256 matches known digests", "[mesh_io]") {
   CHECK(file_sha256(dir.write("abc", "abc")) == sha256_hex("abc"));
   CHECK_THROWS_AS(file_sha256(dir.file("nope")), InputError);
 }
+
+TEST_CASE("a mesh in memory with coordinates whose squares overflow is bad input", "[mesh_io]") {
+  // Files cannot hold them (assimp reads single precision: they become inf), but arrays can.
+  TriangleMesh m;
+  m.vertices = {{0, 0, 0}, {1e300, 0, 0}, {0, 1, 0}};
+  m.triangles = {{0, 1, 2}};
+  try {
+    (void)prepare_mesh(m, "arrays");
+    FAIL("no error");
+  } catch (const InputError& e) {
+    CHECK_THAT(std::string(e.what()),
+               Contains("arrays") && Contains("vertex 1") && Contains("overflow"));
+  }
+  m.vertices[1].x() = 1e150;  // the largest accepted
+  CHECK(prepare_mesh(m, "arrays").mesh.num_triangles() == 1);
+}

@@ -433,6 +433,13 @@ void check_mesh_usable(const TriangleMesh& mesh, const std::string& source) {
           << mesh.vertices[v].y() << ", " << mesh.vertices[v].z() << ")";
       throw InputError(source, msg.str());
     }
+    if (mesh.vertices[v].cwiseAbs().maxCoeff() > kMaxCoordinate) {
+      std::ostringstream msg;
+      msg << "vertex " << v << " has a coordinate beyond " << kMaxCoordinate << " in magnitude ("
+          << mesh.vertices[v].x() << ", " << mesh.vertices[v].y() << ", " << mesh.vertices[v].z()
+          << "): squared lengths would overflow; rescale the mesh";
+      throw InputError(source, msg.str());
+    }
   }
   try {
     detail::check_indices(mesh);

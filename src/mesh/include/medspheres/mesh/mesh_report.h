@@ -101,9 +101,14 @@ OrientationFix orient_mesh(TriangleMesh& mesh);
 /// for a closed mesh. Deterministic.
 std::vector<std::vector<int>> boundary_loops(const TriangleMesh& mesh);
 
-/// Checks that a mesh can be used at all: at least one triangle, finite coordinates,
-/// indices in range, and not every triangle degenerate.
+/// Checks that a mesh can be used at all: at least one triangle, finite coordinates of
+/// magnitude at most kMaxCoordinate, indices in range, and not every triangle degenerate.
+/// (Every exact query squares lengths; beyond kMaxCoordinate a square overflows.)
 /// \throws InputError naming \p source and the first problem found.
 void check_mesh_usable(const TriangleMesh& mesh, const std::string& source);
+
+/// The largest coordinate magnitude check_mesh_usable accepts: the squared distance of
+/// two such points, 12 * 1e300, is a finite double.
+inline constexpr double kMaxCoordinate = 1e150;
 
 }  // namespace medspheres
