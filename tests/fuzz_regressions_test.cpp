@@ -14,6 +14,7 @@
 #include "medspheres/error.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/sph_file.h"
+#include "medspheres/formats/spherized_urdf.h"
 #include "medspheres/formats/xrdf.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/point_triangle.h"
@@ -134,4 +135,18 @@ TEST_CASE("MeshQuery caps a hole whose vertices lie near the largest double",
   for (const Eigen::Vector3d& v : query.cap_mesh().vertices) CHECK(v.allFinite());
   // The fan's centre is the mean of the three corners.
   CHECK(query.cap_mesh().vertices.back().isApprox(Eigen::Vector3d(1.5e308, 1e308 / 3, 1e308 / 3)));
+}
+
+TEST_CASE("a URDF that tinyxml2 reads but does not write back well-formed is refused",
+          "[fuzz][formats]") {
+  // Stray content after a self-closed root and a control character: read, but printed as
+  // text that is not well-formed XML.
+  const std::string text = corpus_file("fuzz_spherized_urdf/crash-not-written-back.urdf");
+  const formats::RobotSpheres spheres = formats::parse_urdf_spheres(text, "in.urdf");
+  try {
+    (void)formats::spherize_urdf(text, spheres, "in.urdf");
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(std::string(e.what()), Catch::StartsWith("in.urdf (as written back): "));
+  }
 }

@@ -64,7 +64,12 @@ std::string spherize_urdf(const std::string& urdf_text, const RobotSpheres& sphe
       throw InputError(source, "link \"" + l.link + "\" has spheres but is not in the URDF");
     replace_collisions(doc, *it->second, l.spheres);
   }
-  return xml_to_text(doc);
+  // tinyxml2 reads some text it does not print back as well-formed XML (stray content after
+  // the root, control characters): such a URDF is refused rather than written broken.
+  std::string out = xml_to_text(doc);
+  tinyxml2::XMLDocument written;
+  parse_xml(written, out, source + " (as written back)");
+  return out;
 }
 
 RobotSpheres parse_urdf_spheres(const std::string& urdf_text, const std::string& source) {
