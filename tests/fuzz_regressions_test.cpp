@@ -150,3 +150,19 @@ TEST_CASE("a URDF that tinyxml2 reads but does not write back well-formed is ref
     CHECK_THAT(std::string(e.what()), Catch::StartsWith("in.urdf (as written back): "));
   }
 }
+
+TEST_CASE("spherizing a URDF that defines a link twice is refused", "[fuzz][formats]") {
+  const std::string text = R"(<robot name="r">
+  <link name="upper"/>
+  <link name="upper"><collision><geometry><sphere radius="0.1"/></geometry></collision></link>
+</robot>)";
+  formats::RobotSpheres spheres(1);
+  spheres[0].link = "upper";
+  spheres[0].spheres.push_back({{0, 0, 0}, 0.1});
+  try {
+    (void)formats::spherize_urdf(text, spheres, "in.urdf");
+    FAIL("no InputError");
+  } catch (const InputError& e) {
+    CHECK_THAT(std::string(e.what()), Catch::Contains("\"upper\" is defined twice"));
+  }
+}

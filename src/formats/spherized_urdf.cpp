@@ -57,7 +57,9 @@ std::string spherize_urdf(const std::string& urdf_text, const RobotSpheres& sphe
   XMLElement& robot = xml_root(doc, "robot", source);
   std::map<std::string, XMLElement*> links;
   for (XMLElement* l = robot.FirstChildElement("link"); l; l = l->NextSiblingElement("link"))
-    if (const char* name = l->Attribute("name")) links[name] = l;
+    if (const char* name = l->Attribute("name"))
+      if (!links.emplace(name, l).second)
+        throw InputError(source, "link \"" + std::string(name) + "\" is defined twice");
   for (const LinkSphereList& l : spheres) {
     const auto it = links.find(l.link);
     if (it == links.end())
