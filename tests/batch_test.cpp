@@ -209,6 +209,8 @@ TEST_CASE("shards run one after another give the unsharded run's files, bit for 
   whole.request = small_request();
   whole.output_dir = dir.file("whole");
   const BatchResult all = bake_batch(inputs, whole);
+  for (const BatchRow& row : all.rows)
+    if (!row.error.empty()) UNSCOPED_INFO(row.error);
   CHECK(all.count(BatchOutcome::kBaked) == 12);
   const auto expected = tree(dir.file("whole"));
   REQUIRE(expected.size() == 12);
