@@ -165,3 +165,42 @@ TEST_CASE("eval rejects bad input with exit 2 and names the file or option", "[c
   CHECK(r.exit_code == 2);
   CHECK_THAT(r.err, Contains("negative.json"));
 }
+
+TEST_CASE("eval --solid: the solid the file records, or the one named", "[cli][eval]") {
+  TempDir dir;
+  const std::string box = write_box(dir, false);
+  // One ball, recorded as baked from the robust solid at resolution 16.
+  const std::string spheres = dir.write("s.json", R"({"spheres": [[0, 0, 0, 0.5]],
+        "stats": {"solid": "robust", "robust_resolution": 16, "robust_thickness": 0}})");
+  const std::string both = shell_quote(box) + " " + shell_quote(spheres) + kFast + " --json";
+  CommandResult r = eval(both);
+  REQUIRE(r.exit_code == 0);
+  auto j = nlohmann::json::parse(r.out);
+  CHECK(j["solid"] == "robust");
+  CHECK(j["robust_resolution"] == 16);
+  // the robust solid holds the box (volume 8) and lies within 0.46 of it (h = 1/8,
+  // r = (1 + sqrt(3)/2) h, r + sqrt(3) h < 0.45): its volume is between 8 and 2.9^3
+  CHECK(j["mesh_volume"].get<double>() > 8.0);
+  CHECK(j["mesh_volume"].get<double>() < 2.9 * 2.9 * 2.9);
+  CHECK_THAT(j["warnings"].dump(), Contains("robust solid at resolution 16"));
+  r = eval(both + " --solid winding");
+  REQUIRE(r.exit_code == 0);
+  j = nlohmann::json::parse(r.out);
+  CHECK(j["solid"] == "winding");
+  CHECK(j["mesh_volume"].get<double>() == Approx(8.0).epsilon(1e-14));
+  r = eval(both + " --solid robust --robust-resolution 24");
+  REQUIRE(r.exit_code == 0);
+  CHECK(nlohmann::json::parse(r.out)["robust_resolution"] == 24);
+  // nonsense is named before any work
+  r = eval(both + " --solid robst");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("--solid"));
+  r = eval(both + " --robust-thickness -1");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("--robust-thickness"));
+  // a robot's links have no solid to choose: the flag is refused, not ignored
+  const std::string urdf = dir.write("r.urdf", "<robot name=\"r\"><link name=\"a\"/></robot>");
+  r = eval(shell_quote(urdf) + " " + shell_quote(spheres) + " --solid robust");
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("--solid") && Contains("robot"));
+}

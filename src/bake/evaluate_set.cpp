@@ -82,16 +82,37 @@ SetEvaluation evaluate_sphere_set(const TriangleMesh& mesh, const SphereSet& set
   return out;
 }
 
-std::string evaluation_json(const SetEvaluation& evaluation, const std::string& mesh,
-                            const std::string& spheres_file, double longest,
-                            const std::vector<std::string>& warnings) {
-  const FitReport& r = evaluation.fit;
-  const CoverCertificate& cert = evaluation.certificate;
+MeshEvaluation evaluate_mesh_set(const LoadedMesh& loaded, const std::string& mesh_name,
+                                 const SphereSet& set, const std::string& spheres_file,
+                                 const FitOptions& options, const SolidFlags& solid) {
+  MeshEvaluation out;
+  out.mesh = mesh_name;
+  out.spheres_file = spheres_file;
+  out.longest = loaded.report.largest_side();
+  out.solid = eval_solid(solid, out.longest, set.metadata_json);
+  for (const std::string& w : loaded.warnings) out.warnings.push_back(mesh_name + ": " + w);
+  if (out.solid.kind == SolidKind::kRobust)
+    out.warnings.push_back(mesh_name + ": measured against its robust solid at resolution " +
+                           std::to_string(out.solid.robust.resolution) + " (solid robust)");
+  const TriangleMesh measured = solid_mesh(loaded.mesh, out.solid, mesh_name);
+  out.evaluation = evaluate_sphere_set(measured, set, options, spheres_file);
+  for (const std::string& w : out.evaluation.fit.warnings) out.warnings.push_back(w);
+  return out;
+}
+
+std::string evaluation_json(const MeshEvaluation& evaluation) {
+  const FitReport& r = evaluation.evaluation.fit;
+  const CoverCertificate& cert = evaluation.evaluation.certificate;
   const VolumeError& v = r.volume;
   const MonteCarloError& mc = r.monte_carlo;
   nlohmann::ordered_json j;
-  j["mesh"] = mesh;
-  j["spheres_file"] = spheres_file;
+  j["mesh"] = evaluation.mesh;
+  j["spheres_file"] = evaluation.spheres_file;
+  j["solid"] = to_string(evaluation.solid.kind);
+  if (evaluation.solid.kind == SolidKind::kRobust) {
+    j["robust_resolution"] = evaluation.solid.robust.resolution;
+    j["robust_thickness"] = evaluation.solid.robust.thickness;
+  }
   j["spheres"] = r.balls;
   j["mesh_closed"] = r.mesh_closed;
   j["mesh_volume"] = v.mesh_volume ? nlohmann::ordered_json(*v.mesh_volume) : nullptr;
@@ -125,7 +146,7 @@ std::string evaluation_json(const SetEvaluation& evaluation, const std::string& 
   j["surface_certificate"] = certificate_json(cert);
   j["surface_samples"] = r.coverage.area_samples;
   j["vertices"] = r.coverage.vertices;
-  j["bbox_largest_side"] = longest;
+  j["bbox_largest_side"] = evaluation.longest;
   j["seconds"] = r.seconds.total;
   j["seconds_by_part"] = {{"union_volume", r.seconds.union_volume},
                           {"protrusion", r.seconds.protrusion},
@@ -133,7 +154,7 @@ std::string evaluation_json(const SetEvaluation& evaluation, const std::string& 
                           {"monte_carlo", r.seconds.monte_carlo},
                           {"coverage", r.seconds.coverage},
                           {"certificate", cert.seconds}};
-  j["warnings"] = warnings;
+  j["warnings"] = evaluation.warnings;
   return j.dump(2);
 }
 

@@ -34,6 +34,31 @@ SolidChoice choose_solid(SolidKind requested, const RobustSolidOptions& robust,
   return c;
 }
 
+namespace {
+
+// The request's solid fields from \p flags, checked (the thickness: finite, >= 0).
+BakeRequest solid_request(const SolidFlags& flags) {
+  BakeRequest request;
+  set_solid(flags, request);
+  validate(request);
+  return request;
+}
+
+}  // namespace
+
+void check_solid_flags(const SolidFlags& flags) {
+  solid_request(flags);
+}
+
+SolidChoice eval_solid(const SolidFlags& flags, double longest, const std::string& metadata_json) {
+  const BakeRequest request = solid_request(flags);
+  RobustSolidOptions robust = request.robust;
+  if (request.robust_thickness) robust.thickness = request.robust_thickness->in(longest);
+  const bool robust_explicit =
+      flags.robust_thickness || flags.robust_resolution != RobustSolidOptions{}.resolution;
+  return choose_solid(request.solid, robust, robust_explicit, metadata_json);
+}
+
 TriangleMesh solid_mesh(const TriangleMesh& mesh, const SolidChoice& choice,
                         const std::string& name) {
   if (choice.kind != SolidKind::kRobust) return mesh;

@@ -14,7 +14,6 @@
 #include "medspheres/io.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
-#include "medspheres/mesh/threads.h"
 #include "solid_flags.h"
 
 namespace medspheres::cli {
@@ -37,9 +36,10 @@ std::string percent_of(double v, double length) {
   return number_text(100.0 * v / length, 3) + "% of L";
 }
 
-void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport& r,
-                const CoverCertificate& cert, double longest,
-                const std::vector<std::string>& warnings) {
+void print_text(const EvalArgs& args, const LoadedMesh& loaded, const MeshEvaluation& e) {
+  const FitReport& r = e.evaluation.fit;
+  const CoverCertificate& cert = e.evaluation.certificate;
+  const double longest = e.longest;
   const VolumeError& v = r.volume;
   const MonteCarloError& mc = r.monte_carlo;
   const CoverageStats& c = r.coverage;
@@ -102,42 +102,48 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const FitReport&
             << number_text(s.union_volume, 3) << ", protrusion " << number_text(s.protrusion, 3)
             << ", grid " << number_text(s.grid, 3) << ", Monte Carlo "
             << number_text(s.monte_carlo, 3) << ", coverage " << number_text(s.coverage, 3) << "\n";
-  for (const std::string& w : warnings) std::cout << "  warning: " << w << "\n";
+  for (const std::string& w : e.warnings) std::cout << "  warning: " << w << "\n";
+}
+
+// A robot's links are measured against their winding-number solids: a solid flag would go
+// unheard.
+void check_no_solid_flags(const SolidFlags& flags) {
+  const SolidFlags defaults;
+  std::string field, value;
+  if (flags.solid != defaults.solid) {
+    field = "solid";
+    value = flags.solid;
+  } else if (flags.robust_resolution != defaults.robust_resolution) {
+    field = "robust_resolution";
+    value = std::to_string(flags.robust_resolution);
+  } else if (flags.robust_thickness) {
+    field = "robust_thickness";
+    value = *flags.robust_thickness;
+  } else {
+    return;
+  }
+  throw InputError::option(ErrorKind::kConflict, field, value,
+                           "applies to the eval of a mesh: a robot's links are measured "
+                           "against their winding-number solids");
 }
 
 int run_eval(const EvalArgs& args) {
   // Options first: nonsense is reported before any work is done.
   const FitOptions options =
       fit_options(args.samples, args.surface_samples, args.seed, args.threads);
-  if (is_robot_description(args.mesh))
+  if (is_robot_description(args.mesh)) {
+    check_no_solid_flags(args.solid);
     return run_eval_robot({args.mesh, args.spheres, args.packages, args.json, options});
-
+  }
+  check_solid_flags(args.solid);
   const LoadedMesh loaded = load_mesh(args.mesh);
   const SphereSet set = load_sphere_set(args.spheres);
-  BakeRequest solid_request;
-  set_solid(args.solid, solid_request);
-  RobustSolidOptions robust = solid_request.robust;
-  if (solid_request.robust_thickness)
-    robust.thickness = solid_request.robust_thickness->in(loaded.report.largest_side());
-  const bool robust_explicit = args.solid.robust_thickness ||
-                               args.solid.robust_resolution != RobustSolidOptions{}.resolution;
-  const SolidChoice choice =
-      choose_solid(solid_request.solid, robust, robust_explicit, set.metadata_json);
-  const TriangleMesh solid = solid_mesh(loaded.mesh, choice, args.mesh);
-  const SetEvaluation evaluation = evaluate_sphere_set(solid, set, options, args.spheres);
-  const FitReport& report = evaluation.fit;
-  const CoverCertificate& cert = evaluation.certificate;
-  std::vector<std::string> warnings;
-  for (const std::string& w : loaded.warnings) warnings.push_back(args.mesh + ": " + w);
-  if (choice.kind == SolidKind::kRobust)
-    warnings.push_back(args.mesh + ": measured against its robust solid at resolution " +
-                       std::to_string(choice.robust.resolution) + " (solid robust)");
-  for (const std::string& w : report.warnings) warnings.push_back(w);
-  const double longest = loaded.report.largest_side();
+  const MeshEvaluation e =
+      evaluate_mesh_set(loaded, args.mesh, set, args.spheres, options, args.solid);
   if (args.json)
-    std::cout << evaluation_json(evaluation, args.mesh, args.spheres, longest, warnings) << "\n";
+    std::cout << evaluation_json(e) << "\n";
   else
-    print_text(args, loaded, report, cert, longest, warnings);
+    print_text(args, loaded, e);
   return kExitOk;
 }
 

@@ -4,62 +4,15 @@
 #include <algorithm>
 #include <cctype>
 #include <iostream>
-#include <map>
-
-#include <nlohmann/json.hpp>
 
 #include "cli_common.h"
 #include "medspheres/bake/robot_bake.h"
-#include "medspheres/error.h"
-#include "medspheres/formats/sphere_document.h"
-#include "medspheres/robot/link_solid.h"
+#include "medspheres/robot/package_path.h"
 #include "medspheres/robot/urdf_robot.h"
-#include "medspheres/robot_file.h"
 
 namespace medspheres::cli {
 
 namespace {
-
-// The spheres of every link in a robot-level sphere file (any format convert reads): a
-// robot file gives each link's inner set, or its outer set where it has no inner one.
-std::map<std::string, SphereSet> robot_spheres(const std::string& path) {
-  std::map<std::string, SphereSet> out;
-  const bool robot_file =
-      path.size() >= 11 && path.compare(path.size() - 11, 11, ".robot.json") == 0;
-  if (robot_file) {
-    for (const Link& link : load_robot(path).links)
-      out[link.name] = link.spheres.inner.empty() ? link.spheres.outer : link.spheres.inner;
-    return out;
-  }
-  formats::ReadOptions options;
-  options.choice = formats::SphereChoice::kInner;  // a robot file named .json
-  const formats::SphereDocument doc = formats::read_sphere_document(path, std::nullopt, options);
-  if (doc.set)
-    throw InputError(path,
-                     "holds one sphere set, not a robot's (give a robot-level file: robot, "
-                     "cuRobo, XRDF, spherized URDF, SRDF or foam's per-link JSON)");
-  for (const formats::LinkSphereList& link : doc.links) out[link.link].spheres = link.spheres;
-  return out;
-}
-
-nlohmann::ordered_json number(double v) {
-  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
-}
-
-nlohmann::ordered_json fit_json(const LinkFit& f) {
-  nlohmann::ordered_json j = {
-      {"link", f.link}, {"spheres", f.spheres}, {"primitives", f.primitives}, {"note", f.note}};
-  if (!f.fit) return j;
-  const FitReport& r = *f.fit;
-  j["nerr"] = number(r.volume.nerr);
-  j["nerr_kind"] = to_string(r.volume.kind);
-  j["max_protrusion"] = r.volume.max_protrusion;
-  j["mc_error"] = number(r.monte_carlo.error.estimate);
-  j["uncovered_max"] = r.coverage.max;
-  j["uncovered_mean"] = r.coverage.mean;
-  j["warnings"] = r.warnings;
-  return j;
-}
 
 std::string cell(const std::string& text, std::size_t width) {
   return text.size() >= width ? text + " " : text + std::string(width - text.size(), ' ');
@@ -93,10 +46,6 @@ void print_text(const RobotEvalArgs& args, const std::vector<LinkFit>& fits) {
 
 }  // namespace
 
-std::map<std::string, SphereSet> read_robot_spheres(const std::string& path) {
-  return robot_spheres(path);
-}
-
 bool is_robot_description(const std::string& path) {
   if (path.size() < 5) return false;
   std::string ext = path.substr(path.size() - 5);
@@ -108,18 +57,11 @@ bool is_robot_description(const std::string& path) {
 int run_eval_robot(const RobotEvalArgs& args) {
   UrdfReadOptions read;
   for (const std::string& p : args.packages) add_package_dir(read.packages, p);
-  const std::map<std::string, SphereSet> spheres = robot_spheres(args.spheres);
-  const UrdfRobot robot = read_urdf(args.urdf, read);
-  const std::vector<LinkFit> fits =
-      evaluate_robot_fit(load_link_solids(robot), spheres, args.spheres, args.fit);
-  if (args.json) {
-    nlohmann::ordered_json j = {{"urdf", args.urdf}, {"spheres_file", args.spheres}};
-    j["links"] = nlohmann::ordered_json::array();
-    for (const LinkFit& f : fits) j["links"].push_back(fit_json(f));
-    std::cout << j.dump(2) << "\n";
-  } else {
-    print_text(args, fits);
-  }
+  const RobotEvaluation e = evaluate_robot_file(args.urdf, read, args.spheres, args.fit);
+  if (args.json)
+    std::cout << robot_evaluation_json(e) << "\n";
+  else
+    print_text(args, e.links);
   return kExitOk;
 }
 

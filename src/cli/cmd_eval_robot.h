@@ -1,10 +1,10 @@
 #pragma once
 // medspheres eval ROBOT.urdf SPHERES: the fit of a robot's sphere file, link by link.
 
-#include <map>
 #include <string>
 #include <vector>
 
+#include "medspheres/bake/evaluate_set_robot.h"
 #include "medspheres/bake/fit_metrics.h"
 
 namespace medspheres::cli {
@@ -16,11 +16,6 @@ struct RobotEvalArgs {
   bool json = false;
   FitOptions fit;
 };
-
-/// The spheres of every link in a robot-level sphere file (any format convert reads): a
-/// robot file gives each link's inner set, or its outer set where it has no inner one.
-/// \throws InputError naming \p path for a file that holds one sphere set, not a robot's.
-std::map<std::string, SphereSet> read_robot_spheres(const std::string& path);
 
 /// True when \p path names a robot description (ends in .urdf, any case).
 bool is_robot_description(const std::string& path);

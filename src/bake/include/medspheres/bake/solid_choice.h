@@ -6,6 +6,7 @@
 
 #include <string>
 
+#include "medspheres/bake/bake_flags.h"
 #include "medspheres/mesh/robust_solid.h"
 #include "medspheres/triangle_mesh.h"
 
@@ -25,6 +26,19 @@ SolidChoice recorded_solid(const std::string& metadata_json);
 /// \p robust_explicit is false and the file records robust ones.
 SolidChoice choose_solid(SolidKind requested, const RobustSolidOptions& robust,
                          bool robust_explicit, const std::string& metadata_json);
+
+/// Checks \p flags as eval_solid does, before any work (a robust resolution out of range is
+/// make_robust_solid's to report, when the robust solid is made).
+/// \throws InputError as eval_solid.
+void check_solid_flags(const SolidFlags& flags);
+
+/// The solid `eval` measures spheres of \p metadata_json against, as the user's \p flags
+/// name it (bake_flags.h; "auto": the recorded one): choose_solid, where the robust
+/// options count as explicit when a thickness or a resolution other than the default is
+/// given, and a thickness in L is taken of \p longest (L of the mesh, its units).
+/// \throws InputError (kOutOfRange, field "solid" or "robust_thickness") for a solid
+///   that is not auto, winding or robust, or a thickness that is no length, or negative.
+SolidChoice eval_solid(const SolidFlags& flags, double longest, const std::string& metadata_json);
 
 /// \p mesh itself for kWinding, its robust solid's boundary for kRobust (errors:
 /// make_robust_solid, naming \p name).

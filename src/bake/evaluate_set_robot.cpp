@@ -1,0 +1,82 @@
+#include "medspheres/bake/evaluate_set_robot.h"
+
+#include <cmath>
+#include <optional>
+
+#include <nlohmann/json.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/formats/sphere_document.h"
+#include "medspheres/robot/link_solid.h"
+#include "medspheres/robot_file.h"
+
+namespace medspheres {
+
+namespace {
+
+nlohmann::ordered_json number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+nlohmann::ordered_json fit_json(const LinkFit& f) {
+  nlohmann::ordered_json j = {
+      {"link", f.link}, {"spheres", f.spheres}, {"primitives", f.primitives}, {"note", f.note}};
+  if (!f.fit) return j;
+  const FitReport& r = *f.fit;
+  j["nerr"] = number(r.volume.nerr);
+  j["nerr_kind"] = to_string(r.volume.kind);
+  j["max_protrusion"] = r.volume.max_protrusion;
+  j["mc_error"] = number(r.monte_carlo.error.estimate);
+  j["uncovered_max"] = r.coverage.max;
+  j["uncovered_mean"] = r.coverage.mean;
+  j["warnings"] = r.warnings;
+  return j;
+}
+
+}  // namespace
+
+std::map<std::string, SphereSet> read_robot_spheres(const std::string& path) {
+  std::map<std::string, SphereSet> out;
+  const bool robot_file =
+      path.size() >= 11 && path.compare(path.size() - 11, 11, ".robot.json") == 0;
+  if (robot_file) {
+    for (const Link& link : load_robot(path).links)
+      out[link.name] = link.spheres.inner.empty() ? link.spheres.outer : link.spheres.inner;
+    return out;
+  }
+  formats::ReadOptions options;
+  options.choice = formats::SphereChoice::kInner;  // a robot file named .json
+  const formats::SphereDocument doc = formats::read_sphere_document(path, std::nullopt, options);
+  if (doc.set)
+    throw InputError(path,
+                     "holds one sphere set, not a robot's (give a robot-level file: robot, "
+                     "cuRobo, XRDF, spherized URDF, SRDF or foam's per-link JSON)");
+  for (const formats::LinkSphereList& link : doc.links) out[link.link].spheres = link.spheres;
+  return out;
+}
+
+RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOptions& read,
+                                       const std::map<std::string, SphereSet>& spheres,
+                                       const std::string& spheres_file, const FitOptions& options) {
+  RobotEvaluation out;
+  out.urdf = urdf;
+  out.spheres_file = spheres_file;
+  const UrdfRobot robot = read_urdf(urdf, read);
+  out.links = evaluate_robot_fit(load_link_solids(robot), spheres, spheres_file, options);
+  return out;
+}
+
+RobotEvaluation evaluate_robot_file(const std::string& urdf, const UrdfReadOptions& read,
+                                    const std::string& spheres_file, const FitOptions& options) {
+  return evaluate_robot_spheres(urdf, read, read_robot_spheres(spheres_file), spheres_file,
+                                options);
+}
+
+std::string robot_evaluation_json(const RobotEvaluation& evaluation) {
+  nlohmann::ordered_json j = {{"urdf", evaluation.urdf}, {"spheres_file", evaluation.spheres_file}};
+  j["links"] = nlohmann::ordered_json::array();
+  for (const LinkFit& f : evaluation.links) j["links"].push_back(fit_json(f));
+  return j.dump(2);
+}
+
+}  // namespace medspheres
