@@ -14,7 +14,8 @@ MeshArrays = Tuple[npt.ArrayLike, npt.ArrayLike]
 Mesh = Union[PathLike, MeshArrays]
 #: a 4 x 4 homogeneous rigid transform, or None for the identity
 Pose = Optional[npt.ArrayLike]
-#: a length in the mesh's units, or text such as "0.003L" (a multiple of the box's largest side)
+#: a length in the mesh's units (metres for a robot), or text such as "0.003L" (a multiple of
+#: the box's largest side)
 Length = Union[float, str]
 Spheres = Union["SphereSet", npt.ArrayLike]
 
@@ -165,7 +166,20 @@ def evaluate(
     surface_samples: int = ...,
     seed: int = ...,
     threads: int = ...,
+    solid: Literal["auto", "winding", "robust"] = ...,
+    robust_resolution: int = ...,
+    robust_thickness: Optional[Length] = ...,
 ) -> dict[str, Any]: ...
+def evaluate_robot(
+    urdf: PathLike,
+    spheres: Union[PathLike, Mapping[str, Spheres]],
+    *,
+    packages: Mapping[str, str] = ...,
+    samples: int = ...,
+    surface_samples: int = ...,
+    seed: int = ...,
+    threads: int = ...,
+) -> list[dict[str, Any]]: ...
 def load_mesh(path: PathLike) -> Tuple[npt.NDArray[np.float64], npt.NDArray[np.int32]]: ...
 def load(path: PathLike, format: Optional[str] = ..., set: str = ..., level: int = ...) -> SphereDocument: ...
 def load_spheres(path: PathLike) -> SphereSet: ...
@@ -196,10 +210,13 @@ def bake_robot(
     object_angle: float = ...,
     target_error: Optional[float] = ...,
     dilate: bool = ...,
-    vertex_tolerance: Optional[str] = ...,
-    max_protrusion: Optional[str] = ...,
-    cover: Optional[str] = ...,
+    vertex_tolerance: Optional[Length] = ...,
+    max_protrusion: Optional[Length] = ...,
+    cover: Optional[Length] = ...,
     seed: int = ...,
+    solid: Literal["auto", "winding", "robust"] = ...,
+    robust_resolution: int = ...,
+    robust_thickness: Optional[Length] = ...,
     measure: bool = ...,
     outer: bool = ...,
 ) -> RobotBake: ...

@@ -1,7 +1,6 @@
 // bake, evaluate and load_mesh: the library's bake pipeline and evaluation.
 #include <optional>
 #include <string>
-#include <variant>
 #include <vector>
 
 #include <pybind11/stl.h>
@@ -9,23 +8,14 @@
 #include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/bake/evaluate_set.h"
+#include "medspheres/bake/solid_choice.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
-#include "medspheres/number_text.h"
 #include "py_common.h"
 
 namespace medspheres::python {
 
 namespace {
-
-using LengthArg = std::optional<std::variant<double, std::string>>;
-
-// A length keyword: a number in the mesh's units, or text such as "0.003L".
-std::optional<std::string> length_text(const LengthArg& v) {
-  if (!v) return std::nullopt;
-  if (const double* d = std::get_if<double>(&*v)) return exact_number_text(*d);
-  return std::get<std::string>(*v);
-}
 
 void warn_all(const std::vector<std::string>& warnings, const std::string& source) {
   for (const std::string& w : warnings)
@@ -49,9 +39,10 @@ LoadedMesh mesh_arg(const py::handle& mesh, std::string& name) {
 SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolution,
                   double object_angle, double medial_tolerance,
                   std::optional<long long> max_spheres, std::optional<double> target_error,
-                  bool dilate, const LengthArg& vertex_tolerance, const LengthArg& max_protrusion,
-                  const LengthArg& cover, std::uint64_t seed, int threads, const std::string& solid,
-                  int robust_resolution, const LengthArg& robust_thickness, std::string name) {
+                  bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
+                  const py::object& cover, std::uint64_t seed, int threads,
+                  const std::string& solid, int robust_resolution,
+                  const py::object& robust_thickness, std::string name) {
   BakeFlags f;
   f.method = method;
   f.resolution = resolution;
@@ -59,10 +50,10 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
   f.medial_tolerance = medial_tolerance;
   f.max_spheres = max_spheres;
   f.target_error = target_error;
-  f.dilation = {dilate, length_text(vertex_tolerance), length_text(max_protrusion),
-                length_text(cover), seed};
+  f.dilation = {dilate, length_text(vertex_tolerance, "vertex_tolerance"),
+                length_text(max_protrusion, "max_protrusion"), length_text(cover, "cover"), seed};
   f.threads = threads;
-  f.solid = {solid, robust_resolution, length_text(robust_thickness)};
+  f.solid = {solid, robust_resolution, length_text(robust_thickness, "robust_thickness")};
   const BakeRequest request = bake_request(f);
   BakeOutcome outcome;
   std::vector<std::string> warnings;
@@ -83,8 +74,13 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
 }
 
 py::object evaluate_py(const py::handle& mesh, const py::handle& spheres, long long samples,
-                       long long surface_samples, std::uint64_t seed, int threads) {
+                       long long surface_samples, std::uint64_t seed, int threads,
+                       const std::string& solid, int robust_resolution,
+                       const py::object& robust_thickness) {
   const FitOptions options = fit_options(samples, surface_samples, seed, threads);
+  const SolidFlags solid_flags{solid, robust_resolution,
+                               length_text(robust_thickness, "robust_thickness")};
+  check_solid_flags(solid_flags);
   std::string mesh_name;
   const LoadedMesh loaded = mesh_arg(mesh, mesh_name);
   std::string spheres_name = "spheres";
@@ -98,11 +94,8 @@ py::object evaluate_py(const py::handle& mesh, const py::handle& spheres, long l
   std::string json;
   {
     py::gil_scoped_release release;
-    const SetEvaluation e = evaluate_sphere_set(loaded.mesh, set, options, spheres_name);
-    std::vector<std::string> warnings;
-    for (const std::string& w : loaded.warnings) warnings.push_back(mesh_name + ": " + w);
-    for (const std::string& w : e.fit.warnings) warnings.push_back(w);
-    json = evaluation_json(e, mesh_name, spheres_name, loaded.report.largest_side(), warnings);
+    json = evaluation_json(
+        evaluate_mesh_set(loaded, mesh_name, set, spheres_name, options, solid_flags));
   }
   return json_loads(json);
 }
@@ -138,11 +131,21 @@ void register_bake(py::module_& m) {
   m.def("evaluate", &evaluate_py, py::arg("mesh"), py::arg("spheres"), py::kw_only(),
         py::arg("samples") = static_cast<long long>(fo.volume_samples),
         py::arg("surface_samples") = static_cast<long long>(fo.surface_samples),
-        py::arg("seed") = fo.seed, py::arg("threads") = 0,
+        py::arg("seed") = fo.seed, py::arg("threads") = 0, py::arg("solid") = "auto",
+        py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
+        py::arg("robust_thickness") = py::none(),
         "How well spheres fit a mesh, as `medspheres eval --json` reports it, as a dict "
-        "(nerr, nerr_kind, max_protrusion, mc_error, uncovered_*, surface_certificate, ...).\n\n"
+        "(nerr, nerr_kind, max_protrusion, mc_error, uncovered_*, surface_certificate, "
+        "solid, ...).\n\n"
         "mesh: a path or (vertices, triangles); spheres: a SphereSet, an n x 4 array or a "
-        "sphere-set file path. The GIL is released while measuring.");
+        "sphere-set file path.\n"
+        "solid: the solid measured against: 'auto' (the one the spheres' file or SphereSet "
+        "records, robust for a set baked from the robust solid; the winding number's for an "
+        "array), 'winding' or 'robust'; robust_resolution and robust_thickness (a number in "
+        "the mesh's units or text such as '0.01L') shape the robust solid, and by default "
+        "are the recorded ones (README: Solids).\n"
+        "The loader's warnings are listed under 'warnings'. The GIL is released while "
+        "measuring.");
   m.def(
       "load_mesh",
       [](const py::object& path) {

@@ -4,6 +4,9 @@
 #include <cmath>
 #include <stdexcept>
 
+#include "medspheres/error.h"
+#include "medspheres/number_text.h"
+
 namespace medspheres::python {
 
 namespace {
@@ -95,6 +98,31 @@ Eigen::Isometry3d pose_of(const py::handle& pose, const char* what) {
   Eigen::Isometry3d x;
   x.matrix() = m;
   return x;
+}
+
+std::optional<std::string> length_text(const py::handle& value, const char* field) {
+  if (value.is_none()) return std::nullopt;
+  if (py::isinstance<py::str>(value)) return value.cast<std::string>();
+  const bool real = !py::isinstance<py::bool_>(value) &&
+                    py::isinstance(value, py::module_::import("numbers").attr("Real"));
+  if (real) return exact_number_text(py::float_(py::reinterpret_borrow<py::object>(value)));
+  const std::string type = py::str(value.get_type().attr("__name__"));
+  throw InputError::option(ErrorKind::kOutOfRange, field, py::str(py::repr(value)),
+                           "must be a length: a number, or text such as '0.003L' (a multiple "
+                           "of L), got a " +
+                               type);
+}
+
+std::map<std::string, SphereSet> link_spheres_of(const py::handle& mapping,
+                                                 const std::string& what) {
+  if (!py::isinstance<py::dict>(mapping))
+    throw py::type_error(what + ": expected a path or a dict link name -> spheres");
+  std::map<std::string, SphereSet> out;
+  for (const auto& [link, spheres] : py::reinterpret_borrow<py::dict>(mapping)) {
+    const std::string name = py::str(link);
+    out[name] = sphere_set_of(spheres, what + "['" + name + "']");
+  }
+  return out;
 }
 
 py::object json_loads(const std::string& text) {

@@ -1,6 +1,8 @@
 #pragma once
 // Conversions the bindings share: numpy arrays to and from the library's types, poses,
 // JSON text to Python objects. No medspheres logic lives here.
+#include <map>
+#include <optional>
 #include <string>
 
 #include <pybind11/numpy.h>
@@ -42,6 +44,16 @@ Eigen::Isometry3d pose_of(const py::handle& pose, const char* what);
 
 /// "free", "colliding" or "undecided".
 const char* verdict_text(BoundsVerdict verdict);
+
+/// A length keyword \p field as the library's text (parse_length): None as nullopt, a str as
+/// given, a real number (not a bool) as its shortest round-trip text.
+/// \throws InputError (kOutOfRange, field \p field) for any other type.
+std::optional<std::string> length_text(const py::handle& value, const char* field);
+
+/// A mapping link name -> spheres (a SphereSet or an n x 4 array) as sets; \p what names it
+/// in errors.
+std::map<std::string, SphereSet> link_spheres_of(const py::handle& mapping,
+                                                 const std::string& what);
 
 /// Python's json.loads(text).
 py::object json_loads(const std::string& text);

@@ -1,5 +1,5 @@
 // bake_robot: the robot command (every link of a URDF through the bake pipeline) and the
-// files it writes.
+// files it writes; evaluate_robot: eval of a robot-level sphere file.
 #include <map>
 #include <optional>
 #include <string>
@@ -8,9 +8,10 @@
 #include <pybind11/stl.h>
 
 #include "medspheres/bake/bake_flags.h"
+#include "medspheres/bake/evaluate_set.h"
+#include "medspheres/bake/evaluate_set_robot.h"
 #include "medspheres/bake/robot_bake.h"
 #include "medspheres/formats/robot_outputs.h"
-#include "medspheres/number_text.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_file.h"
@@ -96,6 +97,26 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   return out;
 }
 
+py::object evaluate_robot_py(const py::object& urdf, const py::handle& spheres,
+                             const std::map<std::string, std::string>& packages, long long samples,
+                             long long surface_samples, std::uint64_t seed, int threads) {
+  const FitOptions options = fit_options(samples, surface_samples, seed, threads);
+  UrdfReadOptions read;
+  for (const auto& [package, dir] : packages) add_package_dir(read.packages, package + "=" + dir);
+  const std::string urdf_path = path_of(urdf);
+  std::string json;
+  if (is_path(spheres)) {
+    const std::string file = path_of(spheres);
+    py::gil_scoped_release release;
+    json = robot_evaluation_json(evaluate_robot_file(urdf_path, read, file, options));
+  } else {
+    const std::map<std::string, SphereSet> sets = link_spheres_of(spheres, "spheres");
+    py::gil_scoped_release release;
+    json = robot_evaluation_json(evaluate_robot_spheres(urdf_path, read, sets, "spheres", options));
+  }
+  return json_loads(json)["links"];
+}
+
 }  // namespace
 
 void register_robot(py::module_& m) {
@@ -145,9 +166,9 @@ void register_robot(py::module_& m) {
          bool from_visual, std::optional<long long> spheres_per_link,
          std::optional<long long> budget, const std::map<std::string, long long>& links, int jobs,
          std::optional<int> resolution, double object_angle, std::optional<double> target_error,
-         bool dilate, std::optional<std::string> vertex_tolerance,
-         std::optional<std::string> max_protrusion, std::optional<std::string> cover,
-         std::uint64_t seed, bool measure, bool outer) {
+         bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
+         const py::object& cover, std::uint64_t seed, const std::string& solid,
+         int robust_resolution, const py::object& robust_thickness, bool measure, bool outer) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -161,7 +182,11 @@ void register_robot(py::module_& m) {
         a.resolution = resolution;
         a.flags.object_angle = object_angle;
         a.flags.target_error = target_error;
-        a.flags.dilation = {dilate, vertex_tolerance, max_protrusion, cover, seed};
+        a.flags.dilation = {dilate, length_text(vertex_tolerance, "vertex_tolerance"),
+                            length_text(max_protrusion, "max_protrusion"),
+                            length_text(cover, "cover"), seed};
+        a.flags.solid = {solid, robust_resolution,
+                         length_text(robust_thickness, "robust_thickness")};
         a.measure = measure;
         a.outer = outer;
         return bake_robot_py(path_of(urdf), a);
@@ -175,15 +200,36 @@ void register_robot(py::module_& m) {
       py::arg("target_error") = py::none(), py::arg("dilate") = false,
       py::arg("vertex_tolerance") = py::none(), py::arg("max_protrusion") = py::none(),
       py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed,
-      py::arg("measure") = true, py::arg("outer") = true,
+      py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
+      py::arg("robust_thickness") = py::none(), py::arg("measure") = true, py::arg("outer") = true,
       "Bakes every link of a URDF robot, as `medspheres robot URDF -o OUTPUT` does, and "
       "returns a RobotBake (per-link arrays, stats); with `output`, also writes the "
       "planners' files there (see RobotBake.save).\n\n"
       "packages: {'pkg': '/dir'} for package:// URIs. Budgets: spheres_per_link (default 32 "
       "unless budget, target_error or resolution is given), budget (the whole robot, shared "
       "by surface area), links ({'link': K}). outer: also bake a certified covering set per "
-      "link. measure=False skips the exact volume error. Lengths as text ('0.003L') or "
-      "numbers as text. The GIL is released while baking.");
+      "link. measure=False skips the exact volume error. solid, robust_resolution, "
+      "robust_thickness: each link's solid, as in bake. Lengths (vertex_tolerance, "
+      "max_protrusion, cover, robust_thickness) are numbers in metres (the URDF's unit, in "
+      "each link's scaled mesh) or text: '0.01' or '0.003L' (a multiple of the largest side "
+      "of each link's box). The GIL is released while baking.");
+
+  const FitOptions fo;
+  m.def("evaluate_robot", &evaluate_robot_py, py::arg("urdf"), py::arg("spheres"), py::kw_only(),
+        py::arg("packages") = std::map<std::string, std::string>{},
+        py::arg("samples") = static_cast<long long>(fo.volume_samples),
+        py::arg("surface_samples") = static_cast<long long>(fo.surface_samples),
+        py::arg("seed") = fo.seed, py::arg("threads") = 0,
+        "Each link's spheres against that link's solid in its frame, as `medspheres eval "
+        "ROBOT.urdf SPHERES --json` reports it: a list of dicts, one per link of the URDF in "
+        "its order (link, spheres, primitives, note and, where measured, nerr, nerr_kind, "
+        "max_protrusion, mc_error, uncovered_max, uncovered_mean, warnings).\n\n"
+        "spheres: a robot-level sphere file (robot, cuRobo YAML, XRDF, spherized URDF, SRDF, "
+        "foam's per-link JSON) or a dict link name -> spheres (a SphereSet or an n x 4 array, "
+        "link frame, metres), such as {k: v['outer'] for k, v in RobotBake.links.items()}.\n"
+        "A sphere equal to one of the link's sphere primitives is exact and counted in "
+        "'primitives'; the others are measured against the link's meshed parts. packages: "
+        "{'pkg': '/dir'} for package:// URIs. The GIL is released while measuring.");
 }
 
 }  // namespace medspheres::python

@@ -2,6 +2,7 @@
 
 import os
 import pathlib
+import re
 import shlex
 import subprocess
 
@@ -19,6 +20,20 @@ def _cli_path():
     if candidate.exists():
         return str(candidate)
     pytest.skip("no medspheres CLI (set MEDSPHERES_CLI)")
+
+
+def flagged(message):
+    """The CLI's message with its flags spelled as Python keywords (--max-spheres: max_spheres)."""
+    return re.sub(r"--([a-z][a-z-]*)", lambda m: m.group(1).replace("-", "_"), message)
+
+
+def without_clocks(value):
+    """The value with every key that names a time ("seconds", "bake_seconds", ...) left out."""
+    if isinstance(value, dict):
+        return {k: without_clocks(v) for k, v in value.items() if "seconds" not in k}
+    if isinstance(value, list):
+        return [without_clocks(v) for v in value]
+    return value
 
 
 @pytest.fixture(scope="session")
@@ -63,15 +78,7 @@ def box_obj(size, path):
     return path
 
 
-@pytest.fixture
-def arm(tmp_path):
-    """A small robot: a box link with a cylinder, a box mesh link, a mesh + sphere link."""
-    (tmp_path / "meshes").mkdir()
-    box_obj((0.04, 0.05, 0.12), tmp_path / "meshes" / "upper.obj")
-    box_obj((0.03, 0.03, 0.05), tmp_path / "meshes" / "hand.obj")
-    urdf = tmp_path / "arm.urdf"
-    urdf.write_text(
-        """<?xml version="1.0"?>
+ARM_URDF = """<?xml version="1.0"?>
 <robot name="arm">
   <link name="base">
     <collision><geometry><box size="0.2 0.1 0.05"/></geometry></collision>
@@ -95,5 +102,21 @@ def arm(tmp_path):
   </joint>
 </robot>
 """
-    )
+
+
+def write_arm(root):
+    """Writes the small robot into the folder root: a box primitive link, a box mesh link, a
+    mesh + sphere link (the hand: a 0.03 x 0.03 x 0.05 box at its origin and a
+    sphere of radius 0.01 at z = 0.04). Returns the URDF's path."""
+    (root / "meshes").mkdir()
+    box_obj((0.04, 0.05, 0.12), root / "meshes" / "upper.obj")
+    box_obj((0.03, 0.03, 0.05), root / "meshes" / "hand.obj")
+    urdf = root / "arm.urdf"
+    urdf.write_text(ARM_URDF)
     return urdf
+
+
+@pytest.fixture
+def arm(tmp_path):
+    """The small robot of write_arm, in tmp_path."""
+    return write_arm(tmp_path)

@@ -6,16 +6,7 @@ import numpy as np
 import pytest
 
 import medspheres
-
-
-
-def without_clocks(value):
-    """The value with every key that names a time ("seconds", "bake_seconds", ...) left out."""
-    if isinstance(value, dict):
-        return {k: without_clocks(v) for k, v in value.items() if "seconds" not in k}
-    if isinstance(value, list):
-        return [without_clocks(v) for v in value]
-    return value
+from conftest import flagged, without_clocks
 
 
 def same_bits(a, b):
@@ -106,13 +97,6 @@ def test_evaluate_equals_cli(cli, eight, tmp_path):
         again = medspheres.evaluate(eight, given, samples=20000, surface_samples=3000, seed=7)
         assert again["nerr"] == theirs["nerr"]
         assert again["mc_error"] == theirs["mc_error"]
-
-
-def flagged(message):
-    """The CLI's message with its flags spelled as Python keywords (--max-spheres: max_spheres)."""
-    import re
-
-    return re.sub(r"--([a-z][a-z-]*)", lambda m: m.group(1).replace("-", "_"), message)
 
 
 @pytest.mark.parametrize(

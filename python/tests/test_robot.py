@@ -4,6 +4,7 @@ import numpy as np
 import pytest
 
 import medspheres
+from conftest import flagged
 
 PLANNER_FILES = ["arm.curobo.yml", "arm.xrdf", "arm.spherized.urdf", "arm.srdf", "arm.foam.json"]
 
@@ -51,15 +52,19 @@ def test_bake_robot_without_output_and_save(arm, tmp_path):
         ({"formats": ["spheres"]}, ["--format", "spheres"]),
         ({"set": "both"}, ["--set", "both"]),
         ({"links": {"nope": 3}}, ["--link", "nope=3"]),
+        # lengths given as numbers are judged as their text is
+        ({"dilate": True, "vertex_tolerance": -0.001}, ["--dilate", "--vertex-tolerance", "-0.001"]),
+        ({"cover": 0}, ["--cover", "0"]),
+        ({"dilate": True, "max_protrusion": float("nan")},
+         ["--dilate", "--max-protrusion", "nan"]),
+        ({"solid": "robst"}, ["--solid", "robst"]),
+        ({"robust_thickness": -0.5}, ["--robust-thickness", "-0.5"]),
     ],
 )
 def test_bad_robot_options_raise_the_clis_message(cli, arm, tmp_path, kwargs, flags):
-    import re
-
     r = cli("robot", arm, "-o", tmp_path / "o", "-q", *flags, check=False)
     assert r.returncode == 2
-    expected = re.sub(r"--([a-z][a-z-]*)", lambda m: m.group(1).replace("-", "_"),
-                      r.stderr.removeprefix("medspheres: error: ").strip())
+    expected = flagged(r.stderr.removeprefix("medspheres: error: ").strip())
     with pytest.raises(medspheres.InputError) as info:
         medspheres.bake_robot(arm, tmp_path / "o", **kwargs)
     assert str(info.value) == expected
@@ -114,3 +119,25 @@ def test_robot_bounds_against_brute_force(arm, tmp_path):
         assert verdict["verdict"] == "free" and verdict["certified"]
     with pytest.raises(ValueError):
         robot.bounds([0.0, 1.0])  # one joint
+
+
+def test_bake_robot_lengths_as_numbers_or_text(arm):
+    """A number in metres gives the bits of its text; other types and bad values name the option."""
+    common = {"spheres_per_link": 4, "outer": False, "measure": False, "dilate": True}
+    as_text = medspheres.bake_robot(arm, **common, vertex_tolerance="0.002",
+                                    max_protrusion="0.001")
+    for tol, prot in ((0.002, 0.001), (np.float64(0.002), np.float64(0.001))):
+        as_number = medspheres.bake_robot(arm, **common, vertex_tolerance=tol, max_protrusion=prot)
+        for link, sets in as_text.links.items():
+            assert as_number.links[link]["inner"].tobytes() == sets["inner"].tobytes(), link
+    # the dilation did something: the dilated sets are not the inner sets of a plain bake
+    plain = medspheres.bake_robot(arm, spheres_per_link=4, outer=False, measure=False)
+    assert any(plain.links[k]["inner"].tobytes() != v["inner"].tobytes()
+               for k, v in as_text.links.items())
+    for field, value in (("vertex_tolerance", [0.002]), ("max_protrusion", True),
+                         ("cover", {"x": 1}), ("robust_thickness", b"0.1")):
+        with pytest.raises(medspheres.InputError) as info:
+            medspheres.bake_robot(arm, **{**common, field: value})
+        assert info.value.field == field
+        assert str(info.value).startswith(field + ": must be a length")
+
