@@ -86,7 +86,7 @@ TEST_CASE("eval's solid: the recorded one under auto, the named one otherwise", 
   c = eval_solid(flags("robust", 20, "0.5"), 2.0, "");
   CHECK((c.robust.resolution == 20 && c.robust.thickness == 0.5));
   // files of other tools, winding bakes and text that is no JSON name no robust solid
-  for (const std::string meta :
+  for (const std::string& meta :
        {std::string(), std::string("not json"), std::string(R"({"generator": {"name": "foam"}})"),
         std::string(R"({"stats": {"solid": "winding"}})"), std::string(R"({"stats": 3})")})
     CHECK(eval_solid(flags("auto"), 2.0, meta).kind == SolidKind::kWinding);
@@ -140,8 +140,8 @@ TEST_CASE("eval of a mesh measures the solid it chose: one ball in a box, closed
   const double v96 = analyze_mesh(make_robust_solid(box.mesh, {}, "box").mesh).signed_volume;
   CHECK(std::abs(v - v96) > 1e-6 * v96);
   CHECK(r.evaluation.fit.volume.nerr == Approx(1.0 - ball / v).epsilon(1e-9));
-  CHECK(std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& w) {
-    return w == "box.off: measured against its robust solid at resolution 16 (solid robust)";
+  CHECK(std::any_of(r.warnings.begin(), r.warnings.end(), [](const std::string& line) {
+    return line == "box.off: measured against its robust solid at resolution 16 (solid robust)";
   }));
   j = nlohmann::json::parse(evaluation_json(r));
   CHECK(j["solid"] == "robust");
