@@ -119,33 +119,31 @@ void register_bake(py::module_& m) {
         "max_spheres spheres whose union contains the whole surface, certified; "
         "stats['certified'] says whether the certificate holds).\n"
         "max_spheres / target_error: a budget, or the smallest resolution whose nerr is at "
-        "most E. Lengths (vertex_tolerance, max_protrusion, cover) are numbers in the mesh's "
-        "units or text such as '0.003L' (a multiple of the box's largest side).\n"
+        "most E. Lengths (vertex_tolerance, max_protrusion, cover, robust_thickness) are "
+        "numbers in the mesh's units or text such as '0.003L' (a multiple of the box's "
+        "largest side); another type raises InputError naming the keyword.\n"
         "solid: 'auto' (the winding number's, the robust solid when that is ambiguous), "
         "'winding' or 'robust'; robust_resolution and robust_thickness shape the robust solid "
         "(README: Solids).\n"
         "name: the mesh's name in errors and provenance for arrays (default 'mesh').\n"
         "The loader's warnings are issued as UserWarning. The GIL is released while baking.\n"
         "Raises InputError (a ValueError) for bad options or a bad mesh.");
-  const FitOptions fo;
-  m.def("evaluate", &evaluate_py, py::arg("mesh"), py::arg("spheres"), py::kw_only(),
-        py::arg("samples") = static_cast<long long>(fo.volume_samples),
-        py::arg("surface_samples") = static_cast<long long>(fo.surface_samples),
-        py::arg("seed") = fo.seed, py::arg("threads") = 0, py::arg("solid") = "auto",
-        py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
-        py::arg("robust_thickness") = py::none(),
-        "How well spheres fit a mesh, as `medspheres eval --json` reports it, as a dict "
-        "(nerr, nerr_kind, max_protrusion, mc_error, uncovered_*, surface_certificate, "
-        "solid, ...).\n\n"
-        "mesh: a path or (vertices, triangles); spheres: a SphereSet, an n x 4 array or a "
-        "sphere-set file path.\n"
-        "solid: the solid measured against: 'auto' (the one the spheres' file or SphereSet "
-        "records, robust for a set baked from the robust solid; the winding number's for an "
-        "array), 'winding' or 'robust'; robust_resolution and robust_thickness (a number in "
-        "the mesh's units or text such as '0.01L') shape the robust solid, and by default "
-        "are the recorded ones (README: Solids).\n"
-        "The loader's warnings are listed under 'warnings'. The GIL is released while "
-        "measuring.");
+  def_evaluation(
+      m, "evaluate", &evaluate_py, "mesh", py::arg("solid") = "auto",
+      py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
+      py::arg("robust_thickness") = py::none(),
+      "How well spheres fit a mesh, as `medspheres eval --json` reports it, as a dict "
+      "(nerr, nerr_kind, max_protrusion, mc_error, uncovered_*, surface_certificate, "
+      "solid, ...).\n\n"
+      "mesh: a path or (vertices, triangles); spheres: a SphereSet, an n x 4 array or a "
+      "sphere-set file path.\n"
+      "solid: the solid measured against: 'auto' (the one the spheres' file or SphereSet "
+      "records, robust for a set baked from the robust solid; the winding number's for an "
+      "array), 'winding' or 'robust'; robust_resolution and robust_thickness (a number in "
+      "the mesh's units or text such as '0.01L') shape the robust solid, and by default "
+      "are the recorded ones (README: Solids).\n"
+      "The loader's warnings are listed under 'warnings'. The GIL is released while "
+      "measuring.");
   m.def(
       "load_mesh",
       [](const py::object& path) {

@@ -4,11 +4,13 @@
 #include <map>
 #include <optional>
 #include <string>
+#include <utility>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
 #include <Eigen/Geometry>
 
+#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_mesh.h"
@@ -54,6 +56,18 @@ std::optional<std::string> length_text(const py::handle& value, const char* fiel
 /// in errors.
 std::map<std::string, SphereSet> link_spheres_of(const py::handle& mapping,
                                                  const std::string& what);
+
+/// Defines \p name(\p first, spheres, *, samples, surface_samples, seed, threads, ...): the
+/// evaluation options as keywords with the library's defaults (FitOptions), then \p extra
+/// (more keywords, the docstring). \p f takes its parameters in that order.
+template <class F, class... Extra>
+void def_evaluation(py::module_& m, const char* name, F&& f, const char* first, Extra&&... extra) {
+  const FitOptions d;
+  m.def(name, std::forward<F>(f), py::arg(first), py::arg("spheres"), py::kw_only(),
+        py::arg("samples") = static_cast<long long>(d.volume_samples),
+        py::arg("surface_samples") = static_cast<long long>(d.surface_samples),
+        py::arg("seed") = d.seed, py::arg("threads") = 0, std::forward<Extra>(extra)...);
+}
 
 /// Python's json.loads(text).
 py::object json_loads(const std::string& text);

@@ -97,9 +97,9 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   return out;
 }
 
-py::object evaluate_robot_py(const py::object& urdf, const py::handle& spheres,
-                             const std::map<std::string, std::string>& packages, long long samples,
-                             long long surface_samples, std::uint64_t seed, int threads) {
+py::object evaluate_robot_py(const py::object& urdf, const py::handle& spheres, long long samples,
+                             long long surface_samples, std::uint64_t seed, int threads,
+                             const std::map<std::string, std::string>& packages) {
   const FitOptions options = fit_options(samples, surface_samples, seed, threads);
   UrdfReadOptions read;
   for (const auto& [package, dir] : packages) add_package_dir(read.packages, package + "=" + dir);
@@ -214,22 +214,19 @@ void register_robot(py::module_& m) {
       "each link's scaled mesh) or text: '0.01' or '0.003L' (a multiple of the largest side "
       "of each link's box). The GIL is released while baking.");
 
-  const FitOptions fo;
-  m.def("evaluate_robot", &evaluate_robot_py, py::arg("urdf"), py::arg("spheres"), py::kw_only(),
-        py::arg("packages") = std::map<std::string, std::string>{},
-        py::arg("samples") = static_cast<long long>(fo.volume_samples),
-        py::arg("surface_samples") = static_cast<long long>(fo.surface_samples),
-        py::arg("seed") = fo.seed, py::arg("threads") = 0,
-        "Each link's spheres against that link's solid in its frame, as `medspheres eval "
-        "ROBOT.urdf SPHERES --json` reports it: a list of dicts, one per link of the URDF in "
-        "its order (link, spheres, primitives, note and, where measured, nerr, nerr_kind, "
-        "max_protrusion, mc_error, uncovered_max, uncovered_mean, warnings).\n\n"
-        "spheres: a robot-level sphere file (robot, cuRobo YAML, XRDF, spherized URDF, SRDF, "
-        "foam's per-link JSON) or a dict link name -> spheres (a SphereSet or an n x 4 array, "
-        "link frame, metres), such as {k: v['outer'] for k, v in RobotBake.links.items()}.\n"
-        "A sphere equal to one of the link's sphere primitives is exact and counted in "
-        "'primitives'; the others are measured against the link's meshed parts. packages: "
-        "{'pkg': '/dir'} for package:// URIs. The GIL is released while measuring.");
+  def_evaluation(
+      m, "evaluate_robot", &evaluate_robot_py, "urdf",
+      py::arg("packages") = std::map<std::string, std::string>{},
+      "Each link's spheres against that link's solid in its frame, as `medspheres eval "
+      "ROBOT.urdf SPHERES --json` reports it: a list of dicts, one per link of the URDF in "
+      "its order (link, spheres, primitives, note and, where measured, nerr, nerr_kind, "
+      "max_protrusion, mc_error, uncovered_max, uncovered_mean, warnings).\n\n"
+      "spheres: a robot-level sphere file (robot, cuRobo YAML, XRDF, spherized URDF, SRDF, "
+      "foam's per-link JSON) or a dict link name -> spheres (a SphereSet or an n x 4 array, "
+      "link frame, metres), such as {k: v['outer'] for k, v in RobotBake.links.items()}.\n"
+      "A sphere equal to one of the link's sphere primitives is exact and counted in "
+      "'primitives'; the others are measured against the link's meshed parts. packages: "
+      "{'pkg': '/dir'} for package:// URIs. The GIL is released while measuring.");
 }
 
 }  // namespace medspheres::python

@@ -158,3 +158,17 @@ def test_evaluate_robot_bad_input(cli, baked_arm, eight, tmp_path):
     assert info.value.field == "samples"
     with pytest.raises(TypeError):
         medspheres.evaluate_robot(urdf, [np.zeros((1, 4))])
+
+
+def test_evaluate_robot_packages(baked_arm, tmp_path):
+    """package:// URIs resolve through `packages`, as the CLI's --package does."""
+    urdf, _ = baked_arm
+    text = urdf.read_text().replace('"meshes/hand.obj"', '"package://arm_pkg/meshes/hand.obj"')
+    assert "package://" in text
+    moved = tmp_path / "moved.urdf"
+    moved.write_text(text.replace('"meshes/upper.obj"', f'"{urdf.parent}/meshes/upper.obj"'))
+    ball = {"hand": np.array([[0.0, 0.0, 0.0, 0.01]])}
+    with pytest.raises(medspheres.InputError):
+        medspheres.evaluate_robot(moved, ball, **FAST)
+    rows = medspheres.evaluate_robot(moved, ball, packages={"arm_pkg": str(urdf.parent)}, **FAST)
+    assert rows == medspheres.evaluate_robot(urdf, ball, **FAST)
