@@ -305,3 +305,15 @@ TEST_CASE("cache: the same bytes under another name give that name's own file", 
         read_file(dir.file("fresh/two.spheres.json")));
   CHECK(read_file(dir.file("out/two.spheres.json")).find("\"two.off\"") != std::string::npos);
 }
+
+TEST_CASE("write_mesh_library: every mesh within the triangle range", "[batch]") {
+  TempDir dir;
+  const auto library = write_mesh_library(dir.file("lib"), 40, 11, 100, 20000);
+  REQUIRE(library.size() == 40);
+  for (const LibraryMesh& m : library) {
+    INFO(m.relative);
+    CHECK(m.triangles >= 100);
+    CHECK(m.triangles <= 20000);
+    CHECK(load_mesh(dir.file("lib/" + m.relative)).mesh.triangles.size() == m.triangles);
+  }
+}
