@@ -162,8 +162,8 @@ TEST_CASE("robot FOLDER -o DIR: a folder per robot, a CSV report, exit 2 for a b
   const CommandResult first = run_cli(cmd, 600);
   CHECK(first.exit_code == 2);
   CHECK_THAT(first.err, Contains("[3/3]") && Contains("broken.urdf") && Contains("links, "));
-  CHECK(fs::exists(dir.file("out/arm/arm.robot.json")));
-  CHECK(fs::exists(dir.file("out/arm/arm.curobo.yml")));
+  CHECK(fs::exists(dir.file("out/arm/arm/arm.robot.json")));
+  CHECK(fs::exists(dir.file("out/arm/arm/arm.curobo.yml")));
   CHECK(fs::exists(dir.file("out/pole/pole.robot.json")));
   CHECK_FALSE(fs::exists(dir.file("out/broken")));
   const std::string csv = read_file(dir.file("r.csv"));

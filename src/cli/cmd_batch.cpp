@@ -112,19 +112,13 @@ int exit_code(const BatchResult& r) {
 }  // namespace
 
 BatchCommand mesh_batch(const BakeRequest& request) {
-  BatchCommand c;
-  c.noun = "mesh";
-  c.jobs_help =
-      "Meshes baked at once, each on (cores / jobs) threads unless --threads is given "
-      "(default 0: one per core)";
-  c.extensions_help =
-      "Extensions a folder is scanned for (default: stl,obj,ply,off,dae,gltf,glb,fbx,3ds)";
-  BatchOptions options;
-  options.request = request;
-  c.bake = [options](const std::vector<BatchInput>& inputs, const BatchSettings& settings) {
-    return bake_batch(inputs, with_settings(options, settings));
-  };
-  return c;
+  return {"mesh",
+          "Meshes baked at once, each on (cores / jobs) threads unless --threads is given "
+          "(default 0: one per core)",
+          "Extensions a folder is scanned for (default: stl,obj,ply,off,dae,gltf,glb,fbx,3ds)",
+          {},
+          true,
+          bake_with(BatchOptions{{}, request}, bake_batch)};
 }
 
 void add_batch_flags(CLI::App& sub, BatchFlags& f, const BatchCommand& c) {

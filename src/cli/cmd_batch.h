@@ -31,11 +31,16 @@ struct BatchCommand {
   std::function<BatchResult(const std::vector<BatchInput>&, const BatchSettings&)> bake;
 };
 
-/// \p options (BatchOptions, RobotBatchOptions) with the settings of \p settings.
+/// The library call of a BatchCommand: \p bake (bake_batch, bake_robot_batch) with
+/// \p options (BatchOptions, RobotBatchOptions) and the settings given at run time.
 template <class Options>
-Options with_settings(Options options, const BatchSettings& settings) {
-  static_cast<BatchSettings&>(options) = settings;
-  return options;
+auto bake_with(Options options,
+               BatchResult (*bake)(const std::vector<BatchInput>&, const Options&)) {
+  return [options, bake](const std::vector<BatchInput>& inputs, const BatchSettings& settings) {
+    Options o = options;
+    static_cast<BatchSettings&>(o) = settings;
+    return bake(inputs, o);
+  };
 }
 
 /// The batch of `bake`: meshes through bake_batch with \p request.

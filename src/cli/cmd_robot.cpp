@@ -167,20 +167,14 @@ RobotJob robot_job(const RobotArgs& a) {
 
 // The batch of `robot`: URDFs through bake_robot_batch with \p job.
 BatchCommand robot_batch(const RobotJob& job) {
-  BatchCommand c;
-  c.noun = "robot";
-  c.jobs_help =
-      "Links baked at once (default 0: one per core); in a batch, robots baked at once, the "
-      "cores split among them";
-  c.extensions_help = "Extensions a folder is scanned for (default: urdf)";
-  c.extensions = {"urdf"};
-  c.jobs_make_a_batch = false;
-  RobotBatchOptions options;
-  options.robot = job;
-  c.bake = [options](const std::vector<BatchInput>& inputs, const BatchSettings& settings) {
-    return bake_robot_batch(inputs, with_settings(options, settings));
-  };
-  return c;
+  // --jobs alone keeps one URDF one robot (its links baked at once).
+  return {"robot",
+          "Links baked at once (default 0: one per core); in a batch, robots baked at once, "
+          "the cores split among them",
+          "Extensions a folder is scanned for (default: urdf)",
+          {"urdf"},
+          false,
+          bake_with(RobotBatchOptions{{}, job}, bake_robot_batch)};
 }
 
 int run_robot(const RobotArgs& a) {
