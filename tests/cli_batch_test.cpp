@@ -140,9 +140,10 @@ TEST_CASE("the Slurm example's array tasks, one after another, give the unsharde
   CHECK(outputs(dir.file("out")) == expected);
 }
 
-TEST_CASE("robot FOLDER -o DIR: a folder per robot, a CSV report, exit 2 for a broken URDF, "
-          "the cache",
-          "[cli][batch][robot]") {
+TEST_CASE(
+    "robot FOLDER -o DIR: a folder per robot, a CSV report, exit 2 for a broken URDF, "
+    "the cache",
+    "[cli][batch][robot]") {
   TempDir dir;
   fs::create_directories(dir.path() / "robots/arm/meshes");
   dir.write("robots/arm/meshes/ball.obj", to_obj(make_icosphere(0.05, 1)));
@@ -176,11 +177,25 @@ TEST_CASE("robot FOLDER -o DIR: a folder per robot, a CSV report, exit 2 for a b
   CHECK(second.exit_code == 2);
   CHECK_THAT(read_file(dir.file("r.csv")), Contains(",cached,2,") && Contains(",cached,1,"));
   CHECK(outputs(dir.file("out")) == baked);
+  // The Slurm example's tasks with COMMAND=robot, one after another: the same folders.
+  fs::remove(dir.file("robots/broken.urdf"));
+  const std::string script = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/batch/slurm_bake.sh";
+  for (int k = 0; k < 2; ++k) {
+    const CommandResult task = run_command(
+        "env COMMAND=robot ASSETS=" + shell_quote(dir.file("robots")) +
+        " OUT=" + shell_quote(dir.file("slurm")) + " CACHE=" + shell_quote(dir.file("cache2")) +
+        " MEDSPHERES=" + shell_quote(MEDSPHERES_CLI) + " SLURM_ARRAY_TASK_ID=" + std::to_string(k) +
+        " SLURM_ARRAY_TASK_COUNT=2 bash " + shell_quote(script) +
+        " -q --spheres-per-link 4 --resolution 12 --format robot,curobo");
+    INFO(task.err);
+    CHECK(task.exit_code == 0);
+  }
+  CHECK(outputs(dir.file("slurm")) == baked);
   // One URDF with --jobs alone is still one robot into -o itself.
-  const CommandResult one = run_cli("robot -q " + shell_quote(dir.file("robots/pole.urdf")) +
-                                        " -o " + shell_quote(dir.file("one")) +
-                                        " --spheres-per-link 4 --resolution 12 --jobs 2",
-                                    300);
+  const CommandResult one =
+      run_cli("robot -q " + shell_quote(dir.file("robots/pole.urdf")) + " -o " +
+                  shell_quote(dir.file("one")) + " --spheres-per-link 4 --resolution 12 --jobs 2",
+              300);
   CHECK(one.exit_code == 0);
   CHECK(fs::exists(dir.file("one/pole.robot.json")));
 }
