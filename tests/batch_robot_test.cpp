@@ -135,7 +135,7 @@ TEST_CASE("bake_robot_batch: each folder as a single robot bake, a broken URDF i
 }
 
 TEST_CASE(
-    "robot shards run one after another give the unsharded folders, bit for bit; the "
+    "robot shards one after another give the unsharded folders bit for bit, as do the "
     "cache and a resumed run",
     "[batch][robot]") {
   TempDir dir;
