@@ -17,6 +17,7 @@
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "support/file_tree.h"
 #include "support/mesh_library.h"
 #include "support/mesh_writers.h"
 #include "support/temp_dir.h"
@@ -26,15 +27,6 @@ using namespace medspheres::test;
 namespace fs = std::filesystem;
 
 namespace {
-
-// Every regular file below \p dir: relative path -> bytes.
-std::map<std::string, std::string> tree(const fs::path& dir) {
-  std::map<std::string, std::string> out;
-  for (const auto& e : fs::recursive_directory_iterator(dir))
-    if (e.is_regular_file())
-      out[e.path().lexically_relative(dir).generic_string()] = read_file(e.path().string());
-  return out;
-}
 
 BakeRequest small_request() {
   BakeRequest r;
@@ -212,7 +204,7 @@ TEST_CASE("shards run one after another give the unsharded run's files, bit for 
   for (const BatchRow& row : all.rows)
     if (!row.error.empty()) UNSCOPED_INFO(row.error);
   CHECK(all.count(BatchOutcome::kBaked) == 12);
-  const auto expected = tree(dir.file("whole"));
+  const auto expected = file_tree(dir.file("whole"));
   REQUIRE(expected.size() == 12);
 
   for (const bool cached : {false, true}) {
@@ -229,7 +221,7 @@ TEST_CASE("shards run one after another give the unsharded run's files, bit for 
       CHECK(part.rows.size() + part.other_shards == 12);
     }
     CHECK(rows == 12);
-    CHECK(tree(out) == expected);
+    CHECK(file_tree(out) == expected);
   }
   // A rerun with the warm cache copies every file, to the same bytes.
   BatchOptions again = whole;
@@ -237,7 +229,7 @@ TEST_CASE("shards run one after another give the unsharded run's files, bit for 
   again.cache_dir = dir.file("cache");
   const BatchResult hit = bake_batch(inputs, again);
   CHECK(hit.count(BatchOutcome::kCached) == 12);
-  CHECK(tree(dir.file("again")) == expected);
+  CHECK(file_tree(dir.file("again")) == expected);
 }
 
 TEST_CASE("cache: a rerun after a kill bakes only what is missing, torn entries are rebaked",
@@ -271,13 +263,13 @@ TEST_CASE("cache: a rerun after a kill bakes only what is missing, torn entries 
   REQUIRE(cache.find(key).has_value());
   write_file_atomically(cache.path_of(key), "{\"spheres\": [[0, 0");
   CHECK_FALSE(cache.find(key).has_value());
-  const auto before = tree(dir.file("out"));
+  const auto before = file_tree(dir.file("out"));
   const BatchResult third = bake_batch(inputs, o);
   for (const BatchRow& row : third.rows)
     CHECK(row.outcome ==
           (row.input.relative == torn.relative ? BatchOutcome::kBaked : BatchOutcome::kCached));
   CHECK(cache.find(key).has_value());
-  CHECK(tree(dir.file("out")) == before);
+  CHECK(file_tree(dir.file("out")) == before);
 }
 
 TEST_CASE("cache: the same bytes under another name give that name's own file", "[batch]") {
@@ -304,4 +296,16 @@ TEST_CASE("cache: the same bytes under another name give that name's own file", 
   CHECK(read_file(dir.file("out/two.spheres.json")) ==
         read_file(dir.file("fresh/two.spheres.json")));
   CHECK(read_file(dir.file("out/two.spheres.json")).find("\"two.off\"") != std::string::npos);
+}
+
+TEST_CASE("write_mesh_library: every mesh within the triangle range", "[batch]") {
+  TempDir dir;
+  const auto library = write_mesh_library(dir.file("lib"), 40, 11, 100, 20000);
+  REQUIRE(library.size() == 40);
+  for (const LibraryMesh& m : library) {
+    INFO(m.relative);
+    CHECK(m.triangles >= 100);
+    CHECK(m.triangles <= 20000);
+    CHECK(load_mesh(dir.file("lib/" + m.relative)).mesh.triangles.size() == m.triangles);
+  }
 }

@@ -139,3 +139,63 @@ TEST_CASE("the Slurm example's array tasks, one after another, give the unsharde
   }
   CHECK(outputs(dir.file("out")) == expected);
 }
+
+TEST_CASE(
+    "robot FOLDER -o DIR: a folder per robot, a CSV report, exit 2 for a broken URDF, "
+    "the cache",
+    "[cli][batch][robot]") {
+  TempDir dir;
+  fs::create_directories(dir.path() / "robots/arm/meshes");
+  dir.write("robots/arm/meshes/ball.obj", to_obj(make_icosphere(0.05, 1)));
+  dir.write("robots/arm/arm.urdf",
+            "<robot name=\"arm\"><link name=\"base\"><collision><geometry><box size=\"0.2 0.1 "
+            "0.05\"/></geometry></collision></link><link name=\"ball\"><collision><geometry>"
+            "<mesh filename=\"meshes/ball.obj\"/></geometry></collision></link><joint name=\"j\" "
+            "type=\"fixed\"><parent link=\"base\"/><child link=\"ball\"/></joint></robot>\n");
+  dir.write("robots/pole.urdf",
+            "<robot name=\"pole\"><link name=\"pole\"><collision><geometry><cylinder "
+            "radius=\"0.02\" length=\"0.3\"/></geometry></collision></link></robot>\n");
+  dir.write("robots/broken.urdf", "<robot name=\"broken\"><link name=\"a\">\n");
+  const std::string cmd = "robot " + shell_quote(dir.file("robots")) + " -o " +
+                          shell_quote(dir.file("out")) + " --spheres-per-link 4 --resolution 12" +
+                          " --format robot,curobo --cache " + shell_quote(dir.file("cache")) +
+                          " --jobs 2 --report " + shell_quote(dir.file("r.csv"));
+  const CommandResult first = run_cli(cmd, 600);
+  CHECK(first.exit_code == 2);
+  CHECK_THAT(first.err, Contains("[3/3]") && Contains("broken.urdf") && Contains("links, "));
+  CHECK(fs::exists(dir.file("out/arm/arm/arm.robot.json")));
+  CHECK(fs::exists(dir.file("out/arm/arm/arm.curobo.yml")));
+  CHECK(fs::exists(dir.file("out/pole/pole.robot.json")));
+  CHECK_FALSE(fs::exists(dir.file("out/broken")));
+  const std::string csv = read_file(dir.file("r.csv"));
+  CHECK_THAT(csv, Contains("input,relative,output,outcome,links,spheres,seconds,error") &&
+                      Contains("arm/arm.urdf,") && Contains(",baked,2,") &&
+                      Contains("broken.urdf,") && Contains(",failed,0,0,"));
+  const auto baked = outputs(dir.file("out"));
+  fs::remove_all(dir.file("out"));
+  const CommandResult second = run_cli(cmd, 600);
+  CHECK(second.exit_code == 2);
+  CHECK_THAT(read_file(dir.file("r.csv")), Contains(",cached,2,") && Contains(",cached,1,"));
+  CHECK(outputs(dir.file("out")) == baked);
+  // The Slurm example's tasks with COMMAND=robot, one after another: the same folders.
+  fs::remove(dir.file("robots/broken.urdf"));
+  const std::string script = std::string(MEDSPHERES_SOURCE_DIR) + "/examples/batch/slurm_bake.sh";
+  for (int k = 0; k < 2; ++k) {
+    const CommandResult task = run_command(
+        "env COMMAND=robot ASSETS=" + shell_quote(dir.file("robots")) +
+        " OUT=" + shell_quote(dir.file("slurm")) + " CACHE=" + shell_quote(dir.file("cache2")) +
+        " MEDSPHERES=" + shell_quote(MEDSPHERES_CLI) + " SLURM_ARRAY_TASK_ID=" + std::to_string(k) +
+        " SLURM_ARRAY_TASK_COUNT=2 bash " + shell_quote(script) +
+        " -q --spheres-per-link 4 --resolution 12 --format robot,curobo");
+    INFO(task.err);
+    CHECK(task.exit_code == 0);
+  }
+  CHECK(outputs(dir.file("slurm")) == baked);
+  // One URDF with --jobs alone is still one robot into -o itself.
+  const CommandResult one =
+      run_cli("robot -q " + shell_quote(dir.file("robots/pole.urdf")) + " -o " +
+                  shell_quote(dir.file("one")) + " --spheres-per-link 4 --resolution 12 --jobs 2",
+              300);
+  CHECK(one.exit_code == 0);
+  CHECK(fs::exists(dir.file("one/pole.robot.json")));
+}

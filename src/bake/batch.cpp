@@ -1,20 +1,18 @@
-// Baking many meshes: each through bake_mesh, in parallel, cached, one output per input.
+// The batch driver: the shard's rows run on a pool of jobs, cached, one output per input.
 #include "medspheres/bake/batch.h"
 
 #include <algorithm>
 #include <atomic>
 #include <chrono>
 #include <filesystem>
+#include <map>
 #include <mutex>
 #include <stdexcept>
 #include <system_error>
 #include <thread>
 
-#include <nlohmann/json.hpp>
-
+#include "batch_driver.h"
 #include "medspheres/bake/batch_cache.h"
-#include "medspheres/io.h"
-#include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/threads.h"
 
 namespace medspheres {
@@ -29,64 +27,12 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-// \p set with its source's mesh named \p name: a cached file baked from another path.
-SphereSet renamed(SphereSet set, const std::string& name) {
-  nlohmann::ordered_json meta = nlohmann::ordered_json::parse(set.metadata_json);
-  if (meta.contains("source") && meta["source"].is_object()) meta["source"]["mesh"] = name;
-  set.metadata_json = meta.dump();
-  return set;
-}
-
-// The sphere count and the recorded nerr of a set as written.
-void describe(const SphereSet& set, BatchRow& row) {
-  row.spheres = set.size();
-  const nlohmann::json meta = nlohmann::json::parse(set.metadata_json);
-  const auto stats = meta.find("stats");
-  if (stats != meta.end() && stats->contains("nerr") && (*stats)["nerr"].is_number())
-    row.nerr = (*stats)["nerr"].get<double>();
-}
-
-void write_output(const std::string& path, const std::string& text) {
-  std::error_code ec;
-  fs::create_directories(fs::path(path).parent_path(), ec);  // write reports what is wrong
-  write_file_atomically(path, text);
-}
-
-struct Job {
-  const BatchOptions& options;
-  const BakeRequest& request;
-  const BakeCache* cache;
-};
-
-// One input: from the cache, or loaded, baked, stored and written. Throws on failure.
-void bake_input(const Job& job, BatchRow& row) {
-  const BatchInput& in = row.input;
-  const std::string sha = file_sha256(in.path);
-  std::string key;
-  if (job.cache) {
-    key = bake_cache_key(sha, fs::path(in.path).extension().string(), job.request);
-    if (std::optional<SphereSet> hit = job.cache->find(key)) {
-      const SphereSet set = renamed(std::move(*hit), in.relative);
-      write_output(row.output, sphere_set_to_json(set));
-      describe(set, row);
-      row.outcome = BatchOutcome::kCached;
-      return;
-    }
-  }
-  LoadedMesh loaded = load_mesh(in.path);
-  row.warnings = std::move(loaded.warnings);
-  const BakeOutcome baked = bake_mesh(loaded.mesh, loaded.report, job.request, in.relative, sha);
-  const std::string text = sphere_set_to_json(baked.spheres);
-  if (job.cache) job.cache->store(key, text);
-  write_output(row.output, text);
-  describe(baked.spheres, row);
-  row.outcome = BatchOutcome::kBaked;
-}
-
-void run_input(const Job& job, BatchRow& row) {
+void run_input(const BatchWork& work, const BakeCache* cache, BatchRow& row) {
   const Clock::time_point start = Clock::now();
   try {
-    bake_input(job, row);
+    std::error_code ec;  // the work reports what is wrong with the folder
+    fs::create_directories(fs::path(row.output).parent_path(), ec);
+    work.run(row, cache);
   } catch (const InputError& e) {
     row.input_error = e;
     row.error = e.what();
@@ -97,13 +43,17 @@ void run_input(const Job& job, BatchRow& row) {
   row.seconds = seconds_since(start);
 }
 
-// The request every input is baked with: times left out, threads shared among the jobs.
-BakeRequest batch_request(const BatchOptions& o, int jobs) {
-  BakeRequest r = o.request;
-  r.record_seconds = false;
-  r.medial.progress = nullptr;
-  if (r.medial.threads == 0) r.medial.threads = std::max(1, thread_count(0) / jobs);
-  return r;
+// No output may be a folder that holds another: replacing it would remove the other.
+void check_nesting(const std::vector<BatchInput>& inputs, const BatchWork& work) {
+  std::map<std::string, const BatchInput*> by_output;
+  for (const BatchInput& in : inputs) by_output.emplace(work.output_relative(in.relative), &in);
+  for (const auto& [out, in] : by_output) {
+    const auto inner = by_output.lower_bound(out + "/");
+    if (inner != by_output.end() && inner->first.compare(0, out.size() + 1, out + "/") == 0)
+      throw InputError(ErrorKind::kConflict, in->path,
+                       "its output " + out + " would hold the output " + inner->first + " of " +
+                           inner->second->path);
+  }
 }
 
 }  // namespace
@@ -125,11 +75,26 @@ std::size_t BatchResult::count(BatchOutcome outcome) const {
       rows.begin(), rows.end(), [outcome](const BatchRow& r) { return r.outcome == outcome; }));
 }
 
-BatchResult bake_batch(const std::vector<BatchInput>& inputs, const BatchOptions& options) {
+int batch_threads_each(int jobs) {
+  check_threads(jobs);
+  return std::max(1, thread_count(0) / thread_count(jobs));
+}
+
+BakeRequest batch_request(BakeRequest request, int jobs) {
+  request.record_seconds = false;
+  request.medial.progress = nullptr;
+  if (request.medial.threads == 0) request.medial.threads = batch_threads_each(jobs);
+  validate(request);
+  return request;
+}
+
+BatchResult run_batch(const std::vector<BatchInput>& inputs, const BatchSettings& options,
+                      const BatchWork& work) {
   const Clock::time_point start = Clock::now();
   check_threads(options.jobs);
-  validate(options.request);
+  check_nesting(inputs, work);
   BatchResult result;
+  result.items = work.items;
   for (const BatchInput& in : inputs) {
     if (!in_shard(in.relative, options.shard)) {
       ++result.other_shards;
@@ -137,7 +102,7 @@ BatchResult bake_batch(const std::vector<BatchInput>& inputs, const BatchOptions
     }
     BatchRow row;
     row.input = in;
-    row.output = (fs::path(options.output_dir) / output_relative(in.relative)).string();
+    row.output = (fs::path(options.output_dir) / work.output_relative(in.relative)).string();
     result.rows.push_back(std::move(row));
   }
   std::error_code ec;
@@ -156,14 +121,13 @@ BatchResult bake_batch(const std::vector<BatchInput>& inputs, const BatchOptions
   // it, a batch bakes one input at a time; the results are the same for any job count.
   jobs = 1;
 #endif
-  const BakeRequest request = batch_request(options, thread_count(options.jobs));
-  const Job job{options, request, cache ? &*cache : nullptr};
+  const BakeCache* const store = cache ? &*cache : nullptr;
   std::atomic<std::size_t> next{0};
   std::mutex report;
   std::size_t done = 0;
   auto worker = [&] {
     for (std::size_t i = next++; i < result.rows.size(); i = next++) {
-      run_input(job, result.rows[i]);
+      run_input(work, store, result.rows[i]);
       std::lock_guard<std::mutex> lock(report);
       ++done;
       if (options.progress) options.progress(result.rows[i], done, result.rows.size());

@@ -25,9 +25,10 @@ std::string optional_text(const std::optional<Length>& l) {
   return l ? exact_number_text(l->value) + (l->relative ? "L" : "") : "none";
 }
 
-// Every field of the request that changes the written file, one per line. A new field of
-// BakeRequest or BakeOptions that changes the result must be added here.
-std::string request_text(const BakeRequest& r) {
+}  // namespace
+
+// A new field of BakeRequest or BakeOptions that changes the result must be added here.
+std::string bake_request_text(const BakeRequest& r) {
   std::string t;
   auto line = [&t](const char* name, const std::string& value) {
     t += name;
@@ -55,15 +56,14 @@ std::string request_text(const BakeRequest& r) {
   return t;
 }
 
-}  // namespace
-
 std::string bake_cache_key(const std::string& mesh_sha256, const std::string& extension,
                            const BakeRequest& request) {
   std::string ext = extension;
   if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return sha256_hex(std::string("medspheres bake cache 1\nversion=") + MEDSPHERES_VERSION_STRING +
-                    "\nmesh=" + mesh_sha256 + "\nextension=" + ext + "\n" + request_text(request));
+                    "\nmesh=" + mesh_sha256 + "\nextension=" + ext + "\n" +
+                    bake_request_text(request));
 }
 
 BakeCache::BakeCache(std::string dir) : dir_(std::move(dir)) {
@@ -75,26 +75,42 @@ BakeCache::BakeCache(std::string dir) : dir_(std::move(dir)) {
                                  (ec ? " (" + ec.message() + ")" : std::string()));
 }
 
-std::string BakeCache::path_of(const std::string& key) const {
-  return (fs::path(dir_) / key.substr(0, 2) / (key + ".spheres.json")).string();
+std::string BakeCache::path_of(const std::string& key, const std::string& suffix) const {
+  return (fs::path(dir_) / key.substr(0, 2) / (key + suffix)).string();
 }
 
-std::optional<SphereSet> BakeCache::find(const std::string& key) const {
-  const std::string path = path_of(key);
+std::optional<std::string> BakeCache::find_bytes(const std::string& key,
+                                                 const std::string& suffix) const {
+  const std::string path = path_of(key, suffix);
   std::error_code ec;
   if (!fs::is_regular_file(path, ec)) return std::nullopt;
   try {
-    return load_sphere_set(path);
+    return read_text_file(path);
+  } catch (const InputError&) {
+    return std::nullopt;  // removed meanwhile, or unreadable: bake again, store again
+  }
+}
+
+std::optional<SphereSet> BakeCache::find(const std::string& key) const {
+  const std::optional<std::string> text = find_bytes(key, ".spheres.json");
+  if (!text) return std::nullopt;
+  try {
+    return parse_sphere_set(*text, path_of(key));
   } catch (const InputError&) {
     return std::nullopt;  // torn by hand or another tool: bake again, store again
   }
 }
 
-void BakeCache::store(const std::string& key, const std::string& json_text) const {
-  const fs::path path = path_of(key);
+void BakeCache::store_bytes(const std::string& key, const std::string& suffix,
+                            const std::string& bytes) const {
+  const fs::path path = path_of(key, suffix);
   std::error_code ec;
   fs::create_directories(path.parent_path(), ec);  // a racing worker may make it first
-  write_file_atomically(path.string(), json_text);
+  write_file_atomically(path.string(), bytes);
+}
+
+void BakeCache::store(const std::string& key, const std::string& json_text) const {
+  store_bytes(key, ".spheres.json", json_text);
 }
 
 }  // namespace medspheres

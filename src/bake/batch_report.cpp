@@ -26,16 +26,20 @@ std::string csv_field(const std::string& s) {
 
 std::string batch_report_json(const BatchResult& result) {
   using Json = nlohmann::ordered_json;
+  const bool robots = result.items == BatchItems::kRobots;
   Json rows = Json::array();
-  for (const BatchRow& r : result.rows)
-    rows.push_back({{"input", r.input.path},
-                    {"relative", r.input.relative},
-                    {"output", r.output},
-                    {"outcome", to_string(r.outcome)},
-                    {"spheres", r.spheres},
-                    {"nerr", std::isfinite(r.nerr) ? Json(r.nerr) : Json()},
-                    {"seconds", r.seconds},
-                    {"error", r.error.empty() ? Json() : Json(r.error)}});
+  for (const BatchRow& r : result.rows) {
+    Json row = {{"input", r.input.path},
+                {"relative", r.input.relative},
+                {"output", r.output},
+                {"outcome", to_string(r.outcome)}};
+    if (robots) row["links"] = r.links;
+    row["spheres"] = r.spheres;
+    if (!robots) row["nerr"] = std::isfinite(r.nerr) ? Json(r.nerr) : Json();
+    row["seconds"] = r.seconds;
+    row["error"] = r.error.empty() ? Json() : Json(r.error);
+    rows.push_back(std::move(row));
+  }
   const Json totals = {{"baked", result.count(BatchOutcome::kBaked)},
                        {"cached", result.count(BatchOutcome::kCached)},
                        {"failed", result.count(BatchOutcome::kFailed)},
@@ -45,12 +49,17 @@ std::string batch_report_json(const BatchResult& result) {
 }
 
 std::string batch_report_csv(const BatchResult& result) {
-  std::string out = "input,relative,output,outcome,spheres,nerr,seconds,error\r\n";
-  for (const BatchRow& r : result.rows)
+  const bool robots = result.items == BatchItems::kRobots;
+  std::string out = robots ? "input,relative,output,outcome,links,spheres,seconds,error\r\n"
+                           : "input,relative,output,outcome,spheres,nerr,seconds,error\r\n";
+  for (const BatchRow& r : result.rows) {
     out += csv_field(r.input.path) + "," + csv_field(r.input.relative) + "," + csv_field(r.output) +
-           "," + to_string(r.outcome) + "," + std::to_string(r.spheres) + "," +
-           (std::isfinite(r.nerr) ? exact_number_text(r.nerr) : "") + "," +
-           exact_number_text(r.seconds) + "," + csv_field(r.error) + "\r\n";
+           "," + to_string(r.outcome) + ",";
+    if (robots) out += std::to_string(r.links) + ",";
+    out += std::to_string(r.spheres) + ",";
+    if (!robots) out += (std::isfinite(r.nerr) ? exact_number_text(r.nerr) : "") + ",";
+    out += exact_number_text(r.seconds) + "," + csv_field(r.error) + "\r\n";
+  }
   return out;
 }
 

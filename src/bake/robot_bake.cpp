@@ -92,6 +92,7 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
   request.solid = inner.solid;
   request.robust = inner.robust;
   request.robust_thickness = inner.robust_thickness;
+  request.record_seconds = inner.record_seconds;
   request.max_spheres = job.budget ? job.budget : inner.max_spheres;
   if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
   return bake_mesh(fit, report, request, name, sha256);
@@ -232,7 +233,7 @@ nlohmann::ordered_json number(double v) {
 }
 
 std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
-                           const std::vector<LinkBakeStats>& stats) {
+                           const std::vector<LinkBakeStats>& stats, bool record_seconds) {
   nlohmann::ordered_json j;
   j["urdf"] = robot.path;
   j["generator"] = {
@@ -256,6 +257,7 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"bake_seconds", s.seconds},
                      {"baked_as", s.baked_as},
                      {"note", s.note}};
+    if (!record_seconds) links[s.link].erase("bake_seconds");
   }
   j["links"] = links;
   return j.dump();
@@ -328,7 +330,8 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
       throw Error(robot.path + ": " + link + e.what());
     }
   }
-  result.model.metadata_json = robot_metadata(robot, solids, result.links);
+  result.model.metadata_json =
+      robot_metadata(robot, solids, result.links, options.request.record_seconds);
   result.seconds = seconds_since(start);
   return result;
 }

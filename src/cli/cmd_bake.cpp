@@ -146,8 +146,9 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
 int run_bake(BakeArgs& args) {
   // Options first, then the output path: both are reported before any work is done.
   BakeRequest request = bake_request(args.flags);
-  if (is_batch(args.inputs, args.batch))
-    return run_batch(args.inputs, args.out, args.batch, request, args.quiet);
+  const BatchCommand batch = mesh_batch(request);
+  if (is_batch(args.inputs, args.batch, batch))
+    return run_batch(args.inputs, args.out, args.batch, batch, args.quiet);
   args.mesh = args.inputs.front();
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_output_path(out);
@@ -228,7 +229,7 @@ Runner register_bake(CLI::App& app) {
   sub->add_option("--threads", a->flags.threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");
-  add_batch_flags(*sub, a->batch);
+  add_batch_flags(*sub, a->batch, mesh_batch(BakeRequest{}));
   return [a] {
     if (a->inputs.empty() && a->batch.from_list.empty())
       throw std::invalid_argument("bake: no mesh given (a mesh file, folders, or --from-list)");

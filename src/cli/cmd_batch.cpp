@@ -1,4 +1,4 @@
-// medspheres bake IN... -o DIR: many meshes, sharded, cached, with a report.
+// medspheres bake|robot IN... -o DIR: many meshes or robots, sharded, cached, with a report.
 #include "cmd_batch.h"
 
 #include <chrono>
@@ -60,6 +60,7 @@ std::string row_line(const BatchRow& r) {
   if (r.outcome == BatchOutcome::kFailed)
     return "failed " + (r.input_error ? message_of(*r.input_error) : r.input.path + ": " + r.error);
   return std::string(to_string(r.outcome)) + " " + r.input.path + " -> " + r.output + " (" +
+         (r.links > 0 ? std::to_string(r.links) + " links, " : std::string()) +
          std::to_string(r.spheres) + " spheres, " + number_text(r.seconds, 3) + " s)";
 }
 
@@ -110,36 +111,41 @@ int exit_code(const BatchResult& r) {
 
 }  // namespace
 
-void add_batch_flags(CLI::App& sub, BatchFlags& f) {
+BatchCommand mesh_batch(const BakeRequest& request) {
+  return {"mesh",
+          "Meshes baked at once, each on (cores / jobs) threads unless --threads is given "
+          "(default 0: one per core)",
+          "Extensions a folder is scanned for (default: stl,obj,ply,off,dae,gltf,glb,fbx,3ds)",
+          {},
+          true,
+          bake_with(BatchOptions{{}, request}, bake_batch)};
+}
+
+void add_batch_flags(CLI::App& sub, BatchFlags& f, const BatchCommand& c) {
   sub.add_option("--from-list", f.from_list,
                  "Also bake the paths in this file, one a line ('-': standard input)");
-  sub.add_option("--jobs", f.jobs,
-                 "Meshes baked at once, each on (cores / jobs) threads unless --threads is "
-                 "given (default 0: one per core)")
-      ->capture_default_str();
+  sub.add_option("--jobs", f.jobs, c.jobs_help)->capture_default_str();
   sub.add_option("--shard", f.shard,
                  "i/N: bake only share i of N (by a hash of each input's relative path)");
   sub.add_option("--cache", f.cache,
-                 "Cache folder: a mesh already baked with the same options is copied from it");
+                 std::string("Cache folder: a ") + c.noun +
+                     " already baked with the same options is copied from it");
   sub.add_option("--report", f.report, "Write one row per input to this .json or .csv file");
-  sub.add_option("--ext", f.extensions,
-                 "Extensions a folder is scanned for (default: stl,obj,ply,off,dae,gltf,glb,"
-                 "fbx,3ds)")
-      ->delimiter(',');
+  sub.add_option("--ext", f.extensions, c.extensions_help)->delimiter(',');
   sub.add_option("--relative-to", f.relative_to,
                  "Files given by path mirror their path relative to this folder (default: the "
                  "working directory; outside it, their name)");
 }
 
-bool is_batch(const std::vector<std::string>& inputs, const BatchFlags& f) {
+bool is_batch(const std::vector<std::string>& inputs, const BatchFlags& f, const BatchCommand& c) {
   std::error_code ec;
   return inputs.size() != 1 || fs::is_directory(inputs.front(), ec) || !f.from_list.empty() ||
-         f.jobs != 0 || !f.shard.empty() || !f.cache.empty() || !f.report.empty() ||
-         !f.extensions.empty() || !f.relative_to.empty();
+         (c.jobs_make_a_batch && f.jobs != 0) || !f.shard.empty() || !f.cache.empty() ||
+         !f.report.empty() || !f.extensions.empty() || !f.relative_to.empty();
 }
 
 int run_batch(const std::vector<std::string>& inputs, const std::string& out,
-              const BatchFlags& flags, const BakeRequest& request, bool quiet) {
+              const BatchFlags& flags, const BatchCommand& command, bool quiet) {
   // Everything that needs no mesh first: flags, the output folder, the report's path.
   if (out.empty())
     throw InputError::option(ErrorKind::kConflict, "output", "",
@@ -153,24 +159,24 @@ int run_batch(const std::vector<std::string>& inputs, const std::string& out,
                                  "folder of a batch)");
   if (const std::string problem = threads_problem(flags.jobs); !problem.empty())
     throw InputError::option(ErrorKind::kOutOfRange, "jobs", std::to_string(flags.jobs), problem);
-  BatchOptions options;
-  options.request = request;
+  BatchSettings options;
   options.output_dir = out;
   options.cache_dir = flags.cache;
   options.jobs = flags.jobs;
   if (!flags.shard.empty()) options.shard = parse_shard(flags.shard);
   const bool csv = !flags.report.empty() && report_is_csv(flags.report);
   InputScan scan;
-  scan.extensions = flags.extensions;
+  scan.extensions = flags.extensions.empty() ? command.extensions : flags.extensions;
   scan.relative_to = flags.relative_to;
   const std::vector<BatchInput> list = collect_inputs(all_paths(inputs, flags), scan);
   if (list.empty())
     throw InputError(ErrorKind::kFileMissing, inputs.empty() ? flags.from_list : inputs.front(),
-                     "no mesh to bake (a folder is scanned for the extensions of --ext)");
+                     std::string("no ") + command.noun +
+                         " to bake (a folder is scanned for the extensions of --ext)");
 
   auto bar = std::make_shared<ProgressBar>(!quiet);
   options.progress = progress_printer(quiet, bar);
-  const BatchResult result = bake_batch(list, options);
+  const BatchResult result = command.bake(list, options);
   bar->finish();
   if (!flags.report.empty())
     write_file_atomically(flags.report, csv ? batch_report_csv(result) : batch_report_json(result));

@@ -1,4 +1,5 @@
-// medspheres robot ROBOT.urdf -o OUTDIR: every link's spheres, in the planners' formats.
+// medspheres robot ROBOT.urdf -o OUTDIR: every link's spheres, in the planners' formats;
+// several URDFs, folders or a list: a batch, each robot in its own folder under OUTDIR.
 #include <algorithm>
 #include <iostream>
 #include <memory>
@@ -9,15 +10,16 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
+#include "cmd_batch.h"
 #include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/bake/batch_robot.h"
 #include "medspheres/bake/robot_bake.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
-#include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_file.h"
 #include "solid_flags.h"
@@ -27,7 +29,8 @@ namespace medspheres::cli {
 namespace {
 
 struct RobotArgs {
-  std::string urdf;
+  std::vector<std::string> urdfs;  ///< one URDF, or a batch's files and folders
+  BatchFlags batch;
   std::string out;
   std::vector<std::string> formats;
   std::vector<std::string> packages;
@@ -35,7 +38,6 @@ struct RobotArgs {
   std::optional<long long> spheres_per_link;
   std::optional<long long> budget;
   std::vector<std::string> link_budgets;
-  int jobs = 0;
   int resolution = BakeOptions{}.resolution;
   double object_angle = BakeOptions{}.object_angle;
   std::optional<double> target_error;
@@ -120,8 +122,7 @@ void print_summary(const RobotBakeResult& r, const std::string& out) {
 
 // The options of the run as the robot file's provenance ("options" in its metadata): every
 // flag that changes the spheres, as given (lengths as written, before L is resolved).
-std::string with_options(const std::string& metadata_json, const RobotArgs& a) {
-  nlohmann::ordered_json meta = nlohmann::ordered_json::parse(metadata_json);
+std::string options_json(const RobotArgs& a) {
   auto optional = [](const auto& v) {
     return v ? nlohmann::ordered_json(*v) : nlohmann::ordered_json(nullptr);
   };
@@ -145,40 +146,53 @@ std::string with_options(const std::string& metadata_json, const RobotArgs& a) {
   o["measure"] = !a.no_measure;
   o["outer"] = !a.no_outer;
   o["set"] = a.set;
-  meta["options"] = std::move(o);
-  return meta.dump();
+  return o.dump();
+}
+
+// Everything the flags ask for, checked before any work.
+RobotJob robot_job(const RobotArgs& a) {
+  RobotJob job;
+  job.bake.request = bake_request(a);
+  job.bake.budget = robot_budget(budget_flags(a), job.bake.request, a.resolution_given);
+  job.bake.jobs = a.batch.jobs;
+  job.bake.outer = !a.no_outer;
+  check_threads(a.batch.jobs);
+  job.formats = formats::robot_output_formats(a.formats);
+  job.set = formats::parse_set_choice(a.set);
+  for (const std::string& p : a.packages) add_package_dir(job.read.packages, p);
+  job.read.from_visual = a.from_visual;
+  job.options_json = options_json(a);
+  return job;
+}
+
+// The batch of `robot`: URDFs through bake_robot_batch with \p job.
+BatchCommand robot_batch(const RobotJob& job) {
+  // --jobs alone keeps one URDF one robot (its links baked at once).
+  return {"robot",
+          "Links baked at once (default 0: one per core); in a batch, robots baked at once, "
+          "the cores split among them",
+          "Extensions a folder is scanned for (default: urdf)",
+          {"urdf"},
+          false,
+          bake_with(RobotBatchOptions{{}, job}, bake_robot_batch)};
 }
 
 int run_robot(const RobotArgs& a) {
   // Everything that needs no work first: options, formats, the output folder.
-  RobotBakeOptions options;
-  options.request = bake_request(a);
-  options.budget = robot_budget(budget_flags(a), options.request, a.resolution_given);
-  options.jobs = a.jobs;
-  options.outer = !a.no_outer;
-  check_threads(a.jobs);
-  const std::vector<formats::SphereFormat> chosen = formats::robot_output_formats(a.formats);
-  const std::optional<formats::SphereChoice> set = formats::parse_set_choice(a.set);
+  RobotJob job = robot_job(a);
+  const BatchCommand batch = robot_batch(job);
+  if (is_batch(a.urdfs, a.batch, batch)) return run_batch(a.urdfs, a.out, a.batch, batch, a.quiet);
+  const std::string& urdf = a.urdfs.front();
   formats::check_output_dir(a.out);
-  UrdfReadOptions read;
-  for (const std::string& p : a.packages) add_package_dir(read.packages, p);
-  read.from_visual = a.from_visual;
-
-  const UrdfRobot robot = read_urdf(a.urdf, read);
-  const std::vector<LinkSolid> solids = load_link_solids(robot);
   if (!a.quiet) {
-    std::cerr << "baking " << robot.links.size() << " links of " << a.urdf << "\n";
-    options.progress = print_progress;
+    std::cerr << "baking " << urdf << "\n";
+    job.bake.progress = print_progress;
   }
-  RobotBakeResult result = bake_robot(robot, solids, options);
-  result.model.metadata_json = with_options(result.model.metadata_json, a);
-
-  const formats::SphereChoice choice = formats::robot_output_choice(set, result.model);
-  formats::write_robot_outputs(a.out, chosen, result.model, choice, a.urdf);
+  const RobotFileResult r = bake_robot_file(urdf, a.out, job);
   if (!a.quiet) {
-    print_summary(result, a.out);
+    print_summary(r.bake, a.out);
     std::cout << "the planner formats carry each link's "
-              << (choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
+              << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
   }
   return kExitOk;
 }
@@ -189,8 +203,12 @@ Runner register_robot(CLI::App& app) {
   auto a = std::make_shared<RobotArgs>();
   CLI::App* sub = app.add_subcommand(
       "robot", "Bake every link of a URDF robot and write its spheres in the planners' formats");
-  sub->add_option("urdf", a->urdf, "Robot description (URDF)")->required();
-  sub->add_option("-o,--output", a->out, "Output folder (replaced as a whole)")->required();
+  sub->add_option("urdf", a->urdfs,
+                  "Robot description (URDF); several files or folders bake a batch, each robot "
+                  "into its own folder under -o");
+  sub->add_option("-o,--output", a->out,
+                  "Output folder (replaced as a whole); a batch's output folder")
+      ->required();
   sub->add_option("--format", a->formats,
                   "robot, curobo, xrdf, urdf, srdf, foam, sph (default: all)")
       ->delimiter(',');
@@ -206,8 +224,6 @@ Runner register_robot(CLI::App& app) {
                   "--resolution is given)");
   sub->add_option("--budget", a->budget, "At most N spheres for the robot, shared by surface area");
   sub->add_option("--link", a->link_budgets, "NAME=K: at most K spheres for link NAME");
-  sub->add_option("--jobs", a->jobs, "Links baked at once (default 0: one per core)")
-      ->capture_default_str();
   sub->add_option("--resolution", a->resolution, "Grid cells along a link's longest side")
       ->capture_default_str();
   sub->add_option("--object-angle", a->object_angle, "Keep medial points at least this open (rad)")
@@ -228,7 +244,10 @@ Runner register_robot(CLI::App& app) {
                 "Bake inner sets only (default: also a certified covering set per link, which "
                 "the planner formats then carry)");
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
+  add_batch_flags(*sub, a->batch, robot_batch(RobotJob{}));
   return [a, sub] {
+    if (a->urdfs.empty() && a->batch.from_list.empty())
+      throw std::invalid_argument("robot: no URDF given (a URDF file, folders, or --from-list)");
     a->resolution_given = sub->count("--resolution") > 0;
     return run_robot(*a);
   };

@@ -5,6 +5,7 @@
 #include <cctype>
 #include <cerrno>
 #include <filesystem>
+#include <map>
 #include <random>
 #include <set>
 #include <system_error>
@@ -54,9 +55,9 @@ std::string format_file(SphereFormat f, const std::string& stem) {
 }
 
 // One .sph file per link with spheres, named after the link (sanitised; a clash gets the
-// link's index).
-void write_sph_folder(const SphereDocument& doc, const std::string& dir) {
-  fs::create_directory(dir);
+// link's index), under \p dir in \p files.
+void add_sph_files(const SphereDocument& doc, const std::string& dir,
+                   std::map<std::string, std::string>& files) {
   std::set<std::string> used;
   for (std::size_t i = 0; i < doc.links.size(); ++i) {
     std::string name = file_stem(doc.links[i].link);
@@ -64,8 +65,7 @@ void write_sph_folder(const SphereDocument& doc, const std::string& dir) {
     used.insert(name);
     WriteOptions options;
     options.link = doc.links[i].link;
-    write_sphere_document((fs::path(dir) / (name + ".sph")).string(), doc, SphereFormat::kSph,
-                          options);
+    files[dir + "/" + name + ".sph"] = sphere_document_text(doc, SphereFormat::kSph, options);
   }
 }
 
@@ -167,10 +167,9 @@ void check_output_dir(const std::string& out) {
     throw InputError(out, "the folder " + parent.string() + " does not exist");
 }
 
-void write_robot_outputs(const std::string& out, const std::vector<SphereFormat>& chosen,
-                         const RobotModel& model, SphereChoice choice, const std::string& urdf) {
-  StagingDir staging(out);
-  const std::string dir = staging.path();
+std::map<std::string, std::string> robot_output_files(const std::vector<SphereFormat>& chosen,
+                                                      const RobotModel& model, SphereChoice choice,
+                                                      const std::string& urdf) {
   SphereDocument doc;
   doc.model = model;
   doc.links = robot_spheres(model, choice);
@@ -180,14 +179,29 @@ void write_robot_outputs(const std::string& out, const std::vector<SphereFormat>
   options.urdf_text = doc.urdf_text;
   options.urdf_source = urdf;
   const std::string stem = file_stem(model.name);
+  std::map<std::string, std::string> files;
   for (const SphereFormat f : chosen) {
-    const std::string path = (fs::path(dir) / format_file(f, stem)).string();
     if (f == SphereFormat::kSph)
-      write_sph_folder(doc, path);
+      add_sph_files(doc, format_file(f, stem), files);
     else
-      write_sphere_document(path, doc, f, options);
+      files[format_file(f, stem)] = sphere_document_text(doc, f, options);
+  }
+  return files;
+}
+
+void write_output_folder(const std::string& out, const std::map<std::string, std::string>& files) {
+  StagingDir staging(out);
+  for (const auto& [name, text] : files) {
+    const fs::path path = fs::path(staging.path()) / name;
+    fs::create_directories(path.parent_path());
+    write_file_atomically(path.string(), text);
   }
   staging.commit();
+}
+
+void write_robot_outputs(const std::string& out, const std::vector<SphereFormat>& chosen,
+                         const RobotModel& model, SphereChoice choice, const std::string& urdf) {
+  write_output_folder(out, robot_output_files(chosen, model, choice, urdf));
 }
 
 }  // namespace medspheres::formats

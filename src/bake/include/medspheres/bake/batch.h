@@ -13,6 +13,8 @@
 ///
 /// Failures: an input that fails (unreadable, malformed, no interior, an unreachable
 /// budget, a failed write, ...) is a row with its error; the others go on.
+///
+/// Robots (batch_robot.h) go through the same driver: the same settings, rows and reports.
 
 #include <cstddef>
 #include <functional>
@@ -33,12 +35,16 @@ enum class BatchOutcome { kBaked, kCached, kFailed };
 /// "baked", "cached", "failed".
 const char* to_string(BatchOutcome outcome);
 
+/// What a batch bakes: meshes (one sphere-set file each) or robots (one folder each).
+enum class BatchItems { kMeshes, kRobots };
+
 /// One input's result.
 struct BatchRow {
   BatchInput input;
-  std::string output;  ///< the file written (output folder / output_relative)
+  std::string output;  ///< what was written: output folder / the input's output name
   BatchOutcome outcome = BatchOutcome::kFailed;
-  std::size_t spheres = 0;
+  std::size_t links = 0;    ///< robots: the robot's links; 0 for meshes
+  std::size_t spheres = 0;  ///< robots: of the set the planner formats carry, all links
   double nerr = std::numeric_limits<double>::quiet_NaN();  ///< as the file records it
   double seconds = 0.0;                                    ///< wall clock of this input
   std::string error;                      ///< what() of the failure; empty otherwise
@@ -51,11 +57,8 @@ struct BatchRow {
 using BatchProgressFn =
     std::function<void(const BatchRow& row, std::size_t done, std::size_t total)>;
 
-struct BatchOptions {
-  /// Every input's request; validated once before any work. medial.threads is each
-  /// bake's thread count; 0 shares the cores among the jobs (at least 1 each).
-  /// medial.progress is not used; record_seconds is forced to false.
-  BakeRequest request;
+/// What every batch takes, of meshes or robots.
+struct BatchSettings {
   std::string output_dir;  ///< created when missing
   std::string cache_dir;   ///< empty: no cache
   Shard shard;             ///< this call bakes the inputs in this shard only
@@ -63,7 +66,18 @@ struct BatchOptions {
   BatchProgressFn progress;
 };
 
+/// The threads each of \p jobs inputs baked at once gets: cores / jobs, at least 1.
+int batch_threads_each(int jobs);
+
+struct BatchOptions : BatchSettings {
+  /// Every input's request; validated once before any work. medial.threads is each
+  /// bake's thread count; 0 shares the cores among the jobs (batch_threads_each).
+  /// medial.progress is not used; record_seconds is forced to false.
+  BakeRequest request;
+};
+
 struct BatchResult {
+  BatchItems items = BatchItems::kMeshes;
   std::vector<BatchRow> rows;    ///< the shard's inputs, in input order
   std::size_t other_shards = 0;  ///< inputs left to the other shards
   double seconds = 0.0;          ///< wall clock of the call
@@ -71,18 +85,21 @@ struct BatchResult {
 };
 
 /// Bakes the inputs of options.shard.
-/// \throws InputError as validate(request), and naming output_dir or cache_dir when it
-///   cannot be a folder; std::invalid_argument for jobs outside [0, kMaxThreads]. Nothing
+/// \throws InputError as validate(request), naming output_dir or cache_dir when it
+///   cannot be a folder, and naming both inputs when one's output is a folder that would
+///   hold another's; std::invalid_argument for jobs outside [0, kMaxThreads]. Nothing
 ///   about one input throws.
 BatchResult bake_batch(const std::vector<BatchInput>& inputs, const BatchOptions& options);
 
 /// The rows as JSON: {"rows": [{"input", "relative", "output", "outcome", "spheres",
 /// "nerr" (null when undefined or failed), "seconds", "error" (null when none)}, ...],
-/// "totals": {"baked", "cached", "failed", "other_shards", "seconds"}}.
+/// "totals": {"baked", "cached", "failed", "other_shards", "seconds"}}. Robots' rows
+/// have "links" before "spheres" and no "nerr".
 std::string batch_report_json(const BatchResult& result);
 
 /// The rows as CSV (RFC 4180): a header "input,relative,output,outcome,spheres,nerr,
-/// seconds,error", then one line per row (nerr and error empty when none).
+/// seconds,error" (robots: "input,relative,output,outcome,links,spheres,seconds,error"),
+/// then one line per row (nerr and error empty when none).
 std::string batch_report_csv(const BatchResult& result);
 
 }  // namespace medspheres

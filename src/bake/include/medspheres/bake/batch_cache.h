@@ -1,8 +1,9 @@
 #pragma once
 /// \file
-/// A folder of baked sphere-set files keyed by what determines them (--cache DIR).
+/// A folder of baked results keyed by what determines them (--cache DIR): sphere-set
+/// files of meshes, and the output files of robots (batch_robot.h, its own key).
 ///
-/// Key: the SHA-256 of the mesh file's SHA-256, its lower-case extension (it picks the
+/// A mesh's key: the SHA-256 of the mesh file's SHA-256, its lower-case extension (it picks the
 /// importer), every field of the BakeRequest that changes the spheres or the file (not
 /// threads or progress, which do not) and the tool's version. Entries are written with
 /// write_file_atomically (a temporary file renamed into place), so a reader sees a whole
@@ -23,6 +24,10 @@ namespace medspheres {
 std::string bake_cache_key(const std::string& mesh_sha256, const std::string& extension,
                            const BakeRequest& request);
 
+/// Every field of \p request that changes the written file, one "name=value" line each
+/// (not threads or progress): the part of a key that the request gives.
+std::string bake_request_text(const BakeRequest& request);
+
 class BakeCache {
  public:
   /// Creates \p dir (and its parents) when missing.
@@ -36,8 +41,16 @@ class BakeCache {
   /// \throws as write_file_atomically.
   void store(const std::string& key, const std::string& json_text) const;
 
-  /// DIR/<first two hex digits>/<key>.spheres.json
-  std::string path_of(const std::string& key) const;
+  /// The bytes of the entry of \p key with file suffix \p suffix; none when missing.
+  std::optional<std::string> find_bytes(const std::string& key, const std::string& suffix) const;
+
+  /// Stores \p bytes as the entry of \p key with suffix \p suffix, atomically.
+  /// \throws as write_file_atomically.
+  void store_bytes(const std::string& key, const std::string& suffix,
+                   const std::string& bytes) const;
+
+  /// DIR/<first two hex digits>/<key><suffix>
+  std::string path_of(const std::string& key, const std::string& suffix = ".spheres.json") const;
 
  private:
   std::string dir_;

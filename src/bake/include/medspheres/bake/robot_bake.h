@@ -22,7 +22,8 @@
 ///
 /// Determinism. Every link's spheres are a pure function of its solid and its request,
 /// and results are gathered in link order: the same robot and options give bit-identical
-/// spheres for every `jobs` (only timings differ).
+/// spheres for every `jobs` (only timings differ). With request.record_seconds false the
+/// model's metadata holds no times either, so it is bit-identical too.
 
 #include <cstddef>
 #include <functional>

@@ -9,6 +9,7 @@
 ///
 /// Errors: InputError named by the fields "format" and "set", or by the folder.
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -38,6 +39,16 @@ SphereChoice robot_output_choice(std::optional<SphereChoice> chosen, const Robot
 /// \p out must be a folder or nothing, in a folder that exists.
 /// \throws InputError naming \p out otherwise.
 void check_output_dir(const std::string& out);
+
+/// The files of the folder write_robot_outputs writes: path in the folder (POSIX
+/// separators, "sph/LINK.sph" for .sph) -> bytes. \throws as write_robot_outputs.
+std::map<std::string, std::string> robot_output_files(const std::vector<SphereFormat>& chosen,
+                                                      const RobotModel& model, SphereChoice choice,
+                                                      const std::string& urdf);
+
+/// Replaces the folder \p out as a whole (file comment) with \p files (path in the
+/// folder -> bytes, as robot_output_files gives). \throws Error when it cannot be replaced.
+void write_output_folder(const std::string& out, const std::map<std::string, std::string>& files);
 
 /// Writes \p model's spheres (the \p choice set) in every format of \p chosen to the
 /// folder \p out, replacing it as a whole (file comment). \p urdf is the robot's URDF

@@ -1,0 +1,243 @@
+// Baking many robots on the batch driver: each row's folder against a single robot bake of
+// the same URDF, shards against the unsharded run, the cache, a broken URDF as a row.
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+
+#include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
+
+#include "medspheres/bake/batch_robot.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "support/file_tree.h"
+#include "support/mesh_writers.h"
+#include "support/temp_dir.h"
+
+using namespace medspheres;
+using namespace medspheres::test;
+namespace fs = std::filesystem;
+
+namespace {
+
+std::string urdf_link(const std::string& name, const std::string& geometry,
+                      const std::string& origin = "") {
+  return "  <link name=\"" + name + "\"><collision>" + origin + "<geometry>" + geometry +
+         "</geometry></collision></link>\n";
+}
+
+std::string joint(const std::string& name, const std::string& parent, const std::string& child) {
+  return "  <joint name=\"" + name + "\" type=\"revolute\"><parent link=\"" + parent +
+         "\"/><child link=\"" + child +
+         "\"/><origin xyz=\"0 0 0.1\"/><axis xyz=\"0 0 1\"/>"
+         "<limit lower=\"-1\" upper=\"1\" velocity=\"1\" effort=\"1\"/></joint>\n";
+}
+
+std::string robot(const std::string& name, const std::string& body) {
+  return "<?xml version=\"1.0\"?>\n<robot name=\"" + name + "\">\n" + body + "</robot>\n";
+}
+
+// Four robots of primitives and small meshes in nested folders, and one broken URDF:
+// lib/arm/arm.urdf, lib/gripper.urdf, lib/sub/pole.urdf, lib/sub/ring.urdf,
+// lib/sub/broken.urdf (a mesh that does not exist).
+void write_robots(const TempDir& dir) {
+  fs::create_directories(dir.path() / "lib/arm/meshes");
+  fs::create_directories(dir.path() / "lib/meshes");
+  fs::create_directories(dir.path() / "lib/sub");
+  dir.write("lib/arm/meshes/ball.obj", to_obj(make_icosphere(0.05, 1)));
+  dir.write("lib/meshes/palm.stl", to_stl_binary(make_box({0.04, 0.03, 0.01}, 2)));
+  dir.write("lib/meshes/ring.off", to_off(make_torus(0.05, 0.015, 12, 6)));
+  dir.write("lib/arm/arm.urdf",
+            robot("arm", urdf_link("base", "<box size=\"0.2 0.1 0.05\"/>") +
+                             urdf_link("upper", "<mesh filename=\"meshes/ball.obj\"/>",
+                                       "<origin xyz=\"0 0 0.05\" rpy=\"0.3 0 0\"/>") +
+                             urdf_link("lower", "<cylinder radius=\"0.02\" length=\"0.1\"/>") +
+                             joint("j1", "base", "upper") + joint("j2", "upper", "lower")));
+  dir.write("lib/gripper.urdf",
+            robot("gripper", urdf_link("palm", "<mesh filename=\"meshes/palm.stl\"/>") +
+                                 urdf_link("finger", "<sphere radius=\"0.01\"/>") +
+                                 joint("j", "palm", "finger")));
+  dir.write("lib/sub/pole.urdf", robot("pole", urdf_link("pole", "<box size=\"0.02 0.02 0.3\"/>")));
+  dir.write(
+      "lib/sub/ring.urdf",
+      robot("ring", urdf_link("ring", "<mesh filename=\"../meshes/ring.off\" scale=\"2 2 1\"/>") +
+                        urdf_link("tip", "<cylinder radius=\"0.01\" length=\"0.05\"/>") +
+                        joint("j", "ring", "tip")));
+  dir.write("lib/sub/broken.urdf",
+            robot("broken", urdf_link("base", "<mesh filename=\"missing.stl\"/>")));
+}
+
+RobotBatchOptions small_options(const std::string& out) {
+  RobotBatchOptions o;
+  o.output_dir = out;
+  o.robot.bake.request.medial.resolution = 12;
+  o.robot.bake.budget.per_link = 6;
+  return o;
+}
+
+const std::set<std::string> kGood = {"arm/arm.urdf", "gripper.urdf", "sub/pole.urdf",
+                                     "sub/ring.urdf"};
+
+}  // namespace
+
+TEST_CASE("bake_robot_batch: each folder as a single robot bake, a broken URDF is a row",
+          "[batch][robot]") {
+  TempDir dir;
+  write_robots(dir);
+  RobotBatchOptions o = small_options(dir.file("out"));
+  o.jobs = 2;
+  std::size_t calls = 0;
+  o.progress = [&](const BatchRow&, std::size_t done, std::size_t total) {
+    CHECK(done == ++calls);
+    CHECK(total == 5);
+  };
+  const BatchResult r = bake_robot_batch(collect_inputs({dir.file("lib")}, {{"urdf"}, ""}), o);
+  REQUIRE(r.rows.size() == 5);
+  CHECK(r.items == BatchItems::kRobots);
+  CHECK(r.count(BatchOutcome::kBaked) == 4);
+  CHECK(r.count(BatchOutcome::kFailed) == 1);
+  for (const BatchRow& row : r.rows) {
+    INFO(row.input.relative << ": " << row.error);
+    CHECK(row.output ==
+          (fs::path(o.output_dir) / robot_output_relative(row.input.relative)).string());
+    if (!kGood.count(row.input.relative)) {
+      CHECK(row.outcome == BatchOutcome::kFailed);
+      REQUIRE(row.input_error);
+      CHECK(row.error.find("broken.urdf") != std::string::npos);
+      CHECK(row.error.find("link 'base'") != std::string::npos);
+      CHECK(row.error.find("missing.stl") != std::string::npos);
+      CHECK_FALSE(fs::exists(row.output));
+      continue;
+    }
+    REQUIRE(row.outcome == BatchOutcome::kBaked);
+    // The oracle: the single-robot bake of the same URDF with the same job, without times.
+    RobotJob single = o.robot;
+    single.bake.request.record_seconds = false;
+    const std::string alone = dir.file("alone/" + robot_output_relative(row.input.relative));
+    fs::create_directories(fs::path(alone).parent_path());
+    const RobotFileResult b = bake_robot_file(row.input.path, alone, single);
+    CHECK(file_tree(row.output) == file_tree(alone));
+    CHECK(row.links == b.bake.links.size());
+    CHECK(row.spheres == b.spheres);
+    CHECK(row.spheres > 0);
+    // No times in the files: they are a pure function of the inputs.
+    for (const auto& [name, text] : file_tree(row.output))
+      CHECK(text.find("seconds") == std::string::npos);
+  }
+  const nlohmann::json report = nlohmann::json::parse(batch_report_json(r));
+  CHECK(report["rows"][0].contains("links"));
+  CHECK_FALSE(report["rows"][0].contains("nerr"));
+  CHECK(report["totals"]["failed"] == 1);
+  const std::string csv = batch_report_csv(r);
+  CHECK(csv.rfind("input,relative,output,outcome,links,spheres,seconds,error\r\n", 0) == 0);
+}
+
+TEST_CASE(
+    "robot shards one after another give the unsharded folders bit for bit, as do the "
+    "cache and a resumed run",
+    "[batch][robot]") {
+  TempDir dir;
+  write_robots(dir);
+  const std::vector<BatchInput> inputs = collect_inputs({dir.file("lib")}, {{"urdf"}, ""});
+  REQUIRE(inputs.size() == 5);
+  const BatchResult all = bake_robot_batch(inputs, small_options(dir.file("whole")));
+  CHECK(all.count(BatchOutcome::kBaked) == 4);
+  const auto expected = file_tree(dir.file("whole"));
+  REQUIRE(expected.size() >= 4 * 7);
+
+  for (const bool cached : {false, true}) {
+    const std::string out = dir.file(cached ? "sharded_cached" : "sharded");
+    std::size_t rows = 0;
+    for (std::uint64_t i = 0; i < 3; ++i) {
+      RobotBatchOptions o = small_options(out);
+      o.shard = {i, 3};
+      o.jobs = 1 + static_cast<int>(i % 2);
+      if (cached) o.cache_dir = dir.file("cache");
+      const BatchResult part = bake_robot_batch(inputs, o);
+      rows += part.rows.size();
+      CHECK(part.rows.size() + part.other_shards == 5);
+    }
+    CHECK(rows == 5);
+    CHECK(file_tree(out) == expected);
+  }
+  // A warm cache copies every good robot, to the same bytes; the broken one fails again.
+  RobotBatchOptions again = small_options(dir.file("again"));
+  again.cache_dir = dir.file("cache");
+  const BatchResult hit = bake_robot_batch(inputs, again);
+  CHECK(hit.count(BatchOutcome::kCached) == 4);
+  CHECK(hit.count(BatchOutcome::kFailed) == 1);
+  CHECK(file_tree(dir.file("again")) == expected);
+  for (std::size_t i = 0; i < hit.rows.size(); ++i) {
+    CHECK(hit.rows[i].links == all.rows[i].links);
+    CHECK(hit.rows[i].spheres == all.rows[i].spheres);
+  }
+
+  // A run killed after shard 0 of 2, resumed: what it finished is copied, the rest baked.
+  RobotBatchOptions o = small_options(dir.file("resumed"));
+  o.cache_dir = dir.file("cache2");
+  o.shard = {0, 2};
+  std::set<std::string> finished;
+  for (const BatchRow& row : bake_robot_batch(inputs, o).rows)
+    if (row.outcome == BatchOutcome::kBaked) finished.insert(row.input.relative);
+  o.shard = {};
+  for (const BatchRow& row : bake_robot_batch(inputs, o).rows) {
+    INFO(row.input.relative);
+    if (!kGood.count(row.input.relative)) continue;
+    CHECK(row.outcome ==
+          (finished.count(row.input.relative) ? BatchOutcome::kCached : BatchOutcome::kBaked));
+  }
+  CHECK(file_tree(dir.file("resumed")) == expected);
+
+  // Another option is another key: nothing is copied.
+  RobotBatchOptions other = small_options(dir.file("other"));
+  other.cache_dir = dir.file("cache");
+  other.robot.bake.budget.per_link = 5;
+  CHECK(bake_robot_batch(inputs, other).count(BatchOutcome::kCached) == 0);
+}
+
+TEST_CASE("robot_cache_key: the URDF, its meshes and every result-changing option",
+          "[batch][robot]") {
+  TempDir dir;
+  write_robots(dir);
+  const std::string urdf = dir.file("lib/gripper.urdf");
+  const UrdfRobot r = read_urdf(urdf);
+  const std::string sha = file_sha256(urdf);
+  const RobotJob base;
+  const std::string key = robot_cache_key(r, sha, base);
+  CHECK(key.size() == 64);
+  CHECK(robot_cache_key(r, sha, base) == key);
+  std::vector<RobotJob> changed(6, base);
+  changed[0].bake.request.medial.resolution = 20;
+  changed[1].bake.budget.per_link = 3;
+  changed[2].bake.outer = false;
+  changed[3].formats = {formats::SphereFormat::kCurobo};
+  changed[4].set = formats::SphereChoice::kInner;
+  changed[5].options_json = "{}";
+  std::set<std::string> keys = {key};
+  for (const RobotJob& j : changed) keys.insert(robot_cache_key(r, sha, j));
+  CHECK(keys.size() == 7);
+  RobotJob threads = base;
+  threads.bake.request.medial.threads = 3;
+  threads.bake.jobs = 2;
+  CHECK(robot_cache_key(r, sha, threads) == key);
+  // A mesh's bytes change the key; a mesh that cannot be read names the link.
+  dir.write("lib/meshes/palm.stl", to_stl_binary(make_box({0.04, 0.03, 0.02}, 2)));
+  CHECK(robot_cache_key(r, sha, base) != key);
+  fs::remove(dir.file("lib/meshes/palm.stl"));
+  CHECK_THROWS_WITH(robot_cache_key(r, sha, base), Catch::Contains("link 'palm'"));
+}
+
+TEST_CASE("robot batch: an output folder that would hold another's is refused before work",
+          "[batch][robot]") {
+  TempDir dir;
+  fs::create_directories(dir.path() / "lib/arm");
+  dir.write("lib/arm.urdf", robot("a", urdf_link("a", "<box size=\"1 1 1\"/>")));
+  dir.write("lib/arm/hand.urdf", robot("h", urdf_link("h", "<box size=\"1 1 1\"/>")));
+  CHECK_THROWS_WITH(
+      bake_robot_batch(collect_inputs({dir.file("lib")}, {{"urdf"}, ""}),
+                       small_options(dir.file("out"))),
+      Catch::Contains("arm.urdf") && Catch::Contains("arm/hand") && Catch::Contains("hold"));
+  CHECK_FALSE(fs::exists(dir.file("out")));
+}
