@@ -152,6 +152,13 @@ TEST_CASE("a flat sheet has no robust solid: a clear error", "[robust_solid]") {
     FAIL("a flat sheet was baked");
   } catch (const InputError& e) {
     CHECK(e.kind() == ErrorKind::kNoInterior);
+    // The error names the file and says why, at every resolution the search tries.
+    CHECK(std::string(e.what()).find("sheet.obj") != std::string::npos);
+    CHECK(std::string(e.what()).find("bounds no volume") != std::string::npos);
+  }
+  for (const SolidKind kind : {SolidKind::kAuto, SolidKind::kRobust}) {
+    request.solid = kind;
+    CHECK_THROWS_AS(bake_mesh(sheet, analyze_mesh(sheet), request, "sheet.obj"), InputError);
   }
 }
 
@@ -212,7 +219,7 @@ TEST_CASE("auto bakes the robust solid of an ambiguous soup, with a warning, and
   CHECK_THROWS_AS(bake_mesh(soup, analyze_mesh(soup), request, "soup.stl"), InputError);
 }
 
-TEST_CASE("auto keeps the winding-number solid of a closed mesh; robust is there on request",
+TEST_CASE("auto keeps the winding-number solid of a closed mesh, robust is there on request",
           "[robust_solid][bake_pipeline]") {
   const TriangleMesh ball = make_icosphere(1.0, 3);
   BakeRequest request;
