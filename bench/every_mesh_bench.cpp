@@ -6,8 +6,6 @@
 // resolution and the triangles of its boundary; the spheres and their nerr against that
 // solid; wall-clock seconds and CPU seconds (user + system of every thread, and of the
 // import child): on a shared machine the wall clock grows with the load, CPU time does not.
-#include <sys/resource.h>
-
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -16,6 +14,7 @@
 #include <vector>
 
 #include "bench_args.h"
+#include "bench_timing.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
 #include "support/shared_meshes.h"
@@ -43,18 +42,6 @@ std::vector<bench::MeshFile> robot_meshes(const std::string& dir) {
   std::sort(out.begin(), out.end(),
             [](const bench::MeshFile& a, const bench::MeshFile& b) { return a.path < b.path; });
   return out;
-}
-
-// User + system CPU seconds of this process and its reaped children so far.
-double cpu_seconds() {
-  double total = 0.0;
-  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
-    rusage u{};
-    getrusage(who, &u);
-    total += static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-             1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-  }
-  return total;
 }
 
 // "robust n=R t=T" for a robust bake (its grid resolution and boundary triangles).
@@ -97,11 +84,11 @@ int main(int argc, char** argv) {
     request.medial.threads = threads;
     std::vector<std::string> warnings;
     const auto t0 = std::chrono::steady_clock::now();
-    const double c0 = cpu_seconds();
+    const double c0 = bench::cpu_seconds();
     try {
       const BakeOutcome out = bake_file(f.path, request, &warnings);
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
-      const double c = cpu_seconds() - c0;
+      const double c = bench::cpu_seconds() - c0;
       ++baked;
       under_wall += s < 1.0;
       under_cpu += c < 1.0;
@@ -115,7 +102,7 @@ int main(int argc, char** argv) {
       const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
       ++failed;
       std::printf("%-46s %9s %-22s %8s %8s %8.3f %8.3f  error: %s\n", f.name.c_str(), "-", "-", "-",
-                  "-", s, cpu_seconds() - c0, e.what());
+                  "-", s, bench::cpu_seconds() - c0, e.what());
     }
   }
   std::printf(

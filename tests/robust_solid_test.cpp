@@ -214,6 +214,14 @@ TEST_CASE("auto bakes the robust solid of an ambiguous soup, with a warning, and
   // The guarantee holds for the solid used: every sphere inside the robust solid.
   const RobustSolid s = make_robust_solid(soup, request.robust, "soup.stl");
   check_spheres_inside(out.spheres, MeshQuery(s.mesh));
+  // The resolution it chose is recorded, and eval's choice rebuilds that very solid.
+  CHECK(meta["stats"]["robust_resolution"].get<int>() == s.resolution);
+  CHECK(meta["stats"]["robust_triangles"].get<std::size_t>() == s.mesh.num_triangles());
+  const SolidChoice choice = choose_solid(SolidKind::kAuto, {}, false, out.spheres.metadata_json);
+  CHECK(choice.kind == SolidKind::kRobust);
+  const TriangleMesh rebuilt = solid_mesh(soup, choice, "soup.stl");
+  CHECK(rebuilt.vertices == s.mesh.vertices);
+  CHECK(rebuilt.triangles == s.mesh.triangles);
   // The winding-number solid, asked for explicitly, is refused.
   request.solid = SolidKind::kWinding;
   CHECK_THROWS_AS(bake_mesh(soup, analyze_mesh(soup), request, "soup.stl"), InputError);
@@ -279,24 +287,6 @@ TEST_CASE("the chosen resolution keeps the boundary within the triangle budget, 
   // It holds every ball.
   const MeshQuery q(coarse.mesh);
   for (const auto& v : balls.vertices) CHECK(q.winding_number_exact(v) > 0.5);
-}
-
-TEST_CASE("a robust bake records the resolution it used, and eval rebuilds that solid",
-          "[robust_solid][bake_pipeline]") {
-  const TriangleMesh soup = soup_of(make_icosphere(1.0, 3), 0.02, 0.5, 5);
-  BakeRequest request;
-  request.medial.resolution = 12;
-  const BakeOutcome out = bake_mesh(soup, analyze_mesh(soup), request, "soup.stl");
-  REQUIRE(out.solid == SolidKind::kRobust);
-  const auto stats = nlohmann::json::parse(out.spheres.metadata_json)["stats"];
-  const RobustSolid s = make_robust_solid(soup, {}, "soup.stl");
-  CHECK(stats["robust_resolution"].get<int>() == s.resolution);
-  CHECK(stats["robust_triangles"].get<std::size_t>() == s.mesh.num_triangles());
-  const SolidChoice choice = choose_solid(SolidKind::kAuto, {}, false, out.spheres.metadata_json);
-  CHECK(choice.kind == SolidKind::kRobust);
-  const TriangleMesh rebuilt = solid_mesh(soup, choice, "soup.stl");
-  CHECK(rebuilt.vertices == s.mesh.vertices);
-  CHECK(rebuilt.triangles == s.mesh.triangles);
 }
 
 namespace {

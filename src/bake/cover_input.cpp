@@ -8,34 +8,6 @@ namespace medspheres {
 
 namespace {
 
-// Grows, for each piece of \p cert, the ball whose radius must grow least to hold the
-// piece's three corners (ties: lowest index) to that reach plus \p slack and a rounding
-// allowance; returns the growths.
-std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
-  constexpr double kEps = std::numeric_limits<double>::epsilon();
-  std::size_t grown = 0;
-  for (const CoverPiece& piece : cert.uncertified_pieces) {
-    std::size_t chosen = 0;
-    double least = std::numeric_limits<double>::infinity(), needed = 0.0;
-    for (std::size_t j = 0; j < balls.size(); ++j) {
-      double reach = 0.0;
-      for (const Eigen::Vector3d& corner : piece.corners)
-        reach = std::max(reach, (corner - balls[j].center).norm());
-      if (reach - balls[j].radius < least) {
-        least = reach - balls[j].radius;
-        chosen = j;
-        needed = reach;
-      }
-    }
-    const double radius = needed + slack + 64.0 * kEps * needed;
-    if (radius > balls[chosen].radius) {
-      balls[chosen].radius = radius;
-      ++grown;
-    }
-  }
-  return grown;
-}
-
 // The cover's measures against the solid, for its current balls.
 void remeasure(const FitEvaluator& solid, CoverResult& cover, int threads) {
   const VolumeError v = solid.volume_error(cover.spheres.spheres, threads);
@@ -74,6 +46,31 @@ InputCoverCheck certify_input_cover(const TriangleMesh& input, const FitEvaluato
   }
   if (out.repaired > 0) remeasure(solid, cover, options.threads);
   return out;
+}
+
+std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  std::size_t grown = 0;
+  for (const CoverPiece& piece : cert.uncertified_pieces) {
+    std::size_t chosen = 0;
+    double least = std::numeric_limits<double>::infinity(), needed = 0.0;
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      double reach = 0.0;
+      for (const Eigen::Vector3d& corner : piece.corners)
+        reach = std::max(reach, (corner - balls[j].center).norm());
+      if (reach - balls[j].radius < least) {
+        least = reach - balls[j].radius;
+        chosen = j;
+        needed = reach;
+      }
+    }
+    const double radius = needed + slack + 64.0 * kEps * needed;
+    if (radius > balls[chosen].radius) {
+      balls[chosen].radius = radius;
+      ++grown;
+    }
+  }
+  return grown;
 }
 
 void record_input_cover(const InputCoverCheck& check, BakeRecord& record) {
