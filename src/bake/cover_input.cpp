@@ -1,12 +1,16 @@
 #include "medspheres/bake/cover_input.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 
 namespace medspheres {
 
 namespace {
+
+// Certify-and-grow rounds at most.
+constexpr int kInputRepairRounds = 64;
 
 // The cover's measures against the solid, for its current balls.
 void remeasure(const FitEvaluator& solid, CoverResult& cover, int threads) {
@@ -34,16 +38,26 @@ InputCoverCheck certify_input_cover(const TriangleMesh& input, const FitEvaluato
   const double coordinates = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
   const double slack =
       1e-9 * box.sizes().maxCoeff() + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
-  for (int round = 0; round < std::max(1, options.repair_rounds); ++round) {
-    out.certificate = certify_cover(input, balls, co);
-    out.rounds = round + 1;
-    if (out.certificate.certified) break;
-    out.repaired += grow_to_hold(balls, out.certificate, slack);
-  }
-  if (!out.certificate.certified && out.repaired > 0) {
-    out.certificate = certify_cover(input, balls, co);
+  // Rounds after the first certify only the triangles still uncertified: balls only grow,
+  // so a certified triangle stays certified.
+  out.certificate = certify_cover(input, balls, co);
+  out.rounds = 1;
+  CoverCertificate last = out.certificate;
+  TriangleMesh rest;
+  rest.vertices = input.vertices;
+  while (!last.certified && out.rounds <= kInputRepairRounds) {
+    const std::size_t grown = grow_to_hold(balls, last, slack);
+    if (grown == 0) break;
+    out.repaired += grown;
+    std::vector<std::array<int, 3>> open;
+    for (std::size_t t = 0; t < last.triangle_certified.size(); ++t)
+      if (!last.triangle_certified[t])
+        open.push_back(out.rounds == 1 ? input.triangles[t] : rest.triangles[t]);
+    rest.triangles = std::move(open);
+    last = certify_cover(rest, balls, co);
     ++out.rounds;
   }
+  if (out.repaired > 0) out.certificate = certify_cover(input, balls, co);
   if (out.repaired > 0) remeasure(solid, cover, options.threads);
   return out;
 }

@@ -6,11 +6,12 @@
 ///
 /// Method: certify_cover on the input's triangles; every piece it cannot certify is held by
 /// growing the ball that needs the least growth to hold the piece's corners (plus a slack
-/// of 1e-9 L and rounding), and the certificate runs again, for at most
-/// CoverOptions::repair_rounds rounds. Balls only grow, so the solid's certificate stays
-/// true; the cover's union volume, excess volume and protrusion are measured again when a
-/// ball grew. A set that still fails is reported uncertified, never covered.
-/// Frames and units: those of the meshes, which must agree.
+/// of 1e-9 L and rounding), and the certificate runs again on the triangles still
+/// uncertified, for at most 64 rounds; the certificate kept is of every input triangle,
+/// run once more when a ball grew. Balls only grow, so the solid's certificate stays true; the
+/// cover's union volume, excess volume and protrusion are measured again when a ball grew. A set
+/// that still fails is reported uncertified, never covered. Frames and units: those of the meshes,
+/// which must agree.
 
 #include <cstddef>
 #include <vector>
@@ -25,7 +26,7 @@ namespace medspheres {
 struct InputCoverCheck {
   CoverCertificate certificate;  ///< of the input's triangles, for the final balls
   std::size_t repaired = 0;      ///< balls grown, counted per growth
-  int rounds = 0;                ///< certify-and-grow rounds run
+  int rounds = 0;                ///< certify rounds run (the final full one not counted)
 };
 
 /// Certifies that \p cover's balls contain every triangle of \p input, growing balls when
