@@ -37,17 +37,7 @@ double peak_mib(int who) {
   return static_cast<double>(u.ru_maxrss) / 1024.0;  // Linux: KiB
 }
 
-// CPU seconds (user + system) of this process and its reaped children so far.
-double cpu_seconds() {
-  double total = 0.0;
-  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
-    rusage u{};
-    getrusage(who, &u);
-    total += static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
-             1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
-  }
-  return total;
-}
+using medspheres::bench::cpu_seconds;
 
 struct Run {
   BatchResult result;

@@ -1,5 +1,8 @@
 #pragma once
-// Wall-clock timing for the benchmarks: a monotonic clock and the time since a start.
+// Timing for the benchmarks: a monotonic clock and the time since a start; the CPU time
+// of the process.
+
+#include <sys/resource.h>
 
 #include <chrono>
 
@@ -13,6 +16,18 @@ inline double seconds_since(Clock::time_point t0) {
 
 inline double micros_since(Clock::time_point t0) {
   return std::chrono::duration<double, std::micro>(Clock::now() - t0).count();
+}
+
+// CPU seconds (user + system, every thread) of this process and its reaped children so far.
+inline double cpu_seconds() {
+  double total = 0.0;
+  for (int who : {RUSAGE_SELF, RUSAGE_CHILDREN}) {
+    rusage u{};
+    getrusage(who, &u);
+    total += static_cast<double>(u.ru_utime.tv_sec + u.ru_stime.tv_sec) +
+             1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
+  }
+  return total;
 }
 
 }  // namespace medspheres::bench

@@ -9,6 +9,9 @@
 #include <nlohmann/json.hpp>
 
 #include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/bake/cover_input.h"
+#include "medspheres/bake/solid_choice.h"
+#include "medspheres/bake/union_volume.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
@@ -149,6 +152,13 @@ TEST_CASE("a flat sheet has no robust solid: a clear error", "[robust_solid]") {
     FAIL("a flat sheet was baked");
   } catch (const InputError& e) {
     CHECK(e.kind() == ErrorKind::kNoInterior);
+    // The error names the file and says why, at every resolution the search tries.
+    CHECK(std::string(e.what()).find("sheet.obj") != std::string::npos);
+    CHECK(std::string(e.what()).find("bounds no volume") != std::string::npos);
+  }
+  for (const SolidKind kind : {SolidKind::kAuto, SolidKind::kRobust}) {
+    request.solid = kind;
+    CHECK_THROWS_AS(bake_mesh(sheet, analyze_mesh(sheet), request, "sheet.obj"), InputError);
   }
 }
 
@@ -204,12 +214,20 @@ TEST_CASE("auto bakes the robust solid of an ambiguous soup, with a warning, and
   // The guarantee holds for the solid used: every sphere inside the robust solid.
   const RobustSolid s = make_robust_solid(soup, request.robust, "soup.stl");
   check_spheres_inside(out.spheres, MeshQuery(s.mesh));
+  // The resolution it chose is recorded, and eval's choice rebuilds that very solid.
+  CHECK(meta["stats"]["robust_resolution"].get<int>() == s.resolution);
+  CHECK(meta["stats"]["robust_triangles"].get<std::size_t>() == s.mesh.num_triangles());
+  const SolidChoice choice = choose_solid(SolidKind::kAuto, {}, false, out.spheres.metadata_json);
+  CHECK(choice.kind == SolidKind::kRobust);
+  const TriangleMesh rebuilt = solid_mesh(soup, choice, "soup.stl");
+  CHECK(rebuilt.vertices == s.mesh.vertices);
+  CHECK(rebuilt.triangles == s.mesh.triangles);
   // The winding-number solid, asked for explicitly, is refused.
   request.solid = SolidKind::kWinding;
   CHECK_THROWS_AS(bake_mesh(soup, analyze_mesh(soup), request, "soup.stl"), InputError);
 }
 
-TEST_CASE("auto keeps the winding-number solid of a closed mesh; robust is there on request",
+TEST_CASE("auto keeps the winding-number solid of a closed mesh, robust is there on request",
           "[robust_solid][bake_pipeline]") {
   const TriangleMesh ball = make_icosphere(1.0, 3);
   BakeRequest request;
@@ -227,6 +245,140 @@ TEST_CASE("auto keeps the winding-number solid of a closed mesh; robust is there
   REQUIRE(r.volume.has_value());
   CHECK(nlohmann::json::parse(r.spheres.metadata_json)["stats"]["mesh_volume"].get<double>() >=
         analyze_mesh(ball).signed_volume);
+}
+
+TEST_CASE("the chosen resolution keeps the boundary within the triangle budget", "[robust_solid]") {
+  // A closed box: the probe at 32 is within the budget, so a finer grid is chosen.
+  const TriangleMesh box = make_box({1.0, 1.0, 1.0}, 3);
+  const RobustSolid s = make_robust_solid(box, {}, "box");
+  check_closed_solid(s);
+  CHECK(s.resolution > 32);
+  CHECK(s.resolution <= 96);
+  CHECK(s.mesh.num_triangles() <= kRobustTriangleBudget);
+  CHECK(s.cell == Approx(2.0 / s.resolution));
+  // One cell finer is over the budget (the search found the finest one).
+  CHECK(make_robust_solid(box, {s.resolution + 1, 0.0}, "box").mesh.num_triangles() >
+        kRobustTriangleBudget);
+  // 4 x 4 x 4 separate balls: over the budget at the probe, so a coarser grid; the walls
+  // of some coarser grids fill every ball (no cell enclosed), and the search passes them.
+  TriangleMesh balls;
+  const TriangleMesh ball = make_icosphere(0.45, 2);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k) {
+        const int base = static_cast<int>(balls.vertices.size());
+        for (const auto& v : ball.vertices)
+          balls.vertices.push_back(v + 1.5 * Eigen::Vector3d(i, j, k));
+        for (const auto& t : ball.triangles)
+          balls.triangles.push_back({t[0] + base, t[1] + base, t[2] + base});
+      }
+  REQUIRE(make_robust_solid(balls, {32, 0.0}, "balls").mesh.num_triangles() >
+          kRobustTriangleBudget);
+  const RobustSolid coarse = make_robust_solid(balls, {}, "balls");
+  check_closed_solid(coarse);
+  CHECK(coarse.resolution < 32);
+  CHECK(coarse.resolution >= 16);
+  CHECK(coarse.mesh.num_triangles() <= kRobustTriangleBudget);
+  // It holds every ball's centre and the corners of the first ball's triangles.
+  const MeshQuery q(coarse.mesh);
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      for (int k = 0; k < 4; ++k)
+        CHECK(q.winding_number_exact(1.5 * Eigen::Vector3d(i, j, k)) > 0.5);
+  for (const auto& v : ball.vertices) CHECK(q.winding_number_exact(v) > 0.5);
+}
+
+namespace {
+
+// Points on the triangles of \p mesh (uniform barycentric draws) that no ball contains:
+// a sampled oracle beside the certificate.
+std::size_t uncovered_samples(const TriangleMesh& mesh, const std::vector<Sphere>& balls,
+                              int per_triangle, unsigned seed) {
+  std::mt19937 rng(seed);
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::size_t missed = 0;
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t)
+    for (int k = 0; k < per_triangle; ++k) {
+      double a = u(rng), b = u(rng);
+      if (a + b > 1.0) a = 1.0 - a, b = 1.0 - b;
+      const Eigen::Vector3d p = mesh.corner(t, 0) + a * (mesh.corner(t, 1) - mesh.corner(t, 0)) +
+                                b * (mesh.corner(t, 2) - mesh.corner(t, 0));
+      bool in = false;
+      for (const Sphere& s : balls) in = in || (p - s.center).norm() <= s.radius;
+      missed += !in;
+    }
+  return missed;
+}
+
+}  // namespace
+
+TEST_CASE("a covering set of the robust solid also certifies the input's own triangles",
+          "[robust_solid][cover]") {
+  // A soup of a ball's triangles with, inside it, a small loose square: the cover is
+  // baked on the robust solid's boundary, the input's triangles lie inside that solid.
+  TriangleMesh soup = soup_of(make_icosphere(1.0, 2), 0.02, 0.5, 9);
+  const int b = static_cast<int>(soup.vertices.size());
+  for (const Eigen::Vector3d& v :
+       {Eigen::Vector3d(-0.2, -0.2, 0.0), Eigen::Vector3d(0.2, -0.2, 0.0),
+        Eigen::Vector3d(0.2, 0.2, 0.0), Eigen::Vector3d(-0.2, 0.2, 0.0)})
+    soup.vertices.push_back(v);
+  soup.triangles.push_back({b, b + 1, b + 2});
+  soup.triangles.push_back({b, b + 2, b + 3});
+  BakeRequest request;
+  request.method = BakeMethod::kCover;
+  request.max_spheres = 24;
+  request.solid = SolidKind::kRobust;  // auto keeps the winding number's solid for a cover
+  request.robust.resolution = 24;
+  const BakeOutcome out = bake_mesh(soup, analyze_mesh(soup), request, "soup.stl");
+  REQUIRE(out.solid == SolidKind::kRobust);
+  REQUIRE(out.cover.has_value());
+  const auto stats = nlohmann::json::parse(out.spheres.metadata_json)["stats"];
+  CHECK(stats["solid"] == "robust");
+  CHECK(stats["input_certified"] == true);
+  CHECK(stats["input_certificate_triangles"].get<std::size_t>() == soup.num_triangles());
+  CHECK(stats["input_uncertified_triangles"].get<std::size_t>() == 0);
+  // Independently: the certificate on the input and on the robust solid's boundary, and
+  // sampled points of the input's triangles.
+  CHECK(certify_cover(soup, out.spheres.spheres).certified);
+  const RobustSolid s = make_robust_solid(soup, request.robust, "soup.stl");
+  CHECK(certify_cover(s.mesh, out.spheres.spheres).certified);
+  CHECK(uncovered_samples(soup, out.spheres.spheres, 20, 3) == 0);
+}
+
+TEST_CASE("balls that miss the input's triangles are grown until certified, stats measured again",
+          "[robust_solid][cover]") {
+  // The solid: a box; the cover: one ball at the centre that holds only part of a triangle
+  // inside the box.
+  const TriangleMesh box = make_box({1.0, 1.0, 1.0}, 2);
+  const FitEvaluator fit(box, 1);
+  TriangleMesh input;
+  input.vertices = {{-0.8, -0.8, 0.0}, {0.8, -0.8, 0.0}, {0.0, 0.8, 0.0}};
+  input.triangles = {{0, 1, 2}};
+  CoverResult cover;
+  cover.spheres.spheres = {{Eigen::Vector3d::Zero(), 0.3}};
+  cover.stats.mesh_volume = 8.0;
+  REQUIRE_FALSE(certify_cover(input, cover.spheres.spheres).certified);
+  CoverOptions options;
+  options.threads = 1;
+  const InputCoverCheck check = certify_input_cover(input, fit, cover, options);
+  CHECK(check.certificate.certified);
+  CHECK(check.repaired > 0);
+  CHECK(certify_cover(input, cover.spheres.spheres).certified);
+  CHECK(uncovered_samples(input, cover.spheres.spheres, 2000, 5) == 0);
+  // The grown ball holds the farthest corner, |(-0.8, -0.8, 0)| = 0.8 sqrt 2, and not much
+  // more; the union volume is that ball's, in closed form.
+  const double r = cover.spheres.spheres[0].radius;
+  CHECK(r >= 0.8 * std::sqrt(2.0));
+  CHECK(r <= 0.8 * std::sqrt(2.0) * (1.0 + 1e-6));
+  CHECK(cover.stats.union_volume == Approx(4.0 / 3.0 * kPi * r * r * r).epsilon(1e-9));
+  CHECK(cover.stats.excess_volume == Approx((cover.stats.union_volume - 8.0) / 8.0));
+  // Recorded, and written as a boolean.
+  BakeRecord record;
+  record_input_cover(check, record);
+  CHECK(record.extra_stats.at("input_certified") == 1.0);
+  CHECK(record.extra_stats.at("input_repaired") == static_cast<double>(check.repaired));
+  const auto meta = nlohmann::json::parse(cover_metadata_json(record));
+  CHECK(meta["stats"]["input_certified"] == true);
 }
 
 #ifdef MEDSPHERES_SHARED_MESHES

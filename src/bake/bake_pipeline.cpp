@@ -3,8 +3,10 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <map>
 #include <utility>
 
+#include "medspheres/bake/cover_input.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/bake/inner_budget.h"
 #include "medspheres/error.h"
@@ -255,6 +257,25 @@ BakeOutcome bake_solid(const FitEvaluator& fit, const MeshReport& report,
   return out;
 }
 
+// A cover baked on the robust solid of \p input: the input's own triangles certified too
+// (cover_input.h), the record made again from the cover and the check recorded.
+void certify_input(const TriangleMesh& input, const FitEvaluator& fit, const BakeRequest& request,
+                   BakeOutcome& out) {
+  CoverOptions options;
+  options.threads = request.medial.threads;
+  const InputCoverCheck check = certify_input_cover(input, fit, *out.cover, options);
+  const std::map<std::string, std::string> strings = out.record.extra_strings;
+  out.record = cover_bake_record(out.record.source, *out.cover);
+  out.record.record_seconds = request.record_seconds;
+  out.record.extra_strings = strings;
+  record_input_cover(check, out.record);
+  out.spheres = out.cover->spheres;
+  if (!check.certificate.certified)
+    out.warnings.push_back("the covering set does not certainly contain " +
+                           std::to_string(check.certificate.uncertified_triangles) +
+                           " of the input's own triangles (input_certified false)");
+}
+
 // The bake of the robust solid of \p mesh, recorded as such; with a \p fallback reason,
 // a warning that says what was done.
 BakeOutcome bake_robust(const TriangleMesh& mesh, const MeshProvenance& source,
@@ -264,19 +285,22 @@ BakeOutcome bake_robust(const TriangleMesh& mesh, const MeshProvenance& source,
   if (request.robust_thickness)
     options.thickness = request.robust_thickness->in(source.report.largest_side());
   const RobustSolid solid = make_robust_solid(mesh, options, name);
-  BakeOutcome out = bake_solid(FitEvaluator(solid.mesh, request.medial.threads),
-                               analyze_mesh(solid.mesh), source, request, name);
+  const FitEvaluator fit(solid.mesh, request.medial.threads);
+  BakeOutcome out = bake_solid(fit, analyze_mesh(solid.mesh), source, request, name);
+  if (out.cover) certify_input(mesh, fit, request, out);
   out.solid = SolidKind::kRobust;
   out.record.extra_strings["solid"] = to_string(SolidKind::kRobust);
   out.record.extra_stats["robust_cell"] = solid.cell;
   out.record.extra_stats["robust_wall_radius"] = solid.wall_radius;
-  out.record.extra_stats["robust_resolution"] = options.resolution;
+  out.record.extra_stats["robust_resolution"] = solid.resolution;
+  out.record.extra_stats["robust_triangles"] = static_cast<double>(solid.mesh.num_triangles());
   out.record.extra_stats["robust_thickness"] = options.thickness;
   out.spheres.metadata_json =
       out.cover ? cover_metadata_json(out.record) : bake_metadata_json(out.record);
   if (!fallback.empty())
-    out.warnings.push_back("its winding-number solid is not well defined (" + fallback +
-                           "); baked " + describe(solid) + " (solid robust)");
+    out.warnings.insert(out.warnings.begin(), "its winding-number solid is not well defined (" +
+                                                  fallback + "); baked " + describe(solid) +
+                                                  " (solid robust)");
   return out;
 }
 

@@ -54,6 +54,8 @@ std::string cover_metadata_json(const BakeRecord& record) {
   st["certified"] = certified;
   st["surface_covered"] = certified;
   st["interior_certified"] = false;
+  // A cover of a robust solid: the input's own triangles certified too (cover_input.h).
+  if (st.contains("input_certified")) st["input_certified"] = st["input_certified"] == 1.0;
   return meta.dump();
 }
 

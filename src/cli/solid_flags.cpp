@@ -8,7 +8,8 @@ void add_solid_flags(CLI::App* sub, SolidFlags& flags) {
                   "the one the sphere file records), winding, robust (README: Solids)")
       ->capture_default_str();
   sub->add_option("--robust-resolution", flags.robust_resolution,
-                  "Robust solid: grid cells along the longest side, in [8, 1024]")
+                  "Robust solid: grid cells along the longest side, in [8, 1024]; 0: the finest "
+                  "whose boundary has at most 24000 triangles")
       ->capture_default_str();
   sub->add_option("--robust-thickness", flags.robust_thickness,
                   "Robust solid: extra wall thickness that closes gaps (length or 0.01L; "

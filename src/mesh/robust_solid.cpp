@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <unordered_map>
 #include <vector>
@@ -19,6 +20,12 @@ namespace {
 
 constexpr int kMinResolution = 8;
 constexpr int kMaxResolution = 1024;
+// The resolution of the triangle budget: probed at (the next when the walls enclose
+// nothing), and chosen within.
+constexpr int kProbeResolutions[] = {32, 48, 96};
+constexpr int kMinAutoResolution = 16;
+constexpr int kMaxAutoResolution = 96;
+constexpr int kAutoSteps = 5;
 
 // kWall: within the base radius (1 + sqrt(3)/2) h of a triangle; kThick: within the
 // wall radius only (the thickness t).
@@ -59,7 +66,9 @@ CellGrid make_cell_grid(const Eigen::AlignedBox3d& box, int resolution, double w
 
 // Step 2: cells whose centre is within wall_radius of a triangle: kWall within
 // base_radius, kThick beyond. A cell is tested only inside the triangle's box grown by
-// wall_radius, which holds every such centre.
+// wall_radius, which holds every such centre, and skipped when its centre is farther than
+// wall_radius from the triangle's plane (by a margin far above the rounding of either
+// distance: the walls are those the closest-point test alone marks).
 void mark_walls(const TriangleMesh& mesh, double base_radius, double wall_radius, CellGrid& g) {
   const double base2 = base_radius * base_radius * (1.0 + 1e-9);
   const double r2 = wall_radius * wall_radius * (1.0 + 1e-9);
@@ -69,6 +78,14 @@ void mark_walls(const TriangleMesh& mesh, double base_radius, double wall_radius
     const Eigen::Vector3d& c = mesh.vertices[static_cast<std::size_t>(t[2])];
     const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - wall_radius;
     const Eigen::Vector3d hi = a.cwiseMax(b).cwiseMax(c).array() + wall_radius;
+    // The plane test only for a triangle whose angle at a has a sine of at least 1e-6, so
+    // that the computed normal is within about 1e-9 rad of the true one.
+    Eigen::Vector3d normal = (b - a).cross(c - a);
+    const double area2 = normal.norm();
+    const bool planar = area2 >= 1e-6 * (b - a).norm() * (c - a).norm() && area2 > 0.0;
+    normal = planar ? Eigen::Vector3d(normal / area2) : Eigen::Vector3d::Zero();
+    const double slab = planar ? wall_radius * (1.0 + 1e-6) + 1e-8 * (hi - lo).norm()
+                               : std::numeric_limits<double>::infinity();
     std::array<std::int64_t, 3> from{}, to{};
     for (int x = 0; x < 3; ++x) {
       from[x] = std::max<std::int64_t>(
@@ -82,6 +99,7 @@ void mark_walls(const TriangleMesh& mesh, double base_radius, double wall_radius
           std::uint8_t& s = g.state[static_cast<std::size_t>(g.index(i, j, k))];
           if (s == kWall) continue;
           const Eigen::Vector3d centre = g.lattice(i, j, k) + Eigen::Vector3d::Constant(0.5 * g.h);
+          if (std::abs(normal.dot(centre - a)) > slab) continue;
           const double d2 = (closest_point_on_triangle(centre, a, b, c) - centre).squaredNorm();
           if (d2 <= base2)
             s = kWall;
@@ -263,39 +281,53 @@ SolidKind parse_solid_kind(const std::string& text) {
                            "must be auto, winding or robust, got '" + text + "'");
 }
 
-RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
-                              const std::string& name) {
-  if (!(options.resolution >= kMinResolution && options.resolution <= kMaxResolution))
+namespace {
+
+void check_options(const RobustSolidOptions& options) {
+  const bool automatic = options.resolution == 0;
+  if (!automatic && !(options.resolution >= kMinResolution && options.resolution <= kMaxResolution))
     throw option_error("robust_resolution", options.resolution,
-                       "must be in [8, 1024], got " + std::to_string(options.resolution));
+                       "must be 0 (chosen by the triangle budget) or in [8, 1024], got " +
+                           std::to_string(options.resolution));
   if (!(std::isfinite(options.thickness) && options.thickness >= 0.0))
     throw option_error("robust_thickness", options.thickness,
                        "must be a finite length >= 0, got " + number_text(options.thickness));
+}
+
+// The box of the triangles' corners, checking indices; a mesh that is one point has no
+// volume.
+Eigen::AlignedBox3d checked_box(const TriangleMesh& mesh, const std::string& name) {
   if (mesh.triangles.empty()) throw std::invalid_argument("make_robust_solid: no triangles");
-  for (const auto& t : mesh.triangles)
-    for (int v : t)
-      if (v < 0 || static_cast<std::size_t>(v) >= mesh.vertices.size())
-        throw std::invalid_argument("make_robust_solid: vertex index out of range");
   Eigen::AlignedBox3d box;
   for (const auto& t : mesh.triangles)
-    for (int v : t) box.extend(mesh.vertices[static_cast<std::size_t>(v)]);
+    for (int v : t) {
+      if (v < 0 || static_cast<std::size_t>(v) >= mesh.vertices.size())
+        throw std::invalid_argument("make_robust_solid: vertex index out of range");
+      box.extend(mesh.vertices[static_cast<std::size_t>(v)]);
+    }
   if (!(box.sizes().maxCoeff() > 0.0))
     throw InputError(ErrorKind::kNoInterior, name,
                      "the mesh is a single point: it bounds no volume");
+  return box;
+}
+
+// Steps 1 to 6 at resolution n.
+RobustSolid solid_at(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, int n,
+                     double thickness, const std::string& name) {
   RobustSolid out;
-  out.cell = box.sizes().maxCoeff() / options.resolution;
-  out.wall_radius = (1.0 + std::sqrt(3.0) / 2.0) * out.cell + options.thickness;
-  CellGrid g = make_cell_grid(box, options.resolution, out.wall_radius);
+  out.resolution = n;
+  out.cell = box.sizes().maxCoeff() / n;
   const double base_radius = (1.0 + std::sqrt(3.0) / 2.0) * out.cell;
+  out.wall_radius = base_radius + thickness;
+  CellGrid g = make_cell_grid(box, n, out.wall_radius);
   mark_walls(mesh, base_radius, out.wall_radius, g);
   out.wall_cells = static_cast<std::size_t>(std::count_if(
       g.state.begin(), g.state.end(), [](std::uint8_t s) { return s == kWall || s == kThick; }));
-  out.enclosed_cells = flood_outside(g, options.thickness);
+  out.enclosed_cells = flood_outside(g, thickness);
   if (out.enclosed_cells == 0)
     throw InputError(ErrorKind::kNoInterior, name,
                      "the mesh bounds no volume: walls of " + number_text(out.wall_radius) +
-                         " around its triangles (robust solid at resolution " +
-                         std::to_string(options.resolution) +
+                         " around its triangles (robust solid at resolution " + std::to_string(n) +
                          ") enclose no cell, so it is a sheet or its holes are wider than "
                          "the walls close (raise robust_thickness to close them)");
   fill_diagonal_contacts(g);
@@ -307,9 +339,76 @@ RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions
   return out;
 }
 
+// The first solid of resolutions kProbeResolutions whose walls enclose a cell (thinner
+// walls enclose smaller parts); the last error when none does.
+RobustSolid probe_solid(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, double thickness,
+                        const std::string& name) {
+  std::optional<InputError> failure;
+  for (int n : kProbeResolutions) {
+    try {
+      return solid_at(mesh, box, n, thickness, name);
+    } catch (const InputError& e) {
+      if (e.kind() != ErrorKind::kNoInterior) throw;
+      failure = e;
+    }
+  }
+  throw *failure;
+}
+
+// The resolution of the triangle budget (resolution 0): boundary triangles grow about as
+// n^2, so from a solid of t triangles at resolution n the next guess is n sqrt(budget / t),
+// within [kMinAutoResolution, kMaxAutoResolution], below every resolution found over the
+// budget (and, while over it, below every coarser one whose walls enclosed nothing: the
+// enclosed cells depend on how the grid falls); from the probe, kAutoSteps more solids at
+// most. The solid kept is the finest one within the budget, or, when none is, the coarsest
+// built.
+RobustSolid solid_of_budget(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box,
+                            double thickness, const std::string& name) {
+  RobustSolid best = probe_solid(mesh, box, thickness, name);
+  int too_fine = kMaxAutoResolution + 1;  // the coarsest resolution found over the budget
+  int coarse_limit = kMaxAutoResolution;  // below the coarser grids that enclosed nothing
+  for (int step = 0; step < kAutoSteps; ++step) {
+    const std::size_t triangles = best.mesh.triangles.size();
+    const bool over = triangles > kRobustTriangleBudget;
+    if (over) too_fine = std::min(too_fine, best.resolution);
+    const double scale =
+        std::sqrt(static_cast<double>(kRobustTriangleBudget) / static_cast<double>(triangles));
+    int n = std::min(
+        std::max(static_cast<int>(std::floor(best.resolution * scale)), kMinAutoResolution),
+        too_fine - 1);
+    if (over) n = std::min(n, coarse_limit);
+    if (n == best.resolution || n < kMinAutoResolution) break;
+    try {
+      RobustSolid next = solid_at(mesh, box, n, thickness, name);
+      if (over || next.mesh.triangles.size() <= kRobustTriangleBudget)
+        best = std::move(next);
+      else
+        too_fine = n;
+    } catch (const InputError& e) {
+      if (e.kind() != ErrorKind::kNoInterior) throw;
+      if (n > best.resolution)
+        too_fine = n;
+      else
+        coarse_limit = n - 1;
+    }
+  }
+  return best;
+}
+
+}  // namespace
+
+RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
+                              const std::string& name) {
+  check_options(options);
+  const Eigen::AlignedBox3d box = checked_box(mesh, name);
+  if (options.resolution == 0) return solid_of_budget(mesh, box, options.thickness, name);
+  return solid_at(mesh, box, options.resolution, options.thickness, name);
+}
+
 std::string describe(const RobustSolid& s) {
-  return "the robust solid: cells of " + number_text(s.cell) + " within " +
-         number_text(s.wall_radius) + " of the surface made walls, and the " +
+  return "the robust solid at resolution " + std::to_string(s.resolution) + " (" +
+         std::to_string(s.mesh.triangles.size()) + " triangles): cells of " + number_text(s.cell) +
+         " within " + number_text(s.wall_radius) + " of the surface made walls, and the " +
          std::to_string(s.enclosed_cells) +
          " cells they enclose were added, the boundary smoothed (an outward offset of at most " +
          number_text(s.wall_radius + std::sqrt(3.0) * s.cell) + ")";

@@ -4,6 +4,11 @@
 /// number does not say (open, non-manifold, self-intersecting surfaces, triangle soups).
 ///
 /// The robust solid of a mesh, at resolution n and thickness t (mesh units):
+/// 0. n given, or (resolution 0, the default) chosen: the finest n in [16, 96] whose
+///    boundary has at most kRobustTriangleBudget triangles, searched from a probe at n = 32
+///    (48, then 96, when its walls enclose nothing) with guesses from triangles growing as
+///    n^2, 5 more grids at most (or the coarsest built, when none fits); every query and
+///    bake on the solid costs in proportion to its triangles;
 /// 1. a grid of cubic cells of side h = L / n (L the largest side of the mesh's box),
 ///    padded so that its outer layer of cells touches no wall;
 /// 2. wall cells: those whose centre lies within r = (1 + sqrt(3)/2) h + t of some
@@ -45,13 +50,17 @@ const char* to_string(SolidKind kind);
 /// \throws InputError (kOutOfRange, field "solid", value \p text) for any other text.
 SolidKind parse_solid_kind(const std::string& text);
 
+/// The boundary triangles the chosen resolution (resolution 0) allows.
+inline constexpr std::size_t kRobustTriangleBudget = 24000;
+
 struct RobustSolidOptions {
-  int resolution = 96;     ///< n: cells along the largest side, in [8, 1024]
+  int resolution = 0;      ///< n: cells along the largest side, in [8, 1024]; 0: chosen
   double thickness = 0.0;  ///< t >= 0, mesh units: extra wall thickness
 };
 
 struct RobustSolid {
   TriangleMesh mesh;         ///< the boundary of the solid (closed, outward)
+  int resolution = 0;        ///< n, as given or chosen
   double cell = 0.0;         ///< h
   double wall_radius = 0.0;  ///< r = (1 + sqrt(3)/2) h + t
   std::size_t wall_cells = 0;
@@ -61,8 +70,9 @@ struct RobustSolid {
 
 /// The robust solid of \p mesh (see the file comment); \p name names the mesh in errors.
 /// \throws InputError (kOutOfRange, field "robust_resolution" or "robust_thickness") for
-///   options out of range, (kNoInterior, file \p name) when the walls enclose no cell: the
-///   surface bounds no volume (a flat sheet) or has holes wider than the walls close.
+///   options out of range, (kNoInterior, file \p name) when the walls enclose no cell (at
+///   any probe's resolution, when chosen): the surface bounds no volume (a flat sheet) or
+///   has holes wider than the walls close.
 /// \throws std::invalid_argument for a mesh without triangles or with indices out of range.
 RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
                               const std::string& name);

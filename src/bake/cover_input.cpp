@@ -1,0 +1,100 @@
+#include "medspheres/bake/cover_input.h"
+
+#include <algorithm>
+#include <array>
+#include <cmath>
+#include <limits>
+
+namespace medspheres {
+
+namespace {
+
+// Certify-and-grow rounds at most.
+constexpr int kInputRepairRounds = 64;
+
+// The cover's measures against the solid, for its current balls.
+void remeasure(const FitEvaluator& solid, CoverResult& cover, int threads) {
+  const VolumeError v = solid.volume_error(cover.spheres.spheres, threads);
+  CoverStats& s = cover.stats;
+  s.union_volume = v.union_measures.volume;
+  s.max_protrusion = v.max_protrusion;
+  s.excess_volume = s.mesh_volume ? (s.union_volume - *s.mesh_volume) / *s.mesh_volume
+                                  : std::numeric_limits<double>::quiet_NaN();
+}
+
+}  // namespace
+
+InputCoverCheck certify_input_cover(const TriangleMesh& input, const FitEvaluator& solid,
+                                    CoverResult& cover, const CoverOptions& options) {
+  InputCoverCheck out;
+  std::vector<Sphere>& balls = cover.spheres.spheres;
+  if (balls.empty() || input.triangles.empty()) {
+    out.certificate = certify_cover(input, balls, options.certificate);
+    return out;
+  }
+  CoverCertificateOptions co = options.certificate;
+  co.threads = options.threads;
+  const Eigen::AlignedBox3d box = input.bounds();
+  const double coordinates = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
+  const double slack =
+      1e-9 * box.sizes().maxCoeff() + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+  // Rounds after the first certify only the triangles still uncertified: balls only grow,
+  // so a certified triangle stays certified.
+  out.certificate = certify_cover(input, balls, co);
+  out.rounds = 1;
+  CoverCertificate last = out.certificate;
+  TriangleMesh rest;
+  rest.vertices = input.vertices;
+  while (!last.certified && out.rounds <= kInputRepairRounds) {
+    const std::size_t grown = grow_to_hold(balls, last, slack);
+    if (grown == 0) break;
+    out.repaired += grown;
+    std::vector<std::array<int, 3>> open;
+    for (std::size_t t = 0; t < last.triangle_certified.size(); ++t)
+      if (!last.triangle_certified[t])
+        open.push_back(out.rounds == 1 ? input.triangles[t] : rest.triangles[t]);
+    rest.triangles = std::move(open);
+    last = certify_cover(rest, balls, co);
+    ++out.rounds;
+  }
+  if (out.repaired > 0) out.certificate = certify_cover(input, balls, co);
+  if (out.repaired > 0) remeasure(solid, cover, options.threads);
+  return out;
+}
+
+std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  std::size_t grown = 0;
+  for (const CoverPiece& piece : cert.uncertified_pieces) {
+    std::size_t chosen = 0;
+    double least = std::numeric_limits<double>::infinity(), needed = 0.0;
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      double reach = 0.0;
+      for (const Eigen::Vector3d& corner : piece.corners)
+        reach = std::max(reach, (corner - balls[j].center).norm());
+      if (reach - balls[j].radius < least) {
+        least = reach - balls[j].radius;
+        chosen = j;
+        needed = reach;
+      }
+    }
+    const double radius = needed + slack + 64.0 * kEps * needed;
+    if (radius > balls[chosen].radius) {
+      balls[chosen].radius = radius;
+      ++grown;
+    }
+  }
+  return grown;
+}
+
+void record_input_cover(const InputCoverCheck& check, BakeRecord& record) {
+  const CoverCertificate& c = check.certificate;
+  auto& x = record.extra_stats;
+  x["input_certified"] = c.certified ? 1.0 : 0.0;
+  x["input_certificate_triangles"] = static_cast<double>(c.triangles);
+  x["input_uncertified_triangles"] = static_cast<double>(c.uncertified_triangles);
+  x["input_repaired"] = static_cast<double>(check.repaired);
+  if (!c.certified) x["input_uncovered_max"] = c.worst_distance;
+}
+
+}  // namespace medspheres
