@@ -11,7 +11,8 @@
 //           left undecided (no mesh pair to settle a pair) counts as colliding.
 // Every method visits the same pairs (the links against every scene object, and the
 // self-collision pairs of RobotBounds); exact skips the pairs whose world AABBs are
-// farther apart than the margin (a broadphase that never changes its answer).
+// farther apart than the margin (a broadphase that never changes its answer). exact and
+// bounds visit the self pairs first, outer and inner the scene first.
 //
 // Reference: the smallest exact distance over all pairs (FCL mesh distance, negative
 // answers clamped to 0; the octomap as one mesh of its occupied cells' boxes, so that the
