@@ -9,6 +9,8 @@
 /// contains the union of its inner set, and its surface lies inside the union of its outer
 /// set. For two disjoint solids the closest points lie on the surfaces, so
 ///   d(outer A, outer B) <= d(A, B) <= d(inner A, inner B).
+/// The inner side may hold points of radius 0 as well (the mesh's vertices, on the
+/// surface and so in the closed solid): every pair of them is still a pair of solid points.
 /// Overlapping solids whose surfaces meet have overlapping outer unions (lower = 0).
 /// Assumed: no solid lies wholly inside another without surface contact, unless the outer
 /// set also contains the interior (a cover certificate certifies only the surface; the
