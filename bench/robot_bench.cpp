@@ -183,6 +183,7 @@ struct MethodRun {
   std::vector<char> colliding;  // per configuration
   std::size_t mesh_free = 0;    // configurations decided without a mesh query
   std::size_t undecided = 0;    // configurations left undecided (counted as colliding)
+  double mesh_micros = 0.0;     // total time of the configurations that queried a mesh
   bool uses_mesh = false;
 };
 
@@ -389,8 +390,10 @@ int run(const Options& o) {
   }));
   runs.push_back(run_method("bounds", configs.size(), [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
+    const auto t0 = Clock::now();
     const mf::RobotCollideResult c =
         mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
+    if (c.mesh_fallbacks > 0) r.mesh_micros += mb::micros_since(t0);
     if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
     if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
     // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link
@@ -403,8 +406,16 @@ int run(const Options& o) {
                                   std::max<std::size_t>(o.distance_every, 1));
   const double ref_seconds = mb::seconds_since(t0);
   print_table(runs, ref);
-  std::printf("\nbounds: %zu configurations left undecided (counted as colliding)\n",
-              runs[3].undecided);
+  const MethodRun& b = runs[3];
+  const double n = static_cast<double>(configs.size());
+  const double with_mesh = n - static_cast<double>(b.mesh_free + b.undecided);
+  std::printf("\nbounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
+  std::printf(
+      "bounds: the %.0f configurations that queried a mesh took %.1f%% of its time (%.1f us "
+      "each), the others %.1f us each\n",
+      with_mesh, 100.0 * b.mesh_micros / (b.micros * n),
+      with_mesh > 0 ? b.mesh_micros / with_mesh : 0.0,
+      (b.micros * n - b.mesh_micros) / std::max(1.0, n - with_mesh));
   std::size_t truth = 0, disagree = 0;
   for (std::size_t i = 0; i < configs.size(); ++i) {
     truth += ref.colliding[i];
