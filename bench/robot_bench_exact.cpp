@@ -82,14 +82,14 @@ void ExactRobot::add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd*
 std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, bool include_self,
                                                           double below) const {
   std::vector<Candidate> out;
-  if (include_scene)
-    for (std::size_t l = 0; l < links_.size(); ++l)
-      for (std::size_t o = 0; o < scene_.size(); ++o)
-        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below);
   if (include_self)
     for (const auto& [a, b] : robot_.self_pairs())
       for (const Part& pa : links_[a])
         for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+  if (include_scene)
+    for (std::size_t l = 0; l < links_.size(); ++l)
+      for (std::size_t o = 0; o < scene_.size(); ++o)
+        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below);
   return out;
 }
 

@@ -112,7 +112,10 @@ double exact_distance(const Solid& a, const ::fcl::Transform3d& X_WA,
     *nested = true;
     return 0.0;
   }
+  // GJK shapes (the capsule) to a tight tolerance: at FCL's default (1e-6) its triangle
+  // distances come out up to ~6e-6 long, more than the surface points' upper bound.
   ::fcl::DistanceRequestd dreq;
+  dreq.distance_tolerance = 1e-12;
   ::fcl::DistanceResultd dres;
   return ::fcl::distance(a.bvh.get(), X_WA, &g, X_WG, dreq, dres);
 }
@@ -156,6 +159,103 @@ TEST_CASE("distance bounds hold the exact distance between two solids", "[bounds
   CHECK(touching > 100);
 }
 
+TEST_CASE("surface points tighten the upper bound and keep it above the exact distance",
+          "[bounds]") {
+  // Every vertex (the default), and one per 50 cm cube.
+  mf::BoundedGeometryOptions sparse;
+  sparse.surface_point_spacing = 0.5;
+  std::map<const Solid*, std::unique_ptr<mf::BoundedGeometry>> thinned;
+  for (const auto& s : solids()) {
+    CHECK(s->geometry->surface_points() == s->mesh.vertices.size());
+    CHECK(s->spheres_only->surface_points() == 0);
+    thinned[s.get()] =
+        std::make_unique<mf::BoundedGeometry>(s->name, s->inner, s->outer, s->bvh, sparse);
+    CHECK(thinned[s.get()]->surface_points() > 0);
+    CHECK(thinned[s.get()]->surface_points() < s->mesh.vertices.size());
+  }
+  int tighter = 0, decided_colliding = 0, colliding_without = 0;
+  for (const PosedPair& p : seeded_pairs(17, 60, 0.45)) {
+    bool is_nested = false;
+    const double d = exact_distance(*p.a, p.X_WA, *p.b, p.X_WB, &is_nested);
+    const double with =
+        mf::distance_bounds(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB).bounds.upper;
+    const double few =
+        mf::distance_bounds(*thinned[p.a], p.X_WA, *thinned[p.b], p.X_WB).bounds.upper;
+    const double without =
+        mf::distance_bounds(*p.a->spheres_only, p.X_WA, *p.b->spheres_only, p.X_WB).bounds.upper;
+    INFO(p.a->name << " / " << p.b->name << ": exact " << d << ", upper " << with << " (thinned "
+                   << few << ", inner balls only " << without << ")");
+    CHECK(d <= with + kOracleRounding);
+    CHECK(d <= few + kOracleRounding);
+    CHECK(with <= without + 1e-12);
+    CHECK(with <= few + 1e-12);
+    if (with < without - 1e-9) ++tighter;
+    // At margin 0: a surface point inside the other solid's inner balls is a certain contact.
+    decided_colliding += mf::decide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB).verdict ==
+                         BoundsVerdict::colliding;
+    colliding_without +=
+        mf::decide(*p.a->spheres_only, p.X_WA, *p.b->spheres_only, p.X_WB).verdict ==
+        BoundsVerdict::colliding;
+  }
+  INFO("tighter " << tighter << ", certain contacts " << decided_colliding << " against "
+                  << colliding_without);
+  CHECK(tighter > 100);
+  CHECK(decided_colliding > colliding_without);
+  sparse.surface_point_spacing = -1.0;
+  const Solid& s = *solids()[0];
+  CHECK_THROWS_AS(mf::BoundedGeometry("l", s.inner, s.outer, s.bvh, sparse), InputError);
+}
+
+TEST_CASE("a geometry of exact balls settles against a mesh without a mesh of its own",
+          "[bounds]") {
+  // Four 2 cm balls (a foot of contact spheres): inner and outer are the same balls.
+  SphereSet feet;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(0.1, 0.05, 0), Eigen::Vector3d(0.1, -0.05, 0),
+                                   Eigen::Vector3d(-0.1, 0.05, 0), Eigen::Vector3d(-0.1, -0.05, 0)})
+    feet.spheres.push_back({c, 0.02});
+  feet.metadata_json = R"({"certified": true})";
+  const mf::BoundedGeometry foot("foot", feet, feet);
+  CHECK(foot.exact_balls());
+  CHECK_FALSE(solids()[0]->geometry->exact_balls());
+  std::mt19937 rng(37);
+  int by_mesh = 0;
+  for (const auto& s : solids()) {
+    for (int k = 0; k < 60; ++k) {
+      const ::fcl::Transform3d X_WA = mt::random_pose(rng, 0.35), X_WB = mt::random_pose(rng, 0.35);
+      // Oracle: FCL's distance from each ball to the mesh (a surface), 0 when they meet.
+      // A ball wholly inside the solid (no surface contact) is outside the bounds' reach.
+      double d = std::numeric_limits<double>::infinity();
+      bool nested = false;
+      for (const Sphere& b : feet.spheres) {
+        ::fcl::Transform3d X_WS = X_WA;
+        X_WS.translation() = X_WA * b.center;
+        const ::fcl::Sphered ball(b.radius);
+        ::fcl::DistanceRequestd req;
+        ::fcl::DistanceResultd res;
+        const double db = std::max(0.0, ::fcl::distance(&ball, X_WS, s->bvh.get(), X_WB, req, res));
+        nested = nested || (db > 0.0 && inside(*s, X_WB, X_WS.translation()));
+        d = std::min(d, db);
+      }
+      if (nested) continue;
+      for (const double margin : {0.0, 0.02}) {
+        const mf::CollideResult c = mf::collide(foot, X_WA, *s->geometry, X_WB, margin);
+        const mf::CollideResult r = mf::collide(*s->geometry, X_WB, foot, X_WA, margin);
+        const mf::CollideResult g = mf::collide(foot, X_WA, *s->bvh, X_WB, margin);
+        INFO(s->name << " margin " << margin << ": exact " << d);
+        for (const mf::CollideResult* x : {&c, &r, &g}) {
+          REQUIRE(x->verdict != BoundsVerdict::undecided);
+          // Away from the threshold by more than the oracle's rounding.
+          if (std::abs(d - margin) > 1e-9)
+            CHECK((x->verdict == BoundsVerdict::colliding) == (d <= margin));
+          by_mesh += x->path == mf::AnswerPath::mesh;
+        }
+        CHECK(c.verdict == r.verdict);
+      }
+    }
+  }
+  CHECK(by_mesh > 0);
+}
+
 TEST_CASE("the joint walk gives the two sphere-set distances", "[bounds]") {
   for (const PosedPair& p : seeded_pairs(11, 25, 0.6)) {
     const DistanceBounds b =
@@ -182,16 +282,23 @@ TEST_CASE("three-valued collide is never wrong and uses the mesh only when undec
           mf::collide(*p.a->spheres_only, p.X_WA, *p.b->spheres_only, p.X_WB, margin);
       const mf::CollideResult full =
           mf::collide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, margin);
+      // The spheres' own verdict with the surface points the mesh brings.
+      const mf::CollideResult first =
+          mf::decide(*p.a->geometry, p.X_WA, *p.b->geometry, p.X_WB, margin);
       INFO(p.a->name << " / " << p.b->name << " margin " << margin << ": exact " << d);
       CHECK(fast.path == mf::AnswerPath::spheres);
       if (fast.verdict == BoundsVerdict::free && !is_nested) CHECK(d > margin - kOracleRounding);
       if (fast.verdict == BoundsVerdict::colliding) CHECK(d <= margin + kOracleRounding);
       CHECK(fast.bounds.lower <= d + kOracleRounding + (is_nested ? 1e9 : 0.0));
       CHECK(d <= fast.bounds.upper + kOracleRounding);
+      if (first.verdict == BoundsVerdict::free && !is_nested) CHECK(d > margin - kOracleRounding);
+      if (first.verdict == BoundsVerdict::colliding) CHECK(d <= margin + kOracleRounding);
+      // Surface points only ever decide more: a verdict of the balls alone stands.
+      if (fast.verdict != BoundsVerdict::undecided) CHECK(first.verdict == fast.verdict);
       // The mesh is consulted exactly when the spheres leave it undecided.
-      CHECK((full.path == mf::AnswerPath::mesh) == (fast.verdict == BoundsVerdict::undecided));
+      CHECK((full.path == mf::AnswerPath::mesh) == (first.verdict == BoundsVerdict::undecided));
       CHECK(full.verdict != BoundsVerdict::undecided);
-      if (full.path == mf::AnswerPath::spheres) CHECK(full.verdict == fast.verdict);
+      if (full.path == mf::AnswerPath::spheres) CHECK(full.verdict == first.verdict);
       if (full.path == mf::AnswerPath::mesh) {
         ++fallback;
         if (!is_nested) CHECK((full.verdict == BoundsVerdict::colliding) == (d <= margin));

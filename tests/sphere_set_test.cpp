@@ -27,6 +27,13 @@ TEST_CASE("validate_sphere_set rejects non-positive and non-finite values", "[sp
     s.spheres[0].radius = r;
     CHECK_THROWS_AS(medspheres::validate_sphere_set(s, "x"), medspheres::InputError);
   }
+  // Points (radius 0) only when allowed; the rest is refused as before.
+  s.spheres[0].radius = 0.0;
+  CHECK_NOTHROW(medspheres::validate_sphere_set(s, "x", true));
+  for (double r : {-1.0, -0.0 - 1e-300, inf, nan}) {
+    s.spheres[0].radius = r;
+    CHECK_THROWS_AS(medspheres::validate_sphere_set(s, "x", true), medspheres::InputError);
+  }
   s.spheres[0].radius = 1.0;
   s.spheres[0].center.y() = nan;
   CHECK_THROWS_WITH(medspheres::validate_sphere_set(s, "file.json"),

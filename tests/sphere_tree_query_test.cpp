@@ -15,6 +15,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "medspheres/error.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_tree.h"
 #include "support/sphere_fixtures.h"
@@ -98,6 +99,31 @@ TEST_CASE("SphereTree distance and signed distance match brute force", "[sphere_
   }
   CHECK(separated > 40);
   CHECK(overlapping > 40);
+}
+
+TEST_CASE("SphereTree with points (radius 0) matches brute force", "[sphere_tree][query]") {
+  std::vector<Case> cases = mt::random_set_pairs(43, 30);
+  int separated = 0;
+  for (Case& c : cases) {
+    // Every other ball of each set becomes its centre point.
+    for (SphereSet* set : {&c.a, &c.b})
+      for (std::size_t i = 0; i < set->size(); i += 2) set->spheres[i].radius = 0.0;
+    CHECK_THROWS_AS(SphereTree(c.a), ms::InputError);
+    for (ms::SphereTreeOptions options : mt::all_tree_options()) {
+      options.allow_points = true;
+      const SphereTree ta(c.a, options), tb(c.b, options);
+      const mt::BrutePair brute = mt::brute_min(c.a, c.X_WA, c.b, c.X_WB);
+      const double tol = tolerance(c);
+      const TreeDistance sd = medspheres::signed_distance(ta, c.X_WA, tb, c.X_WB);
+      CHECK(sd.distance == Approx(brute.value).margin(tol));
+      if (brute.value > tol) {
+        ++separated;
+        CHECK(medspheres::distance(ta, c.X_WA, tb, c.X_WB).distance ==
+              Approx(brute.value).margin(tol));
+      }
+    }
+  }
+  CHECK(separated > 10);
 }
 
 TEST_CASE("SphereTree contacts are exactly the overlapping pairs", "[sphere_tree][query]") {

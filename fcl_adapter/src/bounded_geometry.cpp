@@ -5,8 +5,12 @@
 
 #include "medspheres/fcl/bounded_geometry.h"
 
+#include <algorithm>
+#include <array>
 #include <cmath>
+#include <cstdint>
 #include <limits>
+#include <set>
 #include <stdexcept>
 #include <utility>
 
@@ -47,15 +51,67 @@ double exact_distance(const MeshModel& a, const ::fcl::Transform3d& X_WA,
   return ::fcl::distance(&a, X_WA, &b, X_WB, request, result);
 }
 
-// The result's verdict completed by the exact distance when undecided and a mesh pair
-// exists.
-CollideResult finish(CollideResult out, double margin, const MeshModel* mesh_a,
-                     const ::fcl::Transform3d& X_WA, const ::fcl::CollisionGeometryd* exact_b,
-                     const ::fcl::Transform3d& X_WB) {
-  if (out.verdict == BoundsVerdict::undecided && mesh_a != nullptr && exact_b != nullptr) {
-    out.path = AnswerPath::mesh;
-    out.mesh_distance = exact_distance(*mesh_a, X_WA, *exact_b, X_WB, margin);
-    out.verdict = out.mesh_distance <= margin ? BoundsVerdict::colliding : BoundsVerdict::free;
+// The distance between the balls of \p balls at X_WA (a solid made of them exactly) and the
+// FCL geometry g at X_WB, exact when it is <= margin, else some value > margin: the
+// runtime's tree-target walk (exact for triangles and boxes, FCL's narrowphase tolerance
+// for other primitives), with the margin's successor preset as its upper_bound. A mesh is
+// a surface here, as in FCL's mesh distance.
+double balls_distance(const SphereTree& balls, const ::fcl::Transform3d& X_WA,
+                      const ::fcl::CollisionGeometryd& g, const ::fcl::Transform3d& X_WB,
+                      double margin) {
+  DistanceOptions options;
+  options.upper_bound = std::nextafter(margin, std::numeric_limits<double>::infinity());
+  double d = options.upper_bound;
+  detail::with_target_view(g, [&](const ProximityTarget& target) {
+    d = medspheres::distance(balls, X_WA, target, X_WB, options).distance;
+  });
+  return d;
+}
+
+// An undecided result completed by an exact distance.
+CollideResult with_exact(CollideResult out, double margin, double exact) {
+  out.path = AnswerPath::mesh;
+  out.mesh_distance = exact;
+  out.verdict = exact <= margin ? BoundsVerdict::colliding : BoundsVerdict::free;
+  return out;
+}
+
+// Whether the two sets are the same balls in the same order.
+bool same_balls(const SphereSet& a, const SphereSet& b) {
+  return a.size() == b.size() && std::equal(a.spheres.begin(), a.spheres.end(), b.spheres.begin(),
+                                            [](const Sphere& x, const Sphere& y) {
+                                              return x.center == y.center && x.radius == y.radius;
+                                            });
+}
+
+// The inner set with the mesh's vertices as points (radius 0), at most one per cube of
+// side `spacing` (every vertex when spacing is 0). Soundness: the upper bound is the
+// distance between two subsets of the solids, min |p - q| over p in A's inner union and q
+// in B's; d(A, B) = min over all p in A, q in B is at most that for any subsets of the
+// closed solids. A mesh vertex is on the solid's boundary, so in the closed solid, and a
+// point of A inside one of B's inner balls (distance <= 0) is a point of both solids. The
+// choice of vertices (which cube keeps which) affects only tightness, never soundness.
+SphereSet with_surface_points(const std::string& link, const SphereSet& inner,
+                              const MeshModel& mesh, double spacing, std::size_t& added) {
+  if (!std::isfinite(spacing) || spacing < 0.0)
+    throw InputError(link, "surface_point_spacing must be finite and >= 0");
+  SphereSet out = inner;
+  std::set<std::array<std::int64_t, 3>> taken;
+  for (int v = 0; v < mesh.num_vertices; ++v) {
+    const Eigen::Vector3d& p = mesh.vertices[v];
+    if (!p.allFinite()) throw InputError(link, "the mesh has a non-finite vertex");
+    if (spacing > 0.0) {
+      const Eigen::Vector3d cell = (p / spacing).array().floor();
+      if (!(cell.cwiseAbs().maxCoeff() < 1e18))
+        throw InputError(link, "surface_point_spacing is too small for the mesh's extent");
+      if (!taken
+               .insert({static_cast<std::int64_t>(cell.x()), static_cast<std::int64_t>(cell.y()),
+                        static_cast<std::int64_t>(cell.z())})
+               .second)
+        continue;
+    }
+    out.spheres.push_back({p, 0.0});
+    ++added;
   }
   return out;
 }
@@ -95,7 +151,10 @@ BoundedGeometry BoundedGeometry::from_link(const std::string& link, const LinkSp
 BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer,
                                  bool certified, std::shared_ptr<const MeshModel> mesh,
                                  const BoundedGeometryOptions& options)
-    : link_(std::move(link)), mesh_(std::move(mesh)), certified_(certified) {
+    : link_(std::move(link)),
+      mesh_(std::move(mesh)),
+      certified_(certified),
+      exact_balls_(same_balls(inner, outer)) {
   check_set(link_, inner, "inner");
   check_set(link_, outer, "outer");
   if (!certified_ && !options.allow_uncertified)
@@ -105,7 +164,13 @@ BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const
   if (mesh_ && (mesh_->getModelType() != ::fcl::BVH_MODEL_TRIANGLES ||
                 mesh_->build_state != ::fcl::BVH_BUILD_STATE_PROCESSED))
     throw InputError(link_, "the mesh is not a finished triangle model (endModel())");
-  inner_ = SphereTree(inner, options.tree);
+  SphereTreeOptions inner_tree = options.tree;
+  inner_tree.allow_points = true;
+  inner_ = mesh_ && options.surface_points
+               ? SphereTree(with_surface_points(link_, inner, *mesh_, options.surface_point_spacing,
+                                                surface_points_),
+                            inner_tree)
+               : SphereTree(inner, options.tree);
   outer_ = SphereTree(outer, options.tree);
 }
 
@@ -150,14 +215,26 @@ CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
                      const ::fcl::Transform3d& X_WA, const BoundedGeometry& b,
                      const ::fcl::Transform3d& X_WB, double margin) {
   check_margin(margin);
-  return finish(decided, margin, a.mesh(), X_WA, b.mesh(), X_WB);
+  if (decided.verdict != BoundsVerdict::undecided) return decided;
+  if (a.mesh() != nullptr && b.mesh() != nullptr)
+    return with_exact(decided, margin, exact_distance(*a.mesh(), X_WA, *b.mesh(), X_WB, margin));
+  if (a.exact_balls() && b.mesh() != nullptr)
+    return with_exact(decided, margin, balls_distance(a.outer(), X_WA, *b.mesh(), X_WB, margin));
+  if (b.exact_balls() && a.mesh() != nullptr)
+    return with_exact(decided, margin, balls_distance(b.outer(), X_WB, *a.mesh(), X_WA, margin));
+  return decided;
 }
 
 CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
                      const ::fcl::Transform3d& X_WA, const ::fcl::CollisionGeometryd& b,
                      const ::fcl::Transform3d& X_WB, double margin) {
   check_margin(margin);
-  return finish(decided, margin, a.mesh(), X_WA, &b, X_WB);
+  if (decided.verdict != BoundsVerdict::undecided) return decided;
+  if (a.mesh() != nullptr)
+    return with_exact(decided, margin, exact_distance(*a.mesh(), X_WA, b, X_WB, margin));
+  if (a.exact_balls())
+    return with_exact(decided, margin, balls_distance(a.outer(), X_WA, b, X_WB, margin));
+  return decided;
 }
 
 CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,

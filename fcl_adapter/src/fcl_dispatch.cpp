@@ -195,6 +195,23 @@ BallProximity ball_vs_shape(const ::fcl::CollisionGeometryd& shape, const ::fcl:
   return out;
 }
 
+// The answer of the solid axis-aligned box [lo, hi] of frame B to a ball that it does not
+// touch: the box's nearest point to the centre is the centre clamped to the box, so the
+// distance is |C - clamp(C)| - r along the direction to that point (FCL's
+// sphereBoxDistance, without building the two shapes). Nothing when the ball touches or
+// overlaps the box: FCL's contact answers that.
+std::optional<BallProximity> ball_apart_from_box(const Eigen::Vector3d& lo,
+                                                 const Eigen::Vector3d& hi,
+                                                 const Eigen::Vector3d& p_BC, double radius) {
+  const Eigen::Vector3d to_box = p_BC.cwiseMax(lo).cwiseMin(hi) - p_BC;
+  const double d = to_box.norm();
+  if (!(d > radius)) return std::nullopt;
+  BallProximity out;
+  out.distance = d - radius;
+  out.normal = to_box / d;
+  return out;
+}
+
 // A lone FCL primitive, at the identity in frame B.
 class ShapeTarget final : public ProximityTarget {
  public:
@@ -229,6 +246,11 @@ class ShapeTarget final : public ProximityTarget {
         out.normal = s > 0.0 ? Eigen::Vector3d(-p.n) : Eigen::Vector3d(p.n);
         return out;
       }
+      case ::fcl::GEOM_BOX: {
+        const Eigen::Vector3d half = 0.5 * static_cast<const ::fcl::Boxd&>(shape_).side;
+        if (const auto apart = ball_apart_from_box(-half, half, p_BC, radius)) return *apart;
+        return ball_vs_shape(shape_, ::fcl::Transform3d::Identity(), p_BC, radius, np_);
+      }
       default:
         return ball_vs_shape(shape_, ::fcl::Transform3d::Identity(), p_BC, radius, np_);
     }
@@ -251,7 +273,12 @@ class OctreeTarget final : public ProximityTarget {
   std::optional<TargetNode> root() const override {
     const ::fcl::OcTreed::OcTreeNode* root = tree_.getRoot();
     if (root == nullptr || !tree_.isNodeOccupied(root)) return std::nullopt;
-    return node(root, tree_.getRootBV());
+    // A cell with one occupied child holds only that child's cells: start below such
+    // chains (an octomap's root lies 16 levels above its leaves, most of them chains).
+    TargetNode n = node(root, tree_.getRootBV());
+    TargetNode kids[kMaxChildren];
+    while (!n.is_leaf && children(n, kids) == 1) n = kids[0];
+    return n;
   }
 
   int children(const TargetNode& n, TargetNode* out) const override {
@@ -272,6 +299,7 @@ class OctreeTarget final : public ProximityTarget {
   BallProximity ball_proximity(const TargetNode& leaf, const Eigen::Vector3d& p_BC,
                                double radius) const override {
     const ::fcl::AABBd box = box_of(leaf.bounds);
+    if (const auto apart = ball_apart_from_box(box.min_, box.max_, p_BC, radius)) return *apart;
     const ::fcl::Boxd shape(box.max_ - box.min_);
     ::fcl::Transform3d X_BS = ::fcl::Transform3d::Identity();
     X_BS.translation() = box.center();

@@ -42,7 +42,9 @@ struct SphereSet {
 /// subnormal radii are valid), and a finite bounding box (|centre coordinate| + radius
 /// finite).
 /// \param source the name used in the error message (a file name, or "sphere set").
+/// \param allow_points also accept radius 0 (points; SphereTreeOptions::allow_points).
 /// \throws InputError "<source>: sphere 17 has radius -0.5 (must be > 0)" and the like.
-void validate_sphere_set(const SphereSet& set, const std::string& source);
+void validate_sphere_set(const SphereSet& set, const std::string& source,
+                         bool allow_points = false);
 
 }  // namespace medspheres

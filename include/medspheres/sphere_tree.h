@@ -57,6 +57,9 @@ enum class BoundingVolumeKind {
 struct SphereTreeOptions {
   BoundingVolumeKind kind = BoundingVolumeKind::rss;  ///< node bounding volume
   int max_leaf_size = 8;  ///< most spheres in a leaf, >= 1 (see README, Benchmarks)
+  /// Accept balls of radius 0 (points, e.g. surface points added to an inner set: a
+  /// point's distance to anything is the distance of the point itself).
+  bool allow_points = false;
 };
 
 /// Shape and size of a tree, reported next to timings.
@@ -85,7 +88,8 @@ class SphereTree {
   /// down, each node split across its spheres' principal axis; a node of at most
   /// max_leaf_size spheres is a leaf, and the depth is at most log(n) / log(10/9).
   /// \throws InputError (source "sphere set") if a sphere has a non-finite coordinate or
-  ///   a radius that is not finite and > 0 (see validate_sphere_set).
+  ///   a radius that is not finite and > 0 (>= 0 with options.allow_points; see
+  ///   validate_sphere_set).
   /// \throws std::invalid_argument if options.max_leaf_size < 1.
   explicit SphereTree(const SphereSet& set, const SphereTreeOptions& options = {});
 

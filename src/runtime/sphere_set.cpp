@@ -19,7 +19,7 @@ Eigen::AlignedBox3d SphereSet::bounds() const {
 
 // The bounding box must be finite (|centre coordinate| + radius finite) so that nothing
 // computed from the box overflows to infinity.
-void validate_sphere_set(const SphereSet& set, const std::string& source) {
+void validate_sphere_set(const SphereSet& set, const std::string& source, bool allow_points) {
   for (std::size_t i = 0; i < set.spheres.size(); ++i) {
     const Sphere& s = set.spheres[i];
     if (!s.center.allFinite()) {
@@ -28,9 +28,10 @@ void validate_sphere_set(const SphereSet& set, const std::string& source) {
           << ", " << s.center.z() << ")";
       throw InputError(source, msg.str());
     }
-    if (!std::isfinite(s.radius) || !(s.radius > 0.0)) {
+    if (!std::isfinite(s.radius) || !(s.radius > 0.0 || (allow_points && s.radius == 0.0))) {
       std::ostringstream msg;
-      msg << "sphere " << i << " has radius " << s.radius << " (must be finite and > 0)";
+      msg << "sphere " << i << " has radius " << s.radius << " (must be finite and "
+          << (allow_points ? ">= 0)" : "> 0)");
       throw InputError(source, msg.str());
     }
     if (!(s.center.cwiseAbs().array() + s.radius).allFinite()) {

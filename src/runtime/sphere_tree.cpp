@@ -108,7 +108,7 @@ SphereTree::SphereTree(const SphereSet& set, const SphereTreeOptions& options) {
   if (options.max_leaf_size < 1)
     throw std::invalid_argument("SphereTreeOptions::max_leaf_size must be >= 1, not " +
                                 std::to_string(options.max_leaf_size));
-  validate_sphere_set(set, "sphere set");
+  validate_sphere_set(set, "sphere set", options.allow_points);
   if (set.spheres.size() > static_cast<std::size_t>(INT32_MAX / 2))
     throw std::invalid_argument("SphereTree: too many spheres");
 

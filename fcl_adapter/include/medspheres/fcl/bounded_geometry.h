@@ -9,6 +9,8 @@
 /// contains the union of its inner set, and its surface lies inside the union of its outer
 /// set. For two disjoint solids the closest points lie on the surfaces, so
 ///   d(outer A, outer B) <= d(A, B) <= d(inner A, inner B).
+/// The inner side may hold points of radius 0 as well (the mesh's vertices, on the
+/// surface and so in the closed solid): every pair of them is still a pair of solid points.
 /// Overlapping solids whose surfaces meet have overlapping outer unions (lower = 0).
 /// Assumed: no solid lies wholly inside another without surface contact, unless the outer
 /// set also contains the interior (a cover certificate certifies only the surface; the
@@ -22,6 +24,7 @@
 /// poses, a negative margin, or an FCL geometry the dispatch does not support.
 /// Threads: a BoundedGeometry is immutable; any number of threads may query it at once.
 
+#include <cstddef>
 #include <memory>
 #include <string>
 
@@ -42,6 +45,13 @@ struct BoundedGeometryOptions {
   /// certified = false.
   bool allow_uncertified = false;
   SphereTreeOptions tree;  ///< options of both sphere trees
+  /// With a mesh: the mesh's vertices join the inner set as points (radius 0). A vertex
+  /// lies on the solid's surface, so it is a point of the closed solid and the inner
+  /// distance stays an upper bound; it reaches grazing contacts that the inner balls do
+  /// not. At most one vertex per cube of side surface_point_spacing (link units, > 0), or
+  /// every vertex when it is 0.
+  bool surface_points = true;
+  double surface_point_spacing = 0.0;
 };
 
 /// True when \p json (a sphere-set file's metadata, or a link's outer_certificate_json)
@@ -65,11 +75,18 @@ class BoundedGeometry {
                                    const BoundedGeometryOptions& options = {});
 
   const std::string& link() const noexcept { return link_; }
+  /// The inner set, with the mesh's surface points when options.surface_points.
   const SphereTree& inner() const noexcept { return inner_; }
+  /// How many surface points the inner set holds.
+  std::size_t surface_points() const noexcept { return surface_points_; }
   const SphereTree& outer() const noexcept { return outer_; }
   const MeshModel* mesh() const noexcept { return mesh_.get(); }
   /// False only when accepted through allow_uncertified.
   bool certified() const noexcept { return certified_; }
+  /// True when the inner and the outer set are the same balls: the solid is their union
+  /// (inside it and containing its surface), as for a link made of sphere primitives.
+  /// Its side of the bounds is then exact, and settle() needs no mesh of its own.
+  bool exact_balls() const noexcept { return exact_balls_; }
 
  private:
   BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer, bool certified,
@@ -80,6 +97,8 @@ class BoundedGeometry {
   SphereTree outer_;
   std::shared_ptr<const MeshModel> mesh_;
   bool certified_ = false;
+  bool exact_balls_ = false;
+  std::size_t surface_points_ = 0;
 };
 
 /// lower <= d <= upper (see the file comment), with whether both outer sets are certified.
@@ -91,7 +110,10 @@ struct BoundsResult {
 /// Which computation gave a collide() answer.
 enum class AnswerPath {
   spheres,  ///< the bounds decided
-  mesh,     ///< undecided by the bounds; the exact meshes (FCL, OBBRSS) decided
+  /// Undecided by the bounds; the exact geometry decided: FCL's mesh distance (OBBRSS),
+  /// or, for a geometry with exact_balls(), its balls against the other's mesh (or FCL
+  /// geometry) by the sphere tree's exact walk.
+  mesh,
 };
 
 struct CollideResult {
@@ -99,8 +121,8 @@ struct CollideResult {
   BoundsVerdict verdict = BoundsVerdict::undecided;
   AnswerPath path = AnswerPath::spheres;
   DistanceBounds bounds;  ///< as tight as the verdict needed (BoundsDecision)
-  /// When the mesh answered: FCL's mesh distance (meshes are surfaces), exact when it is
-  /// <= margin, otherwise some value > margin (FCL's search is pruned at the margin).
+  /// When the mesh answered: the exact distance (meshes are surfaces), exact when it is
+  /// <= margin, otherwise some value > margin (the search is pruned at the margin).
   double mesh_distance = -1.0;
   bool certified = true;
 };
@@ -114,12 +136,13 @@ BoundsResult distance_bounds(const BoundedGeometry& a, const ::fcl::Transform3d&
                              const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB);
 
 /// "Colliding" means d <= margin (margin finite, >= 0). When the bounds leave it undecided
-/// and both meshes are present, FCL's mesh distance decides (path mesh).
+/// and both meshes are present (or one mesh and the other's exact_balls()), the exact
+/// distance decides (path mesh).
 CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
                       const BoundedGeometry& b, const ::fcl::Transform3d& X_WB,
                       double margin = 0.0);
 
-/// As above against an FCL geometry; the fallback needs a's mesh.
+/// As above against an FCL geometry; the fallback needs a's mesh or exact_balls().
 CollideResult collide(const BoundedGeometry& a, const ::fcl::Transform3d& X_WA,
                       const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
                       double margin = 0.0);

@@ -91,11 +91,11 @@ struct RobotCollideResult {
 };
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
-/// First every pair's sphere bounds (decide()), stopping at the first certainly colliding
-/// pair; pairs whose bounding balls (a link's outer root ball, a scene object's local AABB
-/// ball about its transform) are farther apart than the margin are free without a walk.
-/// Only when no pair certainly collides are the undecided pairs settled by the exact
-/// meshes (settle()), stopping at the first colliding one.
+/// First every pair's sphere bounds (decide()), the self-collision pairs before the scene,
+/// stopping at the first certainly colliding pair; pairs whose bounding balls (a link's outer root
+/// ball, a scene object's local AABB ball about its transform) are farther apart than the margin
+/// are free without a walk. Only when no pair certainly collides are the undecided pairs settled by
+/// the exact meshes (settle()), stopping at the first colliding one.
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
                                  bool include_self, double margin = 0.0,
