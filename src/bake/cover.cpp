@@ -20,6 +20,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -218,8 +219,10 @@ double patch_cell(const Elements& e, std::size_t budget, double element_size,
 // index), a Voronoi assignment of whole elements. (Assigning by the growth a ball needs,
 // which favours large balls, gave larger unions on most meshes tried.) The centroid
 // bounds the farthest distance within |g - c| +- reach, which skips most centres.
+// With \p depth (one per ball) the cost of centre j is that distance minus depth[j]: the
+// protrusion ball j would need to hold the element (step 4c).
 void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int>& owner,
-            int threads) {
+            int threads, const std::vector<double>& depth = {}) {
   const long long n = static_cast<long long>(e.size());
   owner.resize(e.size());
 #pragma omp parallel num_threads(threads)
@@ -230,7 +233,8 @@ void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int
       const std::size_t i = static_cast<std::size_t>(ii);
       double best_hi = std::numeric_limits<double>::infinity();
       for (std::size_t j = 0; j < balls.size(); ++j) {
-        const double g = (e.centroids[i] - balls[j].center).norm();
+        const double g =
+            (e.centroids[i] - balls[j].center).norm() - (depth.empty() ? 0.0 : depth[j]);
         lo[j] = g - e.reach[i];
         best_hi = std::min(best_hi, g + e.reach[i]);
       }
@@ -238,7 +242,7 @@ void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int
       int arg = 0;
       for (std::size_t j = 0; j < balls.size(); ++j) {
         if (lo[j] > best_hi || lo[j] >= best) continue;
-        const double v = farthest(e, i, balls[j].center);
+        const double v = farthest(e, i, balls[j].center) - (depth.empty() ? 0.0 : depth[j]);
         if (v < best) {
           best = v;
           arg = static_cast<int>(j);
@@ -420,20 +424,33 @@ bool holds(const Elements& e, std::size_t i, const Sphere& b) {
   return farthest(e, i, b.center) <= b.radius;
 }
 
-// How far the ball centred at c that holds \p pts sticks out of the solid: its radius
-// minus the signed distance of c (positive inside).
-double protrusion_at(const MeshQuery& query, const std::vector<Sphere>& atoms,
-                     const Eigen::Vector3d& c) {
-  const double d = query.closest_point(c).distance();
-  return reach_from(atoms, c) - (query.inside(c) ? d : -d);
+// The signed distance to the surface (positive inside) at a point y near x, whose own
+// value px is known: the closest-point search starts from x's triangle, and when |y - x|
+// < |px.depth| the segment xy does not meet the surface, so y is on x's side and no
+// winding number is needed.
+struct Probe {
+  double depth = 0.0;
+  int triangle = -1;
+};
+
+Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vector3d& x,
+            const Probe& px) {
+  const ClosestPoint cp =
+      px.triangle >= 0 ? query.closest_point(y, px.triangle) : query.closest_point(y);
+  const double d = cp.distance();
+  const bool in =
+      px.triangle >= 0 && std::abs(px.depth) > (y - x).norm() ? px.depth > 0.0 : query.inside(y);
+  return {in ? d : -d, cp.triangle};
 }
 
 // Step 3b. The minimum enclosing ball is the smallest ball holding a patch, not the one
 // that sticks out least: under a flat patch a centre at depth t sticks out by sqrt(R^2 +
-// t^2) - t < R. A pattern search (the six axis steps, halved on failure, from a quarter
-// of the radius down to 1e-3 of it) moves each centre to lower its protrusion; the
-// radius is then the distance to the farthest point.
-void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads) {
+// t^2) - t < R. A pattern search (the six axis steps, halved on failure, from \p first
+// times the radius down to 1e-3 of it) moves each centre to lower its protrusion, the
+// radius needed to hold its elements minus the depth of the centre; the radius is then
+// the distance to the farthest point.
+void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads,
+            double first = 0.25) {
   const auto members = members_of(c.owner, c.balls.size());
   const long long k = static_cast<long long>(c.balls.size());
 #pragma omp parallel num_threads(threads)
@@ -445,13 +462,16 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
       if (members[j].empty()) continue;
       const std::vector<Sphere> pts = atoms_of(e, members[j], mark);
       Eigen::Vector3d x = c.balls[j].center;
-      double fx = protrusion_at(query, pts, x);
-      for (double step = 0.25 * c.balls[j].radius; step > 1e-3 * c.balls[j].radius;) {
+      Probe px = probe(query, x, x, {});
+      double fx = reach_from(pts, x) - px.depth;
+      const double r = std::max(c.balls[j].radius, fx);
+      for (double step = first * r; step > 1e-3 * r;) {
         bool moved = false;
         for (int axis = 0; axis < 6 && !moved; ++axis) {
           const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
-          const double fy = protrusion_at(query, pts, y);
-          if (fy < fx) x = y, fx = fy, moved = true;
+          const Probe py = probe(query, y, x, px);
+          const double fy = reach_from(pts, y) - py.depth;
+          if (fy < fx) x = y, fx = fy, px = py, moved = true;
         }
         if (!moved) step *= 0.5;
       }
@@ -551,11 +571,74 @@ Clustering follow(const MeshQuery& query, const Elements& e, const Patching& pat
   return c;
 }
 
-// Steps 2 to 4 from every start, on the patches, each result carried over to the elements
-// (step 4b); the smallest union of the elements' balls wins.
+// The live balls of \p c (radius > 0), their elements renumbered.
+void drop_empty(Clustering& c) {
+  std::vector<int> index(c.balls.size(), -1);
+  std::vector<Sphere> live;
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    if (c.balls[j].radius > 0.0)
+      index[j] = static_cast<int>(live.size()), live.push_back(c.balls[j]);
+  for (int& o : c.owner) o = std::max(0, index[static_cast<std::size_t>(o)]);
+  c.balls = std::move(live);
+}
+
+// Step 4c. Minimax rounds on the elements. Each element goes to the ball whose
+// protrusion would need to grow least to hold it (its farthest point's distance to the
+// centre minus the centre's depth; for fixed centres this assignment gives the least
+// largest protrusion, as a Voronoi assignment gives the least largest radius), then each
+// centre moves as in step 3b, starting from a tenth of its radius. The rounds stop when
+// the largest protrusion drops by less than 1e-3 of itself; the best round is kept, then
+// shrunk (step 4), which only lowers protrusions.
+Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int rounds,
+                   int threads) {
+  drop_empty(c);
+  auto largest = [&](const std::vector<Sphere>& balls, std::vector<double>* depth) {
+    const std::vector<double> p = sphere_protrusions(query, balls, threads);
+    if (depth) {
+      depth->resize(balls.size());
+      for (std::size_t j = 0; j < balls.size(); ++j) (*depth)[j] = balls[j].radius - p[j];
+    }
+    return *std::max_element(p.begin(), p.end());
+  };
+  std::vector<double> depth;
+  double best_p = largest(c.balls, &depth);
+  Clustering best = c;
+  for (int round = 0; round < rounds; ++round) {
+    assign(e, c.balls, c.owner, threads, depth);
+    const auto members = members_of(c.owner, c.balls.size());
+    for (std::size_t j = 0; j < c.balls.size(); ++j)
+      if (members[j].empty()) c.balls[j].radius = 0.0;
+    deepen(query, e, c, threads, 0.1);
+    drop_empty(c);
+    const double p = largest(c.balls, &depth);
+    if (p < best_p) best = c;
+    if (!(p < best_p - 1e-3 * std::abs(best_p))) break;
+    best_p = p;
+  }
+  shrink(e, best);
+  return best;
+}
+
+// What a candidate cover costs, to choose among starts: the product of its volume
+// outside the solid (its union's volume minus V; the union's alone on an open mesh) and
+// its largest protrusion, so that neither is traded away for a small gain in the other.
+double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls,
+                  const std::optional<double>& volume, int threads) {
+  std::vector<Sphere> live;
+  for (const Sphere& b : balls)
+    if (b.radius > 0.0) live.push_back(b);
+  const double outside = std::max(union_volume(live) - volume.value_or(0.0), 0.0);
+  const std::vector<double> p = sphere_protrusions(query, live, threads);
+  return outside * std::max(*std::max_element(p.begin(), p.end()), 0.0);
+}
+
+// Steps 2 to 4c from every start, on the patches, each result carried over to the
+// elements (step 4b) and then through the minimax rounds (step 4c); of the results before
+// and after step 4c of every start, the one of least cover_cost wins.
 Clustering search(const MeshQuery& query, const Elements& e, const Patching& patching,
                   std::size_t budget, const CoverOptions& options, int threads) {
   const Elements& p = patching.patches;
+  const std::optional<double> volume = solid_volume(query.mesh());
   Clustering c;
   double best = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.starts; ++start) {
@@ -575,8 +658,11 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
                  optimise(query, p, seeds(p, budget, live, 0), options, threads), threads);
     d = follow(query, e, patching, std::move(d), threads);
     if (!f.balls.empty() && union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
-    const double v = union_volume(d.balls);
-    if (v < best) best = v, c = std::move(d);
+    Clustering m = minimax(query, e, d, options.rounds, threads);
+    for (Clustering* x : {&d, &m}) {
+      const double v = cover_cost(query, x->balls, volume, threads);
+      if (v < best) best = v, c = std::move(*x);
+    }
   }
   return c;
 }
