@@ -14,10 +14,14 @@
 // repair).
 #include "medspheres/bake/cover.h"
 
+#include "cover_threshold.h"
+
 #include <algorithm>
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdio>
+#include <cstdlib>
 #include <cstdint>
 #include <limits>
 #include <optional>
@@ -87,6 +91,16 @@ void subdivide(Elements& e, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
     }
 }
 
+// The centres of the cells of side \p cell of a grid from the corner of \p box.
+std::vector<Eigen::Vector3d> cell_centres(const Eigen::AlignedBox3d& box, double cell) {
+  std::vector<Eigen::Vector3d> grid;
+  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
+    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
+      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
+        grid.emplace_back(x, y, z);
+  return grid;
+}
+
 Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOptions& o) {
   const TriangleMesh& mesh = query.mesh();
   const Eigen::AlignedBox3d box = mesh.bounds();
@@ -124,12 +138,7 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOp
   }
   e.surface = e.items.size();
   if (o.interior_resolution <= 0) return e;
-  const double cell = L / o.interior_resolution;
-  std::vector<Eigen::Vector3d> grid;
-  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
-    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
-      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
-        grid.emplace_back(x, y, z);
+  const std::vector<Eigen::Vector3d> grid = cell_centres(box, L / o.interior_resolution);
   const std::vector<double> w = query.winding_numbers(grid, o.threads);
   for (std::size_t i = 0; i < grid.size(); ++i) {
     if (!(w[i] > 0.5)) continue;
@@ -619,6 +628,68 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
   return best;
 }
 
+// Step 2b candidates: the points of a grid inside the solid (about kCandidates of them,
+// the grid at most kCandidateGrid points) and the centres \p extra, each with its depth.
+constexpr double kCandidates = 2000.0;
+constexpr double kCandidateGrid = 20000.0;
+
+struct Candidates {
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<double> depth;
+};
+
+Candidates candidates(const MeshQuery& query, const std::vector<Eigen::Vector3d>& extra,
+                      const std::optional<double>& volume, int threads) {
+  const Eigen::AlignedBox3d box = query.mesh().bounds();
+  const double box_volume = box.sizes().prod();
+  const double cell = std::max(std::cbrt(volume.value_or(box_volume) / kCandidates),
+                               std::cbrt(box_volume / kCandidateGrid));
+  std::vector<Eigen::Vector3d> points = cell_centres(box, cell);
+  points.insert(points.end(), extra.begin(), extra.end());
+  const std::vector<double> w = query.winding_numbers(points, threads);
+  Candidates out;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (w[i] > 0.5) out.centres.push_back(points[i]);
+  const std::vector<ClosestPoint> near = query.closest_points(out.centres, threads);
+  for (const ClosestPoint& c : near) out.depth.push_back(c.distance());
+  return out;
+}
+
+// Step 2b. The minimax start: the K candidate centres chosen by the least threshold cover
+// of the patches, each patch's cost at a candidate the protrusion a ball there needs to
+// hold it (distance to its farthest point minus the candidate's depth); the elements then
+// go to them as in step 4c, each ball as large as its elements need, and the minimax
+// rounds of step 4c follow. Empty when no cover is found.
+Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elements& p,
+                           std::size_t budget, const Candidates& cand, int rounds, int threads) {
+  const std::size_t m_count = cand.centres.size(), items = p.size();
+  std::vector<float> cost(m_count * items);
+  const long long n = static_cast<long long>(m_count);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long long mm = 0; mm < n; ++mm) {
+    const std::size_t m = static_cast<std::size_t>(mm);
+    for (std::size_t q = 0; q < items; ++q)
+      cost[m * items + q] = static_cast<float>(farthest(p, q, cand.centres[m]) - cand.depth[m]);
+  }
+  const ThresholdCover tc = least_threshold_cover(
+      cost, m_count, items, budget, std::numeric_limits<double>::infinity(), 14, threads);
+  Clustering c;
+  if (std::getenv("COVER_DEBUG")) std::fprintf(stderr, "cand %zu items %zu thr %.4g picks %zu\n", m_count, items, tc.threshold, tc.picks.size());
+  if (tc.picks.empty()) return c;
+  std::vector<double> depth;
+  for (std::size_t m : tc.picks)
+    c.balls.push_back({cand.centres[m], 1.0}), depth.push_back(cand.depth[m]);
+  assign(e, c.balls, c.owner, threads, depth);
+  const auto members = members_of(c.owner, c.balls.size());
+  std::vector<char> mark(e.points.size(), 0);
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    c.balls[j].radius = members[j].empty()
+                            ? 0.0
+                            : reach_from(atoms_of(e, members[j], mark), c.balls[j].center) *
+                                  (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+  return minimax(query, e, std::move(c), rounds, threads);
+}
+
 // What a candidate cover costs, to choose among starts: the product of its volume
 // outside the solid (its union's volume minus V; the union's alone on an open mesh) and
 // its largest protrusion, so that neither is traded away for a small gain in the other.
@@ -641,6 +712,7 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
   const std::optional<double> volume = solid_volume(query.mesh());
   Clustering c;
   double best = std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> centres;  // of every start's balls: candidates of step 2b
   for (int start = 0; start < options.starts; ++start) {
     // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
     // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
@@ -660,10 +732,25 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
     if (!f.balls.empty() && union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
     Clustering m = minimax(query, e, d, options.rounds, threads);
     for (Clustering* x : {&d, &m}) {
+      for (const Sphere& b : x->balls)
+        if (b.radius > 0.0) centres.push_back(b.center);
       const double v = cover_cost(query, x->balls, volume, threads);
       if (v < best) best = v, c = std::move(*x);
     }
   }
+  Clustering t = threshold_start(query, e, p, budget, candidates(query, centres, volume, threads),
+                                 options.rounds, threads);
+  if (std::getenv("COVER_DEBUG")) {
+    auto show = [&](const char* n, const std::vector<Sphere>& b) {
+      std::vector<Sphere> live;
+      for (const Sphere& x : b) if (x.radius > 0) live.push_back(x);
+      if (live.empty()) { std::fprintf(stderr, "%s empty\n", n); return; }
+      const auto pr = sphere_protrusions(query, live, threads);
+      std::fprintf(stderr, "%s n=%zu prot=%.4g cost=%.4g\n", n, live.size(), *std::max_element(pr.begin(), pr.end()), cover_cost(query, b, volume, threads));
+    };
+    show("best", c.balls); show("thr", t.balls);
+  }
+  if (!t.balls.empty() && cover_cost(query, t.balls, volume, threads) < best) c = std::move(t);
   return c;
 }
 
