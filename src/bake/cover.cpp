@@ -20,9 +20,9 @@
 #include <array>
 #include <chrono>
 #include <cmath>
+#include <cstdint>
 #include <cstdio>
 #include <cstdlib>
-#include <cstdint>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -44,6 +44,7 @@ constexpr double kElementCap = 40000.0;
 // Patches (step 1b): at most max(kPatchFloor, kPatchesPerBall K) on the surface.
 constexpr double kPatchFloor = 1500.0;
 constexpr double kPatchesPerBall = 60.0;
+constexpr double kFinePatchFloor = 4000.0;  // step 2b
 
 // Constraint points and the elements made of them: elements [0, surface) are surface
 // pieces (three point indices), the rest interior points (one index, thrice).
@@ -210,10 +211,10 @@ Patching make_patches(const Elements& e, double cell, const Eigen::Vector3d& ori
 }
 
 // The side of the patch grid: half the element size, coarsened (by 1.25 at a time) until
-// there are at most max(kPatchFloor, kPatchesPerBall K) surface patches.
+// there are at most max(floor, kPatchesPerBall K) surface patches.
 double patch_cell(const Elements& e, std::size_t budget, double element_size,
-                  const Eigen::Vector3d& origin) {
-  const double cap = std::max(kPatchFloor, kPatchesPerBall * static_cast<double>(budget));
+                  const Eigen::Vector3d& origin, double floor = kPatchFloor) {
+  const double cap = std::max(floor, kPatchesPerBall * static_cast<double>(budget));
   std::unordered_map<std::uint64_t, char> seen;
   for (double cell = 0.5 * element_size;; cell *= 1.25) {
     seen.clear();
@@ -452,6 +453,34 @@ Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vecto
   return {in ? d : -d, cp.triangle};
 }
 
+// reach_from(atoms, y) for points y near a pivot x0, exactly, from a subset: an atom with
+// |a - x0| + r_a < R(x0) - 2 delta (R the reach at x0) is nearer than R - delta to any y
+// within delta of x0, while the atom farthest from x0 is at least that far from y; so
+// only the others are scanned. The pivot moves (a full scan) when y leaves its delta
+// ball or the asked delta falls below an eighth of the pivot's.
+class FarthestAtoms {
+ public:
+  explicit FarthestAtoms(const std::vector<Sphere>& atoms) : atoms_(atoms) {}
+  double operator()(const Eigen::Vector3d& y, double delta) {
+    if (near_.empty() || delta > delta_ || 8.0 * delta < delta_ || (y - pivot_).norm() > delta_)
+      pivot(y, delta);
+    return reach_from(near_, y);
+  }
+
+ private:
+  void pivot(const Eigen::Vector3d& x, double delta) {
+    pivot_ = x, delta_ = delta;
+    const double R = reach_from(atoms_, x);
+    near_.clear();
+    for (const Sphere& a : atoms_)
+      if ((a.center - x).norm() + a.radius >= R - 2.0 * delta) near_.push_back(a);
+  }
+  const std::vector<Sphere>& atoms_;
+  std::vector<Sphere> near_;
+  Eigen::Vector3d pivot_ = Eigen::Vector3d::Zero();
+  double delta_ = 0.0;
+};
+
 // Step 3b. The minimum enclosing ball is the smallest ball holding a patch, not the one
 // that sticks out least: under a flat patch a centre at depth t sticks out by sqrt(R^2 +
 // t^2) - t < R. A pattern search (the six axis steps, halved on failure, from \p first
@@ -470,6 +499,7 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
       const std::size_t j = static_cast<std::size_t>(jj);
       if (members[j].empty()) continue;
       const std::vector<Sphere> pts = atoms_of(e, members[j], mark);
+      FarthestAtoms reach(pts);
       Eigen::Vector3d x = c.balls[j].center;
       Probe px = probe(query, x, x, {});
       double fx = reach_from(pts, x) - px.depth;
@@ -479,7 +509,7 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
         for (int axis = 0; axis < 6 && !moved; ++axis) {
           const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
           const Probe py = probe(query, y, x, px);
-          const double fy = reach_from(pts, y) - py.depth;
+          const double fy = reach(y, 4.0 * step) - py.depth;
           if (fy < fx) x = y, fx = fy, px = py, moved = true;
         }
         if (!moved) step *= 0.5;
@@ -631,6 +661,8 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
 // Step 2b candidates: the points of a grid inside the solid (about kCandidates of them,
 // the grid at most kCandidateGrid points) and the centres \p extra, each with its depth.
 constexpr double kCandidates = 2000.0;
+constexpr int kThresholdHalvings = 10;
+constexpr int kMinimaxRounds = 8;
 constexpr double kCandidateGrid = 20000.0;
 
 struct Candidates {
@@ -661,7 +693,8 @@ Candidates candidates(const MeshQuery& query, const std::vector<Eigen::Vector3d>
 // go to them as in step 4c, each ball as large as its elements need, and the minimax
 // rounds of step 4c follow. Empty when no cover is found.
 Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elements& p,
-                           std::size_t budget, const Candidates& cand, int rounds, int threads) {
+                           std::size_t budget, const Candidates& cand, double hi, int rounds,
+                           int threads) {
   const std::size_t m_count = cand.centres.size(), items = p.size();
   std::vector<float> cost(m_count * items);
   const long long n = static_cast<long long>(m_count);
@@ -671,10 +704,12 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
     for (std::size_t q = 0; q < items; ++q)
       cost[m * items + q] = static_cast<float>(farthest(p, q, cand.centres[m]) - cand.depth[m]);
   }
-  const ThresholdCover tc = least_threshold_cover(
-      cost, m_count, items, budget, std::numeric_limits<double>::infinity(), 14, threads);
+  const ThresholdCover tc =
+      least_threshold_cover(cost, m_count, items, budget, hi, kThresholdHalvings, threads);
   Clustering c;
-  if (std::getenv("COVER_DEBUG")) std::fprintf(stderr, "cand %zu items %zu thr %.4g picks %zu\n", m_count, items, tc.threshold, tc.picks.size());
+  if (std::getenv("COVER_DEBUG"))
+    std::fprintf(stderr, "cand %zu items %zu thr %.4g picks %zu\n", m_count, items, tc.threshold,
+                 tc.picks.size());
   if (tc.picks.empty()) return c;
   std::vector<double> depth;
   for (std::size_t m : tc.picks)
@@ -690,6 +725,15 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
   return minimax(query, e, std::move(c), rounds, threads);
 }
 
+// The largest protrusion of the balls of radius > 0.
+double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls, int threads) {
+  std::vector<Sphere> live;
+  for (const Sphere& b : balls)
+    if (b.radius > 0.0) live.push_back(b);
+  const std::vector<double> p = sphere_protrusions(query, live, threads);
+  return p.empty() ? 0.0 : *std::max_element(p.begin(), p.end());
+}
+
 // What a candidate cover costs, to choose among starts: the product of its volume
 // outside the solid (its union's volume minus V; the union's alone on an open mesh) and
 // its largest protrusion, so that neither is traded away for a small gain in the other.
@@ -699,15 +743,15 @@ double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls,
   for (const Sphere& b : balls)
     if (b.radius > 0.0) live.push_back(b);
   const double outside = std::max(union_volume(live) - volume.value_or(0.0), 0.0);
-  const std::vector<double> p = sphere_protrusions(query, live, threads);
-  return outside * std::max(*std::max_element(p.begin(), p.end()), 0.0);
+  return outside * std::max(largest_protrusion(query, live, threads), 0.0);
 }
 
 // Steps 2 to 4c from every start, on the patches, each result carried over to the
 // elements (step 4b) and then through the minimax rounds (step 4c); of the results before
 // and after step 4c of every start, the one of least cover_cost wins.
 Clustering search(const MeshQuery& query, const Elements& e, const Patching& patching,
-                  std::size_t budget, const CoverOptions& options, int threads) {
+                  const Elements& fine, std::size_t budget, const CoverOptions& options,
+                  int threads) {
   const Elements& p = patching.patches;
   const std::optional<double> volume = solid_volume(query.mesh());
   Clustering c;
@@ -730,25 +774,36 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
                  optimise(query, p, seeds(p, budget, live, 0), options, threads), threads);
     d = follow(query, e, patching, std::move(d), threads);
     if (!f.balls.empty() && union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
-    Clustering m = minimax(query, e, d, options.rounds, threads);
-    for (Clustering* x : {&d, &m}) {
-      for (const Sphere& b : x->balls)
-        if (b.radius > 0.0) centres.push_back(b.center);
-      const double v = cover_cost(query, x->balls, volume, threads);
-      if (v < best) best = v, c = std::move(*x);
-    }
+    for (const Sphere& b : d.balls)
+      if (b.radius > 0.0) centres.push_back(b.center);
+    const double v = cover_cost(query, d.balls, volume, threads);
+    if (v < best) best = v, c = std::move(d);
   }
-  Clustering t = threshold_start(query, e, p, budget, candidates(query, centres, volume, threads),
-                                 options.rounds, threads);
+  const double t0 =
+      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
+  Clustering t =
+      threshold_start(query, e, fine, budget, candidates(query, centres, volume, threads),
+                      largest_protrusion(query, c.balls, threads),
+                      std::min(options.rounds, kMinimaxRounds), threads);
   if (std::getenv("COVER_DEBUG")) {
+    std::fprintf(
+        stderr, "threshold stage %.3f s\n",
+        std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
+            t0);
     auto show = [&](const char* n, const std::vector<Sphere>& b) {
       std::vector<Sphere> live;
-      for (const Sphere& x : b) if (x.radius > 0) live.push_back(x);
-      if (live.empty()) { std::fprintf(stderr, "%s empty\n", n); return; }
+      for (const Sphere& x : b)
+        if (x.radius > 0) live.push_back(x);
+      if (live.empty()) {
+        std::fprintf(stderr, "%s empty\n", n);
+        return;
+      }
       const auto pr = sphere_protrusions(query, live, threads);
-      std::fprintf(stderr, "%s n=%zu prot=%.4g cost=%.4g\n", n, live.size(), *std::max_element(pr.begin(), pr.end()), cover_cost(query, b, volume, threads));
+      std::fprintf(stderr, "%s n=%zu prot=%.4g cost=%.4g\n", n, live.size(),
+                   *std::max_element(pr.begin(), pr.end()), cover_cost(query, b, volume, threads));
     };
-    show("best", c.balls); show("thr", t.balls);
+    show("best", c.balls);
+    show("thr", t.balls);
   }
   if (!t.balls.empty() && cover_cost(query, t.balls, volume, threads) < best) c = std::move(t);
   return c;
@@ -799,7 +854,10 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Eigen::Vector3d origin = mesh.bounds().min();
   const Patching patching = make_patches(e, patch_cell(e, budget, e.element_size, origin), origin);
   s.patches = patching.patches.surface;
-  const Clustering c = search(query, e, patching, budget, options, threads);
+  // Finer patches for the threshold cover of step 2b.
+  const Patching fine =
+      make_patches(e, patch_cell(e, budget, e.element_size, origin, kFinePatchFloor), origin);
+  const Clustering c = search(query, e, patching, fine.patches, budget, options, threads);
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;
   const double coordinates =

@@ -61,7 +61,7 @@
 namespace medspheres {
 
 struct CoverOptions {
-  int starts = 3;  ///< steps 2 to 4 from this many first centres, >= 1; the smallest union wins
+  int starts = 2;  ///< steps 2 to 4 from this many first centres, >= 1; the smallest union wins
   std::uint64_t seed = 1;               ///< draws the first centre of every start but the first
   int rounds = 24;                      ///< step 3 rounds at most, >= 1
   int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
