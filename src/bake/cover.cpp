@@ -12,6 +12,15 @@
 // subdivision, so a ball that holds an element's three computed corners with a margin
 // above the certificate's rounding allowance certifies it (step 5 rarely has anything to
 // repair).
+//
+// Why step 4c. Steps 3 to 4b minimise the union's volume; the largest protrusion is a
+// bottleneck they do not see: one ball over a thin fin or a corner sticks out far while
+// the rest fit closely. With the protrusion of a ball at c holding a point p written as
+// |p - c| - D(c), the least largest protrusion of K balls is a k-center problem under an
+// additively weighted distance: the threshold search with a greedy set cover gives a
+// global start (a log-factor approximation of the bottleneck), and the minimax rounds
+// (weighted Voronoi assignment, then each centre moved to lower its own protrusion) the
+// local improvement, the analogue of step 3 for the largest protrusion.
 #include "medspheres/bake/cover.h"
 
 #include "cover_threshold.h"
@@ -21,8 +30,6 @@
 #include <chrono>
 #include <cmath>
 #include <cstdint>
-#include <cstdio>
-#include <cstdlib>
 #include <limits>
 #include <optional>
 #include <stdexcept>
@@ -44,7 +51,7 @@ constexpr double kElementCap = 40000.0;
 // Patches (step 1b): at most max(kPatchFloor, kPatchesPerBall K) on the surface.
 constexpr double kPatchFloor = 1500.0;
 constexpr double kPatchesPerBall = 60.0;
-constexpr double kFinePatchFloor = 4000.0;  // step 2b
+constexpr double kFinePatchFloor = 4000.0;  // step 4c
 
 // Constraint points and the elements made of them: elements [0, surface) are surface
 // pieces (three point indices), the rest interior points (one index, thrice).
@@ -621,7 +628,7 @@ void drop_empty(Clustering& c) {
   c.balls = std::move(live);
 }
 
-// Step 4c. Minimax rounds on the elements. Each element goes to the ball whose
+// Step 4c, the rounds. Minimax rounds on the elements. Each element goes to the ball whose
 // protrusion would need to grow least to hold it (its farthest point's distance to the
 // centre minus the centre's depth; for fixed centres this assignment gives the least
 // largest protrusion, as a Voronoi assignment gives the least largest radius), then each
@@ -658,7 +665,7 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
   return best;
 }
 
-// Step 2b candidates: the points of a grid inside the solid (about kCandidates of them,
+// Step 4c candidates: the points of a grid inside the solid (about kCandidates of them,
 // the grid at most kCandidateGrid points) and the centres \p extra, each with its depth.
 constexpr double kCandidates = 2000.0;
 constexpr int kThresholdHalvings = 10;
@@ -687,11 +694,11 @@ Candidates candidates(const MeshQuery& query, const std::vector<Eigen::Vector3d>
   return out;
 }
 
-// Step 2b. The minimax start: the K candidate centres chosen by the least threshold cover
+// Step 4c. The minimax start: the K candidate centres chosen by the least threshold cover
 // of the patches, each patch's cost at a candidate the protrusion a ball there needs to
 // hold it (distance to its farthest point minus the candidate's depth); the elements then
-// go to them as in step 4c, each ball as large as its elements need, and the minimax
-// rounds of step 4c follow. Empty when no cover is found.
+// go to them as in the rounds below, each ball as large as its elements need, and the
+// minimax rounds follow. Empty when no cover is found.
 Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elements& p,
                            std::size_t budget, const Candidates& cand, double hi, int rounds,
                            int threads) {
@@ -707,9 +714,6 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
   const ThresholdCover tc =
       least_threshold_cover(cost, m_count, items, budget, hi, kThresholdHalvings, threads);
   Clustering c;
-  if (std::getenv("COVER_DEBUG"))
-    std::fprintf(stderr, "cand %zu items %zu thr %.4g picks %zu\n", m_count, items, tc.threshold,
-                 tc.picks.size());
   if (tc.picks.empty()) return c;
   std::vector<double> depth;
   for (std::size_t m : tc.picks)
@@ -746,9 +750,10 @@ double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls,
   return outside * std::max(largest_protrusion(query, live, threads), 0.0);
 }
 
-// Steps 2 to 4c from every start, on the patches, each result carried over to the
-// elements (step 4b) and then through the minimax rounds (step 4c); of the results before
-// and after step 4c of every start, the one of least cover_cost wins.
+// Steps 2 to 4 from every start, on the patches, each result carried over to the elements
+// (step 4b); then the minimax start (step 4c) from candidates that include every start's
+// centres, and its threshold search bounded by the best start's largest protrusion. The
+// least cover_cost wins (step 4d).
 Clustering search(const MeshQuery& query, const Elements& e, const Patching& patching,
                   const Elements& fine, std::size_t budget, const CoverOptions& options,
                   int threads) {
@@ -756,7 +761,7 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
   const std::optional<double> volume = solid_volume(query.mesh());
   Clustering c;
   double best = std::numeric_limits<double>::infinity();
-  std::vector<Eigen::Vector3d> centres;  // of every start's balls: candidates of step 2b
+  std::vector<Eigen::Vector3d> centres;  // of every start's balls: candidates of step 4c
   for (int start = 0; start < options.starts; ++start) {
     // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
     // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
@@ -779,32 +784,10 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
     const double v = cover_cost(query, d.balls, volume, threads);
     if (v < best) best = v, c = std::move(d);
   }
-  const double t0 =
-      std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count();
   Clustering t =
       threshold_start(query, e, fine, budget, candidates(query, centres, volume, threads),
                       largest_protrusion(query, c.balls, threads),
                       std::min(options.rounds, kMinimaxRounds), threads);
-  if (std::getenv("COVER_DEBUG")) {
-    std::fprintf(
-        stderr, "threshold stage %.3f s\n",
-        std::chrono::duration<double>(std::chrono::steady_clock::now().time_since_epoch()).count() -
-            t0);
-    auto show = [&](const char* n, const std::vector<Sphere>& b) {
-      std::vector<Sphere> live;
-      for (const Sphere& x : b)
-        if (x.radius > 0) live.push_back(x);
-      if (live.empty()) {
-        std::fprintf(stderr, "%s empty\n", n);
-        return;
-      }
-      const auto pr = sphere_protrusions(query, live, threads);
-      std::fprintf(stderr, "%s n=%zu prot=%.4g cost=%.4g\n", n, live.size(),
-                   *std::max_element(pr.begin(), pr.end()), cover_cost(query, b, volume, threads));
-    };
-    show("best", c.balls);
-    show("thr", t.balls);
-  }
   if (!t.balls.empty() && cover_cost(query, t.balls, volume, threads) < best) c = std::move(t);
   return c;
 }
@@ -854,7 +837,7 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Eigen::Vector3d origin = mesh.bounds().min();
   const Patching patching = make_patches(e, patch_cell(e, budget, e.element_size, origin), origin);
   s.patches = patching.patches.surface;
-  // Finer patches for the threshold cover of step 2b.
+  // Finer patches for the threshold cover of step 4c.
   const Patching fine =
       make_patches(e, patch_cell(e, budget, e.element_size, origin, kFinePatchFloor), origin);
   const Clustering c = search(query, e, patching, fine.patches, budget, options, threads);

@@ -1,6 +1,6 @@
 #pragma once
 // The least threshold at which a budget of candidates covers every item: the bottleneck
-// set cover behind the covering bake's minimax start (cover.cpp, step 2b).
+// set cover behind the covering bake's minimax start (cover.cpp, step 4c).
 
 #include <cstddef>
 #include <vector>
