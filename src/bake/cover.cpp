@@ -753,7 +753,8 @@ double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls,
 // Steps 2 to 4 from every start, on the patches, each result carried over to the elements
 // (step 4b); then the minimax start (step 4c) from candidates that include every start's
 // centres, and its threshold search bounded by the best start's largest protrusion. The
-// least cover_cost wins (step 4d).
+// least cover_cost wins (step 4d) among the results whose union is no larger than start
+// 0's single ball.
 Clustering search(const MeshQuery& query, const Elements& e, const Patching& patching,
                   const Elements& fine, std::size_t budget, const CoverOptions& options,
                   int threads) {
@@ -762,6 +763,9 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
   Clustering c;
   double best = std::numeric_limits<double>::infinity();
   std::vector<Eigen::Vector3d> centres;  // of every start's balls: candidates of step 4c
+  // The union of start 0's single ball: no result with a larger union is kept, so the
+  // cover is never looser than the (inward-moved) bounding sphere.
+  double one_ball = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.starts; ++start) {
     // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
     // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
@@ -778,17 +782,20 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
       f = follow(query, e, patching,
                  optimise(query, p, seeds(p, budget, live, 0), options, threads), threads);
     d = follow(query, e, patching, std::move(d), threads);
+    if (start == 0) one_ball = union_volume(d.balls);
     if (!f.balls.empty() && union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
     for (const Sphere& b : d.balls)
       if (b.radius > 0.0) centres.push_back(b.center);
     const double v = cover_cost(query, d.balls, volume, threads);
-    if (v < best) best = v, c = std::move(d);
+    if (union_volume(d.balls) <= one_ball && v < best) best = v, c = std::move(d);
   }
   Clustering t =
       threshold_start(query, e, fine, budget, candidates(query, centres, volume, threads),
                       largest_protrusion(query, c.balls, threads),
                       std::min(options.rounds, kMinimaxRounds), threads);
-  if (!t.balls.empty() && cover_cost(query, t.balls, volume, threads) < best) c = std::move(t);
+  if (!t.balls.empty() && union_volume(t.balls) <= one_ball &&
+      cover_cost(query, t.balls, volume, threads) < best)
+    c = std::move(t);
   return c;
 }
 

@@ -43,7 +43,8 @@
 ///    shrink of step 4.
 /// 4d. The winner, among every start's result and the minimax start's: the least product
 ///    of the volume outside the solid (U - V; U on an open mesh) and the largest
-///    protrusion, so that neither is traded for a small gain in the other.
+///    protrusion, so that neither is traded for a small gain in the other; a result whose
+///    union is larger than that of start 0's single ball (moved inward) is not eligible.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
