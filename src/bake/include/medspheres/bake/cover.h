@@ -75,9 +75,9 @@
 namespace medspheres {
 
 struct CoverOptions {
-  int starts = 2;  ///< steps 2 to 4b from this many first centres, >= 1 (then step 4c)
-  std::uint64_t seed = 1;               ///< draws the first centre of every start but the first
-  int rounds = 24;                      ///< step 3 rounds at most (step 4c: min(8, rounds)), >= 1
+  int starts = 2;          ///< steps 2 to 4b from this many first centres, >= 1 (then step 4c)
+  std::uint64_t seed = 1;  ///< draws the first centre of every start but the first
+  int rounds = 24;         ///< step 3 rounds at most (step 4c: min(8, rounds)), >= 1
   int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
   int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
   CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
