@@ -12,7 +12,18 @@
 // subdivision, so a ball that holds an element's three computed corners with a margin
 // above the certificate's rounding allowance certifies it (step 5 rarely has anything to
 // repair).
+//
+// Why step 4c. Steps 3 to 4b minimise the union's volume; the largest protrusion is a
+// bottleneck they do not see: one ball over a thin fin or a corner sticks out far while
+// the rest fit closely. With the protrusion of a ball at c holding a point p written as
+// |p - c| - D(c), the least largest protrusion of K balls is a k-center problem under an
+// additively weighted distance: the threshold search with a greedy set cover gives a
+// global start (a log-factor approximation of the bottleneck), and the minimax rounds
+// (weighted Voronoi assignment, then each centre moved to lower its own protrusion) the
+// local improvement, the analogue of step 3 for the largest protrusion.
 #include "medspheres/bake/cover.h"
+
+#include "cover_threshold.h"
 
 #include <algorithm>
 #include <array>
@@ -20,6 +31,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <optional>
 #include <stdexcept>
 #include <string>
 #include <unordered_map>
@@ -39,6 +51,7 @@ constexpr double kElementCap = 40000.0;
 // Patches (step 1b): at most max(kPatchFloor, kPatchesPerBall K) on the surface.
 constexpr double kPatchFloor = 1500.0;
 constexpr double kPatchesPerBall = 60.0;
+constexpr double kFinePatchFloor = 4000.0;  // step 4c
 
 // Constraint points and the elements made of them: elements [0, surface) are surface
 // pieces (three point indices), the rest interior points (one index, thrice).
@@ -86,6 +99,16 @@ void subdivide(Elements& e, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
     }
 }
 
+// The centres of the cells of side \p cell of a grid from the corner of \p box.
+std::vector<Eigen::Vector3d> cell_centres(const Eigen::AlignedBox3d& box, double cell) {
+  std::vector<Eigen::Vector3d> grid;
+  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
+    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
+      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
+        grid.emplace_back(x, y, z);
+  return grid;
+}
+
 Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOptions& o) {
   const TriangleMesh& mesh = query.mesh();
   const Eigen::AlignedBox3d box = mesh.bounds();
@@ -123,12 +146,7 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, const CoverOp
   }
   e.surface = e.items.size();
   if (o.interior_resolution <= 0) return e;
-  const double cell = L / o.interior_resolution;
-  std::vector<Eigen::Vector3d> grid;
-  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
-    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
-      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
-        grid.emplace_back(x, y, z);
+  const std::vector<Eigen::Vector3d> grid = cell_centres(box, L / o.interior_resolution);
   const std::vector<double> w = query.winding_numbers(grid, o.threads);
   for (std::size_t i = 0; i < grid.size(); ++i) {
     if (!(w[i] > 0.5)) continue;
@@ -200,10 +218,10 @@ Patching make_patches(const Elements& e, double cell, const Eigen::Vector3d& ori
 }
 
 // The side of the patch grid: half the element size, coarsened (by 1.25 at a time) until
-// there are at most max(kPatchFloor, kPatchesPerBall K) surface patches.
+// there are at most max(floor, kPatchesPerBall K) surface patches.
 double patch_cell(const Elements& e, std::size_t budget, double element_size,
-                  const Eigen::Vector3d& origin) {
-  const double cap = std::max(kPatchFloor, kPatchesPerBall * static_cast<double>(budget));
+                  const Eigen::Vector3d& origin, double floor = kPatchFloor) {
+  const double cap = std::max(floor, kPatchesPerBall * static_cast<double>(budget));
   std::unordered_map<std::uint64_t, char> seen;
   for (double cell = 0.5 * element_size;; cell *= 1.25) {
     seen.clear();
@@ -218,8 +236,10 @@ double patch_cell(const Elements& e, std::size_t budget, double element_size,
 // index), a Voronoi assignment of whole elements. (Assigning by the growth a ball needs,
 // which favours large balls, gave larger unions on most meshes tried.) The centroid
 // bounds the farthest distance within |g - c| +- reach, which skips most centres.
+// With \p depth (one per ball) the cost of centre j is that distance minus depth[j]: the
+// protrusion ball j would need to hold the element (step 4c).
 void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int>& owner,
-            int threads) {
+            int threads, const std::vector<double>& depth = {}) {
   const long long n = static_cast<long long>(e.size());
   owner.resize(e.size());
 #pragma omp parallel num_threads(threads)
@@ -230,7 +250,8 @@ void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int
       const std::size_t i = static_cast<std::size_t>(ii);
       double best_hi = std::numeric_limits<double>::infinity();
       for (std::size_t j = 0; j < balls.size(); ++j) {
-        const double g = (e.centroids[i] - balls[j].center).norm();
+        const double g =
+            (e.centroids[i] - balls[j].center).norm() - (depth.empty() ? 0.0 : depth[j]);
         lo[j] = g - e.reach[i];
         best_hi = std::min(best_hi, g + e.reach[i]);
       }
@@ -238,7 +259,7 @@ void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int
       int arg = 0;
       for (std::size_t j = 0; j < balls.size(); ++j) {
         if (lo[j] > best_hi || lo[j] >= best) continue;
-        const double v = farthest(e, i, balls[j].center);
+        const double v = farthest(e, i, balls[j].center) - (depth.empty() ? 0.0 : depth[j]);
         if (v < best) {
           best = v;
           arg = static_cast<int>(j);
@@ -420,20 +441,61 @@ bool holds(const Elements& e, std::size_t i, const Sphere& b) {
   return farthest(e, i, b.center) <= b.radius;
 }
 
-// How far the ball centred at c that holds \p pts sticks out of the solid: its radius
-// minus the signed distance of c (positive inside).
-double protrusion_at(const MeshQuery& query, const std::vector<Sphere>& atoms,
-                     const Eigen::Vector3d& c) {
-  const double d = query.closest_point(c).distance();
-  return reach_from(atoms, c) - (query.inside(c) ? d : -d);
+// The signed distance to the surface (positive inside) at a point y near x, whose own
+// value px is known: the closest-point search starts from x's triangle, and when |y - x|
+// < |px.depth| the segment xy does not meet the surface, so y is on x's side and no
+// winding number is needed.
+struct Probe {
+  double depth = 0.0;
+  int triangle = -1;
+};
+
+Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vector3d& x,
+            const Probe& px) {
+  const ClosestPoint cp =
+      px.triangle >= 0 ? query.closest_point(y, px.triangle) : query.closest_point(y);
+  const double d = cp.distance();
+  const bool in =
+      px.triangle >= 0 && std::abs(px.depth) > (y - x).norm() ? px.depth > 0.0 : query.inside(y);
+  return {in ? d : -d, cp.triangle};
 }
+
+// reach_from(atoms, y) for points y near a pivot x0, exactly, from a subset: an atom with
+// |a - x0| + r_a < R(x0) - 2 delta (R the reach at x0) is nearer than R - delta to any y
+// within delta of x0, while the atom farthest from x0 is at least that far from y; so
+// only the others are scanned. The pivot moves (a full scan) when y leaves its delta
+// ball or the asked delta falls below an eighth of the pivot's.
+class FarthestAtoms {
+ public:
+  explicit FarthestAtoms(const std::vector<Sphere>& atoms) : atoms_(atoms) {}
+  double operator()(const Eigen::Vector3d& y, double delta) {
+    if (near_.empty() || delta > delta_ || 8.0 * delta < delta_ || (y - pivot_).norm() > delta_)
+      pivot(y, delta);
+    return reach_from(near_, y);
+  }
+
+ private:
+  void pivot(const Eigen::Vector3d& x, double delta) {
+    pivot_ = x, delta_ = delta;
+    const double R = reach_from(atoms_, x);
+    near_.clear();
+    for (const Sphere& a : atoms_)
+      if ((a.center - x).norm() + a.radius >= R - 2.0 * delta) near_.push_back(a);
+  }
+  const std::vector<Sphere>& atoms_;
+  std::vector<Sphere> near_;
+  Eigen::Vector3d pivot_ = Eigen::Vector3d::Zero();
+  double delta_ = 0.0;
+};
 
 // Step 3b. The minimum enclosing ball is the smallest ball holding a patch, not the one
 // that sticks out least: under a flat patch a centre at depth t sticks out by sqrt(R^2 +
-// t^2) - t < R. A pattern search (the six axis steps, halved on failure, from a quarter
-// of the radius down to 1e-3 of it) moves each centre to lower its protrusion; the
-// radius is then the distance to the farthest point.
-void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads) {
+// t^2) - t < R. A pattern search (the six axis steps, halved on failure, from \p first
+// times the radius down to 1e-3 of it) moves each centre to lower its protrusion, the
+// radius needed to hold its elements minus the depth of the centre; the radius is then
+// the distance to the farthest point.
+void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads,
+            double first = 0.25) {
   const auto members = members_of(c.owner, c.balls.size());
   const long long k = static_cast<long long>(c.balls.size());
 #pragma omp parallel num_threads(threads)
@@ -444,14 +506,18 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
       const std::size_t j = static_cast<std::size_t>(jj);
       if (members[j].empty()) continue;
       const std::vector<Sphere> pts = atoms_of(e, members[j], mark);
+      FarthestAtoms reach(pts);
       Eigen::Vector3d x = c.balls[j].center;
-      double fx = protrusion_at(query, pts, x);
-      for (double step = 0.25 * c.balls[j].radius; step > 1e-3 * c.balls[j].radius;) {
+      Probe px = probe(query, x, x, {});
+      double fx = reach_from(pts, x) - px.depth;
+      const double r = std::max(c.balls[j].radius, fx);
+      for (double step = first * r; step > 1e-3 * r;) {
         bool moved = false;
         for (int axis = 0; axis < 6 && !moved; ++axis) {
           const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
-          const double fy = protrusion_at(query, pts, y);
-          if (fy < fx) x = y, fx = fy, moved = true;
+          const Probe py = probe(query, y, x, px);
+          const double fy = reach(y, 4.0 * step) - py.depth;
+          if (fy < fx) x = y, fx = fy, px = py, moved = true;
         }
         if (!moved) step *= 0.5;
       }
@@ -551,13 +617,155 @@ Clustering follow(const MeshQuery& query, const Elements& e, const Patching& pat
   return c;
 }
 
+// The live balls of \p c (radius > 0), their elements renumbered.
+void drop_empty(Clustering& c) {
+  std::vector<int> index(c.balls.size(), -1);
+  std::vector<Sphere> live;
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    if (c.balls[j].radius > 0.0)
+      index[j] = static_cast<int>(live.size()), live.push_back(c.balls[j]);
+  for (int& o : c.owner) o = std::max(0, index[static_cast<std::size_t>(o)]);
+  c.balls = std::move(live);
+}
+
+// Step 4c, the rounds. Minimax rounds on the elements. Each element goes to the ball whose
+// protrusion would need to grow least to hold it (its farthest point's distance to the
+// centre minus the centre's depth; for fixed centres this assignment gives the least
+// largest protrusion, as a Voronoi assignment gives the least largest radius), then each
+// centre moves as in step 3b, starting from a tenth of its radius. The rounds stop when
+// the largest protrusion drops by less than 1e-3 of itself; the best round is kept, then
+// shrunk (step 4), which only lowers protrusions.
+Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int rounds,
+                   int threads) {
+  drop_empty(c);
+  auto largest = [&](const std::vector<Sphere>& balls, std::vector<double>* depth) {
+    const std::vector<double> p = sphere_protrusions(query, balls, threads);
+    if (depth) {
+      depth->resize(balls.size());
+      for (std::size_t j = 0; j < balls.size(); ++j) (*depth)[j] = balls[j].radius - p[j];
+    }
+    return *std::max_element(p.begin(), p.end());
+  };
+  std::vector<double> depth;
+  double best_p = largest(c.balls, &depth);
+  Clustering best = c;
+  for (int round = 0; round < rounds; ++round) {
+    assign(e, c.balls, c.owner, threads, depth);
+    const auto members = members_of(c.owner, c.balls.size());
+    for (std::size_t j = 0; j < c.balls.size(); ++j)
+      if (members[j].empty()) c.balls[j].radius = 0.0;
+    deepen(query, e, c, threads, 0.1);
+    drop_empty(c);
+    const double p = largest(c.balls, &depth);
+    if (p < best_p) best = c;
+    if (!(p < best_p - 1e-3 * std::abs(best_p))) break;
+    best_p = p;
+  }
+  shrink(e, best);
+  return best;
+}
+
+// Step 4c candidates: the points of a grid inside the solid (about kCandidates of them,
+// the grid at most kCandidateGrid points) and the centres \p extra, each with its depth.
+constexpr double kCandidates = 2000.0;
+constexpr int kThresholdHalvings = 10;
+constexpr int kMinimaxRounds = 8;
+constexpr double kCandidateGrid = 20000.0;
+
+struct Candidates {
+  std::vector<Eigen::Vector3d> centres;
+  std::vector<double> depth;
+};
+
+Candidates candidates(const MeshQuery& query, const std::vector<Eigen::Vector3d>& extra,
+                      const std::optional<double>& volume, int threads) {
+  const Eigen::AlignedBox3d box = query.mesh().bounds();
+  const double box_volume = box.sizes().prod();
+  const double cell = std::max(std::cbrt(volume.value_or(box_volume) / kCandidates),
+                               std::cbrt(box_volume / kCandidateGrid));
+  std::vector<Eigen::Vector3d> points = cell_centres(box, cell);
+  points.insert(points.end(), extra.begin(), extra.end());
+  const std::vector<double> w = query.winding_numbers(points, threads);
+  Candidates out;
+  for (std::size_t i = 0; i < points.size(); ++i)
+    if (w[i] > 0.5) out.centres.push_back(points[i]);
+  const std::vector<ClosestPoint> near = query.closest_points(out.centres, threads);
+  for (const ClosestPoint& c : near) out.depth.push_back(c.distance());
+  return out;
+}
+
+// Step 4c. The minimax start: the K candidate centres chosen by the least threshold cover
+// of the patches, each patch's cost at a candidate the protrusion a ball there needs to
+// hold it (distance to its farthest point minus the candidate's depth); the elements then
+// go to them as in the rounds below, each ball as large as its elements need, and the
+// minimax rounds follow. Empty when no cover is found.
+Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elements& p,
+                           std::size_t budget, const Candidates& cand, double hi, int rounds,
+                           int threads) {
+  const std::size_t m_count = cand.centres.size(), items = p.size();
+  std::vector<float> cost(m_count * items);
+  const long long n = static_cast<long long>(m_count);
+#pragma omp parallel for schedule(static) num_threads(threads)
+  for (long long mm = 0; mm < n; ++mm) {
+    const std::size_t m = static_cast<std::size_t>(mm);
+    for (std::size_t q = 0; q < items; ++q)
+      cost[m * items + q] = static_cast<float>(farthest(p, q, cand.centres[m]) - cand.depth[m]);
+  }
+  const ThresholdCover tc =
+      least_threshold_cover(cost, m_count, items, budget, hi, kThresholdHalvings, threads);
+  Clustering c;
+  if (tc.picks.empty()) return c;
+  std::vector<double> depth;
+  for (std::size_t m : tc.picks)
+    c.balls.push_back({cand.centres[m], 1.0}), depth.push_back(cand.depth[m]);
+  assign(e, c.balls, c.owner, threads, depth);
+  const auto members = members_of(c.owner, c.balls.size());
+  std::vector<char> mark(e.points.size(), 0);
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    c.balls[j].radius = members[j].empty()
+                            ? 0.0
+                            : reach_from(atoms_of(e, members[j], mark), c.balls[j].center) *
+                                  (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+  return minimax(query, e, std::move(c), rounds, threads);
+}
+
+// The largest protrusion of the balls of radius > 0.
+double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls, int threads) {
+  std::vector<Sphere> live;
+  for (const Sphere& b : balls)
+    if (b.radius > 0.0) live.push_back(b);
+  const std::vector<double> p = sphere_protrusions(query, live, threads);
+  return p.empty() ? 0.0 : *std::max_element(p.begin(), p.end());
+}
+
+// What a candidate cover costs, to choose among starts: the product of its volume
+// outside the solid (its union's volume minus V; the union's alone on an open mesh) and
+// its largest protrusion, so that neither is traded away for a small gain in the other.
+double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls,
+                  const std::optional<double>& volume, int threads) {
+  std::vector<Sphere> live;
+  for (const Sphere& b : balls)
+    if (b.radius > 0.0) live.push_back(b);
+  const double outside = std::max(union_volume(live) - volume.value_or(0.0), 0.0);
+  return outside * std::max(largest_protrusion(query, live, threads), 0.0);
+}
+
 // Steps 2 to 4 from every start, on the patches, each result carried over to the elements
-// (step 4b); the smallest union of the elements' balls wins.
+// (step 4b); then the minimax start (step 4c) from candidates that include every start's
+// centres, and its threshold search bounded by the best start's largest protrusion. The
+// least cover_cost wins (step 4d) among the results whose union is no larger than start
+// 0's single ball.
 Clustering search(const MeshQuery& query, const Elements& e, const Patching& patching,
-                  std::size_t budget, const CoverOptions& options, int threads) {
+                  const Elements& fine, std::size_t budget, const CoverOptions& options,
+                  int threads) {
   const Elements& p = patching.patches;
+  const std::optional<double> volume = solid_volume(query.mesh());
   Clustering c;
   double best = std::numeric_limits<double>::infinity();
+  std::vector<Eigen::Vector3d> centres;  // of every start's balls: candidates of step 4c
+  // The union of start 0's single ball: no result with a larger union is kept, so the
+  // cover is never looser than the (inward-moved) bounding sphere.
+  double one_ball = std::numeric_limits<double>::infinity();
   for (int start = 0; start < options.starts; ++start) {
     // Start 0 is the single enclosing ball, which the refill below grows to K balls seeded
     // from its centre; it alone is kept where one ball is the tightest cover (a sphere).
@@ -574,10 +782,20 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
       f = follow(query, e, patching,
                  optimise(query, p, seeds(p, budget, live, 0), options, threads), threads);
     d = follow(query, e, patching, std::move(d), threads);
+    if (start == 0) one_ball = union_volume(d.balls);
     if (!f.balls.empty() && union_volume(f.balls) < union_volume(d.balls)) d = std::move(f);
-    const double v = union_volume(d.balls);
-    if (v < best) best = v, c = std::move(d);
+    for (const Sphere& b : d.balls)
+      if (b.radius > 0.0) centres.push_back(b.center);
+    const double v = cover_cost(query, d.balls, volume, threads);
+    if (union_volume(d.balls) <= one_ball && v < best) best = v, c = std::move(d);
   }
+  Clustering t =
+      threshold_start(query, e, fine, budget, candidates(query, centres, volume, threads),
+                      largest_protrusion(query, c.balls, threads),
+                      std::min(options.rounds, kMinimaxRounds), threads);
+  if (!t.balls.empty() && union_volume(t.balls) <= one_ball &&
+      cover_cost(query, t.balls, volume, threads) < best)
+    c = std::move(t);
   return c;
 }
 
@@ -626,7 +844,10 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Eigen::Vector3d origin = mesh.bounds().min();
   const Patching patching = make_patches(e, patch_cell(e, budget, e.element_size, origin), origin);
   s.patches = patching.patches.surface;
-  const Clustering c = search(query, e, patching, budget, options, threads);
+  // Finer patches for the threshold cover of step 4c.
+  const Patching fine =
+      make_patches(e, patch_cell(e, budget, e.element_size, origin, kFinePatchFloor), origin);
+  const Clustering c = search(query, e, patching, fine.patches, budget, options, threads);
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;
   const double coordinates =

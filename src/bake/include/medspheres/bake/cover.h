@@ -13,7 +13,8 @@
 ///    fill the interior and centres sit inside; their coverage is not certified.
 /// 1b. Patches: the elements grouped by the cell of a grid (half the element size, coarser
 ///    until there are at most max(1500, 60 K) groups) that holds their centroid; each group
-///    is one patch, a ball holding its points. Steps 2 to 4 run on the patches.
+///    is one patch, a ball holding its points. Steps 2 to 4 run on the patches. A finer
+///    grouping (at most max(4000, 60 K) groups) serves step 4c.
 /// 2. Starts: the first is one ball (then refilled to K as in step 4, so that one ball is
 ///    kept where it is the tightest cover); the others are K centres by farthest-point
 ///    sampling of the patch centres from one drawn with `seed`. Steps 3 to 4b run from
@@ -29,8 +30,21 @@
 ///    seeds up to K (once), kept when the union is smaller.
 /// 4b. Each start's result is carried over to the elements (each element to its patch's
 ///    ball), each ball refitted as the minimum enclosing ball of its elements' points, and
-///    the inward moves of step 3 and the shrink of step 4 run again on the elements; the
-///    start with the smallest union of these balls wins.
+///    the inward moves of step 3 and the shrink of step 4 run again on the elements.
+/// 4c. Minimax start, on the largest protrusion. Candidate centres: points of a grid inside
+///    the solid (about 2000) and the centres of every start's balls, each with its depth
+///    D(c) (distance to the surface). A ball at c holds a fine patch with protrusion
+///    (distance from c to the patch's farthest point) - D(c); a binary search finds the
+///    least threshold t at which a greedy set cover picks at most K candidates holding
+///    every fine patch with protrusion <= t. From those centres, minimax rounds on the
+///    elements: each element goes to the ball whose protrusion grows least to hold it
+///    (for fixed centres, the assignment of least largest protrusion), then the inward
+///    moves of step 3; at most 8 rounds, while the largest protrusion falls; then the
+///    shrink of step 4.
+/// 4d. The winner, among every start's result and the minimax start's: the least product
+///    of the volume outside the solid (U - V; U on an open mesh) and the largest
+///    protrusion, so that neither is traded for a small gain in the other; a result whose
+///    union is larger than that of start 0's single ball (moved inward) is not eligible.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
@@ -61,9 +75,9 @@
 namespace medspheres {
 
 struct CoverOptions {
-  int starts = 3;  ///< steps 2 to 4 from this many first centres, >= 1; the smallest union wins
-  std::uint64_t seed = 1;               ///< draws the first centre of every start but the first
-  int rounds = 24;                      ///< step 3 rounds at most, >= 1
+  int starts = 2;          ///< steps 2 to 4b from this many first centres, >= 1 (then step 4c)
+  std::uint64_t seed = 1;  ///< draws the first centre of every start but the first
+  int rounds = 24;         ///< step 3 rounds at most (step 4c: min(8, rounds)), >= 1
   int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
   int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
   CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
