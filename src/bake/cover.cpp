@@ -579,24 +579,6 @@ double radius_slack(double L, double coordinates) {
   return 1e-9 * L + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
 }
 
-// Step 5: grow, for each uncertified piece, the ball that needs the least growth to hold
-// its corners (ties: lowest index).
-std::size_t repair(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
-  std::size_t grown = 0;
-  for (const CoverPiece& piece : cert.uncertified_pieces) {
-    std::size_t arg = 0;
-    double best = std::numeric_limits<double>::infinity(), reach = 0.0;
-    for (std::size_t j = 0; j < balls.size(); ++j) {
-      double m = 0.0;
-      for (const Eigen::Vector3d& p : piece.corners) m = std::max(m, (p - balls[j].center).norm());
-      if (m - balls[j].radius < best) best = m - balls[j].radius, arg = j, reach = m;
-    }
-    const double r = reach + slack + 64.0 * std::numeric_limits<double>::epsilon() * reach;
-    if (r > balls[arg].radius) balls[arg].radius = r, ++grown;
-  }
-  return grown;
-}
-
 // Step 4b. The elements follow the patches that stood for them (\p c clusters the
 // patches); each ball is refitted as the minimum enclosing ball of its elements' points,
 // then the inward moves of step 3 and the shrink of step 4 run on the elements themselves,
@@ -862,8 +844,8 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
     out.certificate = certify_cover(mesh, balls, co);
     s.repair_rounds_run = round;
     if (out.certificate.certified) break;
-    s.repaired +=
-        repair(balls, out.certificate, radius_slack(s.largest_side, coordinates + s.largest_side));
+    s.repaired += grow_to_hold(balls, out.certificate,
+                               radius_slack(s.largest_side, coordinates + s.largest_side));
   }
   if (!out.certificate.certified && s.repaired > 0)
     out.certificate = certify_cover(mesh, balls, co);
@@ -872,6 +854,31 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   measure(query, balls, options.threads, s);
   s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
   return out;
+}
+
+std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  std::size_t grown = 0;
+  for (const CoverPiece& piece : cert.uncertified_pieces) {
+    std::size_t chosen = 0;
+    double least = std::numeric_limits<double>::infinity(), needed = 0.0;
+    for (std::size_t j = 0; j < balls.size(); ++j) {
+      double reach = 0.0;
+      for (const Eigen::Vector3d& corner : piece.corners)
+        reach = std::max(reach, (corner - balls[j].center).norm());
+      if (reach - balls[j].radius < least) {
+        least = reach - balls[j].radius;
+        chosen = j;
+        needed = reach;
+      }
+    }
+    const double radius = needed + slack + 64.0 * kEps * needed;
+    if (radius > balls[chosen].radius) {
+      balls[chosen].radius = radius;
+      ++grown;
+    }
+  }
+  return grown;
 }
 
 }  // namespace medspheres

@@ -62,31 +62,6 @@ InputCoverCheck certify_input_cover(const TriangleMesh& input, const FitEvaluato
   return out;
 }
 
-std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {
-  constexpr double kEps = std::numeric_limits<double>::epsilon();
-  std::size_t grown = 0;
-  for (const CoverPiece& piece : cert.uncertified_pieces) {
-    std::size_t chosen = 0;
-    double least = std::numeric_limits<double>::infinity(), needed = 0.0;
-    for (std::size_t j = 0; j < balls.size(); ++j) {
-      double reach = 0.0;
-      for (const Eigen::Vector3d& corner : piece.corners)
-        reach = std::max(reach, (corner - balls[j].center).norm());
-      if (reach - balls[j].radius < least) {
-        least = reach - balls[j].radius;
-        chosen = j;
-        needed = reach;
-      }
-    }
-    const double radius = needed + slack + 64.0 * kEps * needed;
-    if (radius > balls[chosen].radius) {
-      balls[chosen].radius = radius;
-      ++grown;
-    }
-  }
-  return grown;
-}
-
 void record_input_cover(const InputCoverCheck& check, BakeRecord& record) {
   const CoverCertificate& c = check.certificate;
   auto& x = record.extra_stats;

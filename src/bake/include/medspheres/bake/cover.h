@@ -124,4 +124,10 @@ BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& re
 /// "interior_certified" is false (only the surface is certified).
 std::string cover_metadata_json(const BakeRecord& record);
 
+/// The repair step: for each piece of \p cert (its uncertified_pieces), the ball whose
+/// radius must grow least to hold the piece's three corners (ties: lowest index) grows to
+/// that reach plus \p slack and a rounding allowance of 64 eps of the reach. Returns the
+/// growths.
+std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack);
+
 }  // namespace medspheres

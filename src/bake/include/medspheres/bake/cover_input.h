@@ -36,12 +36,6 @@ struct InputCoverCheck {
 InputCoverCheck certify_input_cover(const TriangleMesh& input, const FitEvaluator& solid,
                                     CoverResult& cover, const CoverOptions& options);
 
-/// The repair step: for each piece of \p cert (its uncertified_pieces), the ball whose
-/// radius must grow least to hold the piece's three corners (ties: lowest index) grows to
-/// that reach plus \p slack and a rounding allowance of 64 eps of the reach. Returns the
-/// growths.
-std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack);
-
 /// Records \p check in \p record's extra_stats: input_certified (1 or 0),
 /// input_certificate_triangles, input_uncertified_triangles, input_repaired, and
 /// input_uncovered_max (the worst distance found) when not certified; cover_metadata_json
