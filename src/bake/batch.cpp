@@ -150,12 +150,6 @@ BatchResult bake_batch(const std::vector<BatchInput>& inputs, const BatchOptions
 
   int jobs = std::max(1, std::min(thread_count(options.jobs),
                                   static_cast<int>(std::max<std::size_t>(1, result.rows.size()))));
-#if defined(__SANITIZE_ADDRESS__)
-  // AddressSanitizer's allocator is not safe to fork while another thread allocates: the
-  // import child (mesh_io.cpp, "Threads") could wait on its lock until the timeout. Under
-  // it, a batch bakes one input at a time; the results are the same for any job count.
-  jobs = 1;
-#endif
   const BakeRequest request = batch_request(options, thread_count(options.jobs));
   const Job job{options, request, cache ? &*cache : nullptr};
   std::atomic<std::size_t> next{0};
