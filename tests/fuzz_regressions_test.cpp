@@ -195,3 +195,18 @@ TEST_CASE("the union of two nearly coincident balls of one radius keeps its prec
     CHECK(std::abs(measure_union({a, c}).volume - closed) <= 64 * kEps * one);
   }
 }
+
+TEST_CASE("a ball and three copies of a small far ball: the union is the two balls",
+          "[fuzz][union_volume]") {
+  // fuzz_union_volume (crash-far-duplicates-few-hits): the library was right; the fuzzer's
+  // Monte Carlo check took its sigma from the estimate, and 3 hits where 14 were expected
+  // looked like 6 sigma. The check now uses Bernstein's bound around the expected count.
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const Sphere a{{-0.046874999999999514, 0.00063203463570138396, -0.29999999998474919},
+                 0.0070208959729552633};
+  const Sphere b{Eigen::Vector3d::Constant(-0.30000000000000004), 0.005000000000000001};
+  const UnionMeasures m = measure_union({a, b, b, b});
+  const double exact = test::ball_volume(a.radius) + test::ball_volume(b.radius);
+  CHECK(std::abs(m.volume - exact) <= 64 * kEps * exact);
+  CHECK(m.duplicates == std::vector<int>{2, 3});
+}
