@@ -11,6 +11,11 @@ install(TARGETS ${_medspheres_targets}
         RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR}
         INCLUDES DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(TARGETS medspheres_cli RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
+# The mesh import program, beside the CLI (mesh_io.h, "Isolation"); exported as
+# medspheres::import, for programs that link the library and keep it beside them.
+set_target_properties(medspheres_import PROPERTIES EXPORT_NAME import)
+install(TARGETS medspheres_import EXPORT medspheresTargets
+        RUNTIME DESTINATION ${CMAKE_INSTALL_BINDIR})
 install(DIRECTORY ${PROJECT_SOURCE_DIR}/include/medspheres
         DESTINATION ${CMAKE_INSTALL_INCLUDEDIR})
 install(FILES ${PROJECT_BINARY_DIR}/generated/medspheres/version.h

@@ -33,3 +33,37 @@ foreach(f include/medspheres/sphere_set.h lib/cmake/medspheres/medspheresConfig.
     message(FATAL_ERROR "the package lacks /usr/${f}")
   endif()
 endforeach()
+
+# The mesh import program is installed beside the CLI (the bake above used it); a CLI
+# copied alone elsewhere says that it is missing instead of loading in-process.
+if(NOT EXISTS "${WORK_DIR}/root/usr/bin/medspheres-import")
+  message(FATAL_ERROR "the package lacks /usr/bin/medspheres-import")
+endif()
+file(MAKE_DIRECTORY "${WORK_DIR}/alone")
+file(COPY "${cli}" DESTINATION "${WORK_DIR}/alone")
+if(NOT EXISTS "/usr/local/bin/medspheres-import" AND NOT EXISTS "/usr/bin/medspheres-import")
+  execute_process(COMMAND "${WORK_DIR}/alone/medspheres" bake "${SOURCE_DIR}/examples/data/eight.off"
+                          -o "${WORK_DIR}/alone.spheres.json"
+                  RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
+  if(rc EQUAL 0 OR NOT err MATCHES "medspheres-import" OR EXISTS "${WORK_DIR}/alone.spheres.json")
+    message(FATAL_ERROR "a CLI without its import program gave (${rc}): ${out}${err}")
+  endif()
+  message(STATUS "alone: ${err}")
+endif()
+
+# The Python module of the package finds the program beside itself.
+file(GLOB modules "${WORK_DIR}/root/usr/lib/python3*/dist-packages/medspheres/_medspheres*.so")
+if(modules)
+  list(GET modules 0 module)
+  get_filename_component(package "${module}" DIRECTORY)
+  get_filename_component(site "${package}" DIRECTORY)
+  if(NOT EXISTS "${package}/medspheres-import")
+    message(FATAL_ERROR "the package's Python module lacks medspheres-import beside it")
+  endif()
+  step(python_load ${CMAKE_COMMAND} -E env --unset=MEDSPHERES_IMPORT_HELPER "PYTHONPATH=${site}"
+       /usr/bin/python3 -c
+       "import medspheres; v, t = medspheres.load_mesh('${SOURCE_DIR}/examples/data/eight.off'); print(len(t), 'triangles')")
+  if(NOT step_output MATCHES "634 triangles")
+    message(FATAL_ERROR "the installed Python module did not load eight.off: ${step_output}")
+  endif()
+endif()

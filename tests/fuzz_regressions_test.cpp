@@ -11,6 +11,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "medspheres/bake/union_volume.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/sph_file.h"
@@ -18,6 +19,7 @@
 #include "medspheres/formats/xrdf.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/point_triangle.h"
+#include "support/ball_formulas.h"
 
 using namespace medspheres;
 
@@ -165,4 +167,46 @@ TEST_CASE("spherizing a URDF that defines a link twice is refused", "[fuzz][form
   } catch (const InputError& e) {
     CHECK_THAT(std::string(e.what()), Catch::Contains("\"upper\" is defined twice"));
   }
+}
+
+TEST_CASE("the union of two nearly coincident balls of one radius keeps its precision",
+          "[fuzz][union_volume]") {
+  // fuzz_union_volume (crash-near-coincident-pair): two balls of radius 5.8e-3 whose
+  // centres are 1.5e-11 apart. The lens height was computed from (d - r0) + r1, rounded
+  // at the scale of r, and came out eps r^2 / d off: the union of the eight balls of that
+  // input was 3e-14 below its exact value (no three of them overlap, so
+  // inclusion-exclusion stops at the pairs), smaller than without one of the two.
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const double r = 0.0057764705882352944;
+  const Sphere a{{-0.054122070339939238, 0.0011256613696294712, 0.044318385043404213}, r};
+  const Sphere b{{-0.054122070327906717, 0.0011256613730924042, 0.044318385034662955}, r};
+  const double one = test::ball_volume(r);
+  const double d = (a.center - b.center).norm();
+  const double pair = 2 * one - test::lens_volume(r, r, d);
+  CHECK(measure_union({a, b}).volume >= one);
+  CHECK(std::abs(measure_union({a, b}).volume - pair) <= 64 * kEps * one);
+  // The same at every separation from 1e-15 r to r, along a diagonal.
+  for (int k = 1; k <= 15; ++k) {
+    const double s = r * std::pow(10.0, -k);
+    INFO("d = " << s);
+    const Sphere c{a.center + s * Eigen::Vector3d(1, 1, 1).normalized(), r};
+    const double sd = (c.center - a.center).norm();
+    const double closed = 2 * one - test::lens_volume(r, r, sd);
+    CHECK(std::abs(measure_union({a, c}).volume - closed) <= 64 * kEps * one);
+  }
+}
+
+TEST_CASE("a ball and three copies of a small far ball: the union is the two balls",
+          "[fuzz][union_volume]") {
+  // fuzz_union_volume (crash-far-duplicates-few-hits): the library was right; the fuzzer's
+  // Monte Carlo check took its sigma from the estimate, and 3 hits where 14 were expected
+  // looked like 6 sigma. The check now uses Bernstein's bound around the expected count.
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const Sphere a{{-0.046874999999999514, 0.00063203463570138396, -0.29999999998474919},
+                 0.0070208959729552633};
+  const Sphere b{Eigen::Vector3d::Constant(-0.30000000000000004), 0.005000000000000001};
+  const UnionMeasures m = measure_union({a, b, b, b});
+  const double exact = test::ball_volume(a.radius) + test::ball_volume(b.radius);
+  CHECK(std::abs(m.volume - exact) <= 64 * kEps * exact);
+  CHECK(m.duplicates == std::vector<int>{2, 3});
 }

@@ -54,11 +54,13 @@ PairGeometry pair_geometry(const Eigen::Vector3d& c0, double r0, const Eigen::Ve
   const double d = (c1 - c0).norm();
   MEDSPHERES_ASSERT(d > 0.0);
   g.d = d;
-  // Each factor is one rounded sum of the inputs: no cancellation beyond the one
-  // inherent in the data. The exact predicates guarantee them >= 0.
+  // No cancellation beyond the one inherent in the data: the radii are subtracted first,
+  // so that d + (r1 - r0) is within a few eps of d when d << r (two nearly coincident balls
+  // of equal radius); (d - r0) + r1 would round at the scale of r0, and h = r d / d would
+  // carry an error of eps r^2 / d. The exact predicates guarantee the factors >= 0.
   const double overlap = clamp_nonnegative(r0 + r1 - d);  // 0: externally tangent
-  const double room0 = clamp_nonnegative(d - r0 + r1);    // 0: ball 1 inside ball 0, tangent
-  const double room1 = clamp_nonnegative(d + r0 - r1);    // 0: ball 0 inside ball 1, tangent
+  const double room0 = clamp_nonnegative(d + (r1 - r0));  // 0: ball 1 inside ball 0, tangent
+  const double room1 = clamp_nonnegative(d + (r0 - r1));  // 0: ball 0 inside ball 1, tangent
   g.h[0] = std::min(overlap * room0 / (2.0 * d), 2.0 * r0);
   g.h[1] = std::min(overlap * room1 / (2.0 * d), 2.0 * r1);
   g.a[0] = r0 - g.h[0];

@@ -113,14 +113,9 @@ BatchResult run_batch(const std::vector<BatchInput>& inputs, const BatchSettings
   std::optional<BakeCache> cache;
   if (!options.cache_dir.empty()) cache.emplace(options.cache_dir);
 
-  int jobs = std::max(1, std::min(thread_count(options.jobs),
-                                  static_cast<int>(std::max<std::size_t>(1, result.rows.size()))));
-#if defined(__SANITIZE_ADDRESS__)
-  // AddressSanitizer's allocator is not safe to fork while another thread allocates: the
-  // import child (mesh_io.cpp, "Threads") could wait on its lock until the timeout. Under
-  // it, a batch bakes one input at a time; the results are the same for any job count.
-  jobs = 1;
-#endif
+  const int jobs =
+      std::max(1, std::min(thread_count(options.jobs),
+                           static_cast<int>(std::max<std::size_t>(1, result.rows.size()))));
   const BakeCache* const store = cache ? &*cache : nullptr;
   std::atomic<std::size_t> next{0};
   std::mutex report;

@@ -5,11 +5,13 @@
 #include <chrono>
 #include <climits>
 #include <csignal>
+#include <cstdlib>
 #include <cstring>
 #include <fstream>
 
 #include <fcntl.h>
 #include <poll.h>
+#include <spawn.h>
 #include <sys/prctl.h>
 #include <sys/resource.h>
 #include <sys/syscall.h>
@@ -61,47 +63,31 @@ bool write_all(int fd, const std::string& bytes) {
   return true;
 }
 
-// The child's side: never returns.
-[[noreturn]] void run_child(int fd, pid_t parent, std::uint64_t as_limit,
-                            const std::function<std::string()>& work) {
-  // Die with the caller: an orphaned import would otherwise run on unwatched.
-  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
-  if (::getppid() != parent) ::_exit(kIsolatedWriteFailed);
-  // A crash must end the child, not run the caller's crash handlers.
-  for (int sig : {SIGSEGV, SIGBUS, SIGFPE, SIGILL, SIGABRT, SIGPIPE, SIGTERM})
-    std::signal(sig, SIG_DFL);
-  sigset_t none;
-  sigemptyset(&none);
-  ::sigprocmask(SIG_SETMASK, &none, nullptr);
+// Descriptors of the child: the result pipe and the go-ahead pipe.
+constexpr int kResultFd = 3;
+constexpr int kGoFd = 4;
 
+// Parses a decimal unsigned number that fills all of \p text.
+bool parse_u64(const char* text, std::uint64_t* out) {
+  if (text == nullptr || *text < '0' || *text > '9') return false;
+  errno = 0;
+  char* end = nullptr;
+  const unsigned long long v = std::strtoull(text, &end, 10);
+  if (errno != 0 || *end != '\0') return false;
+  *out = v;
+  return true;
+}
+
+// The child's limits: no core file, and RLIMIT_AS at what it maps now plus \p extra.
+void set_child_limits(std::uint64_t extra) {
   rlimit no_core{0, 0};
   ::setrlimit(RLIMIT_CORE, &no_core);
-  if (as_limit > 0) {
-    rlimit as{};
-    if (::getrlimit(RLIMIT_AS, &as) == 0) {
-      const rlim_t want = static_cast<rlim_t>(as_limit);
-      if (as.rlim_cur == RLIM_INFINITY || want < as.rlim_cur) as.rlim_cur = want;
-      ::setrlimit(RLIMIT_AS, &as);
-    }
-  }
-
-  // Keep only stdin, stdout, stderr and the pipe.
-  if (fd < 3) {
-    const int moved = ::fcntl(fd, F_DUPFD, 3);
-    if (moved < 0) ::_exit(kIsolatedWriteFailed);
-    fd = moved;
-  }
-  close_fds(3, static_cast<unsigned>(fd) - 1);
-  close_fds(static_cast<unsigned>(fd) + 1, UINT_MAX);
-
-  std::string result;
-  try {
-    result = work();
-  } catch (...) {
-    ::_exit(kIsolatedWorkThrew);
-  }
-  if (!write_all(fd, result)) ::_exit(kIsolatedWriteFailed);
-  ::_exit(0);
+  if (extra == 0) return;
+  rlimit as{};
+  if (::getrlimit(RLIMIT_AS, &as) != 0) return;
+  const rlim_t want = static_cast<rlim_t>(mapped_bytes() + extra);
+  if (as.rlim_cur == RLIM_INFINITY || want < as.rlim_cur) as.rlim_cur = want;
+  ::setrlimit(RLIMIT_AS, &as);
 }
 
 // Waits for pid, retrying on EINTR. Returns false when the child cannot be waited for
@@ -129,9 +115,9 @@ class Fd {
   Fd(const Fd&) = delete;
   Fd& operator=(const Fd&) = delete;
   int get() const { return fd_; }
-  void reset() {
+  void reset(int fd = -1) {
     if (fd_ >= 0) ::close(fd_);
-    fd_ = -1;
+    fd_ = fd;
   }
 
  private:
@@ -224,14 +210,86 @@ std::string signal_name(int sig) {
   }
 }
 
-IsolatedOutcome run_isolated(const std::function<std::string()>& work,
+namespace {
+
+// A descriptor of the child, moved to kGoFd + 1 or above (close-on-exec), so that the
+// spawn's dup2 onto kResultFd and kGoFd cannot overwrite one with the other.
+int above_child_fds(Fd& fd, const std::string& prefix) {
+  if (fd.get() > kGoFd) return fd.get();
+  const int moved = ::fcntl(fd.get(), F_DUPFD_CLOEXEC, kGoFd + 1);
+  if (moved < 0) throw Error(prefix + errno_text("cannot create a pipe for the import process"));
+  fd.reset(moved);
+  return moved;
+}
+
+// Starts program with the two pipe ends as its kResultFd and kGoFd, every signal at its
+// default and none blocked. Returns the child's pid.
+pid_t spawn_child(const std::string& program, const std::vector<std::string>& argv, int result_fd,
+                  int go_fd, const std::string& prefix) {
+  std::vector<char*> args;
+  for (const std::string& a : argv) args.push_back(const_cast<char*>(a.c_str()));
+  args.push_back(nullptr);
+
+  posix_spawn_file_actions_t actions;
+  posix_spawnattr_t attr;
+  if (::posix_spawn_file_actions_init(&actions) != 0 || ::posix_spawnattr_init(&attr) != 0)
+    throw Error(prefix + "cannot start the import process: out of memory");
+  sigset_t all, none;
+  sigfillset(&all);
+  sigemptyset(&none);
+  ::posix_spawn_file_actions_adddup2(&actions, result_fd, kResultFd);
+  ::posix_spawn_file_actions_adddup2(&actions, go_fd, kGoFd);
+  ::posix_spawnattr_setsigdefault(&attr, &all);
+  ::posix_spawnattr_setsigmask(&attr, &none);
+  ::posix_spawnattr_setflags(&attr, POSIX_SPAWN_SETSIGDEF | POSIX_SPAWN_SETSIGMASK);
+  pid_t pid = 0;
+  const int error = ::posix_spawn(&pid, program.c_str(), &actions, &attr, args.data(), environ);
+  ::posix_spawn_file_actions_destroy(&actions);
+  ::posix_spawnattr_destroy(&attr);
+  if (error != 0)
+    throw Error(prefix + "cannot start the import process " + program + ": " +
+                std::strerror(error));
+  return pid;
+}
+
+}  // namespace
+
+bool serve_isolated(int argc, char** argv,
+                    const std::function<std::string(const std::vector<std::string>&)>& work) {
+  std::uint64_t parent = 0, as_limit = 0;
+  if (argc < 4 || std::strcmp(argv[1], "--isolated") != 0 || !parse_u64(argv[2], &parent) ||
+      !parse_u64(argv[3], &as_limit))
+    return false;
+  // Die with the caller: an orphaned import would otherwise run on unwatched.
+  ::prctl(PR_SET_PDEATHSIG, SIGKILL);
+  if (static_cast<std::uint64_t>(::getppid()) != parent) ::_exit(kIsolatedWriteFailed);
+  // Wait for the go-ahead: until the caller holds a pidfd for this process, it must not
+  // exit (see Reaper). EOF instead of the byte: the caller gave up.
+  char byte = 0;
+  ssize_t n = 0;
+  while ((n = ::read(kGoFd, &byte, 1)) < 0 && errno == EINTR) {
+  }
+  if (n != 1) ::_exit(kIsolatedWriteFailed);
+  set_child_limits(as_limit);
+  // Keep only stdin, stdout, stderr and the result pipe.
+  close_fds(kGoFd, UINT_MAX);
+
+  std::string result;
+  try {
+    result = work(std::vector<std::string>(argv + 4, argv + argc));
+  } catch (...) {
+    ::_exit(kIsolatedWorkThrew);
+  }
+  if (!write_all(kResultFd, result)) ::_exit(kIsolatedWriteFailed);
+  ::_exit(0);
+}
+
+IsolatedOutcome run_isolated(const std::string& program, const std::vector<std::string>& args,
                              const IsolationLimits& limits, const std::string& subject) {
   using Clock = std::chrono::steady_clock;
-  const std::uint64_t as_limit =
-      limits.address_space_bytes > 0 ? mapped_bytes() + limits.address_space_bytes : 0;
   const std::string prefix = subject + ": ";
 
-  // fds carries the result to the parent; go carries the parent's go-ahead to the child.
+  // fds carries the result to the caller; go carries the caller's go-ahead to the child.
   int fds[2], go[2];
   if (::pipe2(fds, O_CLOEXEC) != 0)
     throw Error(prefix + errno_text("cannot create a pipe for the import process"));
@@ -240,23 +298,12 @@ IsolatedOutcome run_isolated(const std::function<std::string()>& work,
     throw Error(prefix + errno_text("cannot create a pipe for the import process"));
   Fd go_read(go[0]), go_write(go[1]);
 
-  const pid_t parent = ::getpid();
+  std::vector<std::string> argv{program, "--isolated", std::to_string(::getpid()),
+                                std::to_string(limits.address_space_bytes)};
+  argv.insert(argv.end(), args.begin(), args.end());
   const Clock::time_point start = Clock::now();
-  const pid_t pid = ::fork();
-  if (pid < 0) throw Error(prefix + errno_text("cannot start the import process (fork)"));
-  if (pid == 0) {
-    // Wait for the go-ahead: until the parent holds a pidfd for this process, it must
-    // not exit (see Reaper). EOF instead of the byte: the parent gave up.
-    ::close(fds[0]);
-    ::close(go[1]);
-    char byte = 0;
-    ssize_t n = 0;
-    while ((n = ::read(go[0], &byte, 1)) < 0 && errno == EINTR) {
-    }
-    if (n != 1) ::_exit(kIsolatedWriteFailed);
-    ::close(go[0]);
-    run_child(fds[1], parent, as_limit, work);
-  }
+  const pid_t pid = spawn_child(program, argv, above_child_fds(write_end, prefix),
+                                above_child_fds(go_read, prefix), prefix);
   Reaper child(pid, open_pidfd(pid));
   go_read.reset();
   write_end.reset();

@@ -8,7 +8,6 @@
 #include <cstring>
 #include <filesystem>
 #include <fstream>
-#include <new>
 #include <stdexcept>
 #include <unordered_map>
 
@@ -16,6 +15,7 @@
 
 #include <assimp/Importer.hpp>
 
+#include "import_helper_path.h"
 #include "isolated_call.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/canonical_order.h"
@@ -99,20 +99,9 @@ detail::FlatScene import_isolated(const std::string& path, std::uintmax_t file_b
   else
     limits.address_space_bytes = static_cast<std::uint64_t>(options.import_memory_limit_bytes);
 
-  // The child runs assimp and nothing else it can avoid (see "Threads" in mesh_io.h).
-  const detail::IsolatedOutcome outcome = detail::run_isolated(
-      [&]() -> std::string {
-        try {
-          return detail::encode_scene(detail::import_flat(path));
-        } catch (const InputError& e) {
-          return detail::encode_message('E', e.problem());
-        } catch (const std::bad_alloc&) {
-          return detail::encode_message('M', "");
-        } catch (const std::exception& e) {
-          return detail::encode_message('X', e.what());
-        }
-      },
-      limits, path);
+  // The child runs assimp and nothing else (import_helper_main.cpp).
+  const detail::IsolatedOutcome outcome =
+      detail::run_isolated(detail::import_helper_path(path), {path}, limits, path);
 
   using End = detail::IsolatedOutcome::End;
   if (outcome.end == End::kTimedOut)
@@ -175,25 +164,21 @@ bool import_memory_limit_enforced() noexcept {
 // Why the import is isolated. assimp (5.2.5, Debian 12's) can crash, loop forever or
 // allocate without bound on malformed files: a binary PLY with a misspelled end_header
 // segfaults, the same in ASCII loops, a stray letter inside a COLLADA <p> list loops while
-// allocating. So by default step 1 runs in a child process (isolated_call.h): the child
-// reads the file with assimp under RLIMIT_AS and sends back the transformed coordinates
-// and triangles of each placed mesh through a pipe; the caller waits with a wall-clock
-// timeout, kills the child at the deadline and welds, checks and orients itself. A child
-// that crashes, times out or runs out of memory becomes an InputError saying so. The
-// child leaves with _exit (no atexit handlers, no stdio flush) and is always reaped,
-// through a pidfd where the kernel has one (see isolated_call.cpp). The cost is a fork
-// and a copy of the mesh through the pipe (figures in the README).
+// allocating. So by default step 1 runs in a child process (isolated_call.h): the program
+// medspheres-import (import_helper_main.cpp, found by import_helper_path.h) reads the file
+// with assimp under RLIMIT_AS and sends back the transformed coordinates and triangles of
+// each placed mesh through a pipe; the caller waits with a wall-clock timeout, kills the
+// child at the deadline and welds, checks and orients itself. A child that crashes, times
+// out or runs out of memory becomes an InputError saying so. The child is always reaped,
+// through a pidfd where the kernel has one (see isolated_call.cpp). The cost is a process
+// start and a copy of the mesh through the pipe (figures in the README).
 //
-// Threads. The child of a fork holds only the calling thread, and a lock another thread
-// held at the moment of the fork stays locked in the child for ever. So the child does as
-// little as it can: the checks of the file and options, the OFF pre-scan and the limits
-// are done here before the fork, and the child uses no C++ streams; glibc makes its
-// malloc and stdio safe after fork. What remains is assimp and the parts of the C++
-// runtime it uses (its logger, locale-dependent parsing in some importers, function-local
-// statics): if another thread holds one of their locks at the fork, the child waits for
-// ever and the import ends at the timeout, with the timeout's error, although the file
-// may be fine. Hence isolate_import = false for callers that run assimp or change the
-// global locale on other threads.
+// Threads. The child is started with posix_spawn, which runs nothing of the caller's in
+// the new process before it executes the helper: no lock another thread of the caller
+// holds (its allocator's, assimp's, the C++ runtime's) is inherited, so imports may run on
+// any number of threads, beside anything else. The checks of the file and options, the
+// OFF, PLY and STL pre-scans and the limits are done here, before the start, so that
+// their errors do not depend on the helper.
 //
 // The OFF pre-scan (check_off_faces): assimp clamps an out-of-range face index to the
 // last vertex and reads a negative one as 0, silently, and drops faces of more than 9
@@ -236,8 +221,8 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
                          "assimp reads)");
   }
 
-  // In this process, also for the isolated import: the child should do no more than
-  // assimp's part (see "Threads" in mesh_io.h).
+  // In this process, also for the isolated import: the child does no more than assimp's
+  // part.
   if (ext == ".off") detail::check_off_faces(path);
   if (ext == ".ply") detail::check_ply_counts(path, static_cast<std::uintmax_t>(st.st_size));
   if (ext == ".stl") detail::check_stl_counts(path, static_cast<std::uintmax_t>(st.st_size));

@@ -29,8 +29,8 @@ struct FlatScene {
 /// scene. A scene that assimp's validation rejects (for instance two cameras that share a
 /// name) is read again without it, as viewers do: the meshes are checked here (every
 /// array present, every index in range) and the message is kept in validation_failure. This is what
-/// runs in the import child: it uses no C++ streams (see "Threads" in mesh_io.h). OFF files must
-/// have passed check_off_faces first. \throws InputError naming \p path for a file that cannot be
+/// the import program runs (import_helper_main.cpp). OFF files must have passed check_off_faces
+/// first. \throws InputError naming \p path for a file that cannot be
 /// read as a mesh;
 ///   std::bad_alloc when the import runs out of memory.
 FlatScene import_flat(const std::string& path);
@@ -38,7 +38,7 @@ FlatScene import_flat(const std::string& path);
 /// Checks the face list of the OFF file \p path against its header: every face line
 /// present, 1 to 9 vertices per face, every index an integer in [0, vertices). assimp
 /// itself clamps an out-of-range index silently. Files whose header it does not
-/// recognise are left to assimp. Runs in the caller's process, before any fork.
+/// recognise are left to assimp. Runs in the caller's process, before the import starts.
 /// \throws InputError naming \p path, the face (counted from 0) and the bad index.
 void check_off_faces(const std::string& path);
 

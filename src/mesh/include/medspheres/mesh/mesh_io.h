@@ -18,16 +18,20 @@
 /// applied and its <up_axis> ignored, as robot description tools do. Coordinates are
 /// assimp's floats widened to double; transforms are composed in double.
 ///
-/// Isolation (MeshLoadOptions::isolate_import): step 1 runs in a forked child (Linux)
-/// under an address-space limit and a wall-clock timeout, so that a malformed file that
-/// crashes, hangs or exhausts assimp ends in an InputError naming the file. OFF files are
+/// Isolation (MeshLoadOptions::isolate_import): step 1 runs in a child process, the
+/// program medspheres-import installed beside the medspheres CLI (Linux), under an
+/// address-space limit and a wall-clock timeout, so that a malformed file that crashes,
+/// hangs or exhausts assimp ends in an InputError naming the file. The program is looked
+/// for beside the binary holding the library (the program, shared library or Python
+/// module), in the install's bin folder, beside the running program, then in the bin
+/// folder of the install prefix; the environment variable MEDSPHERES_IMPORT_HELPER names it
+/// instead. None found: medspheres::Error naming the places looked in. OFF files are
 /// pre-scanned: a face index out of range or a face of more than 9 vertices is an
 /// InputError naming the face (assimp would alter the face silently).
 ///
-/// Threads: load_mesh may run on several threads at once. With isolation, a fork while
-/// another thread holds a lock of assimp or of the C++ runtime (another thread inside
-/// assimp, or changing the global locale) can end a good file at the timeout; such
-/// callers set isolate_import = false. Reasons and costs: mesh_io.cpp, README.
+/// Threads: load_mesh may run on several threads at once, isolated or not (the child is
+/// started with posix_spawn, not a fork of the caller). Reasons and costs: mesh_io.cpp,
+/// README.
 
 #include <cstdint>
 #include <optional>
@@ -52,7 +56,7 @@ struct MeshLoadOptions {
   /// false.
   std::optional<double> import_timeout_seconds;
 
-  /// Address space the import may add to what the process has mapped, in bytes.
+  /// Address space the import process may map beyond what it maps when it starts, in bytes.
   /// Negative (the default): max(4 GiB, 64 x the file size); 0: no limit. Not applied
   /// where import_memory_limit_enforced() is false: there only the timeout guards the
   /// import.
