@@ -16,12 +16,15 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bench_args.h"
+#include "medspheres/bake/bake.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/bake/self_intersection.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
@@ -104,6 +107,55 @@ MeshLoadOptions in_process() {
   return o;
 }
 
+// "VmRSS" or "VmHWM" of this process, in MiB.
+double status_mib(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string key = std::string(field) + ":";
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return std::stod(line.substr(key.size())) / 1024.0;
+  return 0.0;
+}
+
+// One step of the profile: its seconds, its own peak (the high-water mark is reset before
+// it, by writing 5 to /proc/self/clear_refs) and what stays resident after it.
+void profile_step(const char* name, double mtri, const std::function<void()>& step) {
+  { std::ofstream("/proc/self/clear_refs") << "5"; }
+  const auto t0 = std::chrono::steady_clock::now();
+  step();
+  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double peak = status_mib("VmHWM"), rss = status_mib("VmRSS");
+  std::printf("%-28s %9.2f %9.0f %9.0f %10.0f\n", name, s, peak, rss, peak / mtri);
+  std::fflush(stdout);
+}
+
+// The steps of bake and eval one after another in one process (--profile).
+void profile(const std::string& mesh, double mtri, int threads) {
+  std::printf("%-28s %9s %9s %9s %10s\n", "step", "seconds", "peak MiB", "after MiB", "peak/Mtri");
+  std::optional<LoadedMesh> m;
+  profile_step("load_mesh", mtri, [&] { m = load_mesh(mesh, in_process()); });
+  profile_step("MeshQuery (alone)", mtri, [&] {
+    MeshQueryOptions o;
+    o.cap_holes = true;
+    MeshQuery q(m->mesh, o);
+  });
+  profile_step("analyze_mesh", mtri, [&] { analyze_mesh(m->mesh); });
+  profile_step("find_self_intersections", mtri, [&] { find_self_intersections(m->mesh, threads); });
+  std::optional<FitEvaluator> fit;
+  profile_step("FitEvaluator", mtri, [&] { fit.emplace(m->mesh, threads); });
+  BakeOptions bo;
+  bo.threads = threads;
+  BakeResult baked;
+  profile_step("bake (medial)", mtri, [&] { baked = bake(fit->query(), bo); });
+  profile_step("volume_error", mtri, [&] { fit->volume_error(baked.spheres.spheres, threads); });
+  FitOptions fo;
+  fo.threads = threads;
+  profile_step("evaluate", mtri, [&] { fit->evaluate(baked.spheres.spheres, fo); });
+  CoverCertificateOptions co;
+  co.threads = threads;
+  profile_step("certify_cover", mtri, [&] { certify_cover(m->mesh, baked.spheres.spheres, co); });
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -114,7 +166,20 @@ int main(int argc, char** argv) {
   args.add("--triangles", sizes, "Triangle counts (10000000 for the 10^7 point)");
   args.add("--dir", dir, "Folder for the generated STL files (deleted after)");
   args.add("--threads", threads, "Threads (0: all cores)");
+  bool profile_steps = false;
+  args.app().add_flag(
+      "--profile", profile_steps,
+      "Instead of the table: each step of bake and eval in one process, with its own "
+      "peak RSS (the first of --triangles only)");
   args.parse(argc, argv);
+  if (profile_steps) {
+    const std::string mesh = (fs::path(dir) / "medspheres-huge.stl").string();
+    const std::size_t n = write_torus_stl(mesh, static_cast<std::size_t>(sizes.front()));
+    std::printf("%zu triangles\n", n);
+    profile(mesh, static_cast<double>(n) / 1e6, threads);
+    fs::remove(mesh);
+    return 0;
+  }
 
   std::printf("%10s %6s %9s %9s %10s %9s %9s %10s\n", "triangles", "step", "seconds", "peak MiB",
               "s/Mtri", "MiB/Mtri", "spheres", "file MiB");
