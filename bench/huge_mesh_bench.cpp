@@ -3,8 +3,10 @@
 // bake_mesh with the defaults, as `medspheres bake` does) and "eval" (load_mesh, the sphere
 // set, FitEvaluator::evaluate and certify_cover, as `medspheres eval` does). The import
 // runs in the measured process (isolate_import = false), so the peak counts assimp's
-// memory too: an upper bound of what each process of the CLI holds. Prints seconds and
-// peak RSS, in all and per million triangles.
+// memory too: an upper bound of what each process of the CLI holds. Prints wall-clock and
+// CPU seconds (user + system, all threads: the measure on a shared machine) and peak RSS,
+// in all and per million triangles. --profile runs the steps in one process instead and
+// prints each step's own peak (the high-water mark is reset between steps).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -74,6 +76,7 @@ std::size_t write_torus_stl(const std::string& path, std::size_t n) {
 
 struct Run {
   double seconds = 0;
+  double cpu_seconds = 0;  // user + system, of the child and its threads
   double peak_mib = 0;
   bool ok = false;
 };
@@ -97,6 +100,10 @@ Run in_child(const std::function<void()>& work) {
   Run r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.peak_mib = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+  const auto sec = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec;
+  };
+  r.cpu_seconds = sec(usage.ru_utime) + sec(usage.ru_stime);
   r.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   return r;
 }
@@ -117,21 +124,31 @@ double status_mib(const char* field) {
   return 0.0;
 }
 
-// One step of the profile: its seconds, its own peak (the high-water mark is reset before
-// it, by writing 5 to /proc/self/clear_refs) and what stays resident after it.
+// CPU seconds (user + system, all threads) of this process so far.
+double process_cpu_seconds() {
+  struct rusage u {};
+  getrusage(RUSAGE_SELF, &u);
+  const auto sec = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return sec(u.ru_utime) + sec(u.ru_stime);
+}
+
+// One step of the profile: its CPU seconds, its own peak (the high-water mark is reset
+// before it, by writing 5 to /proc/self/clear_refs) and what stays resident after it.
 void profile_step(const char* name, double mtri, const std::function<void()>& step) {
   { std::ofstream("/proc/self/clear_refs") << "5"; }
-  const auto t0 = std::chrono::steady_clock::now();
+  const double c0 = process_cpu_seconds();
   step();
-  const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const double cpu = process_cpu_seconds() - c0;
   const double peak = status_mib("VmHWM"), rss = status_mib("VmRSS");
-  std::printf("%-28s %9.2f %9.0f %9.0f %10.0f\n", name, s, peak, rss, peak / mtri);
+  std::printf("%-28s %9.2f %9.0f %9.0f %10.0f\n", name, cpu, peak, rss, peak / mtri);
   std::fflush(stdout);
 }
 
 // The steps of bake and eval one after another in one process (--profile).
 void profile(const std::string& mesh, double mtri, int threads) {
-  std::printf("%-28s %9s %9s %9s %10s\n", "step", "seconds", "peak MiB", "after MiB", "peak/Mtri");
+  std::printf("%-28s %9s %9s %9s %10s\n", "step", "CPU s", "peak MiB", "after MiB", "peak/Mtri");
   std::optional<LoadedMesh> m;
   profile_step("load_mesh", mtri, [&] { m = load_mesh(mesh, in_process()); });
   profile_step("MeshQuery (alone)", mtri, [&] {
@@ -181,8 +198,8 @@ int main(int argc, char** argv) {
     return 0;
   }
 
-  std::printf("%10s %6s %9s %9s %10s %9s %9s %10s\n", "triangles", "step", "seconds", "peak MiB",
-              "s/Mtri", "MiB/Mtri", "spheres", "file MiB");
+  std::printf("%10s %6s %9s %9s %9s %10s %9s %9s %10s\n", "triangles", "step", "seconds", "CPU s",
+              "peak MiB", "CPU s/Mtri", "MiB/Mtri", "spheres", "file MiB");
   for (double size : sizes) {
     const std::string mesh = (fs::path(dir) / "medspheres-huge.stl").string();
     const std::string spheres = (fs::path(dir) / "medspheres-huge.spheres.json").string();
@@ -208,9 +225,9 @@ int main(int argc, char** argv) {
       certify_cover(m.mesh, set.spheres, co);
     });
     for (const auto& [name, r] : {std::make_pair("bake", bake), std::make_pair("eval", eval)})
-      std::printf("%10zu %6s %9.2f %9.0f %10.2f %9.0f %9zu %10.0f%s\n", n, name, r.seconds,
-                  r.peak_mib, r.seconds / mtri, r.peak_mib / mtri, count, file_mib,
-                  r.ok ? "" : "  FAILED");
+      std::printf("%10zu %6s %9.2f %9.2f %9.0f %10.2f %9.0f %9zu %10.0f%s\n", n, name, r.seconds,
+                  r.cpu_seconds, r.peak_mib, r.cpu_seconds / mtri, r.peak_mib / mtri, count,
+                  file_mib, r.ok ? "" : "  FAILED");
     std::fflush(stdout);
     fs::remove(mesh);
     fs::remove(spheres);
