@@ -3,8 +3,10 @@
 // bake_mesh with the defaults, as `medspheres bake` does) and "eval" (load_mesh, the sphere
 // set, FitEvaluator::evaluate and certify_cover, as `medspheres eval` does). The import
 // runs in the measured process (isolate_import = false), so the peak counts assimp's
-// memory too: an upper bound of what each process of the CLI holds. Prints seconds and
-// peak RSS, in all and per million triangles.
+// memory too: an upper bound of what each process of the CLI holds. Prints wall-clock and
+// CPU seconds (user + system, all threads: the measure on a shared machine) and peak RSS,
+// in all and per million triangles. --profile runs the steps in one process instead and
+// prints each step's own peak (the high-water mark is reset between steps).
 #include <sys/resource.h>
 #include <sys/wait.h>
 #include <unistd.h>
@@ -16,12 +18,15 @@
 #include <filesystem>
 #include <fstream>
 #include <functional>
+#include <optional>
 #include <string>
 #include <vector>
 
 #include "bench_args.h"
+#include "medspheres/bake/bake.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/bake/fit_metrics.h"
+#include "medspheres/bake/self_intersection.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
@@ -71,6 +76,7 @@ std::size_t write_torus_stl(const std::string& path, std::size_t n) {
 
 struct Run {
   double seconds = 0;
+  double cpu_seconds = 0;  // user + system, of the child and its threads
   double peak_mib = 0;
   bool ok = false;
 };
@@ -94,6 +100,10 @@ Run in_child(const std::function<void()>& work) {
   Run r;
   r.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   r.peak_mib = static_cast<double>(usage.ru_maxrss) / 1024.0;  // KiB on Linux
+  const auto sec = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * t.tv_usec;
+  };
+  r.cpu_seconds = sec(usage.ru_utime) + sec(usage.ru_stime);
   r.ok = WIFEXITED(status) && WEXITSTATUS(status) == 0;
   return r;
 }
@@ -102,6 +112,65 @@ MeshLoadOptions in_process() {
   MeshLoadOptions o;
   o.isolate_import = false;
   return o;
+}
+
+// "VmRSS" or "VmHWM" of this process, in MiB.
+double status_mib(const char* field) {
+  std::ifstream in("/proc/self/status");
+  std::string line;
+  const std::string key = std::string(field) + ":";
+  while (std::getline(in, line))
+    if (line.rfind(key, 0) == 0) return std::stod(line.substr(key.size())) / 1024.0;
+  return 0.0;
+}
+
+// CPU seconds (user + system, all threads) of this process so far.
+double process_cpu_seconds() {
+  struct rusage u {};
+  getrusage(RUSAGE_SELF, &u);
+  const auto sec = [](const timeval& t) {
+    return static_cast<double>(t.tv_sec) + 1e-6 * static_cast<double>(t.tv_usec);
+  };
+  return sec(u.ru_utime) + sec(u.ru_stime);
+}
+
+// One step of the profile: its CPU seconds, its own peak (the high-water mark is reset
+// before it, by writing 5 to /proc/self/clear_refs) and what stays resident after it.
+void profile_step(const char* name, double mtri, const std::function<void()>& step) {
+  { std::ofstream("/proc/self/clear_refs") << "5"; }
+  const double c0 = process_cpu_seconds();
+  step();
+  const double cpu = process_cpu_seconds() - c0;
+  const double peak = status_mib("VmHWM"), rss = status_mib("VmRSS");
+  std::printf("%-28s %9.2f %9.0f %9.0f %10.0f\n", name, cpu, peak, rss, peak / mtri);
+  std::fflush(stdout);
+}
+
+// The steps of bake and eval one after another in one process (--profile).
+void profile(const std::string& mesh, double mtri, int threads) {
+  std::printf("%-28s %9s %9s %9s %10s\n", "step", "CPU s", "peak MiB", "after MiB", "peak/Mtri");
+  std::optional<LoadedMesh> m;
+  profile_step("load_mesh", mtri, [&] { m = load_mesh(mesh, in_process()); });
+  profile_step("MeshQuery (alone)", mtri, [&] {
+    MeshQueryOptions o;
+    o.cap_holes = true;
+    MeshQuery q(m->mesh, o);
+  });
+  profile_step("analyze_mesh", mtri, [&] { analyze_mesh(m->mesh); });
+  profile_step("find_self_intersections", mtri, [&] { find_self_intersections(m->mesh, threads); });
+  std::optional<FitEvaluator> fit;
+  profile_step("FitEvaluator", mtri, [&] { fit.emplace(m->mesh, threads); });
+  BakeOptions bo;
+  bo.threads = threads;
+  BakeResult baked;
+  profile_step("bake (medial)", mtri, [&] { baked = bake(fit->query(), bo); });
+  profile_step("volume_error", mtri, [&] { fit->volume_error(baked.spheres.spheres, threads); });
+  FitOptions fo;
+  fo.threads = threads;
+  profile_step("evaluate", mtri, [&] { fit->evaluate(baked.spheres.spheres, fo); });
+  CoverCertificateOptions co;
+  co.threads = threads;
+  profile_step("certify_cover", mtri, [&] { certify_cover(m->mesh, baked.spheres.spheres, co); });
 }
 
 }  // namespace
@@ -114,10 +183,23 @@ int main(int argc, char** argv) {
   args.add("--triangles", sizes, "Triangle counts (10000000 for the 10^7 point)");
   args.add("--dir", dir, "Folder for the generated STL files (deleted after)");
   args.add("--threads", threads, "Threads (0: all cores)");
+  bool profile_steps = false;
+  args.app().add_flag(
+      "--profile", profile_steps,
+      "Instead of the table: each step of bake and eval in one process, with its own "
+      "peak RSS (the first of --triangles only)");
   args.parse(argc, argv);
+  if (profile_steps) {
+    const std::string mesh = (fs::path(dir) / "medspheres-huge.stl").string();
+    const std::size_t n = write_torus_stl(mesh, static_cast<std::size_t>(sizes.front()));
+    std::printf("%zu triangles\n", n);
+    profile(mesh, static_cast<double>(n) / 1e6, threads);
+    fs::remove(mesh);
+    return 0;
+  }
 
-  std::printf("%10s %6s %9s %9s %10s %9s %9s %10s\n", "triangles", "step", "seconds", "peak MiB",
-              "s/Mtri", "MiB/Mtri", "spheres", "file MiB");
+  std::printf("%10s %6s %9s %9s %9s %10s %9s %9s %10s\n", "triangles", "step", "seconds", "CPU s",
+              "peak MiB", "CPU s/Mtri", "MiB/Mtri", "spheres", "file MiB");
   for (double size : sizes) {
     const std::string mesh = (fs::path(dir) / "medspheres-huge.stl").string();
     const std::string spheres = (fs::path(dir) / "medspheres-huge.spheres.json").string();
@@ -143,9 +225,9 @@ int main(int argc, char** argv) {
       certify_cover(m.mesh, set.spheres, co);
     });
     for (const auto& [name, r] : {std::make_pair("bake", bake), std::make_pair("eval", eval)})
-      std::printf("%10zu %6s %9.2f %9.0f %10.2f %9.0f %9zu %10.0f%s\n", n, name, r.seconds,
-                  r.peak_mib, r.seconds / mtri, r.peak_mib / mtri, count, file_mib,
-                  r.ok ? "" : "  FAILED");
+      std::printf("%10zu %6s %9.2f %9.2f %9.0f %10.2f %9.0f %9zu %10.0f%s\n", n, name, r.seconds,
+                  r.cpu_seconds, r.peak_mib, r.cpu_seconds / mtri, r.peak_mib / mtri, count,
+                  file_mib, r.ok ? "" : "  FAILED");
     std::fflush(stdout);
     fs::remove(mesh);
     fs::remove(spheres);

@@ -177,6 +177,40 @@ TEST_CASE("certify_cover: same answer for every thread count", "[cover]") {
   CHECK(a.worst_distance == b.worst_distance);
 }
 
+TEST_CASE("certify_cover over many blocks of triangles: each triangle as if alone", "[cover]") {
+  // 81920 triangles: more than one block of the certification. Balls on the equator hold
+  // a band of the sphere; each triangle's verdict and piece count must be those of the
+  // triangle certified alone, and the reported pieces those of the first triangles.
+  const TriangleMesh m = make_icosphere(1.0, 6);
+  REQUIRE(m.num_triangles() > 65536);
+  std::vector<Sphere> balls;
+  for (int i = 0; i < 16; ++i) {
+    const double a = 2 * M_PI * i / 16;
+    balls.push_back({Eigen::Vector3d(std::cos(a), std::sin(a), 0), 0.45});
+  }
+  CoverCertificateOptions o;
+  o.max_depth = 4;
+  o.max_pieces_reported = 40;
+  o.max_worst_evaluations = 2000;
+  const CoverCertificate c = certify_cover(m, balls, o);
+  REQUIRE(c.uncertified_triangles > 0);
+  REQUIRE(c.uncertified_triangles < m.num_triangles());
+  std::size_t first_uncertified = m.num_triangles();
+  for (std::size_t t = 0; t < m.num_triangles(); ++t) {
+    if (!c.triangle_certified[t]) {
+      first_uncertified = std::min(first_uncertified, t);
+    }
+    if (t % 257 != 0 && (t < 65530 || t > 65540)) continue;
+    const CoverCertificate alone =
+        certify_cover(one_triangle(m.corner(t, 0), m.corner(t, 1), m.corner(t, 2)), balls, o);
+    CHECK(alone.certified == (c.triangle_certified[t] != 0));
+  }
+  REQUIRE(c.uncertified_pieces.size() == 40);
+  CHECK(c.uncertified_pieces.front().triangle == static_cast<int>(first_uncertified));
+  for (std::size_t i = 1; i < c.uncertified_pieces.size(); ++i)
+    CHECK(c.uncertified_pieces[i - 1].triangle <= c.uncertified_pieces[i].triangle);
+}
+
 TEST_CASE("certify_cover rejects bad input", "[cover]") {
   const TriangleMesh m = one_triangle({0, 0, 0}, {1, 0, 0}, {0, 1, 0});
   CHECK_THROWS_AS(certify_cover(m, {{Eigen::Vector3d::Zero(), -1.0}}), InputError);

@@ -601,3 +601,32 @@ TEST_CASE("cap_holes: boundary chains get fans, and closest points include them"
     CHECK(a.closest_point(q).distance() == b.closest_point(q).distance());
   }
 }
+
+TEST_CASE("a MeshQuery that takes over its mesh answers as one that copies it", "[mesh_query]") {
+  // An open torus (a ring of its triangles removed), so that the caps are built too.
+  TriangleMesh open = make_torus(1.0, 0.3, 24, 12);
+  open.triangles.erase(open.triangles.begin(), open.triangles.begin() + 24);
+  MeshQueryOptions capped;
+  capped.cap_holes = true;
+  const MeshQuery copied(open, capped);
+  TriangleMesh moved_mesh = open;
+  const MeshQuery moved(std::move(moved_mesh), capped);
+  CHECK(moved.mesh().triangles == open.triangles);
+  CHECK(moved.mesh().vertices == open.vertices);
+  CHECK(moved.cap_mesh().triangles.size() == copied.cap_mesh().triangles.size());
+  CHECK_FALSE(moved.cap_mesh().triangles.empty());
+  CHECK(moved.stats().nodes == copied.stats().nodes);
+  CHECK(moved.stats().bytes == copied.stats().bytes);
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> u(-1.5, 1.5);
+  for (int k = 0; k < 300; ++k) {
+    const Eigen::Vector3d q(u(rng), u(rng), u(rng));
+    const ClosestPoint a = copied.closest_point(q), b = moved.closest_point(q);
+    CHECK(a.distance() == b.distance());
+    CHECK(a.triangle == b.triangle);
+    CHECK(copied.winding_number(q) == moved.winding_number(q));
+  }
+  TriangleMesh bad = open;
+  bad.triangles[0][0] = -1;
+  CHECK_THROWS_AS(MeshQuery(std::move(bad), capped), std::invalid_argument);
+}

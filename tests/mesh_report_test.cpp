@@ -163,7 +163,58 @@ TEST_CASE("check_mesh_usable names the problem", "[report]") {
   CHECK_THROWS_WITH(check_mesh_usable(flat, "a.obj"), Contains("degenerate"));
 }
 
+namespace {
+bool closed_consistent_by_report(const TriangleMesh& m) {
+  const MeshReport r = analyze_mesh(m);
+  return r.closed && r.inconsistent_edges == 0;
+}
+}  // namespace
+
+TEST_CASE("is_closed_consistent agrees with analyze_mesh", "[report]") {
+  std::vector<TriangleMesh> meshes = {make_box({1, 1, 1}), make_torus(1.0, 0.3, 12, 6),
+                                      make_icosphere(1.0, 2)};
+  TriangleMesh open = make_box({1, 1, 1});
+  open.triangles.pop_back();
+  meshes.push_back(open);
+  TriangleMesh flipped = make_box({1, 1, 1});
+  std::swap(flipped.triangles[3][1], flipped.triangles[3][2]);
+  meshes.push_back(flipped);
+  TriangleMesh doubled = make_box({1, 1, 1});  // every edge used four times
+  const std::size_t n = doubled.triangles.size();
+  for (std::size_t t = 0; t < n; ++t) doubled.triangles.push_back(doubled.triangles[t]);
+  meshes.push_back(doubled);
+  TriangleMesh fin = make_box({1, 1, 1});  // a third triangle on one edge
+  fin.vertices.push_back({5, 5, 5});
+  fin.triangles.push_back({fin.triangles[0][0], fin.triangles[0][1], 8});
+  meshes.push_back(fin);
+  TriangleMesh with_collapsed = make_box({1, 1, 1});
+  with_collapsed.triangles.push_back({0, 0, 1});
+  meshes.push_back(with_collapsed);
+  TriangleMesh two = cube_mesh(0, 1);
+  append_mesh(two, cube_mesh(2, 3), true);
+  meshes.push_back(two);
+  int closed = 0;
+  for (std::size_t i = 0; i < meshes.size(); ++i) {
+    INFO("mesh " << i);
+    CHECK(is_closed_consistent(meshes[i]) == closed_consistent_by_report(meshes[i]));
+    closed += is_closed_consistent(meshes[i]);
+  }
+  CHECK(closed == 5);  // the box, torus, sphere, box with a collapsed triangle, two cubes
+  CHECK_FALSE(is_closed_consistent(TriangleMesh{}));
+}
+
 #ifdef MEDSPHERES_SHARED_MESHES
+TEST_CASE("is_closed_consistent agrees with analyze_mesh on every shared mesh",
+          "[report][shared]") {
+  MeshLoadOptions as_is;
+  as_is.fix_orientation = false;
+  for (const auto& row : test::shared_meshes()) {
+    INFO(row.file);
+    const LoadedMesh loaded = load_mesh(row.path, as_is);
+    CHECK(is_closed_consistent(loaded.mesh) == closed_consistent_by_report(loaded.mesh));
+  }
+}
+
 TEST_CASE("the validator agrees with MANIFEST.tsv on every shared mesh", "[report][shared]") {
   const auto& rows = test::shared_meshes();
   REQUIRE(rows.size() >= 40);

@@ -219,8 +219,7 @@ class Baker {
     shrink_ = radius_shrink(box);
     gamma_ = std::sqrt(3.0) * grid_.h / std::sin(options.object_angle / 2.0);
     threads_ = thread_count(options.threads);
-    const MeshReport report = analyze_mesh(query.mesh());
-    closed_ = report.closed && report.inconsistent_edges == 0;
+    closed_ = is_closed_consistent(query.mesh());
   }
 
   // A bake; when no grid vertex is inside the solid, an InputError, or with

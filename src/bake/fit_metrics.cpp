@@ -446,17 +446,37 @@ CoverageStats summarize_coverage(const SurfaceSamples& samples,
   return s;
 }
 
+struct FitEvaluator::Solid {
+  TriangleMesh mesh;
+  MeshReport report;
+  SelfIntersections self_intersections;
+};
+
+// The report and the self-intersections of the oriented copy are found before the copy
+// moves into the MeshQuery: their temporaries (an edge table, the triangles' boxes) then
+// never take memory while the hierarchy is held.
+FitEvaluator::Solid FitEvaluator::prepare(const TriangleMesh& mesh, int threads) {
+  Solid s;
+  s.mesh = oriented(mesh);
+  s.report = analyze_mesh(s.mesh);
+  s.self_intersections = find_self_intersections(s.mesh, threads);
+  return s;
+}
+
 FitEvaluator::FitEvaluator(const TriangleMesh& mesh, int threads)
-    : query_(oriented(mesh), [] {
-        MeshQueryOptions o;
-        o.cap_holes = true;  // distances to the solid's boundary, holes included
-        return o;
-      }()) {
-  const MeshReport report = analyze_mesh(query_.mesh());
-  closed_ = report.closed;
-  volume_ = volume_of(report);
-  tolerance_ = kProtrusionTolerance * report.largest_side();
-  self_intersections_ = find_self_intersections(query_.mesh(), threads);
+    : FitEvaluator(prepare(mesh, threads)) {}
+
+FitEvaluator::FitEvaluator(Solid solid)
+    : query_(std::move(solid.mesh),
+             [] {
+               MeshQueryOptions o;
+               o.cap_holes = true;  // distances to the solid's boundary, holes included
+               return o;
+             }()),
+      closed_(solid.report.closed),
+      tolerance_(kProtrusionTolerance * solid.report.largest_side()),
+      self_intersections_(std::move(solid.self_intersections)) {
+  volume_ = volume_of(solid.report);
 }
 
 VolumeError FitEvaluator::combine(const std::vector<Sphere>& balls, UnionMeasures measures,

@@ -1,6 +1,7 @@
 #include "medspheres/mesh/cover_certificate.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
@@ -224,12 +225,15 @@ void check_inputs(const TriangleMesh& mesh, const std::vector<Sphere>& balls,
   validate_sphere_set(set, "sphere set");
 }
 
-// One piece of the worst-point search: corners, the distance at the centroid, and the bound.
+// One piece of the worst-point search: the distance at the centroid and the bound; its
+// corners are the mesh triangle's own (corners < 0) or those of pieces[corners], so that
+// the whole triangles the search starts from, one per uncertified triangle, take 24 bytes
+// each rather than the 96 of three corners.
 struct SearchPiece {
-  std::array<Eigen::Vector3d, 3> p;
-  int triangle = -1;
   double bound = 0.0;
   std::size_t order = 0;  // tie-break: first made first
+  int triangle = -1;
+  int corners = -1;
   bool operator<(const SearchPiece& o) const {
     return bound != o.bound ? bound < o.bound : order > o.order;
   }
@@ -245,6 +249,7 @@ void search_worst(const TriangleMesh& mesh, const std::vector<Sphere>& balls, do
   const SphereTree tree(set);
   const Eigen::Isometry3d identity = Eigen::Isometry3d::Identity();
   std::priority_queue<SearchPiece> queue;
+  std::vector<std::array<Eigen::Vector3d, 3>> pieces;  // corners of the split pieces
   std::size_t made = 0;
   auto dist = [&](const Eigen::Vector3d& q, int t) {
     ++cert.worst_evaluations;
@@ -256,33 +261,47 @@ void search_worst(const TriangleMesh& mesh, const std::vector<Sphere>& balls, do
     }
     return d;
   };
-  auto push = [&](const std::array<Eigen::Vector3d, 3>& p, int t) {
+  auto push = [&](const std::array<Eigen::Vector3d, 3>& p, int t, bool whole) {
     const Eigen::Vector3d g = (p[0] + p[1] + p[2]) / 3.0;
     double reach = 0.0;
     for (const Eigen::Vector3d& q : p) reach = std::max(reach, (q - g).norm());
-    queue.push({p, t, dist(g, t) + reach * (1.0 + 1e-12), made++});
+    int corners = -1;
+    if (!whole) {
+      corners = static_cast<int>(pieces.size());
+      pieces.push_back(p);
+    }
+    queue.push({dist(g, t) + reach * (1.0 + 1e-12), made++, t, corners});
+  };
+  auto corners_of = [&](const SearchPiece& s) -> std::array<Eigen::Vector3d, 3> {
+    if (s.corners >= 0) return pieces[static_cast<std::size_t>(s.corners)];
+    const auto t = static_cast<std::size_t>(s.triangle);
+    return {mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)};
   };
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (cert.triangle_certified[t]) continue;
     const int ti = static_cast<int>(t);
     std::array<Eigen::Vector3d, 3> p = {mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2)};
     for (const Eigen::Vector3d& q : p) dist(q, ti);
-    push(p, ti);
+    push(p, ti, true);
   }
   while (!queue.empty() && queue.top().bound > cert.worst_distance + tolerance &&
          cert.worst_evaluations + 4 <= max_evaluations) {
-    const SearchPiece s = queue.top();
+    const SearchPiece top = queue.top();
     queue.pop();
-    const Eigen::Vector3d m01 = 0.5 * (s.p[0] + s.p[1]), m12 = 0.5 * (s.p[1] + s.p[2]),
-                          m20 = 0.5 * (s.p[2] + s.p[0]);
-    for (const Eigen::Vector3d& q : {m01, m12, m20}) dist(q, s.triangle);
-    push({s.p[0], m01, m20}, s.triangle);
-    push({m01, s.p[1], m12}, s.triangle);
-    push({m20, m12, s.p[2]}, s.triangle);
-    push({m01, m12, m20}, s.triangle);
+    const std::array<Eigen::Vector3d, 3> p = corners_of(top);
+    const Eigen::Vector3d m01 = 0.5 * (p[0] + p[1]), m12 = 0.5 * (p[1] + p[2]),
+                          m20 = 0.5 * (p[2] + p[0]);
+    for (const Eigen::Vector3d& q : {m01, m12, m20}) dist(q, top.triangle);
+    push({p[0], m01, m20}, top.triangle, false);
+    push({m01, p[1], m12}, top.triangle, false);
+    push({m20, m12, p[2]}, top.triangle, false);
+    push({m01, m12, m20}, top.triangle, false);
   }
   cert.worst_bound = std::max(cert.worst_distance, queue.empty() ? 0.0 : queue.top().bound);
 }
+
+// Triangles certified per block (certify_cover).
+constexpr std::size_t kCertifyBlock = std::size_t{1} << 16;
 
 }  // namespace
 
@@ -322,33 +341,41 @@ CoverCertificate certify_cover(const TriangleMesh& mesh, const std::vector<Spher
   for (std::size_t t = 0; t < n; ++t)
     for (int k = 0; k < 3; ++k) box.extend(mesh.corner(t, k));
   const BallGrid grid(box, balls);
-  std::vector<TriangleResult> results(n);
+  // A block of triangles at a time, each block's results folded in triangle order before
+  // the next: the certificate of one pass over all triangles, while the results (with the
+  // pieces of uncertified triangles, nearly every triangle for an inner set) are held for
+  // kCertifyBlock triangles only, not per triangle of the mesh.
   const int threads = thread_count(options.threads);
-  const long long count = static_cast<long long>(n);
+  std::vector<TriangleResult> results;
+  for (std::size_t first = 0; first < n; first += kCertifyBlock) {
+    const std::size_t last = std::min(n, first + kCertifyBlock);
+    results.assign(last - first, TriangleResult{});
+    const long long begin = static_cast<long long>(first), end = static_cast<long long>(last);
 #pragma omp parallel num_threads(threads)
-  {
-    TriangleCertifier certifier(balls, grid, options.max_depth);
+    {
+      TriangleCertifier certifier(balls, grid, options.max_depth);
 #pragma omp for schedule(dynamic, 64)
-    for (long long t = 0; t < count; ++t) {
-      const std::size_t ti = static_cast<std::size_t>(t);
-      results[ti] = certifier.run(static_cast<int>(t),
-                                  {mesh.corner(ti, 0), mesh.corner(ti, 1), mesh.corner(ti, 2)});
+      for (long long t = begin; t < end; ++t) {
+        const std::size_t ti = static_cast<std::size_t>(t);
+        results[ti - first] = certifier.run(
+            static_cast<int>(t), {mesh.corner(ti, 0), mesh.corner(ti, 1), mesh.corner(ti, 2)});
+      }
     }
-  }
-  for (std::size_t t = 0; t < n; ++t) {
-    TriangleResult& r = results[t];
-    cert.pieces_tested += r.pieces;
-    cert.triangle_certified[t] = r.certified ? 1 : 0;
-    if (r.certified) {
-      cert.max_depth_reached = std::max(cert.max_depth_reached, r.depth);
-      continue;
+    for (std::size_t t = first; t < last; ++t) {
+      TriangleResult& r = results[t - first];
+      cert.pieces_tested += r.pieces;
+      cert.triangle_certified[t] = r.certified ? 1 : 0;
+      if (r.certified) {
+        cert.max_depth_reached = std::max(cert.max_depth_reached, r.depth);
+        continue;
+      }
+      ++cert.uncertified_triangles;
+      if (r.proven_uncovered) ++cert.proven_uncovered_triangles;
+      cert.uncertified_pieces_total += r.uncertified.size();
+      for (CoverPiece& p : r.uncertified)
+        if (cert.uncertified_pieces.size() < options.max_pieces_reported)
+          cert.uncertified_pieces.push_back(std::move(p));
     }
-    ++cert.uncertified_triangles;
-    if (r.proven_uncovered) ++cert.proven_uncovered_triangles;
-    cert.uncertified_pieces_total += r.uncertified.size();
-    for (CoverPiece& p : r.uncertified)
-      if (cert.uncertified_pieces.size() < options.max_pieces_reported)
-        cert.uncertified_pieces.push_back(std::move(p));
   }
   cert.certified = cert.uncertified_triangles == 0;
   if (!cert.certified) {

@@ -28,6 +28,21 @@ static_assert(sizeof(Bvh4Node) == 128, "Bvh4Node layout");
 
 inline constexpr std::int32_t kEmpty = INT32_MIN;
 
+/// A symmetric 3x3 matrix by its six distinct entries (xx, xy, xz, yy, yz, zz): the
+/// second moments are symmetric, and this keeps 48 of their 72 bytes. matrix() gives
+/// back the very matrix it was made from when that was symmetric.
+struct SymmetricMatrix3 {
+  double xx = 0, xy = 0, xz = 0, yy = 0, yz = 0, zz = 0;
+  SymmetricMatrix3() = default;
+  explicit SymmetricMatrix3(const Eigen::Matrix3d& m)
+      : xx(m(0, 0)), xy(m(0, 1)), xz(m(0, 2)), yy(m(1, 1)), yz(m(1, 2)), zz(m(2, 2)) {}
+  Eigen::Matrix3d matrix() const {
+    Eigen::Matrix3d m;
+    m << xx, xy, xz, xy, yy, yz, xz, yz, zz;
+    return m;
+  }
+};
+
 /// Far-field data of a subtree, for hierarchical winding numbers. With N_t = a_t n_t
 /// the vector area of triangle t and d = x - centre:
 /// - centre: the area-weighted centroid; radius: the largest |vertex - centre|;
@@ -41,8 +56,7 @@ struct WindingExpansion {
   double radius = 0.0;
   Eigen::Vector3d normal_sum = Eigen::Vector3d::Zero();
   Eigen::Matrix3d first_moment = Eigen::Matrix3d::Zero();
-  Eigen::Matrix3d second_moment[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(),
-                                      Eigen::Matrix3d::Zero()};
+  SymmetricMatrix3 second_moment[3];
 };
 
 struct MeshBvh {
@@ -52,14 +66,22 @@ struct MeshBvh {
   std::vector<QueryTriangle> triangles;      // in BVH leaf order
   std::vector<TrianglePlane> planes;         // the same order: the cheap lower bound
   std::vector<int> original;                 // BVH order -> index in mesh.triangles
-  std::vector<std::pair<int, int>> ranges;   // per node: its triangles, [first, last) in BVH order
+  // Per node: its triangles, [first, last) in BVH order; during the build only.
+  std::vector<std::pair<int, int>> ranges;
   Eigen::Vector3d origin = Eigen::Vector3d::Zero();  // box coordinates are relative to it
   double extent = 0.0;                               // largest side of the mesh's bounding box
   double box_scale = 1.0;  // a power of two: box coordinates are (x - origin) * box_scale
   std::size_t depth = 0;
   double winding_beta = 2.0;
 
-  void build(const TriangleMesh& m, const MeshQueryOptions& options);
+  /// The mesh and options build() takes, else std::invalid_argument.
+  static void check(const TriangleMesh& m, const MeshQueryOptions& options);
+  void build(TriangleMesh m, const MeshQueryOptions& options);
+
+ private:
+  void build_tree();
+  void prepare_triangles();
+  void build_expansions();
 };
 
 }  // namespace medspheres::detail

@@ -12,6 +12,9 @@
 #include <unordered_map>
 
 #include <sys/stat.h>
+#if defined(__GLIBC__)
+#include <malloc.h>
+#endif
 
 #include <assimp/Importer.hpp>
 
@@ -69,6 +72,15 @@ class Welder {
   TriangleMesh& mesh_;
   std::unordered_map<PointKey, int, PointKeyHash> index_;
 };
+
+// Gives the heap's free pages back to the system (glibc): the import frees many small
+// blocks (assimp's faces, the welding map) that would otherwise stay resident while the
+// later, larger arrays are mapped anew.
+void release_free_memory() {
+#if defined(__GLIBC__)
+  malloc_trim(0);
+#endif
+}
 
 std::string lower_extension(const std::string& path) {
   std::string ext = std::filesystem::path(path).extension().string();
@@ -227,29 +239,39 @@ LoadedMesh load_mesh(const std::string& path, const MeshLoadOptions& options) {
   if (ext == ".ply") detail::check_ply_counts(path, static_cast<std::uintmax_t>(st.st_size));
   if (ext == ".stl") detail::check_stl_counts(path, static_cast<std::uintmax_t>(st.st_size));
 
-  const detail::FlatScene scene =
+  detail::FlatScene scene =
       options.isolate_import
           ? import_isolated(path, static_cast<std::uintmax_t>(st.st_size), options)
           : detail::import_flat(path);
 
-  return detail::mesh_from_scene(scene, path, options.fix_orientation);
+  return detail::mesh_from_scene(std::move(scene), path, options.fix_orientation);
 }
 
-// Steps 2 to 4 of load_mesh on the imported scene (scene_import.h).
-LoadedMesh detail::mesh_from_scene(const detail::FlatScene& scene, const std::string& path,
+// Steps 2 to 4 of load_mesh on the imported scene (scene_import.h). Each placed mesh is
+// freed once welded, and the welding map before the checks, so that the flat scene (36
+// bytes per triangle corner) and the welded mesh are not all held at once.
+LoadedMesh detail::mesh_from_scene(detail::FlatScene scene, const std::string& path,
                                    bool fix_orientation) {
   LoadedMesh out;
   TriangleMesh& mesh = out.mesh;
-  Welder welder(mesh);
-  std::vector<int> ids;
-  for (const detail::FlatMesh& m : scene.meshes) {
-    const std::size_t nv = m.xyz.size() / 3;
-    ids.resize(nv);
-    for (std::size_t v = 0; v < nv; ++v)
-      ids[v] = welder.add(Eigen::Vector3d(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]));
-    for (std::size_t t = 0; t + 2 < m.index.size(); t += 3)
-      mesh.triangles.push_back({ids[m.index[t]], ids[m.index[t + 1]], ids[m.index[t + 2]]});
+  {
+    std::size_t triangles = 0;
+    for (const detail::FlatMesh& m : scene.meshes) triangles += m.index.size() / 3;
+    mesh.triangles.reserve(triangles);
+    Welder welder(mesh);
+    std::vector<int> ids;
+    for (detail::FlatMesh& m : scene.meshes) {
+      const std::size_t nv = m.xyz.size() / 3;
+      ids.resize(nv);
+      for (std::size_t v = 0; v < nv; ++v)
+        ids[v] = welder.add(Eigen::Vector3d(m.xyz[3 * v], m.xyz[3 * v + 1], m.xyz[3 * v + 2]));
+      for (std::size_t t = 0; t + 2 < m.index.size(); t += 3)
+        mesh.triangles.push_back({ids[m.index[t]], ids[m.index[t + 1]], ids[m.index[t + 2]]});
+      m = detail::FlatMesh{};
+    }
   }
+  mesh.vertices.shrink_to_fit();
+  release_free_memory();
   if (!scene.validation_failure.empty())
     out.warnings.push_back("assimp's validation rejected the scene (" + scene.validation_failure +
                            "); its meshes were read without it and checked, the rest ignored");

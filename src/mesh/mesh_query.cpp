@@ -252,7 +252,12 @@ class Collapser {
 
 }  // namespace
 
-void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
+// Memory. The hierarchy keeps about 340 bytes per triangle (the prepared triangles and
+// planes, 144; the expansions, about 90; the nodes, about 43; the mesh, 24; the orders).
+// The build's temporaries (boxes and centroids, 72 bytes per triangle; the binary tree,
+// 128) are freed as soon as the next stage no longer needs them, so that the build's
+// peak stays below what the finished hierarchy holds.
+void MeshBvh::check(const TriangleMesh& m, const MeshQueryOptions& options) {
   if (m.triangles.empty()) throw std::invalid_argument("MeshQuery: the mesh has no triangles");
   if (!(options.winding_beta > 1.0) || !std::isfinite(options.winding_beta))
     throw std::invalid_argument("MeshQuery: winding_beta must be finite and > 1");
@@ -264,8 +269,11 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
                                     " has a vertex index out of range");
   for (const auto& v : m.vertices)
     if (!v.allFinite()) throw std::invalid_argument("MeshQuery: non-finite vertex coordinate");
+}
 
-  mesh = m;
+void MeshBvh::build(TriangleMesh m, const MeshQueryOptions& options) {
+  check(m, options);
+  mesh = std::move(m);
   winding_beta = options.winding_beta;
   const Eigen::AlignedBox3d all = mesh.bounds();
   origin = all.center();
@@ -279,18 +287,32 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
     std::frexp(extent, &e);
     box_scale = std::ldexp(1.0, -e);
   }
+  build_tree();
+  prepare_triangles();
+  build_expansions();
+}
 
-  const std::size_t n = mesh.triangles.size();
-  std::vector<Eigen::AlignedBox3d> boxes(n);
-  std::vector<Eigen::Vector3d> centroids(n);
-  for (std::size_t t = 0; t < n; ++t) {
-    boxes[t].setEmpty();
-    for (int k = 0; k < 3; ++k) boxes[t].extend(mesh.corner(t, k));
-    centroids[t] = (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)) / 3.0;
+void MeshBvh::build_tree() {
+  std::vector<BinaryNode> bin;
+  {
+    const std::size_t n = mesh.triangles.size();
+    std::vector<Eigen::AlignedBox3d> boxes(n);
+    std::vector<Eigen::Vector3d> centroids(n);
+    for (std::size_t t = 0; t < n; ++t) {
+      boxes[t].setEmpty();
+      for (int k = 0; k < 3; ++k) boxes[t].extend(mesh.corner(t, k));
+      centroids[t] = (mesh.corner(t, 0) + mesh.corner(t, 1) + mesh.corner(t, 2)) / 3.0;
+    }
+    bin = BinaryBuilder(boxes, centroids).build();
   }
-  const std::vector<BinaryNode> bin = BinaryBuilder(boxes, centroids).build();
   Collapser(bin, *this).run();
+  std::vector<BinaryNode>().swap(bin);
+  nodes.shrink_to_fit();
+  original.shrink_to_fit();
+  ranges.shrink_to_fit();
+}
 
+void MeshBvh::prepare_triangles() {
   triangles.resize(original.size());
   planes.resize(original.size());
   for (std::size_t i = 0; i < original.size(); ++i) {
@@ -300,10 +322,12 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
     triangles[i] = prepared.triangle;
     planes[i] = prepared.plane;
   }
+}
 
-  // Far-field expansions. Each node's moments are summed over its own triangles,
-  // relative to its own centre, so no moment is shifted and nothing cancels; the cost
-  // is one pass over the triangles per tree level.
+// Far-field expansions. Each node's moments are summed over its own triangles, relative
+// to its own centre, so no moment is shifted and nothing cancels; the cost is one pass
+// over the triangles per tree level. The ranges are needed here only, and freed after.
+void MeshBvh::build_expansions() {
   expansions.assign(nodes.size(), WindingExpansion{});
   for (std::size_t i = 0; i < nodes.size(); ++i) {
     const auto [first, last] = ranges[i];
@@ -321,6 +345,8 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
     // Only zero-area triangles below: any centre will do, take their mean centroid.
     e.centre =
         area > 0.0 ? Eigen::Vector3d(weighted / area) : Eigen::Vector3d(plain / (last - first));
+    Eigen::Matrix3d second[3] = {Eigen::Matrix3d::Zero(), Eigen::Matrix3d::Zero(),
+                                 Eigen::Matrix3d::Zero()};
     for (int t = first; t < last; ++t) {
       const QueryTriangle& q = triangles[static_cast<std::size_t>(t)];
       const Eigen::Vector3d v[3] = {q.a - e.centre, q.a + q.ab - e.centre, q.a + q.ac - e.centre};
@@ -334,10 +360,12 @@ void MeshBvh::build(const TriangleMesh& m, const MeshQueryOptions& options) {
                                          12.0;
       e.normal_sum += vector_area;
       e.first_moment += mean * vector_area.transpose();
-      for (int k = 0; k < 3; ++k) e.second_moment[k] += vector_area[k] * mean_outer;
+      for (int k = 0; k < 3; ++k) second[k] += vector_area[k] * mean_outer;
       for (const Eigen::Vector3d& d : v) e.radius = std::max(e.radius, d.norm());
     }
+    for (int k = 0; k < 3; ++k) e.second_moment[k] = SymmetricMatrix3(second[k]);
   }
+  std::vector<std::pair<int, int>>().swap(ranges);
 }
 
 namespace {
@@ -603,16 +631,21 @@ TriangleMesh hole_caps(const TriangleMesh& mesh) {
 }  // namespace
 
 MeshQuery::MeshQuery(const TriangleMesh& mesh, const MeshQueryOptions& options)
+    : MeshQuery(TriangleMesh(mesh), options) {}
+
+// The caps are found (an edge table of the mesh, about 60 bytes per triangle) before the
+// hierarchy is built, so that the two never take memory at the same time.
+MeshQuery::MeshQuery(TriangleMesh&& mesh, const MeshQueryOptions& options)
     : impl_(std::make_unique<Impl>()) {
-  impl_->bvh.build(mesh, options);
+  TriangleMesh caps;
+  detail::MeshBvh::check(mesh, options);
+  if (options.cap_holes) caps = hole_caps(mesh);
+  impl_->bvh.build(std::move(mesh), options);
   impl_->order_of = inverse_order(impl_->bvh);
-  if (options.cap_holes) {
-    TriangleMesh caps = hole_caps(mesh);
-    if (!caps.triangles.empty()) {
-      impl_->caps = std::make_unique<detail::MeshBvh>();
-      impl_->caps->build(caps, options);
-      impl_->caps_order_of = inverse_order(*impl_->caps);
-    }
+  if (!caps.triangles.empty()) {
+    impl_->caps = std::make_unique<detail::MeshBvh>();
+    impl_->caps->build(std::move(caps), options);
+    impl_->caps_order_of = inverse_order(*impl_->caps);
   }
 }
 

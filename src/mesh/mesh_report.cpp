@@ -1,6 +1,7 @@
 #include "medspheres/mesh/mesh_report.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <cstdint>
 #include <numeric>
@@ -278,6 +279,30 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
   return r;
 }
 
+// Each directed edge a -> b as one 64-bit key, sorted: the mesh is closed and consistent
+// exactly when no key repeats and every key's reverse is present. (An edge with one use
+// lacks its reverse; two uses in one direction repeat a key; three or more uses repeat a
+// key or, with two in one direction and one back, both.)
+bool is_closed_consistent(const TriangleMesh& mesh) {
+  detail::check_indices(mesh);
+  if (mesh.triangles.empty()) return false;
+  const auto key = [](int a, int b) {
+    return static_cast<std::uint64_t>(static_cast<std::uint32_t>(a)) << 32 |
+           static_cast<std::uint32_t>(b);
+  };
+  std::vector<std::uint64_t> directed;
+  directed.reserve(3 * mesh.triangles.size());
+  for (const auto& t : mesh.triangles)
+    if (!detail::is_collapsed(t))
+      for (int k = 0; k < 3; ++k) directed.push_back(key(t[k], t[(k + 1) % 3]));
+  std::sort(directed.begin(), directed.end());
+  if (std::adjacent_find(directed.begin(), directed.end()) != directed.end()) return false;
+  return std::all_of(directed.begin(), directed.end(), [&](std::uint64_t e) {
+    const auto a = static_cast<int>(e >> 32), b = static_cast<int>(e & 0xffffffffu);
+    return std::binary_search(directed.begin(), directed.end(), key(b, a));
+  });
+}
+
 // Cavities. A hollow solid (a ball with a spherical void) has an inner shell wound
 // inward: its negative volume is what makes the total the solid's volume. So a closed,
 // consistently wound component at nesting depth 0 (outermost), 2, ... bounds material and
@@ -292,16 +317,25 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
   const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
   const std::size_t nt = mesh.triangles.size();
 
-  // Per triangle, its manifold edges (as edge ids) for the breadth-first walk.
+  // Per triangle, its manifold edges (as edge ids, ascending; -1 after the last) for the
+  // breadth-first walk. A triangle has three edges, so three slots hold them all, in one
+  // flat array rather than a vector per triangle.
   std::vector<char> comp_nonmanifold(ncomp, 0);
-  std::vector<std::vector<int>> tri_edges(nt);
+  std::vector<std::array<int, 3>> tri_edges(nt, {-1, -1, -1});
+  const auto add_edge = [&](int t, std::size_t e) {
+    for (int& slot : tri_edges[static_cast<std::size_t>(t)])
+      if (slot < 0) {
+        slot = static_cast<int>(e);
+        return;
+      }
+  };
   for (std::size_t e = 0; e < edges.num_edges(); ++e) {
     const std::size_t b = edges.edge_begin[e], n = edges.edge_begin[e + 1] - b;
     if (n >= 3) comp_nonmanifold[comp[edges.half_edges[b].triangle]] = 1;
     if (n == 2) {
-      tri_edges[edges.half_edges[b].triangle].push_back(static_cast<int>(e));
+      add_edge(edges.half_edges[b].triangle, e);
       if (edges.half_edges[b + 1].triangle != edges.half_edges[b].triangle)
-        tri_edges[edges.half_edges[b + 1].triangle].push_back(static_cast<int>(e));
+        add_edge(edges.half_edges[b + 1].triangle, e);
     }
   }
 
@@ -324,7 +358,8 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
     while (!q.empty() && comp_ok[c]) {
       const int t = q.front();
       q.pop();
-      for (int e : tri_edges[t]) {
+      for (int e : tri_edges[static_cast<std::size_t>(t)]) {
+        if (e < 0) break;
         const detail::HalfEdge& h0 = edges.half_edges[edges.edge_begin[e]];
         const detail::HalfEdge& h1 = edges.half_edges[edges.edge_begin[e] + 1];
         const detail::HalfEdge& mine = h0.triangle == t ? h0 : h1;

@@ -355,6 +355,7 @@ FlatScene import_flat(const std::string& path) {
       }
       for (int i = 0; i < 3; ++i) flat.xyz[3 * static_cast<std::size_t>(v) + i] = q[i];
     }
+    flat.index.reserve(3 * static_cast<std::size_t>(m->mNumFaces));
     for (unsigned f = 0; f < m->mNumFaces; ++f) {
       const aiFace& face = m->mFaces[f];
       if (face.mNumIndices != 3) continue;  // points and lines

@@ -74,6 +74,6 @@ ImportAnswer decode_answer(const std::string& bytes);
 /// points, checks the mesh (check_mesh_usable, naming \p path), orients it when
 /// \p fix_orientation, and reports it with the user's warnings.
 /// Precondition: every index of a FlatMesh is below its vertex count.
-LoadedMesh mesh_from_scene(const FlatScene& scene, const std::string& path, bool fix_orientation);
+LoadedMesh mesh_from_scene(FlatScene scene, const std::string& path, bool fix_orientation);
 
 }  // namespace medspheres::detail

@@ -30,9 +30,10 @@ double far_field_flux(const detail::WindingExpansion& e, const Eigen::Vector3d& 
   const double inv5 = inv3 * inv_l2;
   double diag = 0.0, trace_term = 0.0, cubic = 0.0;
   for (int i = 0; i < 3; ++i) {
-    const Eigen::Vector3d cy = e.second_moment[i] * y;
+    const Eigen::Matrix3d c = e.second_moment[i].matrix();
+    const Eigen::Vector3d cy = c * y;
     diag += cy[i];
-    trace_term += y[i] * e.second_moment[i].trace();
+    trace_term += y[i] * c.trace();
     cubic += y[i] * y.dot(cy);
   }
   const double order0 = y.dot(e.normal_sum) * inv3;

@@ -200,6 +200,10 @@ class FitEvaluator {
   FitReport evaluate(const std::vector<Sphere>& balls, const FitOptions& options = {}) const;
 
  private:
+  struct Solid;  // the oriented mesh, its report and self-intersections (fit_metrics.cpp)
+  static Solid prepare(const TriangleMesh& mesh, int threads);
+  explicit FitEvaluator(Solid solid);
+
   VolumeError combine(const std::vector<Sphere>& balls, UnionMeasures measures,
                       std::vector<double> protrusions) const;
 

@@ -93,6 +93,8 @@ class MeshQuery {
   ///   coordinates or with out-of-range indices (use check_mesh_usable first to get a
   ///   message for users), or for winding_beta <= 1.
   explicit MeshQuery(const TriangleMesh& mesh, const MeshQueryOptions& options = {});
+  /// The same, taking over \p mesh instead of copying it.
+  explicit MeshQuery(TriangleMesh&& mesh, const MeshQueryOptions& options = {});
   ~MeshQuery();
   MeshQuery(MeshQuery&&) noexcept;
   MeshQuery& operator=(MeshQuery&&) noexcept;
