@@ -572,13 +572,6 @@ Clustering optimise(const MeshQuery& query, const Elements& e, std::vector<Spher
   return c;
 }
 
-// The margin added to every radius: far above the certificate's rounding allowance (a few
-// ulps of the coordinates), so that a ball holding an element's computed corners
-// certifies it.
-double radius_slack(double L, double coordinates) {
-  return 1e-9 * L + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
-}
-
 // Step 4b. The elements follow the patches that stood for them (\p c clusters the
 // patches); each ball is refitted as the minimum enclosing ball of its elements' points,
 // then the inward moves of step 3 and the shrink of step 4 run on the elements themselves,
@@ -837,7 +830,8 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   std::vector<Sphere>& balls = out.spheres.spheres;
   for (const Sphere& b : c.balls)
     if (b.radius > 0.0)
-      balls.push_back({b.center, b.radius + radius_slack(s.largest_side, coordinates + b.radius)});
+      balls.push_back(
+          {b.center, b.radius + cover_radius_slack(s.largest_side, coordinates + b.radius)});
   CoverCertificateOptions co = options.certificate;
   co.threads = options.threads;
   for (int round = 0; round < options.repair_rounds; ++round) {
@@ -845,7 +839,7 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
     s.repair_rounds_run = round;
     if (out.certificate.certified) break;
     s.repaired += grow_to_hold(balls, out.certificate,
-                               radius_slack(s.largest_side, coordinates + s.largest_side));
+                               cover_radius_slack(s.largest_side, coordinates + s.largest_side));
   }
   if (!out.certificate.certified && s.repaired > 0)
     out.certificate = certify_cover(mesh, balls, co);
@@ -879,6 +873,12 @@ std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cer
     }
   }
   return grown;
+}
+
+// Far above the certificate's rounding allowance (a few ulps of the coordinates), so that a
+// ball holding an element's computed corners certifies it.
+double cover_radius_slack(double L, double coordinates) {
+  return 1e-9 * L + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
 }
 
 }  // namespace medspheres

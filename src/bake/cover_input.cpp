@@ -36,8 +36,7 @@ InputCoverCheck certify_input_cover(const TriangleMesh& input, const FitEvaluato
   co.threads = options.threads;
   const Eigen::AlignedBox3d box = input.bounds();
   const double coordinates = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
-  const double slack =
-      1e-9 * box.sizes().maxCoeff() + 64.0 * std::numeric_limits<double>::epsilon() * coordinates;
+  const double slack = cover_radius_slack(box.sizes().maxCoeff(), coordinates);
   // Rounds after the first certify only the triangles still uncertified: balls only grow,
   // so a certified triangle stays certified.
   out.certificate = certify_cover(input, balls, co);

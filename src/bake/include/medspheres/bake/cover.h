@@ -130,4 +130,8 @@ std::string cover_metadata_json(const BakeRecord& record);
 /// growths.
 std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack);
 
+/// The margin added to a covering ball's radius: 1e-9 \p L (the solid's largest side) plus
+/// 64 eps of \p coordinates (the largest coordinate magnitude involved).
+double cover_radius_slack(double L, double coordinates);
+
 }  // namespace medspheres
