@@ -120,3 +120,18 @@ TEST_CASE("bake_cover rejects bad options", "[cover]") {
   o.certificate.max_depth = 2;
   CHECK_THROWS_AS(bake_cover(query, 4, o), std::invalid_argument);
 }
+
+TEST_CASE("bake_cover: a bar's budget is used, each ball holding its half", "[cover]") {
+  // A 10 x 1 x 1 bar: one ball protrudes by its half diagonal minus the half thickness,
+  // |(5, .5, .5)| - .5 = 4.55; two balls centred on the axis at x = +-2.5, each holding its
+  // half, by |(2.5, .5, .5)| - .5 = 2.10. The bake's protrusions are measured by
+  // sphere_protrusions, independently of the bake.
+  const TriangleMesh bar = make_box(Eigen::Vector3d(5.0, 0.5, 0.5), 4);
+  const MeshQuery query(bar);
+  const double one = std::sqrt(25.0 + 0.5) - 0.5, two = std::sqrt(6.25 + 0.5) - 0.5;
+  const CoverResult r1 = bake_cover(query, 1), r2 = bake_cover(query, 2);
+  CHECK(r1.stats.max_protrusion == Approx(one).epsilon(1e-6));
+  REQUIRE(r2.spheres.size() == 2);
+  CHECK(r2.stats.certified);
+  CHECK(r2.stats.max_protrusion < 1.05 * two);
+}

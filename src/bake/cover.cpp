@@ -640,6 +640,18 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
   return best;
 }
 
+// Each ball, its centre kept, made just large enough for the elements it owns (radius 0
+// when it owns none).
+void hold_members(const Elements& e, Clustering& c) {
+  const auto members = members_of(c.owner, c.balls.size());
+  std::vector<char> mark(e.points.size(), 0);
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    c.balls[j].radius = members[j].empty()
+                            ? 0.0
+                            : reach_from(atoms_of(e, members[j], mark), c.balls[j].center) *
+                                  (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+
 // Step 4c candidates: the points of a grid inside the solid (about kCandidates of them,
 // the grid at most kCandidateGrid points) and the centres \p extra, each with its depth.
 constexpr double kCandidates = 2000.0;
@@ -694,13 +706,7 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
   for (std::size_t m : tc.picks)
     c.balls.push_back({cand.centres[m], 1.0}), depth.push_back(cand.depth[m]);
   assign(e, c.balls, c.owner, threads, depth);
-  const auto members = members_of(c.owner, c.balls.size());
-  std::vector<char> mark(e.points.size(), 0);
-  for (std::size_t j = 0; j < c.balls.size(); ++j)
-    c.balls[j].radius = members[j].empty()
-                            ? 0.0
-                            : reach_from(atoms_of(e, members[j], mark), c.balls[j].center) *
-                                  (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+  hold_members(e, c);
   return minimax(query, e, std::move(c), rounds, threads);
 }
 
@@ -723,6 +729,104 @@ double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls,
     if (b.radius > 0.0) live.push_back(b);
   const double outside = std::max(union_volume(live) - volume.value_or(0.0), 0.0);
   return outside * std::max(largest_protrusion(query, live, threads), 0.0);
+}
+
+// Step 4e. Ball j's elements split in two about their two most distant centroids (the
+// farthest from the ball's centre, then the farthest from that), each part fitted with its
+// minimum enclosing ball; the second part becomes a new ball. False when j has fewer than
+// two elements.
+bool split(const Elements& e, Clustering& c, std::size_t j) {
+  std::vector<std::size_t> members;
+  for (std::size_t i = 0; i < c.owner.size(); ++i)
+    if (c.owner[i] == static_cast<int>(j)) members.push_back(i);
+  if (members.size() < 2) return false;
+  auto farthest_from = [&](const Eigen::Vector3d& x) {
+    return *std::max_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
+      return (e.centroids[a] - x).squaredNorm() < (e.centroids[b] - x).squaredNorm();
+    });
+  };
+  const Eigen::Vector3d a = e.centroids[farthest_from(c.balls[j].center)];
+  const Eigen::Vector3d b = e.centroids[farthest_from(a)];
+  const int fresh = static_cast<int>(c.balls.size());
+  c.balls.push_back({b, 0.0});
+  for (std::size_t i : members)
+    if ((e.centroids[i] - b).squaredNorm() < (e.centroids[i] - a).squaredNorm()) c.owner[i] = fresh;
+  const auto parts = members_of(c.owner, c.balls.size());
+  std::vector<char> mark(e.points.size(), 0);
+  for (std::size_t part : {j, static_cast<std::size_t>(fresh)})
+    c.balls[part] =
+        parts[part].empty() ? Sphere{c.balls[part].center, 0.0} : fit(e, parts[part], mark);
+  return true;
+}
+
+// The ball other than j (the one element i belongs to) that holds i at the least
+// protrusion, given each ball's \p depth, and that protrusion.
+std::pair<std::size_t, double> cheapest_other(const Elements& e, const Clustering& c, std::size_t i,
+                                              const std::vector<double>& depth) {
+  const std::size_t j = static_cast<std::size_t>(c.owner[i]);
+  std::pair<std::size_t, double> best{j, std::numeric_limits<double>::infinity()};
+  for (std::size_t m = 0; m < c.balls.size(); ++m) {
+    const double v = farthest(e, i, c.balls[m].center) - depth[m];
+    if (m != j && c.balls[m].radius > 0.0 && v < best.second) best = {m, v};
+  }
+  return best;
+}
+
+// The ball whose elements the other balls can take at the least largest protrusion.
+std::size_t cheapest_removal(const Elements& e, const Clustering& c,
+                             const std::vector<double>& depth) {
+  std::vector<double> worst(c.balls.size(), -std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    double& w = worst[static_cast<std::size_t>(c.owner[i])];
+    w = std::max(w, cheapest_other(e, c, i, depth).second);
+  }
+  return static_cast<std::size_t>(std::min_element(worst.begin(), worst.end()) - worst.begin());
+}
+
+// Ball \p gone's elements to their cheapest other balls; \p gone is left empty (radius 0).
+void hand_over(const Elements& e, Clustering& c, std::size_t gone,
+               const std::vector<double>& depth) {
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    if (c.owner[i] != static_cast<int>(gone)) continue;
+    const std::size_t m = cheapest_other(e, c, i, depth).first;
+    c.owner[i] = static_cast<int>(m);
+  }
+  c.balls[gone].radius = 0.0;
+}
+
+// Step 4e. Local search on the ball count: the ball that protrudes most is split in two,
+// filling the budget while balls are missing, else in exchange for the ball whose elements
+// the others take most cheaply (hand_over); then minimax rounds (step 4c). A move is kept
+// when it lowers cover_cost and its union is no larger than \p one_ball. The search stops
+// at the first move that does not help.
+constexpr int kRefineMoves = 3;
+constexpr int kRefineRounds = 2;
+
+Clustering refine(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
+                  const std::optional<double>& volume, double one_ball, int threads) {
+  double cost = cover_cost(query, c.balls, volume, threads);
+  for (int move = 0; move < kRefineMoves; ++move) {
+    Clustering d = c;
+    drop_empty(d);
+    if (d.balls.empty()) break;
+    const std::vector<double> p = sphere_protrusions(query, d.balls, threads);
+    std::vector<double> depth(p.size());
+    for (std::size_t j = 0; j < p.size(); ++j) depth[j] = d.balls[j].radius - p[j];
+    const std::size_t worst =
+        static_cast<std::size_t>(std::max_element(p.begin(), p.end()) - p.begin());
+    if (d.balls.size() >= budget) {
+      const std::size_t gone = cheapest_removal(e, d, depth);
+      if (gone == worst) break;
+      hand_over(e, d, gone, depth);
+    }
+    if (!split(e, d, worst)) break;
+    hold_members(e, d);
+    d = minimax(query, e, std::move(d), kRefineRounds, threads);
+    const double v = cover_cost(query, d.balls, volume, threads);
+    if (!(v < cost && union_volume(d.balls) <= one_ball)) break;
+    c = std::move(d), cost = v;
+  }
+  return c;
 }
 
 // Steps 2 to 4 from every start, on the patches, each result carried over to the elements
@@ -771,7 +875,7 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
   if (!t.balls.empty() && union_volume(t.balls) <= one_ball &&
       cover_cost(query, t.balls, volume, threads) < best)
     c = std::move(t);
-  return c;
+  return refine(query, e, std::move(c), budget, volume, one_ball, threads);
 }
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {

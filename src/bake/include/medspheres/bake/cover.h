@@ -45,6 +45,12 @@
 ///    of the volume outside the solid (U - V; U on an open mesh) and the largest
 ///    protrusion, so that neither is traded for a small gain in the other; a result whose
 ///    union is larger than that of start 0's single ball (moved inward) is not eligible.
+/// 4e. Local search on the winner, at most 3 moves: the ball that protrudes most is split
+///    in two (each half its minimum enclosing ball), filling the budget while balls are
+///    missing, else in exchange for the ball whose elements the others take at the least
+///    protrusion; then two minimax rounds (4c). A move is kept when it lowers the product
+///    of 4d (and keeps the union within the single ball's); the first that does not ends
+///    the search.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
