@@ -326,10 +326,11 @@ RobustSolid solid_at(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, i
   out.enclosed_cells = flood_outside(g, thickness);
   if (out.enclosed_cells == 0)
     throw InputError(ErrorKind::kNoInterior, name,
-                     "the mesh bounds no volume: walls of " + number_text(out.wall_radius) +
-                         " around its triangles (robust solid at resolution " + std::to_string(n) +
-                         ") enclose no cell, so it is a sheet or its holes are wider than "
-                         "the walls close (raise robust_thickness to close them)");
+                     "the mesh bounds no volume at robust resolution " + std::to_string(n) +
+                         ": walls of " + number_text(out.wall_radius) +
+                         " around its triangles enclose no cell, so it is a sheet, its holes "
+                         "are wider than the walls close (raise robust_thickness), or its parts "
+                         "are thinner than the walls (raise robust_resolution)");
   fill_diagonal_contacts(g);
   out.solid_cells = static_cast<std::size_t>(
       std::count_if(g.state.begin(), g.state.end(), [](std::uint8_t s) { return s != kOutside; }));

@@ -71,8 +71,9 @@ struct RobustSolid {
 /// The robust solid of \p mesh (see the file comment); \p name names the mesh in errors.
 /// \throws InputError (kOutOfRange, field "robust_resolution" or "robust_thickness") for
 ///   options out of range, (kNoInterior, file \p name) when the walls enclose no cell (at
-///   any probe's resolution, when chosen): the surface bounds no volume (a flat sheet) or
-///   has holes wider than the walls close.
+///   any probe's resolution, when chosen): the surface bounds no volume (a flat sheet),
+///   has holes wider than the walls close, or parts thinner than the walls, which then fill
+///   them.
 /// \throws std::invalid_argument for a mesh without triangles or with indices out of range.
 RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
                               const std::string& name);
