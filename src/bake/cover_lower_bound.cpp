@@ -1,0 +1,379 @@
+// A lower bound on the least max protrusion of any K-ball surface cover; contract in
+// cover_lower_bound.h.
+#include "medspheres/bake/cover_lower_bound.h"
+
+#include <algorithm>
+#include <chrono>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "medspheres/bake/cover.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/threads.h"
+
+// Derivation.
+//
+// D is the signed distance to the surface S (positive inside), 1-Lipschitz. The protrusion
+// of a ball (c, r) is r - D(c). For a point x and h >= 0 let rho(x, h) = max of D over the
+// ball B(x, h).
+//
+// 1. One point. A ball (c, r) holding x has c in B(x, r), so D(c) <= rho(x, r) and its
+//    protrusion is >= f_x(r) = r - rho(x, r). f_x is nondecreasing: for r >= r0, every c in
+//    B(x, r) is within r - r0 of a point c' of B(x, r0) (its radial projection), so
+//    D(c) <= D(c') + r - r0 and rho(x, r) <= rho(x, r0) + r - r0.
+// 2. Two points. A ball holding x and y has r >= max(|c - x|, |c - y|) >= h = |x - y| / 2,
+//    so by 1 its protrusion is >= m(x, y) = max(f_x(h), f_y(h)) = h - min(rho(x, h),
+//    rho(y, h)).
+// 3. Pigeonhole. K balls (or fewer) whose union contains S hold the K + 1 witnesses
+//    w_0 .. w_K (points of S), so one ball holds two of them and protrudes by at least
+//    min over pairs i < j of m(w_i, w_j). Any witnesses give a valid bound; they are chosen
+//    to make it large (below).
+// 4. rho from above. A grid of cell centres g over the mesh's box (cells c_x, c_y, c_z, at
+//    most L / resolution each) leaves every point of the box within delta = |c| / 2 of a
+//    centre. D(g) is computed at every centre inside the solid (exact closest-point
+//    distance). For c in B(x, h): if c is not inside, D(c) <= 0; if it is, c lies in the
+//    box, its nearest centre g has |g - x| <= h + delta and D(c) <= D(g) + delta, where
+//    D(g) <= 0 unless g is inside. Hence
+//      rho(x, h) <= max(0, max{D(g) : g inside, |g - x| <= h + delta}) + delta,
+//    and, since D(x) = 0 on the surface, also rho(x, h) <= h. The maximum over centres is
+//    read from a per-witness profile: the centres binned by floor(|g - x| / w), w = delta /
+//    2, and the running maximum over bins; the bin of h + delta (rounded up by a relative
+//    1e-12, above the rounding of |g - x|) holds every centre within h + delta, and some a
+//    little farther, which only raises the bound on rho. Bins beyond the last are read as
+//    the last, the maximum over all centres.
+// 5. Rounding. Closest-point distances, the centres and the witnesses (area samples are
+//    interpolated) are exact up to a few ulps of the coordinates; every m is lowered by
+//    sigma = 4 cover_radius_slack(L, X) (1e-9 L plus 64 eps of the largest coordinate X,
+//    four times), far above those errors. The bound is clamped at 0, which holds anyway:
+//    a ball holding a point of S protrudes by >= 0 (|c - x| >= D(c) for x on S).
+// 6. Inside. As for protrusions (fit_metrics.h), inside is the winding number > 1/2. The
+//    hierarchical winding number is exact up to its expansion error, far below 1/2 on a
+//    closed mesh away from the surface; centres whose value is more than 0.1 from an
+//    integer are recomputed by the direct sum (winding_number_exact).
+// 7. Open meshes (only with winding_solid). The solid is the winding solid and D(c) = d(c)
+//    inside, -d(c) outside, d the distance to the mesh with its holes capped when the query
+//    caps them (fit_metrics.h); D is no longer 1-Lipschitz where the winding number crosses
+//    1/2 off the surface (across a hole). The argument runs on the least 1-Lipschitz
+//    majorant D~(c) = sup_y (D(y) - |c - y|) >= D(c) instead, so protrusions are >=
+//    r - D~(c) and steps 1 to 3 hold for D~. On the surface D~(x) <= 0 (D(y) <= d(y) <=
+//    |y - x|), so max of D~ over B(x, h) is <= h, and it equals
+//      sup_y (D(y) - max(0, |y - x| - h)) <= max(0, sup_{y inside} (d(y) - max(0, |y - x| - h))).
+//    Assumption (not checked): every inside y farther than delta from the surface lies
+//    within delta of a counted centre: an inside centre or one of its 26 neighbours (the
+//    band that catches the winding solid's boundary across holes). Then d(y) <= d(g) + delta
+//    and |y - x| >= |g - x| - delta, so with R = h + delta the bound is
+//      max(0, max over counted g of d(g) - max(0, |g - x| - R)) + delta;
+//    points y within delta of the surface add at most delta, which the formula has. In the
+//    profile, centres in bins b > floor(R / w) are lowered by (b - floor(R / w) - 1) w, less
+//    than their true penalty; the rest are not lowered. Without holes this is looser than
+//    step 4 (it has more terms), which is why closed meshes use step 4.
+//
+// Choosing the witnesses. Candidates: farthest-point sampling (first: the point farthest
+// from the box centre) over area-weighted surface samples and the vertices, so they are
+// spread and include the extremities. Then greedy max-min on m itself from `starts` first
+// points (the first candidates, the most spread): add the candidate whose least m to the
+// chosen points is largest (ties: lowest index), K times; a start's value is the least m
+// over its pairs. The best start (ties: lowest) is kept, then improved by single swaps: a
+// point of the worst pair is replaced by the candidate whose least m to the others is
+// largest, while that strictly raises the least m over pairs.
+// Every step runs in a fixed order, so the result does not depend on the thread count.
+
+namespace medspheres {
+
+namespace {
+
+constexpr double kAmbiguousWinding = 0.1;
+constexpr std::size_t kSamplesPerCandidate = 8;
+
+void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBoundOptions& o) {
+  if (budget == 0) throw std::invalid_argument("budget must be >= 1, got 0");
+  if (o.resolution < 4 || o.resolution > 256)
+    throw std::invalid_argument("resolution must be in [4, 256], got " +
+                                std::to_string(o.resolution));
+  if (o.candidates < 2)
+    throw std::invalid_argument("candidates must be >= 2, got " + std::to_string(o.candidates));
+  if (o.starts < 1)
+    throw std::invalid_argument("starts must be >= 1, got " + std::to_string(o.starts));
+  check_threads(o.threads);
+  if (!o.winding_solid && !solid_volume(query.mesh()))
+    throw InputError(ErrorKind::kUnsupported, "mesh",
+                     "is not closed (or bounds no volume): the cover lower bound needs a solid "
+                     "(winding_solid accepts it, with the assumption of cover_lower_bound.h)");
+}
+
+// Step 4's grid: the centres counted (inside the solid; on an open mesh also their
+// neighbours, step 7) with their distance to the surface, and delta.
+struct DepthGrid {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<double> depth;
+  std::size_t grid_points = 0, inside = 0;
+  double delta = 0.0;
+};
+
+// Which centres count: inside ones, and on an open mesh (\p band) their 26 neighbours.
+std::vector<char> counted_centres(const std::vector<double>& w, const Eigen::Array3i& n,
+                                  bool band) {
+  std::vector<char> in(w.size());
+  for (std::size_t i = 0; i < w.size(); ++i) in[i] = w[i] > 0.5;
+  if (!band) return in;
+  std::vector<char> out = in;
+  const auto at = [&](int i, int j, int k) {
+    return static_cast<std::size_t>((i * n[1] + j) * n[2] + k);
+  };
+  for (int i = 0; i < n[0]; ++i)
+    for (int j = 0; j < n[1]; ++j)
+      for (int k = 0; k < n[2]; ++k) {
+        if (!in[at(i, j, k)]) continue;
+        for (int a = std::max(0, i - 1); a <= std::min(n[0] - 1, i + 1); ++a)
+          for (int b = std::max(0, j - 1); b <= std::min(n[1] - 1, j + 1); ++b)
+            for (int c = std::max(0, k - 1); c <= std::min(n[2] - 1, k + 1); ++c)
+              out[at(a, b, c)] = 1;
+      }
+  return out;
+}
+
+DepthGrid depth_grid(const MeshQuery& query, int resolution, bool closed, int threads) {
+  const Eigen::AlignedBox3d box = query.mesh().bounds();
+  const Eigen::Vector3d size = box.sizes();
+  const double s = size.maxCoeff() / resolution;
+  Eigen::Array3i n;
+  Eigen::Vector3d cell;
+  for (int a = 0; a < 3; ++a) {
+    n[a] = std::max(1, static_cast<int>(std::ceil(size[a] / s)));
+    cell[a] = size[a] / n[a];
+  }
+  std::vector<Eigen::Vector3d> centres;
+  centres.reserve(static_cast<std::size_t>(n.prod()));
+  for (int i = 0; i < n[0]; ++i)
+    for (int j = 0; j < n[1]; ++j)
+      for (int k = 0; k < n[2]; ++k)
+        centres.push_back(box.min() +
+                          Eigen::Vector3d(i + 0.5, j + 0.5, k + 0.5).cwiseProduct(cell));
+  std::vector<double> w = query.winding_numbers(centres, threads);
+  const long long count = closed ? static_cast<long long>(centres.size()) : 0;
+#pragma omp parallel for schedule(dynamic, 64) num_threads(thread_count(threads))
+  for (long long i = 0; i < count; ++i) {
+    double& v = w[static_cast<std::size_t>(i)];
+    if (std::abs(v - std::round(v)) > kAmbiguousWinding)
+      v = query.winding_number_exact(centres[static_cast<std::size_t>(i)]);
+  }
+  const std::vector<char> counted = counted_centres(w, n, !closed);
+  DepthGrid g;
+  g.grid_points = centres.size();
+  g.inside =
+      static_cast<std::size_t>(std::count_if(w.begin(), w.end(), [](double v) { return v > 0.5; }));
+  g.delta = 0.5 * cell.norm();
+  for (std::size_t i = 0; i < centres.size(); ++i)
+    if (counted[i]) g.points.push_back(centres[i]);
+  for (const ClosestPoint& c : query.closest_points(g.points, threads))
+    g.depth.push_back(c.distance());
+  return g;
+}
+
+// The candidate witnesses: farthest-point sampling of the surface samples and vertices.
+std::vector<Eigen::Vector3d> candidates(const TriangleMesh& mesh, std::size_t count,
+                                        std::uint64_t seed, int threads) {
+  const std::vector<Eigen::Vector3d> pool =
+      sample_surface(mesh, kSamplesPerCandidate * count, seed).points;
+  const Eigen::Vector3d centre = mesh.bounds().center();
+  std::vector<double> gap(pool.size());
+  for (std::size_t i = 0; i < pool.size(); ++i) gap[i] = (pool[i] - centre).squaredNorm();
+  std::vector<Eigen::Vector3d> out;
+  const long long n = static_cast<long long>(pool.size());
+  while (out.size() < std::min(count, pool.size())) {
+    const std::size_t next =
+        static_cast<std::size_t>(std::max_element(gap.begin(), gap.end()) - gap.begin());
+    if (!out.empty() && !(gap[next] > 0.0)) break;  // only repeated points are left
+    out.push_back(pool[next]);
+#pragma omp parallel for schedule(static) num_threads(thread_count(threads))
+    for (long long i = 0; i < n; ++i) {
+      const std::size_t k = static_cast<std::size_t>(i);
+      gap[k] = std::min(gap[k], (pool[k] - out.back()).squaredNorm());
+    }
+  }
+  return out;
+}
+
+// Step 4's bound on rho for every candidate (step 7's on an open mesh), and step 2's m.
+class DepthProfiles {
+ public:
+  DepthProfiles(const DepthGrid& grid, const std::vector<Eigen::Vector3d>& points, double diagonal,
+                bool penalized, double slack, int threads)
+      : points_(points), delta_(grid.delta), bin_(0.5 * grid.delta), slack_(slack) {
+    bins_ = static_cast<std::size_t>((diagonal + 2.0 * delta_) / bin_) + 2;
+    table_.assign(points.size() * bins_, 0.0);  // 0: the max(0, ...) of step 4
+    const long long n = static_cast<long long>(points.size());
+#pragma omp parallel for schedule(dynamic, 8) num_threads(thread_count(threads))
+    for (long long i = 0; i < n; ++i)
+      fill(grid, points[static_cast<std::size_t>(i)], penalized,
+           &table_[static_cast<std::size_t>(i) * bins_]);
+  }
+
+  // An upper bound on rho(x_i, h) (step 4).
+  double rho(std::size_t i, double h) const {
+    const double reach = (h + delta_) * (1.0 + 1e-12) / bin_;
+    const std::size_t b =
+        reach < static_cast<double>(bins_ - 1) ? static_cast<std::size_t>(reach) : bins_ - 1;
+    return std::min(h, table_[i * bins_ + b] + delta_);
+  }
+
+  // m(x_i, x_j) lowered by the rounding slack (steps 2 and 5).
+  double pair(std::size_t i, std::size_t j) const {
+    const double h = 0.5 * (points_[i] - points_[j]).norm();
+    return h - std::min(rho(i, h), rho(j, h)) - slack_;
+  }
+
+  std::size_t size() const {
+    return points_.size();
+  }
+
+ private:
+  // Row j of x: the largest depth of a counted centre in bins 0 to j, and with \p penalized
+  // also (depth - (b - j - 1) w) over the bins b > j (step 7).
+  void fill(const DepthGrid& grid, const Eigen::Vector3d& x, bool penalized, double* row) const {
+    for (std::size_t g = 0; g < grid.points.size(); ++g) {
+      const std::size_t b =
+          std::min(bins_ - 1, static_cast<std::size_t>((grid.points[g] - x).norm() / bin_));
+      row[b] = std::max(row[b], grid.depth[g]);
+    }
+    std::vector<double> beyond(bins_, 0.0);  // beyond[j]: max over b > j of row[b] - (b-j-1) w
+    for (std::size_t j = bins_ - 1; j-- > 0;)
+      beyond[j] = std::max(row[j + 1], beyond[j + 1] - bin_);
+    for (std::size_t j = 1; j < bins_; ++j) row[j] = std::max(row[j], row[j - 1]);
+    if (penalized)
+      for (std::size_t j = 0; j < bins_; ++j) row[j] = std::max(row[j], beyond[j]);
+  }
+
+  const std::vector<Eigen::Vector3d>& points_;
+  double delta_, bin_, slack_;
+  std::size_t bins_ = 0;
+  std::vector<double> table_;
+};
+
+// The least m over the pairs of \p chosen, with the pair realising it.
+struct WorstPair {
+  double value = std::numeric_limits<double>::infinity();
+  std::size_t a = 0, b = 0;  // positions in chosen
+};
+
+WorstPair worst_pair(const DepthProfiles& m, const std::vector<std::size_t>& chosen) {
+  WorstPair w;
+  for (std::size_t a = 0; a < chosen.size(); ++a)
+    for (std::size_t b = a + 1; b < chosen.size(); ++b) {
+      const double v = m.pair(chosen[a], chosen[b]);
+      if (v < w.value) w = {v, a, b};
+    }
+  return w;
+}
+
+// The candidate not in \p chosen (other than position \p skip) whose least m to the chosen
+// points but position skip is largest (ties: lowest index), with that value.
+std::pair<std::size_t, double> best_addition(const DepthProfiles& m,
+                                             const std::vector<std::size_t>& chosen,
+                                             std::size_t skip) {
+  std::vector<char> taken(m.size(), 0);
+  for (std::size_t c : chosen) taken[c] = 1;
+  std::pair<std::size_t, double> best{m.size(), -std::numeric_limits<double>::infinity()};
+  for (std::size_t p = 0; p < m.size(); ++p) {
+    if (taken[p]) continue;
+    double v = std::numeric_limits<double>::infinity();
+    for (std::size_t k = 0; k < chosen.size() && v > best.second; ++k)
+      if (k != skip) v = std::min(v, m.pair(p, chosen[k]));
+    if (v > best.second) best = {p, v};
+  }
+  return best;
+}
+
+// Greedy max-min from candidate \p first (file comment). Returns the chosen candidates;
+// fewer than \p count when the candidates run out.
+std::vector<std::size_t> greedy_witnesses(const DepthProfiles& m, std::size_t first,
+                                          std::size_t count) {
+  std::vector<std::size_t> chosen{first};
+  std::vector<double> least(m.size(), std::numeric_limits<double>::infinity());
+  std::vector<char> taken(m.size(), 0);
+  taken[first] = 1;
+  while (chosen.size() < count) {
+    std::size_t next = m.size();
+    for (std::size_t p = 0; p < m.size(); ++p) {
+      if (taken[p]) continue;
+      least[p] = std::min(least[p], m.pair(p, chosen.back()));
+      if (next == m.size() || least[p] > least[next]) next = p;
+    }
+    if (next == m.size()) break;
+    taken[next] = 1;
+    chosen.push_back(next);
+  }
+  return chosen;
+}
+
+// Single swaps (file comment), at most 2 |chosen| of them; returns the least m over pairs.
+double swap_witnesses(const DepthProfiles& m, std::vector<std::size_t>& chosen) {
+  WorstPair w = worst_pair(m, chosen);
+  for (std::size_t pass = 0; pass < 2 * chosen.size(); ++pass) {
+    bool improved = false;
+    for (std::size_t drop : {w.a, w.b}) {
+      const auto [p, v] = best_addition(m, chosen, drop);
+      if (p == m.size() || !(v > w.value)) continue;
+      std::vector<std::size_t> trial = chosen;
+      trial[drop] = p;
+      const WorstPair t = worst_pair(m, trial);
+      if (t.value > w.value) {
+        chosen = std::move(trial);
+        w = t;
+        improved = true;
+        break;
+      }
+    }
+    if (!improved) break;
+  }
+  return w.value;
+}
+
+}  // namespace
+
+CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t budget,
+                                             const CoverLowerBoundOptions& options) {
+  const auto t0 = std::chrono::steady_clock::now();
+  check_input(query, budget, options);
+  const TriangleMesh& mesh = query.mesh();
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double L = box.sizes().maxCoeff();
+  const double X = std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
+  const bool closed = solid_volume(mesh).has_value();
+  const DepthGrid grid = depth_grid(query, options.resolution, closed, options.threads);
+  const std::vector<Eigen::Vector3d> points = candidates(
+      mesh, std::max(options.candidates, 4 * (budget + 1)), options.seed, options.threads);
+  const DepthProfiles m(grid, points, box.diagonal().norm(), !closed,
+                        4.0 * cover_radius_slack(L, X), options.threads);
+
+  CoverLowerBound out;
+  out.grid_points = grid.grid_points;
+  out.inside_points = grid.inside;
+  out.closed = closed;
+  out.cell_reach = grid.delta;
+  const std::size_t starts = std::min(points.size(), static_cast<std::size_t>(options.starts));
+  std::vector<std::vector<std::size_t>> chosen(starts);
+  std::vector<double> value(starts, -std::numeric_limits<double>::infinity());
+  const long long n = static_cast<long long>(starts);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(options.threads))
+  for (long long s = 0; s < n; ++s) {
+    const std::size_t k = static_cast<std::size_t>(s);
+    chosen[k] = greedy_witnesses(m, k, budget + 1);
+    if (chosen[k].size() == budget + 1) value[k] = worst_pair(m, chosen[k]).value;
+  }
+  const std::size_t best =
+      static_cast<std::size_t>(std::max_element(value.begin(), value.end()) - value.begin());
+  if (chosen[best].size() == budget + 1) {
+    out.bound = std::max(0.0, swap_witnesses(m, chosen[best]));
+    for (std::size_t c : chosen[best]) out.witnesses.push_back(points[c]);
+  }
+  out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  return out;
+}
+
+}  // namespace medspheres
