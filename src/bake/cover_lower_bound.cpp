@@ -3,9 +3,11 @@
 #include "medspheres/bake/cover_lower_bound.h"
 
 #include <algorithm>
+#include <array>
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <queue>
 #include <stdexcept>
 #include <string>
 #include <utility>
@@ -73,6 +75,22 @@
 //    than their true penalty; the rest are not lowered. Without holes this is looser than
 //    step 4 (it has more terms), which is why closed meshes use step 4.
 //
+// 8. A sharper bound for a pair, m*. A ball (c, r) holding x and y protrudes by at least
+//    phi(c) = max(|c - x|, |c - y|) - D(c), and, with m = (x + y) / 2, the parallelogram law
+//    |c - x|^2 + |c - y|^2 = 2 |c - m|^2 + 2 h^2 gives max(|c - x|, |c - y|) >=
+//    sqrt(h^2 + |c - m|^2), which loses little to the grid near m. So m(x, y) <= min_c phi(c)
+//    and min_c phi(c) >= m*(x, y) = min(h - delta, min over counted g of v(g) - delta),
+//      v(g) = max(max(|g - x|, |g - y|) - delta, sqrt(h^2 + max(0, |g - m| - delta)^2)) - d(g):
+//    - c not inside: D(c) <= 0, phi(c) >= h;
+//    - c inside with d(c) <= delta: phi(c) >= h - delta;
+//    - c inside with d(c) > delta: it has a counted centre g within delta (closed mesh: the
+//      nearest centre is inside, or the segment to it would cross the surface within delta
+//      of c; open mesh: the assumption of step 7), so |c - x| >= |g - x| - delta, |c - m| >=
+//      |g - m| - delta, and D(c) = d(c) <= d(g) + delta; hence phi(c) >= v(g) - delta.
+//    m* needs no Lipschitz property of D, only of d, so it holds on an open mesh under the
+//    assumption of step 7. The pair's bound is max(m, m*) - sigma. It is computed by
+//    branch and bound over blocks of 4^3 cells (bounding ball, largest depth).
+//
 // Choosing the witnesses. Candidates: farthest-point sampling (first: the point farthest
 // from the box centre) over area-weighted surface samples and the vertices, so they are
 // spread and include the extremities. Then greedy max-min on m itself from `starts` first
@@ -110,9 +128,12 @@ void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBou
 // neighbours, step 7) with their distance to the surface, and delta.
 struct DepthGrid {
   std::vector<Eigen::Vector3d> points;
+  std::vector<Eigen::Array3i> cells;  // the grid index of each point
   std::vector<double> depth;
   std::size_t grid_points = 0, inside = 0;
   double delta = 0.0;
+  Eigen::Vector3d origin, cell;  // centre (i, j, k) is origin + (i + 1/2, j + 1/2, k + 1/2) cell
+  Eigen::Array3i n;              // cells along each axis
 };
 
 // Which centres count: inside ones, and on an open mesh (\p band) their 26 neighbours.
@@ -168,32 +189,42 @@ DepthGrid depth_grid(const MeshQuery& query, int resolution, bool closed, int th
   g.inside =
       static_cast<std::size_t>(std::count_if(w.begin(), w.end(), [](double v) { return v > 0.5; }));
   g.delta = 0.5 * cell.norm();
+  g.origin = box.min();
+  g.cell = cell;
+  g.n = n;
   for (std::size_t i = 0; i < centres.size(); ++i)
-    if (counted[i]) g.points.push_back(centres[i]);
+    if (counted[i]) {
+      g.points.push_back(centres[i]);
+      const int c = static_cast<int>(i);
+      g.cells.emplace_back(c / (n[1] * n[2]), c / n[2] % n[1], c % n[2]);
+    }
   for (const ClosestPoint& c : query.closest_points(g.points, threads))
     g.depth.push_back(c.distance());
   return g;
 }
 
-// The candidate witnesses: farthest-point sampling of the surface samples and vertices.
+// The candidate witnesses: farthest-point sampling of the surface samples and vertices
+// (serial: one fused pass per point chosen).
 std::vector<Eigen::Vector3d> candidates(const TriangleMesh& mesh, std::size_t count,
-                                        std::uint64_t seed, int threads) {
+                                        std::uint64_t seed) {
   const std::vector<Eigen::Vector3d> pool =
       sample_surface(mesh, kSamplesPerCandidate * count, seed).points;
   const Eigen::Vector3d centre = mesh.bounds().center();
   std::vector<double> gap(pool.size());
-  for (std::size_t i = 0; i < pool.size(); ++i) gap[i] = (pool[i] - centre).squaredNorm();
+  std::size_t next = 0;
+  for (std::size_t i = 0; i < pool.size(); ++i) {
+    gap[i] = (pool[i] - centre).squaredNorm();
+    if (gap[i] > gap[next]) next = i;
+  }
   std::vector<Eigen::Vector3d> out;
-  const long long n = static_cast<long long>(pool.size());
   while (out.size() < std::min(count, pool.size())) {
-    const std::size_t next =
-        static_cast<std::size_t>(std::max_element(gap.begin(), gap.end()) - gap.begin());
     if (!out.empty() && !(gap[next] > 0.0)) break;  // only repeated points are left
     out.push_back(pool[next]);
-#pragma omp parallel for schedule(static) num_threads(thread_count(threads))
-    for (long long i = 0; i < n; ++i) {
-      const std::size_t k = static_cast<std::size_t>(i);
-      gap[k] = std::min(gap[k], (pool[k] - out.back()).squaredNorm());
+    const Eigen::Vector3d x = pool[next];
+    next = 0;
+    for (std::size_t i = 0; i < pool.size(); ++i) {
+      gap[i] = std::min(gap[i], (pool[i] - x).squaredNorm());
+      if (gap[i] > gap[next]) next = i;
     }
   }
   return out;
@@ -203,8 +234,8 @@ std::vector<Eigen::Vector3d> candidates(const TriangleMesh& mesh, std::size_t co
 class DepthProfiles {
  public:
   DepthProfiles(const DepthGrid& grid, const std::vector<Eigen::Vector3d>& points, double diagonal,
-                bool penalized, double slack, int threads)
-      : points_(points), delta_(grid.delta), bin_(0.5 * grid.delta), slack_(slack) {
+                bool penalized, int threads)
+      : points_(points), delta_(grid.delta), bin_(0.5 * grid.delta) {
     bins_ = static_cast<std::size_t>((diagonal + 2.0 * delta_) / bin_) + 2;
     table_.assign(points.size() * bins_, 0.0);  // 0: the max(0, ...) of step 4
     const long long n = static_cast<long long>(points.size());
@@ -222,14 +253,9 @@ class DepthProfiles {
     return std::min(h, table_[i * bins_ + b] + delta_);
   }
 
-  // m(x_i, x_j) lowered by the rounding slack (steps 2 and 5).
-  double pair(std::size_t i, std::size_t j) const {
-    const double h = 0.5 * (points_[i] - points_[j]).norm();
-    return h - std::min(rho(i, h), rho(j, h)) - slack_;
-  }
-
-  std::size_t size() const {
-    return points_.size();
+  // m(x_i, x_j) of step 2 with \p h = |x_i - x_j| / 2.
+  double pair(std::size_t i, std::size_t j, double h) const {
+    return h - std::min(rho(i, h), rho(j, h));
   }
 
  private:
@@ -250,30 +276,150 @@ class DepthProfiles {
   }
 
   const std::vector<Eigen::Vector3d>& points_;
-  double delta_, bin_, slack_;
+  double delta_, bin_;
   std::size_t bins_ = 0;
   std::vector<double> table_;
 };
 
-// The least m over the pairs of \p chosen, with the pair realising it.
+// Step 8's m*: the counted centres in blocks of 4^3 cells, each block with a bounding ball
+// and its largest depth, for a branch-and-bound minimum over the centres.
+class CentreBlocks {
+ public:
+  explicit CentreBlocks(const DepthGrid& grid)
+      : delta_(grid.delta),
+        origin_(grid.origin),
+        side_(kBlock * grid.cell),
+        n_((grid.n + kBlock - 1) / kBlock) {
+    const auto block = [&](std::size_t i) {
+      const Eigen::Array3i b = grid.cells[i] / kBlock;
+      return static_cast<std::size_t>((b[0] * n_[1] + b[1]) * n_[2] + b[2]);
+    };
+    std::vector<std::size_t> order(grid.points.size());
+    for (std::size_t i = 0; i < order.size(); ++i) order[i] = i;
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return block(a) < block(b); });
+    slot_.assign(static_cast<std::size_t>(n_.prod()), -1);
+    for (std::size_t k = 0; k < order.size(); ++k) {
+      if (k == 0 || block(order[k]) != block(order[k - 1])) {
+        slot_[block(order[k])] = static_cast<int>(blocks_.size());
+        blocks_.push_back({Eigen::Vector3d::Zero(), 0.0, 0.0, k, k});
+      }
+      points_.push_back(grid.points[order[k]]);
+      depth_.push_back(grid.depth[order[k]]);
+      blocks_.back().end = k + 1;
+      deepest_ = std::max(deepest_, depth_.back());
+    }
+    for (Block& b : blocks_) {
+      Eigen::AlignedBox3d box;
+      for (std::size_t k = b.begin; k < b.end; ++k) {
+        box.extend(points_[k]);
+        b.depth = std::max(b.depth, depth_[k]);
+      }
+      b.centre = box.center();
+      for (std::size_t k = b.begin; k < b.end; ++k)
+        b.radius = std::max(b.radius, (points_[k] - b.centre).norm());
+    }
+  }
+
+  // m*(x, y) of step 8 with h = |x - y| / 2. Only centres g with v(g) < h can lower the
+  // result below h - delta; they lie within R = h + delta + the largest depth of both x and
+  // y, so only the blocks meeting that box are visited, and of them those whose bounding
+  // ball and depth allow a smaller value.
+  double pair(const Eigen::Vector3d& x, const Eigen::Vector3d& y, double h) const {
+    const double R = h + delta_ + deepest_;
+    const Eigen::Vector3d lo = (x.array() - R).max(y.array() - R).matrix();
+    const Eigen::Vector3d hi = (x.array() + R).min(y.array() + R).matrix();
+    Eigen::Array3i a, z;
+    for (int k = 0; k < 3; ++k) {
+      if (!(lo[k] <= hi[k])) return h - delta_;
+      a[k] = std::max(0, static_cast<int>(std::floor((lo[k] - origin_[k]) / side_[k])) - 1);
+      z[k] = std::min(n_[k] - 1, static_cast<int>(std::floor((hi[k] - origin_[k]) / side_[k])) + 1);
+    }
+    const Eigen::Vector3d mid = 0.5 * (x + y);
+    double best = h;
+    for (int i = a[0]; i <= z[0]; ++i)
+      for (int j = a[1]; j <= z[1]; ++j)
+        for (int k = a[2]; k <= z[2]; ++k) {
+          const int b = slot_[static_cast<std::size_t>((i * n_[1] + j) * n_[2] + k)];
+          if (b < 0) continue;
+          const Block& q = blocks_[static_cast<std::size_t>(b)];
+          const double far = std::max((x - q.centre).norm(), (y - q.centre).norm()) - q.radius;
+          const double off = std::max(0.0, (mid - q.centre).norm() - q.radius - delta_);
+          if (std::max(far - delta_, std::sqrt(h * h + off * off)) - q.depth < best)
+            best = scan(q, x, y, mid, h, best);
+        }
+    return std::min(h - delta_, best - delta_);
+  }
+
+ private:
+  static constexpr int kBlock = 4;
+  struct Block {
+    Eigen::Vector3d centre;
+    double radius, depth;
+    std::size_t begin, end;
+  };
+
+  // min(best, v(g) over the block's centres), v of step 8.
+  double scan(const Block& b, const Eigen::Vector3d& x, const Eigen::Vector3d& y,
+              const Eigen::Vector3d& mid, double h, double best) const {
+    for (std::size_t k = b.begin; k < b.end; ++k) {
+      const Eigen::Vector3d& g = points_[k];
+      const double off = std::max(0.0, (g - mid).norm() - delta_);
+      const double reach =
+          std::max(std::max((g - x).norm(), (g - y).norm()) - delta_, std::sqrt(h * h + off * off));
+      best = std::min(best, reach - depth_[k]);
+    }
+    return best;
+  }
+
+  double delta_, deepest_ = 0.0;
+  Eigen::Vector3d origin_, side_;
+  Eigen::Array3i n_;
+  std::vector<int> slot_;  // block (i, j, k) -> index into blocks_, -1 when empty
+  std::vector<Eigen::Vector3d> points_;
+  std::vector<double> depth_;
+  std::vector<Block> blocks_;
+};
+
+// The bound of a pair of candidates: max(m, m*) lowered by the rounding slack (steps 2, 5
+// and 8).
+class PairBound {
+ public:
+  PairBound(const DepthProfiles& rho, const CentreBlocks& blocks,
+            const std::vector<Eigen::Vector3d>& points, double slack)
+      : rho_(rho), blocks_(blocks), points_(points), slack_(slack) {}
+
+  double pair(std::size_t i, std::size_t j) const {
+    const double h = 0.5 * (points_[i] - points_[j]).norm();
+    return std::max(rho_.pair(i, j, h), blocks_.pair(points_[i], points_[j], h)) - slack_;
+  }
+
+  std::size_t size() const { return points_.size(); }
+
+ private:
+  const DepthProfiles& rho_;
+  const CentreBlocks& blocks_;
+  const std::vector<Eigen::Vector3d>& points_;
+  double slack_;
+};
+
+// The least bound over the pairs of \p chosen but position \p skip, from their matrix.
 struct WorstPair {
   double value = std::numeric_limits<double>::infinity();
   std::size_t a = 0, b = 0;  // positions in chosen
 };
 
-WorstPair worst_pair(const DepthProfiles& m, const std::vector<std::size_t>& chosen) {
+WorstPair worst_pair(const std::vector<std::vector<double>>& pairs, std::size_t skip) {
   WorstPair w;
-  for (std::size_t a = 0; a < chosen.size(); ++a)
-    for (std::size_t b = a + 1; b < chosen.size(); ++b) {
-      const double v = m.pair(chosen[a], chosen[b]);
-      if (v < w.value) w = {v, a, b};
-    }
+  for (std::size_t a = 0; a < pairs.size(); ++a)
+    for (std::size_t b = a + 1; b < pairs.size(); ++b)
+      if (a != skip && b != skip && pairs[a][b] < w.value) w = {pairs[a][b], a, b};
   return w;
 }
 
-// The candidate not in \p chosen (other than position \p skip) whose least m to the chosen
-// points but position skip is largest (ties: lowest index), with that value.
-std::pair<std::size_t, double> best_addition(const DepthProfiles& m,
+// The candidate not in \p chosen whose least bound to the chosen points but position \p skip
+// is largest (ties: lowest index), with that value.
+std::pair<std::size_t, double> best_addition(const PairBound& m,
                                              const std::vector<std::size_t>& chosen,
                                              std::size_t skip) {
   std::vector<char> taken(m.size(), 0);
@@ -289,45 +435,64 @@ std::pair<std::size_t, double> best_addition(const DepthProfiles& m,
   return best;
 }
 
-// Greedy max-min from candidate \p first (file comment). Returns the chosen candidates;
-// fewer than \p count when the candidates run out.
-std::vector<std::size_t> greedy_witnesses(const DepthProfiles& m, std::size_t first,
+// Greedy max-min from candidate \p first (file comment), lazily: a candidate's least bound
+// to the chosen points only falls as points are added, so the candidate with the largest
+// stale value is brought up to date, and taken when it stays on top (ties: lowest index).
+// Returns the chosen candidates; fewer than \p count when the candidates run out.
+std::vector<std::size_t> greedy_witnesses(const PairBound& m, std::size_t first,
                                           std::size_t count) {
   std::vector<std::size_t> chosen{first};
   std::vector<double> least(m.size(), std::numeric_limits<double>::infinity());
-  std::vector<char> taken(m.size(), 0);
-  taken[first] = 1;
-  while (chosen.size() < count) {
-    std::size_t next = m.size();
-    for (std::size_t p = 0; p < m.size(); ++p) {
-      if (taken[p]) continue;
-      least[p] = std::min(least[p], m.pair(p, chosen.back()));
-      if (next == m.size() || least[p] > least[next]) next = p;
+  std::vector<std::size_t> upto(m.size(), 0);  // chosen points least[p] accounts for
+  using Entry = std::pair<double, std::size_t>;
+  const auto below = [](const Entry& a, const Entry& b) {
+    return a.first < b.first || (a.first == b.first && a.second > b.second);
+  };
+  std::priority_queue<Entry, std::vector<Entry>, decltype(below)> heap(below);
+  for (std::size_t p = 0; p < m.size(); ++p)
+    if (p != first) heap.push({least[p], p});
+  while (chosen.size() < count && !heap.empty()) {
+    const std::size_t p = heap.top().second;
+    heap.pop();
+    if (upto[p] == chosen.size()) {
+      chosen.push_back(p);
+      continue;
     }
-    if (next == m.size()) break;
-    taken[next] = 1;
-    chosen.push_back(next);
+    for (; upto[p] < chosen.size(); ++upto[p])
+      least[p] = std::min(least[p], m.pair(p, chosen[upto[p]]));
+    heap.push({least[p], p});
   }
   return chosen;
 }
 
-// Single swaps (file comment), at most 2 |chosen| of them; returns the least m over pairs.
-double swap_witnesses(const DepthProfiles& m, std::vector<std::size_t>& chosen) {
-  WorstPair w = worst_pair(m, chosen);
-  for (std::size_t pass = 0; pass < 2 * chosen.size(); ++pass) {
+// The least bound over the pairs of \p chosen.
+double least_pair(const PairBound& m, const std::vector<std::size_t>& chosen) {
+  double v = std::numeric_limits<double>::infinity();
+  for (std::size_t a = 0; a < chosen.size(); ++a)
+    for (std::size_t b = a + 1; b < chosen.size(); ++b)
+      v = std::min(v, m.pair(chosen[a], chosen[b]));
+  return v;
+}
+
+// Single swaps (file comment), at most 2 |chosen| of them; returns the least bound over pairs.
+double swap_witnesses(const PairBound& m, std::vector<std::size_t>& chosen) {
+  const std::size_t n = chosen.size();
+  std::vector<std::vector<double>> pairs(n, std::vector<double>(n, 0.0));
+  for (std::size_t a = 0; a < n; ++a)
+    for (std::size_t b = a + 1; b < n; ++b)
+      pairs[a][b] = pairs[b][a] = m.pair(chosen[a], chosen[b]);
+  WorstPair w = worst_pair(pairs, n);
+  for (std::size_t pass = 0; pass < 2 * n; ++pass) {
     bool improved = false;
     for (std::size_t drop : {w.a, w.b}) {
       const auto [p, v] = best_addition(m, chosen, drop);
-      if (p == m.size() || !(v > w.value)) continue;
-      std::vector<std::size_t> trial = chosen;
-      trial[drop] = p;
-      const WorstPair t = worst_pair(m, trial);
-      if (t.value > w.value) {
-        chosen = std::move(trial);
-        w = t;
-        improved = true;
-        break;
-      }
+      if (p == m.size() || !(std::min(v, worst_pair(pairs, drop).value) > w.value)) continue;
+      chosen[drop] = p;
+      for (std::size_t k = 0; k < n; ++k)
+        if (k != drop) pairs[drop][k] = pairs[k][drop] = m.pair(p, chosen[k]);
+      w = worst_pair(pairs, n);
+      improved = true;
+      break;
     }
     if (!improved) break;
   }
@@ -346,10 +511,11 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   const double X = std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
   const bool closed = solid_volume(mesh).has_value();
   const DepthGrid grid = depth_grid(query, options.resolution, closed, options.threads);
-  const std::vector<Eigen::Vector3d> points = candidates(
-      mesh, std::max(options.candidates, 4 * (budget + 1)), options.seed, options.threads);
-  const DepthProfiles m(grid, points, box.diagonal().norm(), !closed,
-                        4.0 * cover_radius_slack(L, X), options.threads);
+  const std::vector<Eigen::Vector3d> points =
+      candidates(mesh, std::max(options.candidates, 4 * (budget + 1)), options.seed);
+  const DepthProfiles rho(grid, points, box.diagonal().norm(), !closed, options.threads);
+  const CentreBlocks blocks(grid);
+  const PairBound m(rho, blocks, points, 4.0 * cover_radius_slack(L, X));
 
   CoverLowerBound out;
   out.grid_points = grid.grid_points;
@@ -364,7 +530,7 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   for (long long s = 0; s < n; ++s) {
     const std::size_t k = static_cast<std::size_t>(s);
     chosen[k] = greedy_witnesses(m, k, budget + 1);
-    if (chosen[k].size() == budget + 1) value[k] = worst_pair(m, chosen[k]).value;
+    if (chosen[k].size() == budget + 1) value[k] = least_pair(m, chosen[k]);
   }
   const std::size_t best =
       static_cast<std::size_t>(std::max_element(value.begin(), value.end()) - value.begin());

@@ -35,8 +35,8 @@ namespace medspheres {
 
 struct CoverLowerBoundOptions {
   int resolution = 48;            ///< depth grid cells along L, in [4, 256]; finer: tighter, slower
-  std::size_t candidates = 2000;  ///< surface points the witnesses are chosen from, >= 2
-  int starts = 16;             ///< greedy choices of witnesses, each from another first point, >= 1
+  std::size_t candidates = 600;  ///< surface points the witnesses are chosen from, >= 2
+  int starts = 4;             ///< greedy choices of witnesses, each from another first point, >= 1
   std::uint64_t seed = 1;      ///< the area-weighted surface samples behind the candidates
   int threads = 0;             ///< 0: all cores
   bool winding_solid = false;  ///< accept an open mesh (file comment); false: it throws
