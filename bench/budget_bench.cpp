@@ -20,7 +20,9 @@
 //   naive fix), and bake_cover; then the share of links where the cover's max protrusion
 //   is at most a third of the grown set's and its excess volume at most half of it.
 //   Cover rows also give lb%L, a lower bound on the max protrusion of ANY set of K balls
-//   covering the surface (cover_lower_bound.h), and its seconds (lb_sec); the tally counts
+//   covering the surface (cover_lower_bound.h; --lb-resolution: its depth grid), its wall
+//   clock and CPU seconds (lb_sec, lb_cpu) and the solid it bounds (closed mesh, or an open
+//   mesh's winding solid, under the assumption the header states); the tally counts
 //   the links where that bound alone exceeds a third of the grown set's (the target is out
 //   of reach there) and the median of the cover's max protrusion over the bound.
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
@@ -58,7 +60,7 @@ struct Row {
   double cpu = 0;
   // Cover rows: the lower bound on any K-ball cover's max protrusion (% of L) and its seconds.
   // bound_closed: false for an open mesh's winding solid (cover_lower_bound.h's assumption).
-  double bound = -1, bound_seconds = 0;
+  double bound = -1, bound_seconds = 0, bound_cpu = 0;
   bool bound_closed = true;
 };
 
@@ -108,21 +110,28 @@ void print(const std::string& mesh, std::size_t k, const char* method, const Row
               k, method, r.spheres, r.certified ? "yes" : "NO", r.excess, r.mc_out, r.protrusion,
               r.uncovered, r.mc_error, r.seconds, r.cpu);
   if (r.bound >= 0)
-    std::printf(" %6.2f %6.3f %s\n", r.bound, r.bound_seconds, r.bound_closed ? "closed" : "wind");
+    std::printf(" %6.2f %6.3f %6.3f %s\n", r.bound, r.bound_seconds, r.bound_cpu,
+                r.bound_closed ? "closed" : "wind");
   else
-    std::printf(" %6s %6s -\n", "-", "-");
+    std::printf(" %6s %6s %6s -\n", "-", "-", "-");
   std::fflush(stdout);
 }
 
 // The lower bound on the max protrusion of any cover of \p K balls, into a cover row.
+// The depth grid of the bound (--lb-resolution).
+int bound_resolution = CoverLowerBoundOptions{}.resolution;
+
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
+  o.resolution = bound_resolution;
+  const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
   const CoverLowerBound b = cover_protrusion_lower_bound(fit.query(), K, o);
   r.bound_closed = b.closed;
   r.bound = 100.0 * b.bound / fit.query().mesh().bounds().sizes().maxCoeff();
   r.bound_seconds = b.seconds;
+  r.bound_cpu = cpu_seconds() - t.cpu;
 }
 
 void run_mesh(const std::string& name, const std::string& path, const std::vector<int>& ks,
@@ -241,6 +250,8 @@ int main(int argc, char** argv) {
   app.add_flag("--no-g1", no_g1, "Skip the G1 links");
   app.add_option("--samples", samples, "Monte-Carlo points per set");
   app.add_option("--threads", threads, "Threads");
+  app.add_option("--lb-resolution", bound_resolution,
+                 "Depth grid cells along L of the lower bound (cover rows)");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,
@@ -263,9 +274,9 @@ int main(int argc, char** argv) {
     std::sort(links.begin(), links.end());
     for (const auto& p : links) meshes.emplace_back("g1/" + p.filename().string(), p.string());
   }
-  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s %7s %6s %6s %s\n", "mesh", "K",
+  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s %7s %6s %6s %6s %s\n", "mesh", "K",
               "method", "n", "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec",
-              "cpu", "lb%L", "lb_sec", "solid");
+              "cpu", "lb%L", "lb_sec", "lb_cpu", "solid");
   for (const auto& [name, path] : meshes) {
     if (!only.empty() && name.find(only) == std::string::npos) continue;
     try {
