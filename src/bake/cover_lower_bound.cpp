@@ -7,6 +7,7 @@
 #include <chrono>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <queue>
 #include <stdexcept>
 #include <string>
@@ -90,6 +91,20 @@
 //    m* needs no Lipschitz property of D, only of d, so it holds on an open mesh under the
 //    assumption of step 7. The pair's bound is max(m, m*) - sigma. It is computed by
 //    branch and bound over blocks of 4^3 cells (bounding ball, largest depth).
+// 9. Refinement. For the chosen witnesses, min_c phi(c) of a pair is
+//    bounded again by branch and bound over boxes: the root is the box of points within
+//    R = h + Dmax of x and of y, inside the mesh's box (elsewhere phi >= h: outside the
+//    box D <= 0, and beyond R max(|c - x|, |c - y|) - D(c) >= R - Dmax; Dmax = the deepest
+//    counted centre plus delta bounds D, as in step 4). A box with centre g and half
+//    diagonal r: if g is outside with d(g) > r, the box holds no inside point and phi >= h
+//    on it; otherwise, for c in it, D(c) <= d(c) <= d(g) + r and
+//      phi(c) >= max(max(|g - x|, |g - y|) - r, sqrt(h^2 + max(0, |g - m| - r)^2)) - d(g) - r.
+//    The boxes partition the root, so min(h, least box value) bounds min_c phi. The box of
+//    least value is split in 8, for the pair of least current bound (its step 8 value or,
+//    once higher, its refined one, less sigma), until refine_queries queries are spent or
+//    the box is below 1e-4 L across. Any stopping point gives a valid bound. On an open
+//    mesh (winding_solid) "no inside point in the box" also assumes that the winding solid's
+//    boundary lies on the capped surface (so that d(g) > r keeps the box on one side).
 //
 // Choosing the witnesses. Candidates: farthest-point sampling (first: the point farthest
 // from the box centre) over area-weighted surface samples and the vertices, so they are
@@ -351,6 +366,9 @@ class CentreBlocks {
     return std::min(h - delta_, best - delta_);
   }
 
+  // The largest depth of a counted centre.
+  double deepest() const { return deepest_; }
+
  private:
   static constexpr int kBlock = 4;
   struct Block {
@@ -395,6 +413,7 @@ class PairBound {
   }
 
   std::size_t size() const { return points_.size(); }
+  const Eigen::Vector3d& point(std::size_t i) const { return points_[i]; }
 
  private:
   const DepthProfiles& rho_;
@@ -499,6 +518,113 @@ double swap_witnesses(const PairBound& m, std::vector<std::size_t>& chosen) {
   return w.value;
 }
 
+// Step 9: branch and bound on min_c phi(c) for one pair of witnesses, over boxes (cells)
+// that partition the part of the mesh's box where phi can fall below h.
+class PairRefinement {
+ public:
+  PairRefinement(const MeshQuery& query, bool closed, const Eigen::Vector3d& x,
+                 const Eigen::Vector3d& y, double deepest, const Eigen::AlignedBox3d& box)
+      : query_(query),
+        closed_(closed),
+        x_(x),
+        y_(y),
+        mid_(0.5 * (x + y)),
+        h_(0.5 * (x - y).norm()) {
+    const double R = h_ + deepest;
+    const Eigen::Vector3d lo = (x.array() - R).max(y.array() - R).max(box.min().array()).matrix();
+    const Eigen::Vector3d hi = (x.array() + R).min(y.array() + R).min(box.max().array()).matrix();
+    if ((lo.array() <= hi.array()).all()) add(0.5 * (lo + hi), 0.5 * (hi - lo));
+  }
+
+  // min(h, the least value of a cell): a lower bound on phi over all space.
+  double bound() const { return cells_.empty() ? h_ : std::min(h_, cells_.top().value); }
+
+  // Splits the cell of least value into 8; false when it is already below \p finest across.
+  bool split(double finest) {
+    if (cells_.empty() || cells_.top().half.norm() < finest) return false;
+    const Cell c = cells_.top();
+    cells_.pop();
+    const Eigen::Vector3d e = 0.5 * c.half;
+    for (int k = 0; k < 8; ++k)
+      add(c.centre + Eigen::Vector3d(k & 1 ? e.x() : -e.x(), k & 2 ? e.y() : -e.y(),
+                                     k & 4 ? e.z() : -e.z()),
+          e);
+    return true;
+  }
+
+  std::size_t queries() const { return queries_; }
+
+ private:
+  struct Cell {
+    Eigen::Vector3d centre, half;
+    double value;
+    bool operator<(const Cell& o) const { return value > o.value; }  // least on top
+  };
+
+  // The value of the cell (step 9); kept only below h.
+  void add(const Eigen::Vector3d& g, const Eigen::Vector3d& half) {
+    ++queries_;
+    const double r = half.norm(), d = query_.closest_point(g).distance();
+    double w = query_.winding_number(g);
+    if (closed_ && std::abs(w - std::round(w)) > kAmbiguousWinding)
+      w = query_.winding_number_exact(g);
+    if (!(w > 0.5) && d > r) return;  // the whole cell is outside the solid: phi >= h
+    const double off = std::max(0.0, (g - mid_).norm() - r);
+    const double reach =
+        std::max(std::max((g - x_).norm(), (g - y_).norm()) - r, std::sqrt(h_ * h_ + off * off));
+    const double value = reach - d - r;
+    if (value < h_) cells_.push({g, half, value});
+  }
+
+  const MeshQuery& query_;
+  bool closed_;
+  Eigen::Vector3d x_, y_, mid_;
+  double h_;
+  std::priority_queue<Cell> cells_;
+  std::size_t queries_ = 0;
+};
+
+// Step 9 over the witnesses' pairs: the pair of least bound (its coarse bound, or its
+// refinement's once that is higher) is refined, cell by cell, until \p budget queries are
+// spent or its cells are below \p finest. Returns the least bound over pairs.
+double refine_pairs(const MeshQuery& query, bool closed, const PairBound& m,
+                    const std::vector<std::size_t>& chosen, double deepest, double slack,
+                    std::size_t budget, double finest) {
+  const Eigen::AlignedBox3d box = query.mesh().bounds();
+  struct Pair {
+    std::size_t a, b;
+    double coarse;
+    std::unique_ptr<PairRefinement> fine;
+    bool done = false;
+  };
+  std::vector<Pair> pairs;
+  for (std::size_t a = 0; a < chosen.size(); ++a)
+    for (std::size_t b = a + 1; b < chosen.size(); ++b)
+      pairs.push_back({a, b, m.pair(chosen[a], chosen[b]), nullptr});
+  const auto value = [&](const Pair& p) {
+    return p.fine ? std::max(p.coarse, p.fine->bound() - slack) : p.coarse;
+  };
+  std::size_t spent = 0;
+  while (spent < budget) {
+    Pair* worst = nullptr;
+    for (Pair& p : pairs)
+      if (!worst || value(p) < value(*worst)) worst = &p;
+    if (!worst || worst->done) break;
+    if (!worst->fine) {
+      worst->fine = std::make_unique<PairRefinement>(query, closed, m.point(chosen[worst->a]),
+                                                     m.point(chosen[worst->b]), deepest, box);
+      spent += worst->fine->queries();
+    } else {
+      const std::size_t before = worst->fine->queries();
+      worst->done = !worst->fine->split(finest);
+      spent += worst->fine->queries() - before;
+    }
+  }
+  double least = std::numeric_limits<double>::infinity();
+  for (const Pair& p : pairs) least = std::min(least, value(p));
+  return least;
+}
+
 }  // namespace
 
 CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t budget,
@@ -535,7 +661,11 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   const std::size_t best =
       static_cast<std::size_t>(std::max_element(value.begin(), value.end()) - value.begin());
   if (chosen[best].size() == budget + 1) {
-    out.bound = std::max(0.0, swap_witnesses(m, chosen[best]));
+    out.bound = swap_witnesses(m, chosen[best]);
+    if (options.refine_queries > 0)
+      out.bound = refine_pairs(query, closed, m, chosen[best], blocks.deepest() + grid.delta,
+                               4.0 * cover_radius_slack(L, X), options.refine_queries, 1e-4 * L);
+    out.bound = std::max(0.0, out.bound);
     for (std::size_t c : chosen[best]) out.witnesses.push_back(points[c]);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

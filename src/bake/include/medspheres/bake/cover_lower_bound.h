@@ -10,7 +10,8 @@
 /// chosen so that every ball holding two of them protrudes by at least `bound`; K balls
 /// covering the surface hold all K + 1, so one of them holds two. The protrusion of a ball
 /// holding two points is bounded below through an upper bound on the depth D over a ball,
-/// taken from D on a grid of `resolution` cells along L (the largest side of the box).
+/// taken from D on a grid of `resolution` cells along L (the largest side of the box), and
+/// for the witnesses' worst pairs by branch and bound on finer boxes.
 ///
 /// Assumptions: a closed mesh (solid_volume defined), its query built on the oriented mesh
 /// (as FitEvaluator builds it); inside is the query's winding number > 1/2 and distances are
@@ -18,7 +19,8 @@
 /// by a slack of a few 1e-9 L, not a certificate. With winding_solid an open mesh is
 /// accepted: the solid is then its winding solid, and the bound also assumes that the grid
 /// resolves it (every inside point farther than cell_reach from the surface is within
-/// cell_reach of an inside grid point or a neighbour of one); `closed` says which case ran. Frames
+/// cell_reach of an inside grid point or a neighbour of one) and, for the refinement, that
+/// its boundary lies on the surface with holes capped; `closed` says which case ran. Frames
 /// and units: those of the mesh. Determinism: the same result for every thread count. Errors:
 /// budget 0 or options out of range throw std::invalid_argument naming them; an open mesh throws
 /// InputError (kind kUnsupported, source "mesh").
@@ -34,12 +36,15 @@
 namespace medspheres {
 
 struct CoverLowerBoundOptions {
-  int resolution = 48;            ///< depth grid cells along L, in [4, 256]; finer: tighter, slower
+  int resolution = 48;           ///< depth grid cells along L, in [4, 256]; finer: tighter, slower
   std::size_t candidates = 600;  ///< surface points the witnesses are chosen from, >= 2
-  int starts = 4;             ///< greedy choices of witnesses, each from another first point, >= 1
+  int starts = 4;              ///< greedy choices of witnesses, each from another first point, >= 1
   std::uint64_t seed = 1;      ///< the area-weighted surface samples behind the candidates
   int threads = 0;             ///< 0: all cores
   bool winding_solid = false;  ///< accept an open mesh (file comment); false: it throws
+  /// Distance queries spent refining the witnesses' worst pairs beyond the grid (branch and
+  /// bound); 0: none. More: tighter, slower.
+  std::size_t refine_queries = 20000;
 };
 
 struct CoverLowerBound {
