@@ -437,20 +437,35 @@ WorstPair worst_pair(const std::vector<std::vector<double>>& pairs, std::size_t 
 }
 
 // The candidate not in \p chosen whose least bound to the chosen points but position \p skip
-// is largest (ties: lowest index), with that value.
+// is largest (ties: lowest index), with that value. In parallel over the candidates: each
+// thread stops a candidate's minimum once it falls strictly below the best value the thread
+// has seen, so every candidate whose value reaches the overall best is computed exactly and
+// the choice does not depend on the threads.
 std::pair<std::size_t, double> best_addition(const PairBound& m,
                                              const std::vector<std::size_t>& chosen,
-                                             std::size_t skip) {
+                                             std::size_t skip, int threads) {
   std::vector<char> taken(m.size(), 0);
   for (std::size_t c : chosen) taken[c] = 1;
-  std::pair<std::size_t, double> best{m.size(), -std::numeric_limits<double>::infinity()};
-  for (std::size_t p = 0; p < m.size(); ++p) {
-    if (taken[p]) continue;
-    double v = std::numeric_limits<double>::infinity();
-    for (std::size_t k = 0; k < chosen.size() && v > best.second; ++k)
-      if (k != skip) v = std::min(v, m.pair(p, chosen[k]));
-    if (v > best.second) best = {p, v};
+  constexpr double kNone = -std::numeric_limits<double>::infinity();
+  std::vector<double> value(m.size(), kNone);
+  const long long n = static_cast<long long>(m.size());
+#pragma omp parallel num_threads(threads)
+  {
+    double seen = kNone;
+#pragma omp for schedule(static)
+    for (long long q = 0; q < n; ++q) {
+      const std::size_t p = static_cast<std::size_t>(q);
+      if (taken[p]) continue;
+      double v = std::numeric_limits<double>::infinity();
+      for (std::size_t k = 0; k < chosen.size() && !(v < seen); ++k)
+        if (k != skip) v = std::min(v, m.pair(p, chosen[k]));
+      value[p] = v;
+      seen = std::max(seen, v);
+    }
   }
+  std::pair<std::size_t, double> best{m.size(), kNone};
+  for (std::size_t p = 0; p < m.size(); ++p)
+    if (!taken[p] && value[p] > best.second) best = {p, value[p]};
   return best;
 }
 
@@ -494,7 +509,7 @@ double least_pair(const PairBound& m, const std::vector<std::size_t>& chosen) {
 }
 
 // Single swaps (file comment), at most 2 |chosen| of them; returns the least bound over pairs.
-double swap_witnesses(const PairBound& m, std::vector<std::size_t>& chosen) {
+double swap_witnesses(const PairBound& m, std::vector<std::size_t>& chosen, int threads) {
   const std::size_t n = chosen.size();
   std::vector<std::vector<double>> pairs(n, std::vector<double>(n, 0.0));
   for (std::size_t a = 0; a < n; ++a)
@@ -504,7 +519,7 @@ double swap_witnesses(const PairBound& m, std::vector<std::size_t>& chosen) {
   for (std::size_t pass = 0; pass < 2 * n; ++pass) {
     bool improved = false;
     for (std::size_t drop : {w.a, w.b}) {
-      const auto [p, v] = best_addition(m, chosen, drop);
+      const auto [p, v] = best_addition(m, chosen, drop, threads);
       if (p == m.size() || !(std::min(v, worst_pair(pairs, drop).value) > w.value)) continue;
       chosen[drop] = p;
       for (std::size_t k = 0; k < n; ++k)
@@ -661,7 +676,7 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   const std::size_t best =
       static_cast<std::size_t>(std::max_element(value.begin(), value.end()) - value.begin());
   if (chosen[best].size() == budget + 1) {
-    out.bound = swap_witnesses(m, chosen[best]);
+    out.bound = swap_witnesses(m, chosen[best], thread_count(options.threads));
     if (options.refine_queries > 0)
       out.bound = refine_pairs(query, closed, m, chosen[best], blocks.deepest() + grid.delta,
                                4.0 * cover_radius_slack(L, X), options.refine_queries, 1e-4 * L);
