@@ -308,6 +308,16 @@ int main(int argc, char** argv) {
         "bound\n",
         tally.bound_above_third, tally.links, tally.bound_above_third_closed, tally.closed, median,
         q.size());
+    const int open = tally.links - tally.closed;
+    const int open_above = tally.bound_above_third - tally.bound_above_third_closed;
+    std::printf(
+        "so at most %d of %d links (%.0f%%) can meet the protrusion target with any K-ball "
+        "cover; counting the bound on the %d open links' winding solids (assumption of "
+        "cover_lower_bound.h), at most %d (%.0f%%)\n",
+        tally.links - tally.bound_above_third_closed, tally.links,
+        100.0 * (tally.links - tally.bound_above_third_closed) / tally.links, open,
+        tally.links - tally.bound_above_third_closed - open_above,
+        100.0 * (tally.links - tally.bound_above_third) / tally.links);
   }
   return 0;
 }
