@@ -75,7 +75,6 @@
 //    profile, centres in bins b > floor(R / w) are lowered by (b - floor(R / w) - 1) w, less
 //    than their true penalty; the rest are not lowered. Without holes this is looser than
 //    step 4 (it has more terms), which is why closed meshes use step 4.
-//
 // 8. A sharper bound for a pair, m*. A ball (c, r) holding x and y protrudes by at least
 //    phi(c) = max(|c - x|, |c - y|) - D(c), and, with m = (x + y) / 2, the parallelogram law
 //    |c - x|^2 + |c - y|^2 = 2 |c - m|^2 + 2 h^2 gives max(|c - x|, |c - y|) >=
@@ -108,12 +107,13 @@
 //
 // Choosing the witnesses. Candidates: farthest-point sampling (first: the point farthest
 // from the box centre) over area-weighted surface samples and the vertices, so they are
-// spread and include the extremities. Then greedy max-min on m itself from `starts` first
-// points (the first candidates, the most spread): add the candidate whose least m to the
-// chosen points is largest (ties: lowest index), K times; a start's value is the least m
-// over its pairs. The best start (ties: lowest) is kept, then improved by single swaps: a
-// point of the worst pair is replaced by the candidate whose least m to the others is
-// largest, while that strictly raises the least m over pairs.
+// spread and include the extremities. Then greedy max-min on the pair bound max(m, m*)
+// from `starts` first points (the first candidates, the most spread): add the candidate
+// whose least bound to the chosen points is largest (ties: lowest index), K times; a
+// start's value is the least bound over its pairs. The best start (ties: lowest) is kept,
+// improved by single swaps (a point of the worst pair is replaced by the candidate whose
+// least bound to the others is largest, while that strictly raises the least bound over
+// pairs), and its pairs are refined (step 9).
 // Every step runs in a fixed order, so the result does not depend on the thread count.
 
 namespace medspheres {

@@ -49,7 +49,8 @@ struct CoverLowerBoundOptions {
 
 struct CoverLowerBound {
   double bound = 0.0;  ///< a length, >= 0: the least max protrusion of any K-ball cover is >= it
-  /// K + 1 points on the surface (p_MoW_M): any ball holding two of them protrudes by >= bound.
+  /// K + 1 points on the surface (p_MoW_M): any ball holding two of them protrudes by >= bound;
+  /// empty (and bound 0) when the surface has fewer than K + 1 distinct sample points.
   std::vector<Eigen::Vector3d> witnesses;
   std::size_t grid_points = 0;    ///< depth grid points, and of them
   std::size_t inside_points = 0;  ///< those inside the solid
