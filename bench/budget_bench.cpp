@@ -20,11 +20,12 @@
 //   naive fix), and bake_cover; then the share of links where the cover's max protrusion
 //   is at most a third of the grown set's and its excess volume at most half of it.
 //   Cover rows also give lb%L, a lower bound on the max protrusion of ANY set of K balls
-//   covering the surface (cover_lower_bound.h; --lb-resolution: its depth grid), its wall
-//   clock and CPU seconds (lb_sec, lb_cpu) and the solid it bounds (closed mesh, or an open
-//   mesh's winding solid, under the assumption the header states); the tally counts
-//   the links where that bound alone exceeds a third of the grown set's (the target is out
-//   of reach there) and the median of the cover's max protrusion over the bound.
+//   covering the surface (cover_lower_bound.h; --lb-resolution, --lb-refine: its depth
+//   grid and refinement queries), its wall clock and CPU seconds (lb_sec, lb_cpu) and the
+//   solid it bounds (closed mesh, or an open mesh's winding solid, under the assumption the
+//   header states); the tally counts the links where that bound alone exceeds a third of
+//   the grown set's (the target is out of reach there), how many links can meet the target
+//   at all, and the median of the cover's max protrusion over the bound.
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
 // cores.
 #include <sys/resource.h>
@@ -118,12 +119,14 @@ void print(const std::string& mesh, std::size_t k, const char* method, const Row
 }
 
 // The lower bound on the max protrusion of any cover of \p K balls, into a cover row.
-// The depth grid of the bound (--lb-resolution).
+// The depth grid and the refinement queries of the bound (--lb-resolution, --lb-refine).
 int bound_resolution = CoverLowerBoundOptions{}.resolution;
+std::size_t bound_refine = CoverLowerBoundOptions{}.refine_queries;
 
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
   o.resolution = bound_resolution;
+  o.refine_queries = bound_refine;
   const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
@@ -252,6 +255,7 @@ int main(int argc, char** argv) {
   app.add_option("--threads", threads, "Threads");
   app.add_option("--lb-resolution", bound_resolution,
                  "Depth grid cells along L of the lower bound (cover rows)");
+  app.add_option("--lb-refine", bound_refine, "Refinement queries of the lower bound");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,
