@@ -170,6 +170,28 @@ TEST_CASE("cover lower bound: an open mesh's winding solid, on request", "[cover
   }
 }
 
+TEST_CASE("cover lower bound: a flat open square", "[cover_lower_bound]") {
+  // No volume at all: the bound must stay finite, and below the protrusion of the ball on
+  // the square's centre through its corners (radius sqrt(2), centre on the surface).
+  TriangleMesh square;
+  square.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  MeshQueryOptions caps;
+  caps.cap_holes = true;
+  const MeshQuery query(square, caps);
+  CoverLowerBoundOptions o;
+  o.winding_solid = true;
+  const std::vector<Sphere> ball{{Eigen::Vector3d::Zero(), std::sqrt(2.0) * (1 + 1e-12)}};
+  const double one_ball = max_protrusion(query, ball);
+  for (std::size_t K : {1, 3}) {
+    const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
+    INFO("K = " << K << " bound " << lb.bound << " one ball " << one_ball);
+    CHECK(std::isfinite(lb.bound));
+    CHECK(lb.bound >= 0.0);
+    CHECK(lb.bound <= one_ball);
+  }
+}
+
 TEST_CASE("cover lower bound: the same for every thread count", "[cover_lower_bound]") {
   const MeshQuery query(make_torus(1.0, 0.3, 32, 12));
   CoverLowerBoundOptions one, two;

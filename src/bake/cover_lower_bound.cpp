@@ -347,8 +347,15 @@ class CentreBlocks {
     Eigen::Array3i a, z;
     for (int k = 0; k < 3; ++k) {
       if (!(lo[k] <= hi[k])) return h - delta_;
-      a[k] = std::max(0, static_cast<int>(std::floor((lo[k] - origin_[k]) / side_[k])) - 1);
-      z[k] = std::min(n_[k] - 1, static_cast<int>(std::floor((hi[k] - origin_[k]) / side_[k])) + 1);
+      if (!(side_[k] > 0.0)) {  // a flat box: one block along this axis
+        a[k] = 0;
+        z[k] = n_[k] - 1;
+        continue;
+      }
+      const double first = std::floor((lo[k] - origin_[k]) / side_[k]) - 1.0;
+      const double last = std::floor((hi[k] - origin_[k]) / side_[k]) + 1.0;
+      a[k] = static_cast<int>(std::clamp(first, 0.0, static_cast<double>(n_[k] - 1)));
+      z[k] = static_cast<int>(std::clamp(last, 0.0, static_cast<double>(n_[k] - 1)));
     }
     const Eigen::Vector3d mid = 0.5 * (x + y);
     double best = h;
