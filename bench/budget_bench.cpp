@@ -19,6 +19,13 @@
 //   cuRobo's spheres as shipped, the same grown by the largest uncovered distance (the
 //   naive fix), and bake_cover; then the share of links where the cover's max protrusion
 //   is at most a third of the grown set's and its excess volume at most half of it.
+//   Cover rows also give lb%L, a lower bound on the max protrusion of ANY set of K balls
+//   covering the surface (cover_lower_bound.h; --lb-resolution, --lb-refine: its depth
+//   grid and refinement queries), its wall clock and CPU seconds (lb_sec, lb_cpu) and the
+//   solid it bounds (closed mesh, or an open mesh's winding solid, under the assumption the
+//   header states); the tally counts the links where that bound alone exceeds a third of
+//   the grown set's (the target is out of reach there), how many links can meet the target
+//   at all, and the median of the cover's max protrusion over the bound.
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
 // cores.
 #include <sys/resource.h>
@@ -35,6 +42,7 @@
 
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/cover.h"
+#include "medspheres/bake/cover_lower_bound.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/formats/curobo_yaml.h"
@@ -51,6 +59,10 @@ struct Row {
   bool certified = false;
   double excess = 0, mc_out = 0, protrusion = 0, uncovered = 0, mc_error = 0, seconds = 0;
   double cpu = 0;
+  // Cover rows: the lower bound on any K-ball cover's max protrusion (% of L) and its seconds.
+  // bound_closed: false for an open mesh's winding solid (cover_lower_bound.h's assumption).
+  double bound = -1, bound_seconds = 0, bound_cpu = 0;
+  bool bound_closed = true;
 };
 
 // User + system CPU seconds of the process so far.
@@ -95,10 +107,34 @@ Row measure(const FitEvaluator& fit, const SphereSet& set, const Stopwatch* t, s
 }
 
 void print(const std::string& mesh, std::size_t k, const char* method, const Row& r) {
-  std::printf("%-34s %3zu %-6s %5zu %-4s %9.2f %8.2f %7.2f %7.3f %8.4f %7.3f %7.3f\n", mesh.c_str(),
+  std::printf("%-34s %3zu %-6s %5zu %-4s %9.2f %8.2f %7.2f %7.3f %8.4f %7.3f %7.3f", mesh.c_str(),
               k, method, r.spheres, r.certified ? "yes" : "NO", r.excess, r.mc_out, r.protrusion,
               r.uncovered, r.mc_error, r.seconds, r.cpu);
+  if (r.bound >= 0)
+    std::printf(" %6.2f %6.3f %6.3f %s\n", r.bound, r.bound_seconds, r.bound_cpu,
+                r.bound_closed ? "closed" : "wind");
+  else
+    std::printf(" %6s %6s %6s -\n", "-", "-", "-");
   std::fflush(stdout);
+}
+
+// The lower bound on the max protrusion of any cover of \p K balls, into a cover row.
+// The depth grid and the refinement queries of the bound (--lb-resolution, --lb-refine).
+int bound_resolution = CoverLowerBoundOptions{}.resolution;
+std::size_t bound_refine = CoverLowerBoundOptions{}.refine_queries;
+
+void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
+  CoverLowerBoundOptions o;
+  o.resolution = bound_resolution;
+  o.refine_queries = bound_refine;
+  const Stopwatch t;
+  o.threads = threads;
+  o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
+  const CoverLowerBound b = cover_protrusion_lower_bound(fit.query(), K, o);
+  r.bound_closed = b.closed;
+  r.bound = 100.0 * b.bound / fit.query().mesh().bounds().sizes().maxCoeff();
+  r.bound_seconds = b.seconds;
+  r.bound_cpu = cpu_seconds() - t.cpu;
 }
 
 void run_mesh(const std::string& name, const std::string& path, const std::vector<int>& ks,
@@ -112,7 +148,9 @@ void run_mesh(const std::string& name, const std::string& path, const std::vecto
       o.threads = threads;
       const Stopwatch t;
       const CoverResult c = bake_cover(fit.query(), K, o);
-      print(name, K, "cover", measure(fit, c.spheres, &t, samples, threads));
+      Row r = measure(fit, c.spheres, &t, samples, threads);
+      add_bound(fit, K, threads, r);
+      print(name, K, "cover", r);
     }
     if (methods.find("sd") == std::string::npos && methods.find("splus") == std::string::npos)
       continue;
@@ -153,6 +191,9 @@ std::string link_of(const std::string& file) {
 
 struct CuroboTally {
   int links = 0, protrusion_third = 0, excess_half = 0;
+  int bound_above_third = 0;                     // links where no K-ball cover reaches the target
+  int bound_above_third_closed = 0, closed = 0;  // the same, and links, on closed meshes
+  std::vector<double> cover_over_bound;          // cover's max protrusion / the bound, per link
 };
 
 // cuRobo's spheres for the link as shipped; the same grown by the largest uncovered distance
@@ -184,9 +225,14 @@ void run_curobo(const std::string& name, const std::string& path,
   o.threads = threads;
   const Stopwatch t;
   const CoverResult cover = bake_cover(fit.query(), K, o);
-  const Row r = measure(fit, cover.spheres, &t, samples, threads);
+  Row r = measure(fit, cover.spheres, &t, samples, threads);
+  add_bound(fit, K, threads, r);
   print(name, K, "cover", r);
   ++tally.links;
+  tally.bound_above_third += r.bound > g.protrusion / 3.0;
+  tally.closed += r.bound_closed;
+  tally.bound_above_third_closed += r.bound_closed && r.bound > g.protrusion / 3.0;
+  if (r.bound > 0) tally.cover_over_bound.push_back(r.protrusion / r.bound);
   tally.protrusion_third += r.protrusion <= g.protrusion / 3.0;
   tally.excess_half += r.excess <= g.excess / 2.0;
 }
@@ -207,6 +253,9 @@ int main(int argc, char** argv) {
   app.add_flag("--no-g1", no_g1, "Skip the G1 links");
   app.add_option("--samples", samples, "Monte-Carlo points per set");
   app.add_option("--threads", threads, "Threads");
+  app.add_option("--lb-resolution", bound_resolution,
+                 "Depth grid cells along L of the lower bound (cover rows)");
+  app.add_option("--lb-refine", bound_refine, "Refinement queries of the lower bound");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,
@@ -229,8 +278,9 @@ int main(int argc, char** argv) {
     std::sort(links.begin(), links.end());
     for (const auto& p : links) meshes.emplace_back("g1/" + p.filename().string(), p.string());
   }
-  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s %7s\n", "mesh", "K", "method", "n",
-              "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec", "cpu");
+  std::printf("%-34s %3s %-6s %5s %-4s %9s %8s %7s %7s %8s %7s %7s %6s %6s %6s %s\n", "mesh", "K",
+              "method", "n", "cert", "excess%", "mc_out%", "prot%L", "uncov%L", "mc_err", "sec",
+              "cpu", "lb%L", "lb_sec", "lb_cpu", "solid");
   for (const auto& [name, path] : meshes) {
     if (!only.empty() && name.find(only) == std::string::npos) continue;
     try {
@@ -248,5 +298,30 @@ int main(int argc, char** argv) {
         "%d (%.0f%%), excess volume <= 1/2 of it on %d (%.0f%%)\n",
         tally.links, tally.protrusion_third, 100.0 * tally.protrusion_third / tally.links,
         tally.excess_half, 100.0 * tally.excess_half / tally.links);
+  if (curobo && tally.links > 0) {
+    std::vector<double>& q = tally.cover_over_bound;
+    std::sort(q.begin(), q.end());
+    const double median =
+        q.empty()
+            ? 0.0
+            : (q.size() % 2 ? q[q.size() / 2] : 0.5 * (q[q.size() / 2 - 1] + q[q.size() / 2]));
+    std::printf(
+        "lower bound lb%%L on any K-ball cover: above 1/3 of the grown set's max protrusion "
+        "(target out of reach for every K-ball cover) on %d of %d links (%d of the %d closed "
+        "ones); cover max protrusion / bound: median %.2f over the %zu links with a positive "
+        "bound\n",
+        tally.bound_above_third, tally.links, tally.bound_above_third_closed, tally.closed, median,
+        q.size());
+    const int open = tally.links - tally.closed;
+    const int open_above = tally.bound_above_third - tally.bound_above_third_closed;
+    std::printf(
+        "so at most %d of %d links (%.0f%%) can meet the protrusion target with any K-ball "
+        "cover; counting the bound on the %d open links' winding solids (assumption of "
+        "cover_lower_bound.h), at most %d (%.0f%%)\n",
+        tally.links - tally.bound_above_third_closed, tally.links,
+        100.0 * (tally.links - tally.bound_above_third_closed) / tally.links, open,
+        tally.links - tally.bound_above_third_closed - open_above,
+        100.0 * (tally.links - tally.bound_above_third) / tally.links);
+  }
   return 0;
 }

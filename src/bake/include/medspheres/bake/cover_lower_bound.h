@@ -1,0 +1,69 @@
+#pragma once
+/// \file
+/// A lower bound on how tight any K-ball cover of a surface can be: every set of at most K
+/// balls whose union contains the surface of the solid has a ball protruding by at least
+/// `bound` (protrusion of (c, r): r - D(c), D the signed distance to the surface, positive
+/// inside; fit_metrics.h). So no covering method, bake_cover included, can reach a max
+/// protrusion below it at that budget.
+///
+/// Method (derivation in cover_lower_bound.cpp): K + 1 surface points (the witnesses) are
+/// chosen so that every ball holding two of them protrudes by at least `bound`; K balls
+/// covering the surface hold all K + 1, so one of them holds two. The protrusion of a ball
+/// holding two points is bounded below through an upper bound on the depth D over a ball,
+/// taken from D on a grid of `resolution` cells along L (the largest side of the box), and
+/// for the witnesses' worst pairs by branch and bound on finer boxes.
+///
+/// Assumptions: a closed mesh (solid_volume defined), its query built on the oriented mesh
+/// (as FitEvaluator builds it); inside is the query's winding number > 1/2 and distances are
+/// the query's, as for protrusions. The bound is a reported figure, rounding accounted for
+/// by a slack of a few 1e-9 L, not a certificate. With winding_solid an open mesh is
+/// accepted: the solid is then its winding solid, and the bound also assumes that the grid
+/// resolves it (every inside point farther than cell_reach from the surface is within
+/// cell_reach of an inside grid point or a neighbour of one) and, for the refinement, that
+/// its boundary lies on the surface with holes capped; `closed` says which case ran. Frames
+/// and units: those of the mesh. Determinism: the same result for every thread count. Errors:
+/// budget 0 or options out of range throw std::invalid_argument naming them; an open mesh throws
+/// InputError (kind kUnsupported, source "mesh").
+
+#include <cstddef>
+#include <cstdint>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "medspheres/mesh/mesh_query.h"
+
+namespace medspheres {
+
+struct CoverLowerBoundOptions {
+  int resolution = 48;           ///< depth grid cells along L, in [4, 256]; finer: tighter, slower
+  std::size_t candidates = 600;  ///< surface points the witnesses are chosen from, >= 2
+  int starts = 4;              ///< greedy choices of witnesses, each from another first point, >= 1
+  std::uint64_t seed = 1;      ///< the area-weighted surface samples behind the candidates
+  int threads = 0;             ///< 0: all cores
+  bool winding_solid = false;  ///< accept an open mesh (file comment); false: it throws
+  /// Distance queries spent refining the witnesses' worst pairs beyond the grid (branch and
+  /// bound); 0: none. More: tighter, slower.
+  std::size_t refine_queries = 20000;
+};
+
+struct CoverLowerBound {
+  double bound = 0.0;  ///< a length, >= 0: the least max protrusion of any K-ball cover is >= it
+  /// K + 1 points on the surface (p_MoW_M): any ball holding two of them protrudes by >= bound;
+  /// empty (and bound 0) when the surface has fewer than K + 1 distinct sample points.
+  std::vector<Eigen::Vector3d> witnesses;
+  std::size_t grid_points = 0;    ///< depth grid points, and of them
+  std::size_t inside_points = 0;  ///< those inside the solid
+  double cell_reach = 0.0;        ///< the farthest any point of the box is from a grid point
+  bool closed = true;             ///< false: an open mesh's winding solid (winding_solid)
+  double seconds = 0.0;           ///< the whole call
+};
+
+/// The bound of the file comment for \p budget balls on the solid of query.mesh().
+/// \throws std::invalid_argument for budget 0 ("budget must be >= 1") or options out of range
+///   (naming the option); InputError ("mesh: is not closed ...") for an open mesh unless
+///   options.winding_solid.
+CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t budget,
+                                             const CoverLowerBoundOptions& options = {});
+
+}  // namespace medspheres

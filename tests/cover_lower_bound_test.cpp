@@ -1,0 +1,234 @@
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <random>
+#include <stdexcept>
+#include <string>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/bake/cover.h"
+#include "medspheres/bake/cover_lower_bound.h"
+#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/error.h"
+#include "medspheres/mesh/cover_certificate.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
+
+using namespace medspheres;
+
+namespace {
+
+double largest_side(const TriangleMesh& mesh) {
+  return mesh.bounds().sizes().maxCoeff();
+}
+
+double max_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls) {
+  const std::vector<double> p = sphere_protrusions(query, balls, 2);
+  return *std::max_element(p.begin(), p.end());
+}
+
+// The signed distance D (positive inside) as protrusions measure it (fit_metrics.h).
+double depth(const MeshQuery& query, const Eigen::Vector3d& c) {
+  const double d = query.closest_point(c).distance();
+  return query.inside(c) ? d : -d;
+}
+
+// K balls on the axis of the box with half extents (a, b, b), a >> b, each holding a slab
+// of length 2a / K: centre on the axis, radius to the slab's corners (plus a margin).
+std::vector<Sphere> axis_cover(double a, double b, std::size_t K) {
+  std::vector<Sphere> balls;
+  const double half = a / static_cast<double>(K);
+  for (std::size_t i = 0; i < K; ++i) {
+    const double x = -a + (2.0 * static_cast<double>(i) + 1.0) * half;
+    balls.push_back({Eigen::Vector3d(x, 0, 0), std::sqrt(half * half + 2 * b * b) * (1 + 1e-9)});
+  }
+  return balls;
+}
+
+}  // namespace
+
+TEST_CASE("cover lower bound: below the one-ball cover of a sphere", "[cover_lower_bound]") {
+  // The icosphere's vertices lie on the unit sphere, so the unit ball at the origin covers it
+  // and protrudes by 1 - D(0), D(0) its inradius: the least protrusion of one ball is at most
+  // that (it is that, up to the grid).
+  const TriangleMesh mesh = make_icosphere(1.0, 3);
+  const MeshQuery query(mesh);
+  const std::vector<Sphere> ball{{Eigen::Vector3d::Zero(), 1.0 + 1e-12}};
+  REQUIRE(certify_cover(mesh, ball).certified);
+  const double truth = max_protrusion(query, ball);
+  const CoverLowerBound b = cover_protrusion_lower_bound(query, 1);
+  INFO("bound " << b.bound << " one ball " << truth);
+  CHECK(b.bound >= 0.0);
+  CHECK(b.bound <= truth + 1e-9);
+  CHECK(b.witnesses.size() == 2);
+  CHECK(b.closed);
+}
+
+TEST_CASE("cover lower bound: a long thin box between closed forms", "[cover_lower_bound]") {
+  // Box [-2, 2] x [-0.1, 0.1]^2. Any K balls covering it: K + 1 points along an edge at
+  // spacing 4 / K put two in one ball, of radius >= 2 / K, whose centre is at most 0.1 deep:
+  // protrusion >= 2 / K - 0.1 (a closed form by the same pigeonhole, with the exact depth).
+  // The hand cover of K axis balls achieves sqrt((2 / K)^2 + 0.02) - 0.1.
+  const double a = 2.0, b = 0.1;
+  const TriangleMesh mesh = make_box(Eigen::Vector3d(a, b, b), 4);
+  const MeshQuery query(mesh);
+  for (std::size_t K : {1, 2, 4, 8}) {
+    INFO("K = " << K);
+    const std::vector<Sphere> hand = axis_cover(a, b, K);
+    REQUIRE(certify_cover(mesh, hand).certified);
+    const double achieved = max_protrusion(query, hand);
+    const CoverLowerBound lb = cover_protrusion_lower_bound(query, K);
+    const double closed_form = 2.0 / static_cast<double>(K) - b;
+    INFO("bound " << lb.bound << " closed form " << closed_form << " hand cover " << achieved
+                  << " cell reach " << lb.cell_reach);
+    CHECK(lb.bound <= achieved + 1e-9);
+    CHECK(lb.bound > 0.0);
+    // Not vacuous: the refined pairs reach the closed form, less half a grid cell.
+    CHECK(lb.bound >= closed_form - 0.5 * lb.cell_reach);
+    CHECK(lb.witnesses.size() == K + 1);
+  }
+}
+
+TEST_CASE("cover lower bound: never above a certified bake_cover", "[cover_lower_bound]") {
+  std::vector<std::pair<std::string, TriangleMesh>> solids = {
+      {"box", make_box(Eigen::Vector3d(1.0, 0.6, 0.3), 2)},
+      {"capsule", make_capsule(0.3, 0.8, 24, 6)},
+      {"torus", make_torus(1.0, 0.3, 32, 12)},
+      {"cylinder", make_cylinder(0.2, 1.0, 24)}};
+  solids.emplace_back(
+      "eight.off", load_mesh(std::string(MEDSPHERES_SOURCE_DIR) + "/examples/data/eight.off").mesh);
+  for (const auto& [name, raw] : solids) {
+    const FitEvaluator fit(raw, 2);  // oriented, as protrusions are measured
+    REQUIRE(fit.volume());
+    const double L = largest_side(fit.query().mesh());
+    for (std::size_t K : {1, 2, 4, 8, 16}) {
+      INFO(name << " K = " << K);
+      CoverOptions co;
+      co.threads = 2;
+      const CoverResult cover = bake_cover(fit.query(), K, co);
+      REQUIRE(cover.stats.certified);
+      CoverLowerBoundOptions lo;
+      lo.threads = 2;
+      const CoverLowerBound lb = cover_protrusion_lower_bound(fit.query(), K, lo);
+      INFO("bound " << lb.bound / L << " L, cover " << cover.stats.max_protrusion / L << " L");
+      CHECK(lb.bound <= cover.stats.max_protrusion);
+      CHECK(lb.bound <= max_protrusion(fit.query(), cover.spheres.spheres));
+    }
+  }
+}
+
+TEST_CASE("cover lower bound: no ball holding two witnesses protrudes less (sampled)",
+          "[cover_lower_bound]") {
+  // Brute force on the claim behind the bound: a ball holding witnesses x and y has radius
+  // >= max(|c - x|, |c - y|), so it protrudes by >= max(|c - x|, |c - y|) - D(c) at every
+  // centre c. The least of that over 20000 random centres must not fall below the bound.
+  const TriangleMesh mesh = make_capsule(0.3, 0.8, 24, 6);
+  const MeshQuery query(mesh);
+  const CoverLowerBound lb = cover_protrusion_lower_bound(query, 3);
+  REQUIRE(lb.witnesses.size() == 4);
+  REQUIRE(lb.bound > 0.0);
+  std::mt19937_64 rng(7);
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  double least = std::numeric_limits<double>::infinity();
+  for (int s = 0; s < 20000; ++s) {
+    const Eigen::Vector3d c =
+        box.min() + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(box.sizes());
+    const double D = depth(query, c);
+    for (std::size_t i = 0; i < lb.witnesses.size(); ++i)
+      for (std::size_t j = i + 1; j < lb.witnesses.size(); ++j)
+        least = std::min(least,
+                         std::max((c - lb.witnesses[i]).norm(), (c - lb.witnesses[j]).norm()) - D);
+  }
+  INFO("bound " << lb.bound << " sampled least " << least);
+  CHECK(least >= lb.bound);
+  for (const Eigen::Vector3d& w : lb.witnesses)
+    CHECK(query.closest_point(w).distance() <= 1e-9 * largest_side(mesh));
+}
+
+TEST_CASE("cover lower bound: an open mesh's winding solid, on request", "[cover_lower_bound]") {
+  TriangleMesh open = make_box(Eigen::Vector3d(1.0, 0.4, 0.2), 3);
+  open.triangles.pop_back();  // a hole of one triangle
+  MeshQueryOptions caps;
+  caps.cap_holes = true;  // protrusions of an open mesh are measured with the holes capped
+  const MeshQuery query(open, caps);
+  CHECK_THROWS_AS(cover_protrusion_lower_bound(query, 4), InputError);
+  CoverLowerBoundOptions o;
+  o.winding_solid = true;
+  for (std::size_t K : {1, 4, 8}) {
+    INFO("K = " << K);
+    const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
+    CHECK_FALSE(lb.closed);
+    const CoverResult cover = bake_cover(query, K);
+    REQUIRE(cover.stats.certified);
+    INFO("bound " << lb.bound << " cover " << cover.stats.max_protrusion);
+    CHECK(lb.bound > 0.0);
+    CHECK(lb.bound <= max_protrusion(query, cover.spheres.spheres));
+  }
+}
+
+TEST_CASE("cover lower bound: a flat open square", "[cover_lower_bound]") {
+  // No volume at all: the bound must stay finite, and below the protrusion of the ball on
+  // the square's centre through its corners (radius sqrt(2), centre on the surface).
+  TriangleMesh square;
+  square.vertices = {{-1, -1, 0}, {1, -1, 0}, {1, 1, 0}, {-1, 1, 0}};
+  square.triangles = {{0, 1, 2}, {0, 2, 3}};
+  MeshQueryOptions caps;
+  caps.cap_holes = true;
+  const MeshQuery query(square, caps);
+  CoverLowerBoundOptions o;
+  o.winding_solid = true;
+  const std::vector<Sphere> ball{{Eigen::Vector3d::Zero(), std::sqrt(2.0) * (1 + 1e-12)}};
+  const double one_ball = max_protrusion(query, ball);
+  for (std::size_t K : {1, 3}) {
+    const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
+    INFO("K = " << K << " bound " << lb.bound << " one ball " << one_ball);
+    CHECK(std::isfinite(lb.bound));
+    CHECK(lb.bound >= 0.0);
+    CHECK(lb.bound <= one_ball);
+  }
+}
+
+TEST_CASE("cover lower bound: the same for every thread count", "[cover_lower_bound]") {
+  const MeshQuery query(make_torus(1.0, 0.3, 32, 12));
+  CoverLowerBoundOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const CoverLowerBound a = cover_protrusion_lower_bound(query, 6, one);
+  const CoverLowerBound b = cover_protrusion_lower_bound(query, 6, two);
+  CHECK(a.bound == b.bound);
+  CHECK(a.witnesses == b.witnesses);
+}
+
+TEST_CASE("cover lower bound rejects bad input", "[cover_lower_bound]") {
+  const MeshQuery query(make_icosphere(1.0, 1));
+  CHECK_THROWS_AS(cover_protrusion_lower_bound(query, 0), std::invalid_argument);
+  const auto rejects = [&](CoverLowerBoundOptions o, const std::string& name) {
+    try {
+      cover_protrusion_lower_bound(query, 2, o);
+      FAIL("accepted bad " << name);
+    } catch (const std::invalid_argument& e) {
+      CHECK(std::string(e.what()).find(name) != std::string::npos);
+    }
+  };
+  CoverLowerBoundOptions o;
+  o.resolution = 3;
+  rejects(o, "resolution");
+  o = {};
+  o.candidates = 1;
+  rejects(o, "candidates");
+  o = {};
+  o.starts = 0;
+  rejects(o, "starts");
+  o = {};
+  o.threads = -1;
+  rejects(o, "threads");
+  try {
+    cover_protrusion_lower_bound(query, 0);
+  } catch (const std::invalid_argument& e) {
+    CHECK(std::string(e.what()).find("budget") != std::string::npos);
+  }
+}
