@@ -225,3 +225,32 @@ TEST_CASE("eval of a robot: rows in the URDF's order, from a file as from a map"
     CHECK(std::string(err.what()).find("'elbow'") != std::string::npos);
   }
 }
+
+TEST_CASE("eval of a robot: each measured link's surface certificate", "[eval][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  UrdfReadOptions read;
+  add_package_dir(read.packages, "arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
+  // The hand's box (half extents 0.02, 0.03, 0.04; half diagonal 0.0539) and its sphere
+  // primitive: a ball of radius 0.01 inside the box leaves its surface uncovered, one of
+  // radius 0.06 about its centre holds it whole.
+  const Sphere primitive{Eigen::Vector3d(0.0, 0.0, 0.06), 0.015};
+  for (const double radius : {0.01, 0.06}) {
+    INFO("radius " << radius);
+    std::map<std::string, SphereSet> spheres;
+    spheres["hand"].spheres = {{Eigen::Vector3d::Zero(), radius}, primitive};
+    const RobotEvaluation e = evaluate_robot_spheres(urdf, read, spheres, "hand.yml", fast_fit());
+    const LinkFit& hand = e.links[2];
+    REQUIRE(hand.certificate);
+    CHECK(hand.certificate->certified == (radius > 0.054));
+    CHECK_FALSE(e.links[1].certificate);  // no spheres, no fit, no certificate
+    const nlohmann::json j = nlohmann::json::parse(robot_evaluation_json(e));
+    const nlohmann::json& c = j["links"][2]["surface_certificate"];
+    CHECK(c["certified"] == hand.certificate->certified);
+    CHECK(c.contains("worst_uncovered_distance") == !hand.certificate->certified);
+    // the corners at z = -0.04 are 0.0539 - 0.01 = 0.0439 from the small ball, farther from
+    // the primitive
+    if (!hand.certificate->certified)
+      CHECK(c["worst_uncovered_distance"].get<double>() == Approx(0.0439).margin(1e-3));
+  }
+}

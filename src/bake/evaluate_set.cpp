@@ -1,5 +1,7 @@
 #include "medspheres/bake/evaluate_set.h"
 
+#include "certificate_json.h"
+
 #include <cmath>
 #include <string>
 #include <utility>
@@ -31,6 +33,8 @@ nlohmann::ordered_json estimate_json(const Estimate95& e) {
           {"sigma", number(e.sigma)}};
 }
 
+}  // namespace
+
 // The certificate of surface coverage (cover_certificate.h), as JSON.
 nlohmann::ordered_json certificate_json(const CoverCertificate& c) {
   nlohmann::ordered_json j = {{"certified", c.certified},
@@ -46,8 +50,6 @@ nlohmann::ordered_json certificate_json(const CoverCertificate& c) {
   }
   return j;
 }
-
-}  // namespace
 
 FitOptions fit_options(long long samples, long long surface_samples, std::uint64_t seed,
                        int threads) {

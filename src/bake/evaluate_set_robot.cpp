@@ -1,5 +1,7 @@
 #include "medspheres/bake/evaluate_set_robot.h"
 
+#include "certificate_json.h"
+
 #include <cmath>
 #include <optional>
 
@@ -29,6 +31,7 @@ nlohmann::ordered_json fit_json(const LinkFit& f) {
   j["mc_error"] = number(r.monte_carlo.error.estimate);
   j["uncovered_max"] = r.coverage.max;
   j["uncovered_mean"] = r.coverage.mean;
+  if (f.certificate) j["surface_certificate"] = certificate_json(*f.certificate);
   j["warnings"] = r.warnings;
   return j;
 }

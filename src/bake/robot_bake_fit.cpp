@@ -47,7 +47,11 @@ std::vector<LinkFit> evaluate_robot_fit(const std::vector<LinkSolid>& solids,
     } else if (measured.empty()) {
       fit.note = "no spheres for its meshed parts";
     } else {
-      fit.fit = evaluate_fit(solid.placed_mesh(), measured, options);
+      const TriangleMesh mesh = solid.placed_mesh();
+      fit.fit = evaluate_fit(mesh, measured, options);
+      CoverCertificateOptions co;
+      co.threads = options.threads;
+      fit.certificate = certify_cover(mesh, it->second.spheres, co);
     }
     fits.push_back(std::move(fit));
   }

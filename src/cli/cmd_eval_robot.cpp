@@ -23,7 +23,7 @@ void print_text(const RobotEvalArgs& args, const std::vector<LinkFit>& fits) {
   for (const LinkFit& f : fits) width = std::max(width, f.link.size() + 2);
   std::cout << "eval " << args.spheres << " against " << args.urdf << " (link frames)\n"
             << cell("link", width) << cell("spheres", 9) << cell("nerr", 24) << cell("mc error", 11)
-            << cell("protrusion", 12) << cell("uncovered", 11) << "note\n";
+            << cell("protrusion", 12) << cell("uncovered", 11) << cell("surface", 10) << "note\n";
   for (const LinkFit& f : fits) {
     std::cout << cell(f.link, width) << cell(std::to_string(f.spheres), 9);
     if (f.fit) {
@@ -33,9 +33,11 @@ void print_text(const RobotEvalArgs& args, const std::vector<LinkFit>& fits) {
                         24)
                 << cell(number_text(r.monte_carlo.error.estimate, 4), 11)
                 << cell(number_text(r.volume.max_protrusion, 3), 12)
-                << cell(number_text(r.coverage.max, 3), 11);
+                << cell(number_text(r.coverage.max, 3), 11)
+                << cell(f.certificate->certified ? "certified" : "NOT", 10);
     } else {
-      std::cout << cell("-", 24) << cell("-", 11) << cell("-", 12) << cell("-", 11);
+      std::cout << cell("-", 24) << cell("-", 11) << cell("-", 12) << cell("-", 11)
+                << cell("-", 10);
     }
     std::string note = f.note;
     if (f.primitives > 0)

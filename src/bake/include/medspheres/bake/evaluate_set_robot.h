@@ -41,8 +41,9 @@ RobotEvaluation evaluate_robot_file(const std::string& urdf, const UrdfReadOptio
 
 /// The JSON object `medspheres eval ROBOT SPHERES --json` prints: "urdf", "spheres_file",
 /// "links" (one object per row: link, spheres, primitives, note and, where measured, nerr,
-/// nerr_kind, max_protrusion, mc_error, uncovered_max, uncovered_mean, warnings; NaN and
-/// infinities as null). Indented by two spaces.
+/// nerr_kind, max_protrusion, mc_error, uncovered_max, uncovered_mean, surface_certificate
+/// (as `eval` of a mesh writes it), warnings; NaN and infinities as null). Indented by two
+/// spaces.
 std::string robot_evaluation_json(const RobotEvaluation& evaluation);
 
 }  // namespace medspheres
