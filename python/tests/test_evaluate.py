@@ -115,6 +115,7 @@ def test_evaluate_robot_equals_cli(cli, baked_arm):
     # the cuRobo file carries the outer sets, certified covers: no sampled point is outside
     for r in rows:
         assert r["uncovered_max"] == 0.0, r["link"]
+        assert r["surface_certificate"]["certified"], r["link"]
         assert r["max_protrusion"] > 0.0  # a cover sticks out
     assert rows[2]["primitives"] == 1  # the hand's sphere primitive, exact
     # the same spheres given as a dict of arrays, and as SphereSets
