@@ -204,7 +204,7 @@ TEST_CASE("eval of a robot: rows in the URDF's order, from a file as from a map"
   CHECK(j["links"][2]["primitives"] == 1);
   CHECK_FALSE(j["links"][1].contains("nerr"));
 
-  // A file of one set is not a robot's; a link the robot lacks is named.
+  // A file of one set is not a robot's.
   SphereSet one;
   one.spheres = spheres["hand"].spheres;
   const std::string single = dir.file("one.json");
@@ -216,14 +216,14 @@ TEST_CASE("eval of a robot: rows in the URDF's order, from a file as from a map"
     CHECK(err.file() == single);
     CHECK(std::string(err.what()).find("not a robot's") != std::string::npos);
   }
+  // A link the robot lacks is listed, not measured; the rows are those without it.
   spheres["elbow"] = one;
-  try {
-    evaluate_robot_spheres(urdf, read, spheres, "mine", fast_fit());
-    FAIL("a link the robot lacks was measured");
-  } catch (const InputError& err) {
-    CHECK(err.file() == "mine");
-    CHECK(std::string(err.what()).find("'elbow'") != std::string::npos);
-  }
+  const RobotEvaluation g = evaluate_robot_spheres(urdf, read, spheres, "mine", fast_fit());
+  CHECK(g.unknown_links == std::vector<std::string>{"elbow"});
+  REQUIRE(g.links.size() == 4);
+  REQUIRE(g.links[2].fit);
+  CHECK(g.links[2].fit->volume.nerr == hand.fit->volume.nerr);
+  CHECK(nlohmann::json::parse(robot_evaluation_json(g))["unknown_links"][0] == "elbow");
 }
 
 TEST_CASE("eval of a robot: each measured link's surface certificate", "[eval][robot]") {

@@ -17,12 +17,6 @@ namespace medspheres::python {
 
 namespace {
 
-void warn_all(const std::vector<std::string>& warnings, const std::string& source) {
-  for (const std::string& w : warnings)
-    if (PyErr_WarnEx(PyExc_UserWarning, (source + ": " + w).c_str(), 2) != 0)
-      throw py::error_already_set();  // warnings turned into errors
-}
-
 // The mesh argument loaded (a path) or prepared (a pair of arrays), named \p name.
 LoadedMesh mesh_arg(const py::handle& mesh, std::string& name) {
   if (is_path(mesh)) {

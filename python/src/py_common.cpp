@@ -138,4 +138,10 @@ std::string path_of(const py::handle& object) {
   return py::module_::import("os").attr("fspath")(object).cast<std::string>();
 }
 
+void warn_all(const std::vector<std::string>& warnings, const std::string& source) {
+  for (const std::string& w : warnings)
+    if (PyErr_WarnEx(PyExc_UserWarning, (source + ": " + w).c_str(), 2) != 0)
+      throw py::error_already_set();  // warnings turned into errors
+}
+
 }  // namespace medspheres::python

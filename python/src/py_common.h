@@ -5,6 +5,7 @@
 #include <optional>
 #include <string>
 #include <utility>
+#include <vector>
 
 #include <pybind11/numpy.h>
 #include <pybind11/pybind11.h>
@@ -73,6 +74,10 @@ void def_evaluation(py::module_& m, const char* name, F&& f, const char* first, 
 py::object json_loads(const std::string& text);
 
 /// True for a str or an os.PathLike; its file-system path.
+/// Each of \p warnings as a Python UserWarning "source: warning" (an error where the
+/// warnings filter makes it one).
+void warn_all(const std::vector<std::string>& warnings, const std::string& source);
+
 bool is_path(const py::handle& object);
 std::string path_of(const py::handle& object);
 

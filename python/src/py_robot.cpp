@@ -114,7 +114,12 @@ py::object evaluate_robot_py(const py::object& urdf, const py::handle& spheres, 
     py::gil_scoped_release release;
     json = robot_evaluation_json(evaluate_robot_spheres(urdf_path, read, sets, "spheres", options));
   }
-  return json_loads(json)["links"];
+  const py::object result = json_loads(json);
+  std::vector<std::string> unknown;
+  for (const py::handle link : result["unknown_links"])
+    unknown.push_back("link '" + link.cast<std::string>() + "' is not in the robot, not measured");
+  warn_all(unknown, is_path(spheres) ? path_of(spheres) : "spheres");
+  return result["links"];
 }
 
 }  // namespace

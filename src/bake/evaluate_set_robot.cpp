@@ -2,6 +2,7 @@
 
 #include "certificate_json.h"
 
+#include <algorithm>
 #include <cmath>
 #include <optional>
 
@@ -65,7 +66,15 @@ RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOp
   out.urdf = urdf;
   out.spheres_file = spheres_file;
   const UrdfRobot robot = read_urdf(urdf, read);
-  out.links = evaluate_robot_fit(load_link_solids(robot), spheres, spheres_file, options);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  std::map<std::string, SphereSet> known;
+  for (const auto& [link, set] : spheres)
+    if (std::any_of(solids.begin(), solids.end(),
+                    [&](const LinkSolid& s) { return s.link == link; }))
+      known.emplace(link, set);
+    else
+      out.unknown_links.push_back(link);
+  out.links = evaluate_robot_fit(solids, known, spheres_file, options);
   return out;
 }
 
@@ -79,6 +88,7 @@ std::string robot_evaluation_json(const RobotEvaluation& evaluation) {
   nlohmann::ordered_json j = {{"urdf", evaluation.urdf}, {"spheres_file", evaluation.spheres_file}};
   j["links"] = nlohmann::ordered_json::array();
   for (const LinkFit& f : evaluation.links) j["links"].push_back(fit_json(f));
+  j["unknown_links"] = evaluation.unknown_links;
   return j.dump(2);
 }
 

@@ -60,6 +60,12 @@ int run_eval_robot(const RobotEvalArgs& args) {
   UrdfReadOptions read;
   for (const std::string& p : args.packages) add_package_dir(read.packages, p);
   const RobotEvaluation e = evaluate_robot_file(args.urdf, read, args.spheres, args.fit);
+  if (!e.unknown_links.empty()) {
+    std::cerr << "medspheres: warning: " << args.spheres << ": " << e.unknown_links.size()
+              << " link(s) not in " << args.urdf << ", not measured:";
+    for (const std::string& link : e.unknown_links) std::cerr << " " << link;
+    std::cerr << "\n";
+  }
   if (args.json)
     std::cout << robot_evaluation_json(e) << "\n";
   else

@@ -26,10 +26,14 @@ struct RobotEvaluation {
   std::string urdf;            ///< the URDF as given
   std::string spheres_file;    ///< the spheres' name (their file)
   std::vector<LinkFit> links;  ///< one row per link of the URDF, in its order
+  /// Links of the sphere file that the robot lacks (a planner's file often carries the links
+  /// of other variants of a robot), in name order; not measured.
+  std::vector<std::string> unknown_links;
 };
 
 /// Reads the URDF \p urdf (with \p read) and its link solids, and measures \p spheres (link
-/// name -> spheres in that link's frame; named \p spheres_file in errors) against them.
+/// name -> spheres in that link's frame; named \p spheres_file in errors) against them; the
+/// links the robot lacks are listed in `unknown_links`, not measured.
 /// \throws InputError as read_urdf, load_link_solids and evaluate_robot_fit.
 RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOptions& read,
                                        const std::map<std::string, SphereSet>& spheres,
@@ -42,8 +46,8 @@ RobotEvaluation evaluate_robot_file(const std::string& urdf, const UrdfReadOptio
 /// The JSON object `medspheres eval ROBOT SPHERES --json` prints: "urdf", "spheres_file",
 /// "links" (one object per row: link, spheres, primitives, note and, where measured, nerr,
 /// nerr_kind, max_protrusion, mc_error, uncovered_max, uncovered_mean, surface_certificate
-/// (as `eval` of a mesh writes it), warnings; NaN and infinities as null). Indented by two
-/// spaces.
+/// (as `eval` of a mesh writes it), warnings; NaN and infinities as null), "unknown_links".
+/// Indented by two spaces.
 std::string robot_evaluation_json(const RobotEvaluation& evaluation);
 
 }  // namespace medspheres
