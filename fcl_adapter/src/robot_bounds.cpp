@@ -5,10 +5,12 @@
 
 #include <algorithm>
 #include <cmath>
+#include <optional>
 #include <set>
 #include <stdexcept>
 #include <string>
 
+#include "fcl_dispatch.h"
 #include "medspheres/error.h"
 
 namespace medspheres::fcl {
@@ -80,12 +82,82 @@ std::vector<Ball> link_balls(const RobotBounds& robot, const std::vector<::fcl::
   return out;
 }
 
-// The ball about the object's local AABB centre of radius aabb_radius (set by
-// computeLocalAABB, which fcl::CollisionObject's constructor calls): it contains the
-// geometry at the object's current transform, whether or not its world AABB is up to date.
-Ball object_ball(const ::fcl::CollisionObjectd& o) {
-  const ::fcl::CollisionGeometryd& g = *o.collisionGeometry();
-  return {o.getTransform() * g.aabb_center, g.aabb_radius};
+// The distance from p to the RSS b (0 inside it), both in one frame.
+double rss_distance(const Rss& b, const Eigen::Vector3d& p) {
+  const Eigen::Vector3d t = b.axis.transpose() * (p - b.corner);
+  const Eigen::Vector3d off(t.x() - std::clamp(t.x(), 0.0, b.length[0]),
+                            t.y() - std::clamp(t.y(), 0.0, b.length[1]), t.z());
+  return std::max(0.0, off.norm() - b.radius);
+}
+
+// True when no primitive below the node n of the target t lies within reach of p_B (frame
+// B): each node's RSS contains its primitives, and a leaf's answer to the point is its
+// distance. Nearer children first; false (not known) once `budget` nodes are spent.
+bool target_beyond(const ProximityTarget& t, const TargetNode& n, const Eigen::Vector3d& p_B,
+                   double reach, int& budget) {
+  if (--budget < 0) return false;
+  if (n.is_leaf) return t.ball_proximity(n, p_B, 0.0).distance > reach;
+  if (rss_distance(n.bounds, p_B) > reach) return true;
+  TargetNode kids[ProximityTarget::kMaxChildren];
+  const int count = t.children(n, kids);
+  for (int k = 0; k < count; ++k)
+    if (!target_beyond(t, kids[k], p_B, reach, budget)) return false;
+  return true;
+}
+
+// What a scene object is known to lie in, in its own frame B: the root node's RSS of its
+// target view (fcl_dispatch.h) when that root is an internal node (a mesh's root BV, an
+// octree's smallest cell holding all its occupied cells: far tighter than an octree's
+// local AABB, which is its whole root cube), else its local AABB (set by
+// computeLocalAABB, which fcl::CollisionObject's constructor calls; a box's is the box).
+// Either contains the geometry at the object's current transform, whether or not its
+// world AABB is up to date.
+struct ObjectBound {
+  ::fcl::Transform3d X_BW;  // W to B
+  bool rss = false;
+  Rss bounds;              // when rss
+  Eigen::Vector3d lo, hi;  // the local AABB, otherwise
+  double scale = 0.0;      // magnitude of the coordinates, for the rounding allowance
+
+  explicit ObjectBound(const ::fcl::CollisionObjectd& o) : X_BW(o.getTransform().inverse()) {
+    const ::fcl::CollisionGeometryd& g = *o.collisionGeometry();
+    detail::with_target_view(g, [&](const ProximityTarget& t) {
+      const std::optional<TargetNode> root = t.root();
+      rss = root && !root->is_leaf;
+      if (rss) bounds = root->bounds;
+    });
+    lo = g.aabb_local.min_;
+    hi = g.aabb_local.max_;
+    scale = o.getTransform().translation().norm() +
+            (rss ? bounds.corner.norm() + bounds.length.sum() + bounds.radius
+                 : lo.cwiseAbs().maxCoeff() + hi.cwiseAbs().maxCoeff());
+  }
+
+  // The distance from p_W to the bound (0 inside it), rounded.
+  double distance(const Eigen::Vector3d& p_W) const {
+    const Eigen::Vector3d p = X_BW * p_W;
+    return rss ? rss_distance(bounds, p) : (lo - p).cwiseMax(p - hi).cwiseMax(0.0).norm();
+  }
+};
+
+// True when a link's ball is certainly farther than margin from the object's bound, with
+// the rounding allowance of apart() below.
+// An object whose root is an internal node is then searched below it for a primitive
+// within reach of the ball (target_beyond, at most 512 nodes).
+bool apart(const Ball& a, const ::fcl::CollisionObjectd& o, const ObjectBound& b, double margin) {
+  const double allowance = 1e-12 * (a.centre.norm() + a.radius + b.scale + margin);
+  const double gap = b.distance(a.centre) - a.radius;
+  if (!std::isfinite(gap)) return false;
+  if (gap - allowance > margin) return true;
+  if (!b.rss) return false;
+  bool beyond = false;
+  detail::with_target_view(*o.collisionGeometry(), [&](const ProximityTarget& t) {
+    const std::optional<TargetNode> root = t.root();
+    int budget = 512;
+    beyond =
+        root && target_beyond(t, *root, b.X_BW * a.centre, a.radius + margin + allowance, budget);
+  });
+  return beyond;
 }
 
 // True when the balls are certainly farther apart than margin, so that every pair of
@@ -160,6 +232,7 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
   const std::vector<::fcl::Transform3d> X = robot.poses(q, X_WB);
   const std::vector<BoundedGeometry>& g = robot.geometries();
   const std::vector<Ball> links = link_balls(robot, X);
+  std::vector<ObjectBound> objects;  // made at the first scene pair
   RobotCollideResult out;
   struct Open {
     std::size_t link, other;
@@ -180,7 +253,9 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
       robot, scene, include_self,
       [&](std::size_t l, std::size_t o) {
         const ::fcl::CollisionObjectd& obj = *scene[o];
-        if (apart(links[l], object_ball(obj), margin)) return false;
+        if (objects.empty())
+          for (const ::fcl::CollisionObjectd* s : scene) objects.emplace_back(*s);
+        if (apart(links[l], obj, objects[o], margin)) return false;
         return record(l, o, false,
                       decide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
       },
