@@ -39,8 +39,9 @@ double ExactRobot::pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::
 }
 
 ExactRobot::ExactRobot(const fcl::RobotBounds& robot, const std::map<std::string, ExactLink>& links,
-                       const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids)
-    : robot_(robot), scene_(scene), solids_(std::move(solids)) {
+                       const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids,
+                       bool skip_beyond)
+    : robot_(robot), scene_(scene), solids_(std::move(solids)), skip_beyond_(skip_beyond) {
   for (const fcl::BoundedGeometry& g : robot.geometries()) {
     std::vector<Part> parts;
     const auto it = links.find(g.link());
@@ -73,9 +74,15 @@ void ExactRobot::pose(const std::vector<::fcl::Transform3d>& X) {
 
 void ExactRobot::add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd* a,
                      const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other,
-                     double below) const {
+                     double below, bool scene) const {
   const double d = a->getAABB().distance(b->getAABB());
-  if (d <= below) out.push_back({d, a, b, link, other});
+  if (d > below) return;
+  if (scene && skip_beyond_ && std::isfinite(below)) {
+    const ::fcl::CollisionGeometryd& g = *a->collisionGeometry();
+    if (fcl::ball_beyond_margin(*b, a->getTransform() * g.aabb_center, g.aabb_radius, below))
+      return;
+  }
+  out.push_back({d, a, b, link, other});
 }
 
 // The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order.
@@ -85,11 +92,12 @@ std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, bo
   if (include_self)
     for (const auto& [a, b] : robot_.self_pairs())
       for (const Part& pa : links_[a])
-        for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+        for (const Part& pb : links_[b])
+          add(out, pa.object.get(), pb.object.get(), a, b, below, false);
   if (include_scene)
     for (std::size_t l = 0; l < links_.size(); ++l)
       for (std::size_t o = 0; o < scene_.size(); ++o)
-        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below);
+        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below, true);
   return out;
 }
 

@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <optional>
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -171,10 +172,73 @@ bool apart(const Ball& a, const Ball& b, double margin) {
 
 }  // namespace
 
+bool ball_beyond_margin(const ::fcl::CollisionObjectd& object, const Eigen::Vector3d& p_WC,
+                        double radius, double margin) {
+  if (object.collisionGeometry() == nullptr)
+    throw std::invalid_argument("ball_beyond_margin: the object has no geometry");
+  return apart(Ball{p_WC, radius}, object, ObjectBound(object), margin);
+}
+
+std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
+                                                   const KinematicTree& tree, std::size_t n,
+                                                   unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::pair<double, double>> range;
+  for (const std::string& name : tree.joint_names()) {
+    const Joint& j = *model.find_joint(name);
+    const bool limited =
+        j.type != JointType::kContinuous && j.limits && j.limits->lower < j.limits->upper;
+    range.emplace_back(limited ? j.limits->lower : -M_PI, limited ? j.limits->upper : M_PI);
+  }
+  std::vector<Eigen::VectorXd> out(n, Eigen::VectorXd(range.size()));
+  for (Eigen::VectorXd& q : out)
+    for (std::size_t k = 0; k < range.size(); ++k)
+      q[k] = std::uniform_real_distribution<double>(range[k].first, range[k].second)(rng);
+  return out;
+}
+
+// Greedy: each step takes the pair certainly colliding in the most samples that no pair
+// taken so far collides in (ties: the earlier pair), until no pair adds one.
+void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder& order) {
+  if (!std::isfinite(order.margin) || order.margin < 0.0)
+    throw std::invalid_argument("SelfPairOrder: margin must be finite and >= 0");
+  const std::vector<Eigen::VectorXd> samples =
+      sample_configurations(model, tree_, order.samples, order.seed);
+  std::vector<std::vector<std::size_t>> hits(self_pairs_.size());  // samples, by pair
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const std::vector<::fcl::Transform3d> X = poses(samples[s], Eigen::Isometry3d::Identity());
+    const std::vector<Ball> balls = link_balls(*this, X);
+    for (std::size_t k = 0; k < self_pairs_.size(); ++k) {
+      const auto [a, b] = self_pairs_[k];
+      if (!apart(balls[a], balls[b], order.margin) &&
+          decide(geometries_[a], X[a], geometries_[b], X[b], order.margin).verdict ==
+              BoundsVerdict::colliding)
+        hits[k].push_back(s);
+    }
+  }
+  std::vector<char> covered(samples.size(), 0), taken(self_pairs_.size(), 0);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (;;) {
+    std::size_t best = 0, best_gain = 0;
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      std::size_t gain = 0;
+      for (std::size_t s : hits[k]) gain += covered[s] ? 0 : 1;
+      if (!taken[k] && gain > best_gain) best = k, best_gain = gain;
+    }
+    if (best_gain == 0) break;
+    taken[best] = 1;
+    out.push_back(self_pairs_[best]);
+    for (std::size_t s : hits[best]) covered[s] = 1;
+  }
+  for (std::size_t k = 0; k < self_pairs_.size(); ++k)
+    if (!taken[k]) out.push_back(self_pairs_[k]);
+  self_pairs_ = std::move(out);
+}
+
 RobotBounds::RobotBounds(const RobotModel& model,
                          const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                          const std::vector<std::pair<std::string, std::string>>& disabled,
-                         const BoundedGeometryOptions& options)
+                         const BoundedGeometryOptions& options, const SelfPairOrder& order)
     : tree_(model) {
   for (const Link& link : model.links) {
     const LinkSpheres& s = link.spheres;
@@ -188,6 +252,7 @@ RobotBounds::RobotBounds(const RobotModel& model,
   for (std::size_t i = 0; i < geometries_.size(); ++i)
     for (std::size_t k = i + 1; k < geometries_.size(); ++k)
       if (skip.count(ordered(link_of_[i], link_of_[k])) == 0) self_pairs_.emplace_back(i, k);
+  if (order.samples > 0) order_self_pairs(model, order);
 }
 
 std::vector<::fcl::Transform3d> RobotBounds::poses(const Eigen::VectorXd& q,

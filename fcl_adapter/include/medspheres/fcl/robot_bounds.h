@@ -30,6 +30,19 @@
 
 namespace medspheres::fcl {
 
+/// The order in which robot_collide walks the self pairs; it changes how soon a colliding
+/// configuration is found, never an answer. samples = 0: geometry order (the pairs of
+/// geometry i before those of i + 1). samples > 0: the constructor checks that many seeded
+/// configurations (sample_configurations) with the pairs' sphere bounds (decide() at
+/// \p margin) and puts first the pair certainly colliding in the most of them, then the
+/// pair colliding in the most of the rest, and so on; the pairs never seen colliding
+/// follow in geometry order.
+struct SelfPairOrder {
+  std::size_t samples = 0;
+  double margin = 0.0;  ///< finite, >= 0
+  unsigned seed = 1;
+};
+
 class RobotBounds {
  public:
   /// Links with both sets empty have no geometry and are left out. \p meshes: exact meshes
@@ -38,13 +51,14 @@ class RobotBounds {
   RobotBounds(const RobotModel& model,
               const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes = {},
               const std::vector<std::pair<std::string, std::string>>& disabled = {},
-              const BoundedGeometryOptions& options = {});
+              const BoundedGeometryOptions& options = {}, const SelfPairOrder& order = {});
 
   const KinematicTree& kinematics() const noexcept { return tree_; }
   /// The links with a geometry, and the index of each in kinematics().link_names().
   const std::vector<BoundedGeometry>& geometries() const noexcept { return geometries_; }
   const std::vector<std::size_t>& link_of() const noexcept { return link_of_; }
-  /// Self-collision pairs, as indices into geometries(), first < second.
+  /// Self-collision pairs, as indices into geometries(), first < second, in the order of
+  /// the constructor's SelfPairOrder.
   const std::vector<std::pair<std::size_t, std::size_t>>& self_pairs() const noexcept {
     return self_pairs_;
   }
@@ -57,7 +71,26 @@ class RobotBounds {
   std::vector<BoundedGeometry> geometries_;
   std::vector<std::size_t> link_of_;
   std::vector<std::pair<std::size_t, std::size_t>> self_pairs_;
+
+  void order_self_pairs(const RobotModel& model, const SelfPairOrder& order);
 };
+
+/// \p n joint vectors for \p tree (KinematicTree::joint_names order), each entry uniform
+/// within its joint's limits ([-pi, pi] for a continuous joint or one without limits),
+/// drawn in order from std::mt19937(seed): configuration by configuration, joint by joint.
+std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
+                                                   const KinematicTree& tree, std::size_t n,
+                                                   unsigned seed);
+
+/// True only when no point of the object's geometry lies within \p radius + \p margin of
+/// p_WC (W): the ball of centre p_WC and that radius is certainly farther than margin from
+/// it. Tested on the geometry's local AABB, or, for a mesh or an octree, on its hierarchy
+/// (node bounds, then the primitives near the ball; an octree's AABB is its whole root
+/// cube), with a rounding allowance; false when unsure. What robot_collide skips scene
+/// pairs by. \throws std::invalid_argument for a null geometry or one that
+/// medspheres::fcl::distance does not accept beside a sphere set.
+bool ball_beyond_margin(const ::fcl::CollisionObjectd& object, const Eigen::Vector3d& p_WC,
+                        double radius, double margin);
 
 /// One pair's bounds: geometry index `link`; `other` a geometry index (self) or an index
 /// into the scene.
@@ -91,11 +124,11 @@ struct RobotCollideResult {
 };
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
-/// First every pair's sphere bounds (decide()), the self-collision pairs before the scene,
-/// stopping at the first certainly colliding pair; pairs whose bounding balls (a link's outer root
-/// ball, a scene object's local AABB ball about its transform) are farther apart than the margin
-/// are free without a walk. Only when no pair certainly collides are the undecided pairs settled by
-/// the exact meshes (settle()), stopping at the first colliding one.
+/// First every pair's sphere bounds (decide()), the self-collision pairs (in self_pairs() order)
+/// before the scene, stopping at the first certainly colliding pair; a self pair whose links'
+/// outer root balls are farther apart than the margin, and a scene pair whose link ball is
+/// (ball_beyond_margin), are free without a walk. Only when no pair certainly collides are the
+/// undecided pairs settled by the exact meshes (settle()), stopping at the first colliding one.
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
                                  bool include_self, double margin = 0.0,
