@@ -74,15 +74,9 @@ void ExactRobot::pose(const std::vector<::fcl::Transform3d>& X) {
 
 void ExactRobot::add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd* a,
                      const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other,
-                     double below, bool scene) const {
+                     double below) const {
   const double d = a->getAABB().distance(b->getAABB());
-  if (d > below) return;
-  if (scene && skip_beyond_ && std::isfinite(below)) {
-    const ::fcl::CollisionGeometryd& g = *a->collisionGeometry();
-    if (fcl::ball_beyond_margin(*b, a->getTransform() * g.aabb_center, g.aabb_radius, below))
-      return;
-  }
-  out.push_back({d, a, b, link, other});
+  if (d <= below) out.push_back({d, a, b, link, other});
 }
 
 // The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order.
@@ -92,12 +86,26 @@ std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, bo
   if (include_self)
     for (const auto& [a, b] : robot_.self_pairs())
       for (const Part& pa : links_[a])
-        for (const Part& pb : links_[b])
-          add(out, pa.object.get(), pb.object.get(), a, b, below, false);
-  if (include_scene)
-    for (std::size_t l = 0; l < links_.size(); ++l)
-      for (std::size_t o = 0; o < scene_.size(); ++o)
-        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below, true);
+        for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+  if (!include_scene) return out;
+  // With skip_beyond_, each object's balls_near over every part's bounding ball.
+  std::vector<std::vector<char>> near;
+  if (skip_beyond_ && std::isfinite(below)) {
+    std::vector<Sphere> balls;
+    for (const std::vector<Part>& parts : links_)
+      for (const Part& p : parts) {
+        const ::fcl::CollisionGeometryd& g = *p.object->collisionGeometry();
+        balls.push_back({p.object->getTransform() * g.aabb_center, g.aabb_radius});
+      }
+    for (const ::fcl::CollisionObjectd* o : scene_)
+      near.push_back(fcl::balls_near(*o, balls, below));
+  }
+  std::size_t first = 0;  // index of the link's first part in the balls
+  for (std::size_t l = 0; l < links_.size(); first += links_[l++].size())
+    for (std::size_t o = 0; o < scene_.size(); ++o)
+      for (std::size_t k = 0; k < links_[l].size(); ++k)
+        if (near.empty() || near[o][first + k])
+          add(out, links_[l][k].object.get(), scene_[o], l, o, below);
   return out;
 }
 
@@ -105,8 +113,10 @@ bool ExactRobot::collide(const std::vector<::fcl::Transform3d>& X, bool include_
                          double margin) {
   pose(X);
   const double above = successor(margin);
-  for (const Candidate& c : candidates(true, include_self, margin))
-    if (pair_distance(c.a, c.b, above) <= margin) return true;
+  // The self pairs first, the scene's only when none collides.
+  for (const bool scene : {false, true})
+    for (const Candidate& c : candidates(scene, !scene && include_self, margin))
+      if (pair_distance(c.a, c.b, above) <= margin) return true;
   return false;
 }
 

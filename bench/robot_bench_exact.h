@@ -33,8 +33,8 @@ class ExactRobot {
  public:
   /// Exact geometry by link name; \p robot gives the geometries' order and the self pairs.
   /// With \p skip_beyond, collide() also skips a scene pair when the part's bounding ball
-  /// is certainly farther than the margin from the object (fcl::ball_beyond_margin: an
-  /// octree's occupied cells rather than its root cube's AABB), as robot_collide does.
+  /// is certainly farther than the margin from the object (fcl::balls_near: an octree's
+  /// occupied cells rather than its root cube's AABB), as robot_collide does.
   ExactRobot(const fcl::RobotBounds& robot, const std::map<std::string, ExactLink>& links,
              const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids = {},
              bool skip_beyond = false);
@@ -72,8 +72,8 @@ class ExactRobot {
   };
   void pose(const std::vector<::fcl::Transform3d>& X);
   void add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd* a,
-           const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other, double below,
-           bool scene) const;
+           const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other,
+           double below) const;
   std::vector<Candidate> candidates(bool include_scene, bool include_self, double below) const;
 
   const fcl::RobotBounds& robot_;

@@ -5,13 +5,11 @@
 
 #include <algorithm>
 #include <cmath>
-#include <optional>
 #include <random>
 #include <set>
 #include <stdexcept>
 #include <string>
 
-#include "fcl_dispatch.h"
 #include "medspheres/error.h"
 
 namespace medspheres::fcl {
@@ -65,16 +63,10 @@ void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::Collis
       if (on_scene(l, o)) return;
 }
 
-// A ball that contains a posed geometry, in W.
-struct Ball {
-  Eigen::Vector3d centre;
-  double radius;
-};
-
 // Each geometry's outer root ball (which contains its outer set, and so its surface, and
 // its inner set, which lies inside the surface) at the poses X.
-std::vector<Ball> link_balls(const RobotBounds& robot, const std::vector<::fcl::Transform3d>& X) {
-  std::vector<Ball> out;
+std::vector<Sphere> link_balls(const RobotBounds& robot, const std::vector<::fcl::Transform3d>& X) {
+  std::vector<Sphere> out;
   out.reserve(X.size());
   for (std::size_t l = 0; l < X.size(); ++l) {
     const Sphere s = robot.geometries()[l].outer().bounding_ball(0);
@@ -83,101 +75,16 @@ std::vector<Ball> link_balls(const RobotBounds& robot, const std::vector<::fcl::
   return out;
 }
 
-// The distance from p to the RSS b (0 inside it), both in one frame.
-double rss_distance(const Rss& b, const Eigen::Vector3d& p) {
-  const Eigen::Vector3d t = b.axis.transpose() * (p - b.corner);
-  const Eigen::Vector3d off(t.x() - std::clamp(t.x(), 0.0, b.length[0]),
-                            t.y() - std::clamp(t.y(), 0.0, b.length[1]), t.z());
-  return std::max(0.0, off.norm() - b.radius);
-}
-
-// True when no primitive below the node n of the target t lies within reach of p_B (frame
-// B): each node's RSS contains its primitives, and a leaf's answer to the point is its
-// distance. Nearer children first; false (not known) once `budget` nodes are spent.
-bool target_beyond(const ProximityTarget& t, const TargetNode& n, const Eigen::Vector3d& p_B,
-                   double reach, int& budget) {
-  if (--budget < 0) return false;
-  if (n.is_leaf) return t.ball_proximity(n, p_B, 0.0).distance > reach;
-  if (rss_distance(n.bounds, p_B) > reach) return true;
-  TargetNode kids[ProximityTarget::kMaxChildren];
-  const int count = t.children(n, kids);
-  for (int k = 0; k < count; ++k)
-    if (!target_beyond(t, kids[k], p_B, reach, budget)) return false;
-  return true;
-}
-
-// What a scene object is known to lie in, in its own frame B: the root node's RSS of its
-// target view (fcl_dispatch.h) when that root is an internal node (a mesh's root BV, an
-// octree's smallest cell holding all its occupied cells: far tighter than an octree's
-// local AABB, which is its whole root cube), else its local AABB (set by
-// computeLocalAABB, which fcl::CollisionObject's constructor calls; a box's is the box).
-// Either contains the geometry at the object's current transform, whether or not its
-// world AABB is up to date.
-struct ObjectBound {
-  ::fcl::Transform3d X_BW;  // W to B
-  bool rss = false;
-  Rss bounds;              // when rss
-  Eigen::Vector3d lo, hi;  // the local AABB, otherwise
-  double scale = 0.0;      // magnitude of the coordinates, for the rounding allowance
-
-  explicit ObjectBound(const ::fcl::CollisionObjectd& o) : X_BW(o.getTransform().inverse()) {
-    const ::fcl::CollisionGeometryd& g = *o.collisionGeometry();
-    detail::with_target_view(g, [&](const ProximityTarget& t) {
-      const std::optional<TargetNode> root = t.root();
-      rss = root && !root->is_leaf;
-      if (rss) bounds = root->bounds;
-    });
-    lo = g.aabb_local.min_;
-    hi = g.aabb_local.max_;
-    scale = o.getTransform().translation().norm() +
-            (rss ? bounds.corner.norm() + bounds.length.sum() + bounds.radius
-                 : lo.cwiseAbs().maxCoeff() + hi.cwiseAbs().maxCoeff());
-  }
-
-  // The distance from p_W to the bound (0 inside it), rounded.
-  double distance(const Eigen::Vector3d& p_W) const {
-    const Eigen::Vector3d p = X_BW * p_W;
-    return rss ? rss_distance(bounds, p) : (lo - p).cwiseMax(p - hi).cwiseMax(0.0).norm();
-  }
-};
-
-// True when a link's ball is certainly farther than margin from the object's bound, with
-// the rounding allowance of apart() below.
-// An object whose root is an internal node is then searched below it for a primitive
-// within reach of the ball (target_beyond, at most 512 nodes).
-bool apart(const Ball& a, const ::fcl::CollisionObjectd& o, const ObjectBound& b, double margin) {
-  const double allowance = 1e-12 * (a.centre.norm() + a.radius + b.scale + margin);
-  const double gap = b.distance(a.centre) - a.radius;
-  if (!std::isfinite(gap)) return false;
-  if (gap - allowance > margin) return true;
-  if (!b.rss) return false;
-  bool beyond = false;
-  detail::with_target_view(*o.collisionGeometry(), [&](const ProximityTarget& t) {
-    const std::optional<TargetNode> root = t.root();
-    int budget = 512;
-    beyond =
-        root && target_beyond(t, *root, b.X_BW * a.centre, a.radius + margin + allowance, budget);
-  });
-  return beyond;
-}
-
 // True when the balls are certainly farther apart than margin, so that every pair of
 // sets inside them is: the gap is computed in doubles, so it must exceed the margin by a
 // relative allowance (1e-12 of the magnitudes involved, far above the few ulps of error).
-bool apart(const Ball& a, const Ball& b, double margin) {
-  const double gap = (a.centre - b.centre).norm() - a.radius - b.radius;
-  const double scale = a.centre.norm() + b.centre.norm() + a.radius + b.radius + margin;
+bool apart(const Sphere& a, const Sphere& b, double margin) {
+  const double gap = (a.center - b.center).norm() - a.radius - b.radius;
+  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
   return std::isfinite(gap) && gap - 1e-12 * scale > margin;
 }
 
 }  // namespace
-
-bool ball_beyond_margin(const ::fcl::CollisionObjectd& object, const Eigen::Vector3d& p_WC,
-                        double radius, double margin) {
-  if (object.collisionGeometry() == nullptr)
-    throw std::invalid_argument("ball_beyond_margin: the object has no geometry");
-  return apart(Ball{p_WC, radius}, object, ObjectBound(object), margin);
-}
 
 std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
                                                    const KinematicTree& tree, std::size_t n,
@@ -207,7 +114,7 @@ void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder&
   std::vector<std::vector<std::size_t>> hits(self_pairs_.size());  // samples, by pair
   for (std::size_t s = 0; s < samples.size(); ++s) {
     const std::vector<::fcl::Transform3d> X = poses(samples[s], Eigen::Isometry3d::Identity());
-    const std::vector<Ball> balls = link_balls(*this, X);
+    const std::vector<Sphere> balls = link_balls(*this, X);
     for (std::size_t k = 0; k < self_pairs_.size(); ++k) {
       const auto [a, b] = self_pairs_[k];
       if (!apart(balls[a], balls[b], order.margin) &&
@@ -296,8 +203,8 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
                                  bool include_self, double margin, const Eigen::Isometry3d& X_WB) {
   const std::vector<::fcl::Transform3d> X = robot.poses(q, X_WB);
   const std::vector<BoundedGeometry>& g = robot.geometries();
-  const std::vector<Ball> links = link_balls(robot, X);
-  std::vector<ObjectBound> objects;  // made at the first scene pair
+  const std::vector<Sphere> links = link_balls(robot, X);
+  std::vector<std::vector<char>> near;  // by scene object, by link: made at the first scene pair
   RobotCollideResult out;
   struct Open {
     std::size_t link, other;
@@ -318,9 +225,10 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
       robot, scene, include_self,
       [&](std::size_t l, std::size_t o) {
         const ::fcl::CollisionObjectd& obj = *scene[o];
-        if (objects.empty())
-          for (const ::fcl::CollisionObjectd* s : scene) objects.emplace_back(*s);
-        if (apart(links[l], obj, objects[o], margin)) return false;
+        if (near.empty())
+          for (const ::fcl::CollisionObjectd* s : scene)
+            near.push_back(balls_near(*s, links, margin));
+        if (!near[o][l]) return false;
         return record(l, o, false,
                       decide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
       },

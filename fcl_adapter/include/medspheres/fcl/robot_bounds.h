@@ -24,6 +24,7 @@
 #include <utility>
 #include <vector>
 
+#include "medspheres/fcl/balls_near.h"
 #include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/robot_model.h"
@@ -82,16 +83,6 @@ std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
                                                    const KinematicTree& tree, std::size_t n,
                                                    unsigned seed);
 
-/// True only when no point of the object's geometry lies within \p radius + \p margin of
-/// p_WC (W): the ball of centre p_WC and that radius is certainly farther than margin from
-/// it. Tested on the geometry's local AABB, or, for a mesh or an octree, on its hierarchy
-/// (node bounds, then the primitives near the ball; an octree's AABB is its whole root
-/// cube), with a rounding allowance; false when unsure. What robot_collide skips scene
-/// pairs by. \throws std::invalid_argument for a null geometry or one that
-/// medspheres::fcl::distance does not accept beside a sphere set.
-bool ball_beyond_margin(const ::fcl::CollisionObjectd& object, const Eigen::Vector3d& p_WC,
-                        double radius, double margin);
-
 /// One pair's bounds: geometry index `link`; `other` a geometry index (self) or an index
 /// into the scene.
 struct LinkPairBounds {
@@ -127,7 +118,7 @@ struct RobotCollideResult {
 /// First every pair's sphere bounds (decide()), the self-collision pairs (in self_pairs() order)
 /// before the scene, stopping at the first certainly colliding pair; a self pair whose links'
 /// outer root balls are farther apart than the margin, and a scene pair whose link ball is
-/// (ball_beyond_margin), are free without a walk. Only when no pair certainly collides are the
+/// (balls_near), are free without a walk. Only when no pair certainly collides are the
 /// undecided pairs settled by the exact meshes (settle()), stopping at the first colliding one.
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,

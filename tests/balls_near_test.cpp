@@ -1,5 +1,5 @@
-// ball_beyond_margin (robot_bounds.h), robot_collide's skip of scene pairs: a ball is
-// reported beyond the margin only when brute force over the geometry's primitives (every
+// balls_near (balls_near.h), robot_collide's skip of scene pairs: a ball is reported
+// beyond the margin only when brute force over the geometry's primitives (every
 // occupied octree cell, every mesh triangle, the box) puts it farther than the margin; and
 // it is reported for balls inside an octree's root cube but away from its cells.
 
@@ -14,7 +14,8 @@
 #include <octomap/octomap.h>
 #include <catch2/catch.hpp>
 
-#include "medspheres/fcl/robot_bounds.h"
+#include "medspheres/fcl/balls_near.h"
+#include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/point_triangle.h"
 #include "support/sphere_fixtures.h"
@@ -78,7 +79,7 @@ std::shared_ptr<mf::MeshModel> mesh_model(const medspheres::TriangleMesh& mesh) 
 
 }  // namespace
 
-TEST_CASE("ball_beyond_margin only skips balls farther than the margin from the geometry",
+TEST_CASE("balls_near only skips balls farther than the margin from the geometry",
           "[bounds][robot]") {
   std::mt19937 rng(31);
   const auto octree = clustered_octree(rng);
@@ -93,11 +94,18 @@ TEST_CASE("ball_beyond_margin only skips balls farther than the margin from the 
   for (const auto& object : objects) {
     const fcl::CollisionObjectd& o = *object;
     int skipped = 0, near = 0, skipped_in_aabb = 0;
-    for (int k = 0; k < 1000; ++k) {
-      const Eigen::Vector3d c(u(rng), u(rng), u(rng));
-      const double radius = r(rng);
+    std::vector<medspheres::Sphere> balls;
+    for (int k = 0; k < 1000; ++k)
+      balls.push_back({Eigen::Vector3d(u(rng), u(rng), u(rng)), r(rng)});
+    const std::vector<char> found = mf::balls_near(o, balls, margin);
+    REQUIRE(found.size() == balls.size());
+    for (std::size_t k = 0; k < balls.size(); ++k) {
+      const Eigen::Vector3d c = balls[k].center;
+      const double radius = balls[k].radius;
       const double gap = brute_distance(o, c) - radius;
-      const bool beyond = mf::ball_beyond_margin(o, c, radius, margin);
+      const bool beyond = !found[k];
+      // One ball at a time gives the same answer (the search is shared, not its result).
+      CHECK(mf::balls_near(o, {balls[k]}, margin)[0] == found[k]);
       INFO("object type " << o.getNodeType() << " ball " << c.transpose() << " r " << radius
                           << " gap " << gap);
       if (beyond) CHECK(gap > margin);
@@ -112,4 +120,9 @@ TEST_CASE("ball_beyond_margin only skips balls farther than the margin from the 
     CHECK(near > 5);
     if (o.getNodeType() == fcl::GEOM_OCTREE) CHECK(skipped_in_aabb > 100);
   }
+  // An unbounded object (a half-space: infinite AABB) keeps every ball, even far ones.
+  const fcl::CollisionObjectd half(
+      std::make_shared<fcl::Halfspaced>(Eigen::Vector3d::UnitZ(), 0.0));
+  CHECK(mf::balls_near(half, {{Eigen::Vector3d(0, 0, 50), 0.1}, {Eigen::Vector3d(0, 0, -5), 0.1}},
+                       0.0) == std::vector<char>{1, 1});
 }
