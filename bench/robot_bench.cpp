@@ -162,11 +162,11 @@ class SphereRobot {
 // What one method said about every configuration.
 struct MethodRun {
   std::string name;
-  double micros = 0.0;          // per configuration
+  double micros = 0.0;          // CPU time of the thread per configuration
   std::vector<char> colliding;  // per configuration
   std::size_t mesh_free = 0;    // configurations decided without a mesh query
   std::size_t undecided = 0;    // configurations left undecided (counted as colliding)
-  double mesh_micros = 0.0;     // total time of the configurations that queried a mesh
+  double mesh_micros = 0.0;     // total CPU time of the configurations that queried a mesh
   bool uses_mesh = false;
 };
 
@@ -175,9 +175,9 @@ MethodRun run_method(const std::string& name, std::size_t n, F&& decide) {
   MethodRun r;
   r.name = name;
   r.colliding.resize(n);
-  const auto t0 = Clock::now();
+  const double t0 = mb::thread_cpu_micros();
   for (std::size_t i = 0; i < n; ++i) r.colliding[i] = decide(i, r);
-  r.micros = mb::micros_since(t0) / static_cast<double>(n);
+  r.micros = (mb::thread_cpu_micros() - t0) / static_cast<double>(n);
   return r;
 }
 
@@ -392,10 +392,10 @@ int run(const Options& o) {
   auto certified = [&](const mf::RobotBounds& robot) {
     return [&](std::size_t i, MethodRun& r) {
       r.uses_mesh = true;
-      const auto t0 = Clock::now();
+      const double t0 = mb::thread_cpu_micros();
       const mf::RobotCollideResult c =
           mf::robot_collide(robot, configs[i], objects, o.self, o.margin);
-      if (c.mesh_fallbacks > 0) r.mesh_micros += mb::micros_since(t0);
+      if (c.mesh_fallbacks > 0) r.mesh_micros += mb::thread_cpu_micros() - t0;
       if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
       if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
       return c.verdict != medspheres::BoundsVerdict::free;
