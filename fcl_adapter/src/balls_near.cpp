@@ -1,6 +1,7 @@
 // Which balls may come within a margin of an FCL object (balls_near.h).
 //
-// First each ball against what the object is known to lie in, in its own frame B: the
+// First each ball against the object's bounding ball (its local AABB's, about the object's
+// transform), then against what the object is known to lie in, in its own frame B: the
 // root node's RSS of its target view (fcl_dispatch.h) when that root is an internal node
 // (a mesh's root BV, an octree's smallest cell holding all its occupied cells), else its
 // local AABB (set by computeLocalAABB, which fcl::CollisionObject's constructor calls; a
@@ -94,6 +95,20 @@ std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
   const ::fcl::CollisionGeometryd& g = *object.collisionGeometry();
   const ::fcl::Transform3d X_BW = object.getTransform().inverse();
   std::vector<char> near(balls.size(), 1);
+  // First the object's bounding ball in W, which needs no target view.
+  const Eigen::Vector3d c_W = object.getTransform() * g.aabb_center;
+  bool open = false;
+  for (std::size_t i = 0; i < balls.size(); ++i) {
+    const Sphere& b = balls[i];
+    const double gap = (b.center - c_W).norm() - b.radius - g.aabb_radius;
+    const double allowance =
+        1e-12 * (b.center.norm() + b.radius + c_W.norm() + g.aabb_radius + margin);
+    if (std::isfinite(gap) && gap - allowance > margin)
+      near[i] = 0;
+    else
+      open = true;
+  }
+  if (!open) return near;
   detail::with_target_view(g, [&](const ProximityTarget& t) {
     const std::optional<TargetNode> root = t.root();
     const bool rss = root && !root->is_leaf;
@@ -106,6 +121,7 @@ std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
     std::vector<double> reach(balls.size());
     NearSearch search(t, p, reach, near);
     for (std::size_t i = 0; i < balls.size(); ++i) {
+      if (!near[i]) continue;  // beyond the bounding ball
       p[i] = X_BW * balls[i].center;
       reach[i] = balls[i].radius + margin +
                  1e-12 * (balls[i].center.norm() + balls[i].radius + scale + margin);
