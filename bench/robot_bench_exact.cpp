@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <fcl/fcl.h>
 
@@ -79,14 +80,16 @@ void ExactRobot::add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd*
   if (d <= below) out.push_back({d, a, b, link, other});
 }
 
-// The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order.
-std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, bool include_self,
-                                                          double below) const {
+// The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order: the self
+// pairs [self_from, self_to), then the scene pairs when include_scene.
+std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, std::size_t self_from,
+                                                          std::size_t self_to, double below) const {
   std::vector<Candidate> out;
-  if (include_self)
-    for (const auto& [a, b] : robot_.self_pairs())
-      for (const Part& pa : links_[a])
-        for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+  for (std::size_t k = self_from; k < self_to; ++k) {
+    const auto [a, b] = robot_.self_pairs()[k];
+    for (const Part& pa : links_[a])
+      for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+  }
   if (!include_scene) return out;
   // With skip_beyond_, each object's balls_near over every part's bounding ball.
   std::vector<std::vector<char>> near;
@@ -113,17 +116,21 @@ bool ExactRobot::collide(const std::vector<::fcl::Transform3d>& X, bool include_
                          double margin) {
   pose(X);
   const double above = successor(margin);
-  // The self pairs first, the scene's only when none collides.
-  for (const bool scene : {false, true})
-    for (const Candidate& c : candidates(scene, !scene && include_self, margin))
+  // As robot_collide: the self pairs seen colliding (all without a SelfPairOrder), the
+  // scene, the other self pairs; each group's candidates only when no earlier pair collides.
+  const std::size_t n = include_self ? robot_.self_pairs().size() : 0;
+  const std::size_t seen = std::min(robot_.seen_colliding(), n);
+  for (const auto& [scene, from, to] :
+       {std::tuple<bool, std::size_t, std::size_t>{false, 0, seen}, {true, 0, 0}, {false, seen, n}})
+    for (const Candidate& c : candidates(scene, from, to, margin))
       if (pair_distance(c.a, c.b, above) <= margin) return true;
   return false;
 }
 
 double ExactRobot::distance(const std::vector<::fcl::Transform3d>& X, bool include_self) {
   pose(X);
-  std::vector<Candidate> c =
-      candidates(true, include_self, std::numeric_limits<double>::infinity());
+  std::vector<Candidate> c = candidates(true, 0, include_self ? robot_.self_pairs().size() : 0,
+                                        std::numeric_limits<double>::infinity());
   std::sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) {
     return a.aabb_distance < b.aabb_distance;
   });
@@ -154,7 +161,7 @@ std::vector<std::pair<std::size_t, std::size_t>> ExactRobot::self_pairs_within(
   pose(X);
   std::vector<std::pair<std::size_t, std::size_t>> out;
   const double above = successor(margin);
-  for (const Candidate& c : candidates(false, true, margin))
+  for (const Candidate& c : candidates(false, 0, robot_.self_pairs().size(), margin))
     if (pair_distance(c.a, c.b, above) <= margin &&
         (out.empty() || out.back() != std::make_pair(c.link, c.other)))
       out.emplace_back(c.link, c.other);

@@ -74,7 +74,8 @@ class ExactRobot {
   void add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd* a,
            const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other,
            double below) const;
-  std::vector<Candidate> candidates(bool include_scene, bool include_self, double below) const;
+  std::vector<Candidate> candidates(bool include_scene, std::size_t self_from, std::size_t self_to,
+                                    double below) const;
 
   const fcl::RobotBounds& robot_;
   std::vector<const ::fcl::CollisionObjectd*> scene_;

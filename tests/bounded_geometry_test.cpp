@@ -601,16 +601,32 @@ TEST_CASE("a self-pair order changes no verdict and puts the most colliding pair
   const auto samples = mf::sample_configurations(model, plain.kinematics(), order.samples, 7);
   std::map<std::pair<std::size_t, std::size_t>, int> hits;
   const auto& g = plain.geometries();
+  const auto& pairs = ordered.self_pairs();
+  const std::size_t seen = ordered.seen_colliding();
+  int samples_hit = 0, samples_hit_by_seen = 0;
   for (const Eigen::VectorXd& q : samples) {
     const auto X = plain.poses(q, Eigen::Isometry3d::Identity());
-    for (const auto& [a, b] : plain.self_pairs())
-      hits[{a, b}] +=
-          mf::decide(g[a], X[a], g[b], X[b], 0.01).verdict == BoundsVerdict::colliding ? 1 : 0;
+    bool any = false, by_seen = false;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const auto [a, b] = pairs[k];
+      const bool c = mf::decide(g[a], X[a], g[b], X[b], 0.01).verdict == BoundsVerdict::colliding;
+      hits[{a, b}] += c ? 1 : 0;
+      any = any || c;
+      by_seen = by_seen || (c && k < seen);
+    }
+    samples_hit += any ? 1 : 0;
+    samples_hit_by_seen += by_seen ? 1 : 0;
   }
   int most = 0;
   for (const auto& [pair, n] : hits) most = std::max(most, n);
   REQUIRE(most > 0);
-  CHECK(hits[ordered.self_pairs().front()] == most);
+  CHECK(hits[pairs.front()] == most);
+  // The pairs seen colliding cover every sample in which some pair collides, and each of
+  // them collides in some sample; without an order every pair counts as seen.
+  CHECK(seen >= 1);
+  CHECK(samples_hit_by_seen == samples_hit);
+  for (std::size_t k = 0; k < seen; ++k) CHECK(hits[pairs[k]] > 0);
+  CHECK(plain.seen_colliding() == plain.self_pairs().size());
   CHECK_THROWS_AS(mf::RobotBounds(model, meshes, {}, {}, {10, -1.0, 1}), std::invalid_argument);
 
   auto box = std::make_shared<::fcl::Boxd>(0.6, 0.4, 0.3);

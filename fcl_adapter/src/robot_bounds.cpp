@@ -44,10 +44,13 @@ void add_minimum(DistanceBounds& m, const DistanceBounds& b) {
   m.stats.leaf_tests += b.stats.leaf_tests;
 }
 
-// With include_self, calls on_self(a, b) for every self-collision pair, then
-// on_scene(link, object) for every geometry and scene object, until one returns true.
-// Self pairs come first: two links' sphere walks are cheap, and a robot's certain
-// collision is most often with itself, which ends robot_collide before the scene.
+// With include_self, calls on_self(a, b) for the self-collision pairs seen colliding
+// (robot.seen_colliding(); all of them without a SelfPairOrder), then on_scene(link,
+// object) for every geometry and scene object, then on_self for the other self pairs,
+// until one returns true. Self pairs come first: two links' sphere walks are cheap, and a
+// robot's certain collision is most often with itself, which ends robot_collide before
+// the scene; but a pair never seen colliding in the order's samples is less likely to
+// collide than the scene, so it waits until after it.
 template <class S, class P>
 void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::CollisionObjectd*>& scene,
                  bool include_self, S&& on_scene, P&& on_self) {
@@ -55,12 +58,15 @@ void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::Collis
     if (scene[o] == nullptr || scene[o]->collisionGeometry() == nullptr)
       throw std::invalid_argument("robot bounds: scene object " + std::to_string(o) +
                                   " is null or has no geometry");
-  if (include_self)
-    for (const auto& [a, b] : robot.self_pairs())
-      if (on_self(a, b)) return;
+  const auto& self = robot.self_pairs();
+  const std::size_t seen = include_self ? robot.seen_colliding() : 0;
+  for (std::size_t k = 0; k < seen; ++k)
+    if (on_self(self[k].first, self[k].second)) return;
   for (std::size_t l = 0; l < robot.geometries().size(); ++l)
     for (std::size_t o = 0; o < scene.size(); ++o)
       if (on_scene(l, o)) return;
+  for (std::size_t k = seen; k < self.size() && include_self; ++k)
+    if (on_self(self[k].first, self[k].second)) return;
 }
 
 // Each geometry's outer root ball (which contains its outer set, and so its surface, and
@@ -137,6 +143,7 @@ void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder&
     out.push_back(self_pairs_[best]);
     for (std::size_t s : hits[best]) covered[s] = 1;
   }
+  seen_colliding_ = out.size();
   for (std::size_t k = 0; k < self_pairs_.size(); ++k)
     if (!taken[k]) out.push_back(self_pairs_[k]);
   self_pairs_ = std::move(out);
@@ -159,6 +166,7 @@ RobotBounds::RobotBounds(const RobotModel& model,
   for (std::size_t i = 0; i < geometries_.size(); ++i)
     for (std::size_t k = i + 1; k < geometries_.size(); ++k)
       if (skip.count(ordered(link_of_[i], link_of_[k])) == 0) self_pairs_.emplace_back(i, k);
+  seen_colliding_ = self_pairs_.size();
   if (order.samples > 0) order_self_pairs(model, order);
 }
 

@@ -33,11 +33,12 @@ namespace medspheres::fcl {
 
 /// The order in which robot_collide walks the self pairs; it changes how soon a colliding
 /// configuration is found, never an answer. samples = 0: geometry order (the pairs of
-/// geometry i before those of i + 1). samples > 0: the constructor checks that many seeded
-/// configurations (sample_configurations) with the pairs' sphere bounds (decide() at
-/// \p margin) and puts first the pair certainly colliding in the most of them, then the
-/// pair colliding in the most of the rest, and so on; the pairs never seen colliding
-/// follow in geometry order.
+/// geometry i before those of i + 1), all before the scene. samples > 0: the constructor
+/// checks that many seeded configurations (sample_configurations) with the pairs' sphere
+/// bounds (decide() at \p margin) and puts first the pair certainly colliding in the most
+/// of them, then the pair colliding in the most of the rest, and so on (seen_colliding()
+/// pairs); the pairs never seen colliding follow in geometry order, and robot_collide
+/// walks them after the scene.
 struct SelfPairOrder {
   std::size_t samples = 0;
   double margin = 0.0;  ///< finite, >= 0
@@ -63,6 +64,9 @@ class RobotBounds {
   const std::vector<std::pair<std::size_t, std::size_t>>& self_pairs() const noexcept {
     return self_pairs_;
   }
+  /// With a SelfPairOrder of samples > 0: how many self pairs (the first ones) were seen
+  /// certainly colliding in its samples; the others follow. Else self_pairs().size().
+  std::size_t seen_colliding() const noexcept { return seen_colliding_; }
   /// X_WL of every geometry's link (in geometries() order).
   std::vector<::fcl::Transform3d> poses(const Eigen::VectorXd& q,
                                         const Eigen::Isometry3d& X_WB) const;
@@ -72,6 +76,7 @@ class RobotBounds {
   std::vector<BoundedGeometry> geometries_;
   std::vector<std::size_t> link_of_;
   std::vector<std::pair<std::size_t, std::size_t>> self_pairs_;
+  std::size_t seen_colliding_ = 0;
 
   void order_self_pairs(const RobotModel& model, const SelfPairOrder& order);
 };
@@ -115,11 +120,12 @@ struct RobotCollideResult {
 };
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
-/// First every pair's sphere bounds (decide()), the self-collision pairs (in self_pairs() order)
-/// before the scene, stopping at the first certainly colliding pair; a self pair whose links'
-/// outer root balls are farther apart than the margin, and a scene pair whose link ball is
-/// (balls_near), are free without a walk. Only when no pair certainly collides are the
-/// undecided pairs settled by the exact meshes (settle()), stopping at the first colliding one.
+/// First every pair's sphere bounds (decide()): the first seen_colliding() self pairs, the
+/// scene, then the other self pairs (self_pairs() order), stopping at the first certainly
+/// colliding pair; a self pair whose links' outer root balls are farther apart than the
+/// margin, and a scene pair whose link ball is (balls_near), are free without a walk. Only
+/// when no pair certainly collides are the undecided pairs settled by the exact meshes
+/// (settle()), stopping at the first colliding one.
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
                                  bool include_self, double margin = 0.0,
