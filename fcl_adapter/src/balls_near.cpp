@@ -34,12 +34,18 @@ namespace {
 
 constexpr int kNodeBudget = 4096;
 
-// The distance from p to the RSS b (0 inside it), both in one frame.
-double rss_distance(const Rss& b, const Eigen::Vector3d& p) {
+// The squared distance from p to the rectangle of the RSS b, both in one frame.
+double rectangle_distance2(const Rss& b, const Eigen::Vector3d& p) {
   const Eigen::Vector3d t = b.axis.transpose() * (p - b.corner);
   const Eigen::Vector3d off(t.x() - std::clamp(t.x(), 0.0, b.length[0]),
                             t.y() - std::clamp(t.y(), 0.0, b.length[1]), t.z());
-  return std::max(0.0, off.norm() - b.radius);
+  return off.squaredNorm();
+}
+
+// Whether the RSS b comes within reach (>= 0) of p: its rectangle within reach + radius.
+bool rss_within(const Rss& b, const Eigen::Vector3d& p, double reach) {
+  const double r = reach + b.radius;
+  return rectangle_distance2(b, p) <= r * r;
 }
 
 // The search below a target's root, for the balls' centres p (frame B) and reaches.
@@ -65,7 +71,7 @@ class NearSearch {
     const std::size_t kept = open_.size();
     for (std::size_t k = begin; k < end; ++k) {
       const int i = open_[k];
-      if (!near_[i] && rss_distance(n.bounds, p_[i]) <= reach_[i]) open_.push_back(i);
+      if (!near_[i] && rss_within(n.bounds, p_[i], reach_[i])) open_.push_back(i);
     }
     const std::size_t last = open_.size();
     if (last > kept) {
@@ -125,11 +131,12 @@ std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
       p[i] = X_BW * balls[i].center;
       reach[i] = balls[i].radius + margin +
                  1e-12 * (balls[i].center.norm() + balls[i].radius + scale + margin);
-      const double d = rss ? rss_distance(root->bounds, p[i])
-                           : (lo - p[i]).cwiseMax(p[i] - hi).cwiseMax(0.0).norm();
-      if (!std::isfinite(d) || !std::isfinite(reach[i])) continue;  // near
+      const double d2 = rss ? rectangle_distance2(root->bounds, p[i])
+                            : (lo - p[i]).cwiseMax(p[i] - hi).cwiseMax(0.0).squaredNorm();
+      const double r = reach[i] + (rss ? root->bounds.radius : 0.0);
+      if (!std::isfinite(d2) || !std::isfinite(r)) continue;  // near
       near[i] = 0;
-      if (d > reach[i]) continue;
+      if (d2 > r * r) continue;
       if (rss)
         search.open_.push_back(static_cast<int>(i));
       else
