@@ -212,7 +212,9 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
   const std::vector<::fcl::Transform3d> X = robot.poses(q, X_WB);
   const std::vector<BoundedGeometry>& g = robot.geometries();
   const std::vector<Sphere> links = link_balls(robot, X);
-  std::vector<std::vector<char>> near;  // by scene object, by link: made at the first scene pair
+  // By scene object, by link: whether the link's ball may be within the margin of it (made
+  // at the object's first pair).
+  std::vector<std::vector<char>> near(scene.size());
   RobotCollideResult out;
   struct Open {
     std::size_t link, other;
@@ -233,9 +235,7 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
       robot, scene, include_self,
       [&](std::size_t l, std::size_t o) {
         const ::fcl::CollisionObjectd& obj = *scene[o];
-        if (near.empty())
-          for (const ::fcl::CollisionObjectd* s : scene)
-            near.push_back(balls_near(*s, links, margin));
+        if (near[o].empty()) near[o] = balls_near(obj, links, margin);
         if (!near[o][l]) return false;
         return record(l, o, false,
                       decide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
