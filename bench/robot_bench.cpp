@@ -1,23 +1,28 @@
 // Certified queries for a whole robot against a scene and itself (README, "Certified
 // queries"): the robot at seeded joint configurations within its limits, each checked for
-// collision within a margin (1 cm by default) by four methods in one run:
-//   exact   FCL's exact mesh distance (BVHModel<OBBRSS> per link), pair by pair, stopping
-//           at the first pair within the margin;
-//   outer   the certified covering sets alone (medspheres::fcl::distance on
-//           SphereSetGeometry, the margin preset as min_distance);
-//   inner   the inner sets alone, the same way;
-//   bounds  both sets at once with the exact meshes as fallback
-//           (medspheres::fcl::robot_collide), the library's certified query; a verdict
-//           left undecided (no mesh pair to settle a pair) counts as colliding.
+// collision within a margin (1 cm by default) by six methods in one run:
+//   exact    FCL's exact mesh distance (BVHModel<OBBRSS> per link), pair by pair, stopping
+//            at the first pair within the margin;
+//   exact+   the same with robot_collide's robot-level tricks: its self-pair order
+//            (SelfPairOrder) and its scene skip (fcl::balls_near);
+//   outer    the certified covering sets alone (medspheres::fcl::distance on
+//            SphereSetGeometry, the margin preset as min_distance);
+//   inner    the inner sets alone, the same way;
+//   bounds   both sets at once with the exact meshes as fallback
+//            (medspheres::fcl::robot_collide), the library's certified query, its self
+//            pairs ordered by --order-samples seeded configurations (seed + 1); a verdict
+//            left undecided (no mesh pair to settle a pair) counts as colliding;
+//   bounds/g the same with the self pairs in geometry order.
 // Every method visits the same pairs (the links against every scene object, and the
 // self-collision pairs of RobotBounds); exact skips the pairs whose world AABBs are
 // farther apart than the margin (a broadphase that never changes its answer). exact and
-// bounds visit the self pairs first, outer and inner the scene first.
+// bounds visit the self pairs first, outer and inner the scene first. The methods run in
+// blocks of configurations, in turn, each call timed by the thread's CPU time.
 //
 // Reference: the smallest exact distance over all pairs (FCL mesh distance, negative
 // answers clamped to 0; the octomap as one mesh of its occupied cells' boxes, so that the
 // reference does not rest on FCL's octree code), untimed; a configuration collides when
-// it is <= the margin. The exact method's verdicts are checked against it.
+// it is <= the margin. The exact methods' verdicts are checked against it.
 // Missed collisions: the reference collides and the method says free; false alarms: the
 // other way round. Distance error: of the smallest distance over the pairs, against the
 // reference: outer sets (the lower bound), inner sets (the upper bound), and for the
@@ -39,6 +44,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -168,17 +174,39 @@ struct MethodRun {
   std::size_t undecided = 0;    // configurations left undecided (counted as colliding)
   double mesh_micros = 0.0;     // total CPU time of the configurations that queried a mesh
   bool uses_mesh = false;
+  bool queried_mesh = false;  // by the last configuration
 };
 
-template <class F>
-MethodRun run_method(const std::string& name, std::size_t n, F&& decide) {
-  MethodRun r;
-  r.name = name;
-  r.colliding.resize(n);
-  const double t0 = mb::thread_cpu_micros();
-  for (std::size_t i = 0; i < n; ++i) r.colliding[i] = decide(i, r);
-  r.micros = (mb::thread_cpu_micros() - t0) / static_cast<double>(n);
-  return r;
+// A method: its verdict on configuration i (colliding), noting in r what it used.
+using Method = std::function<bool(std::size_t i, MethodRun& r)>;
+
+// Every method on every configuration, in blocks of kBlock configurations: each method
+// runs a block in turn (starting one further each block), so that the load of a shared
+// machine falls on all of them alike while each keeps its data warm within a block; each
+// call timed by the thread's CPU time.
+constexpr std::size_t kBlock = 250;
+
+std::vector<MethodRun> run_methods(const std::vector<std::pair<std::string, Method>>& methods,
+                                   std::size_t n) {
+  std::vector<MethodRun> runs(methods.size());
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    runs[m].name = methods[m].first;
+    runs[m].colliding.resize(n);
+  }
+  for (std::size_t begin = 0, block = 0; begin < n; begin += kBlock, ++block)
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      const std::size_t m = (block + k) % methods.size();
+      MethodRun& r = runs[m];
+      for (std::size_t i = begin; i < std::min(n, begin + kBlock); ++i) {
+        r.queried_mesh = false;
+        const double t0 = mb::thread_cpu_micros();
+        r.colliding[i] = methods[m].second(i, r);
+        const double dt = mb::thread_cpu_micros() - t0;
+        r.micros += dt / static_cast<double>(n);
+        if (r.queried_mesh) r.mesh_micros += dt;
+      }
+    }
+  return runs;
 }
 
 // The exact reference (untimed): every configuration's verdict, and on every k-th one the
@@ -371,38 +399,38 @@ int run(const Options& o) {
       mf::sample_configurations(robot.model, bounds.kinematics(), o.configs, o.seed);
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const SphereRobot outer(bounds, robot.model, false), inner(bounds, robot.model, true);
-  std::vector<MethodRun> runs;
-  runs.push_back(run_method("exact", configs.size(), [&](std::size_t i, MethodRun& r) {
+  std::vector<std::pair<std::string, Method>> methods;
+  methods.emplace_back("exact", [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
     return exact.collide(bounds.poses(configs[i], I), o.self, o.margin);
-  }));
-  runs.push_back(run_method("exact+", configs.size(), [&](std::size_t i, MethodRun& r) {
+  });
+  methods.emplace_back("exact+", [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
     return exact_tricks.collide(bounds.poses(configs[i], I), o.self, o.margin);
-  }));
-  runs.push_back(run_method("outer", configs.size(), [&](std::size_t i, MethodRun&) {
+  });
+  methods.emplace_back("outer", [&](std::size_t i, MethodRun&) {
     return outer.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
-  }));
-  runs.push_back(run_method("inner", configs.size(), [&](std::size_t i, MethodRun&) {
+  });
+  methods.emplace_back("inner", [&](std::size_t i, MethodRun&) {
     return inner.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
-  }));
+  });
   // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link of
   // sphere primitives only against a meshed link) counts as colliding, as a planner must
   // take it.
   auto certified = [&](const mf::RobotBounds& robot) {
     return [&](std::size_t i, MethodRun& r) {
       r.uses_mesh = true;
-      const double t0 = mb::thread_cpu_micros();
       const mf::RobotCollideResult c =
           mf::robot_collide(robot, configs[i], objects, o.self, o.margin);
-      if (c.mesh_fallbacks > 0) r.mesh_micros += mb::thread_cpu_micros() - t0;
+      r.queried_mesh = c.mesh_fallbacks > 0;
       if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
       if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
       return c.verdict != medspheres::BoundsVerdict::free;
     };
   };
-  runs.push_back(run_method("bounds", configs.size(), certified(bounds)));
-  runs.push_back(run_method("bounds/g", configs.size(), certified(plain)));
+  methods.emplace_back("bounds", certified(bounds));
+  methods.emplace_back("bounds/g", certified(plain));
+  const std::vector<MethodRun> runs = run_methods(methods, configs.size());
   const auto t0 = Clock::now();
   const Reference ref = reference(bounds, exact_reference, configs, objects, o.self, o.margin,
                                   std::max<std::size_t>(o.distance_every, 1));
