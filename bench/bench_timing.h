@@ -3,6 +3,7 @@
 // of the process.
 
 #include <sys/resource.h>
+#include <time.h>
 
 #include <chrono>
 
@@ -28,6 +29,18 @@ inline double cpu_seconds() {
              1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
   }
   return total;
+}
+
+}  // namespace medspheres::bench
+
+namespace medspheres::bench {
+
+// CPU microseconds of the calling thread so far: time it ran, not time it waited for a
+// core (a machine shared with other work).
+inline double thread_cpu_micros() {
+  timespec t{};
+  clock_gettime(CLOCK_THREAD_CPUTIME_ID, &t);
+  return 1e6 * static_cast<double>(t.tv_sec) + 1e-3 * static_cast<double>(t.tv_nsec);
 }
 
 }  // namespace medspheres::bench

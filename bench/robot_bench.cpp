@@ -1,23 +1,28 @@
 // Certified queries for a whole robot against a scene and itself (README, "Certified
 // queries"): the robot at seeded joint configurations within its limits, each checked for
-// collision within a margin (1 cm by default) by four methods in one run:
-//   exact   FCL's exact mesh distance (BVHModel<OBBRSS> per link), pair by pair, stopping
-//           at the first pair within the margin;
-//   outer   the certified covering sets alone (medspheres::fcl::distance on
-//           SphereSetGeometry, the margin preset as min_distance);
-//   inner   the inner sets alone, the same way;
-//   bounds  both sets at once with the exact meshes as fallback
-//           (medspheres::fcl::robot_collide), the library's certified query; a verdict
-//           left undecided (no mesh pair to settle a pair) counts as colliding.
+// collision within a margin (1 cm by default) by six methods in one run:
+//   exact    FCL's exact mesh distance (BVHModel<OBBRSS> per link), pair by pair, stopping
+//            at the first pair within the margin;
+//   exact+   the same with robot_collide's robot-level tricks: its self-pair order
+//            (SelfPairOrder) and its scene skip (fcl::balls_near);
+//   outer    the certified covering sets alone (medspheres::fcl::distance on
+//            SphereSetGeometry, the margin preset as min_distance);
+//   inner    the inner sets alone, the same way;
+//   bounds   both sets at once with the exact meshes as fallback
+//            (medspheres::fcl::robot_collide), the library's certified query, its self
+//            pairs ordered by --order-samples seeded configurations (seed + 1); a verdict
+//            left undecided (no mesh pair to settle a pair) counts as colliding;
+//   bounds/g the same with the self pairs in geometry order.
 // Every method visits the same pairs (the links against every scene object, and the
 // self-collision pairs of RobotBounds); exact skips the pairs whose world AABBs are
 // farther apart than the margin (a broadphase that never changes its answer). exact and
-// bounds visit the self pairs first, outer and inner the scene first.
+// bounds visit the self pairs first, outer and inner the scene first. The methods run in
+// blocks of configurations, in turn, each call timed by the thread's CPU time.
 //
 // Reference: the smallest exact distance over all pairs (FCL mesh distance, negative
 // answers clamped to 0; the octomap as one mesh of its occupied cells' boxes, so that the
 // reference does not rest on FCL's octree code), untimed; a configuration collides when
-// it is <= the margin. The exact method's verdicts are checked against it.
+// it is <= the margin. The exact methods' verdicts are checked against it.
 // Missed collisions: the reference collides and the method says free; false alarms: the
 // other way round. Distance error: of the smallest distance over the pairs, against the
 // reference: outer sets (the lower bound), inner sets (the upper bound), and for the
@@ -39,6 +44,7 @@
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
+#include <functional>
 #include <limits>
 #include <random>
 #include <string>
@@ -74,6 +80,7 @@ struct Options {
   bool self = true;
   std::size_t distance_every = 10;
   bool explain = false;
+  std::size_t order_samples = 1000;
 };
 
 Options parse(int argc, char** argv) {
@@ -102,29 +109,11 @@ Options parse(int argc, char** argv) {
   args.add_meshes(o.meshes);
   app.add_flag("!--no-self", o.self, "Robot against the scene only");
   args.add("--distance-every", o.distance_every, "Distance errors on every k-th configuration");
+  args.add("--order-samples", o.order_samples,
+           "Seeded configurations that order the self pairs (SelfPairOrder; 0: geometry order)");
   app.add_flag("--explain", o.explain, "Print the pairs of configurations whose bounds fail");
   args.parse(argc, argv);
   return o;
-}
-
-// Joint values uniform within the limits (continuous joints and joints without limits:
-// [-pi, pi]).
-std::vector<Eigen::VectorXd> seeded_configs(const medspheres::RobotModel& model,
-                                            const medspheres::KinematicTree& tree, std::size_t n,
-                                            unsigned seed) {
-  std::mt19937 rng(seed);
-  std::vector<std::pair<double, double>> range;
-  for (const std::string& name : tree.joint_names()) {
-    const medspheres::Joint& j = *model.find_joint(name);
-    const bool limited = j.type != medspheres::JointType::kContinuous && j.limits &&
-                         j.limits->lower < j.limits->upper;
-    range.emplace_back(limited ? j.limits->lower : -M_PI, limited ? j.limits->upper : M_PI);
-  }
-  std::vector<Eigen::VectorXd> out(n, Eigen::VectorXd(range.size()));
-  for (Eigen::VectorXd& q : out)
-    for (std::size_t k = 0; k < range.size(); ++k)
-      q[k] = std::uniform_real_distribution<double>(range[k].first, range[k].second)(rng);
-  return out;
 }
 
 // Every joint at 0, clamped to its limits.
@@ -179,23 +168,45 @@ class SphereRobot {
 // What one method said about every configuration.
 struct MethodRun {
   std::string name;
-  double micros = 0.0;          // per configuration
+  double micros = 0.0;          // CPU time of the thread per configuration
   std::vector<char> colliding;  // per configuration
   std::size_t mesh_free = 0;    // configurations decided without a mesh query
   std::size_t undecided = 0;    // configurations left undecided (counted as colliding)
-  double mesh_micros = 0.0;     // total time of the configurations that queried a mesh
+  double mesh_micros = 0.0;     // total CPU time of the configurations that queried a mesh
   bool uses_mesh = false;
+  bool queried_mesh = false;  // by the last configuration
 };
 
-template <class F>
-MethodRun run_method(const std::string& name, std::size_t n, F&& decide) {
-  MethodRun r;
-  r.name = name;
-  r.colliding.resize(n);
-  const auto t0 = Clock::now();
-  for (std::size_t i = 0; i < n; ++i) r.colliding[i] = decide(i, r);
-  r.micros = mb::micros_since(t0) / static_cast<double>(n);
-  return r;
+// A method: its verdict on configuration i (colliding), noting in r what it used.
+using Method = std::function<bool(std::size_t i, MethodRun& r)>;
+
+// Every method on every configuration, in blocks of kBlock configurations: each method
+// runs a block in turn (starting one further each block), so that the load of a shared
+// machine falls on all of them alike while each keeps its data warm within a block; each
+// call timed by the thread's CPU time.
+constexpr std::size_t kBlock = 250;
+
+std::vector<MethodRun> run_methods(const std::vector<std::pair<std::string, Method>>& methods,
+                                   std::size_t n) {
+  std::vector<MethodRun> runs(methods.size());
+  for (std::size_t m = 0; m < methods.size(); ++m) {
+    runs[m].name = methods[m].first;
+    runs[m].colliding.resize(n);
+  }
+  for (std::size_t begin = 0, block = 0; begin < n; begin += kBlock, ++block)
+    for (std::size_t k = 0; k < methods.size(); ++k) {
+      const std::size_t m = (block + k) % methods.size();
+      MethodRun& r = runs[m];
+      for (std::size_t i = begin; i < std::min(n, begin + kBlock); ++i) {
+        r.queried_mesh = false;
+        const double t0 = mb::thread_cpu_micros();
+        r.colliding[i] = methods[m].second(i, r);
+        const double dt = mb::thread_cpu_micros() - t0;
+        r.micros += dt / static_cast<double>(n);
+        if (r.queried_mesh) r.mesh_micros += dt;
+      }
+    }
+  return runs;
 }
 
 // The exact reference (untimed): every configuration's verdict, and on every k-th one the
@@ -307,15 +318,17 @@ void print_table(const std::vector<MethodRun>& runs, const Reference& ref) {
               "(mm)", "(mm)", "");
   const std::size_t n = ref.sampled.size();
   const double em = runs[0].micros;
-  print_row(runs[0], ref, em, error_stats(n, [&](std::size_t) { return 0.0; }));
-  print_row(runs[1], ref, em,
-            error_stats(n, [&](std::size_t i) { return ref.exact[i] - ref.lower[i]; }));
+  for (int k : {0, 1})
+    print_row(runs[k], ref, em, error_stats(n, [&](std::size_t) { return 0.0; }));
   print_row(runs[2], ref, em,
+            error_stats(n, [&](std::size_t i) { return ref.exact[i] - ref.lower[i]; }));
+  print_row(runs[3], ref, em,
             error_stats(n, [&](std::size_t i) { return ref.upper[i] - ref.exact[i]; }));
-  print_row(runs[3], ref, em, error_stats(n, [&](std::size_t i) {
-              const double lo = ref.exact[i] - ref.lower[i], hi = ref.upper[i] - ref.exact[i];
-              return std::min(lo, hi) < 0.0 ? std::min(lo, hi) : std::max(lo, hi);
-            }));
+  for (int k : {4, 5})
+    print_row(runs[k], ref, em, error_stats(n, [&](std::size_t i) {
+                const double lo = ref.exact[i] - ref.lower[i], hi = ref.upper[i] - ref.exact[i];
+                return std::min(lo, hi) < 0.0 ? std::min(lo, hi) : std::max(lo, hi);
+              }));
 }
 
 using NamePairs = std::vector<std::pair<std::string, std::string>>;
@@ -365,69 +378,90 @@ int run(const Options& o) {
   const mb::BenchScene scene = mb::make_scene(o.seed, o.meshes, o.scale);
   const std::vector<const ::fcl::CollisionObjectd*> objects = scene.pointers();
   std::size_t by_default = 0;
-  const mf::RobotBounds bounds(robot.model, robot.meshes, disabled_pairs(o, robot, by_default));
-  mb::ExactRobot exact(bounds, robot.exact, objects);
+  const NamePairs disabled = disabled_pairs(o, robot, by_default);
+  const mf::RobotBounds plain(robot.model, robot.meshes, disabled);
+  const auto t_order = Clock::now();
+  const mf::RobotBounds bounds(robot.model, robot.meshes, disabled, {},
+                               {o.order_samples, o.margin, o.seed + 1});
+  const double order_seconds = mb::seconds_since(t_order);
+  mb::ExactRobot exact(plain, robot.exact, objects);
+  mb::ExactRobot exact_tricks(bounds, robot.exact, objects, {}, true);
   mb::Solids solids = robot.solids;
   solids.insert(scene.solids.begin(), scene.solids.end());
   mb::ExactRobot exact_reference(bounds, robot.exact, scene.pointers(true), solids);
   print_setup(o, robot, bounds, scene, by_default);
+  std::printf("self pairs ordered by %zu seeded configurations (seed %u): %.2f s\n\n",
+              o.order_samples, o.seed + 1, order_seconds);
   if (exact.missing_links() > 0)
     std::printf("note: %zu links have no exact geometry: the exact side skips them\n",
                 exact.missing_links());
-  const auto configs = seeded_configs(robot.model, bounds.kinematics(), o.configs, o.seed);
+  const auto configs =
+      mf::sample_configurations(robot.model, bounds.kinematics(), o.configs, o.seed);
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const SphereRobot outer(bounds, robot.model, false), inner(bounds, robot.model, true);
-  std::vector<MethodRun> runs;
-  runs.push_back(run_method("exact", configs.size(), [&](std::size_t i, MethodRun& r) {
+  std::vector<std::pair<std::string, Method>> methods;
+  methods.emplace_back("exact", [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
     return exact.collide(bounds.poses(configs[i], I), o.self, o.margin);
-  }));
-  runs.push_back(run_method("outer", configs.size(), [&](std::size_t i, MethodRun&) {
-    return outer.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
-  }));
-  runs.push_back(run_method("inner", configs.size(), [&](std::size_t i, MethodRun&) {
-    return inner.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
-  }));
-  runs.push_back(run_method("bounds", configs.size(), [&](std::size_t i, MethodRun& r) {
+  });
+  methods.emplace_back("exact+", [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
-    const auto t0 = Clock::now();
-    const mf::RobotCollideResult c =
-        mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
-    if (c.mesh_fallbacks > 0) r.mesh_micros += mb::micros_since(t0);
-    if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
-    if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
-    // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link
-    // of sphere primitives only against a meshed link) counts as colliding, as a planner
-    // must take it.
-    return c.verdict != medspheres::BoundsVerdict::free;
-  }));
+    return exact_tricks.collide(bounds.poses(configs[i], I), o.self, o.margin);
+  });
+  methods.emplace_back("outer", [&](std::size_t i, MethodRun&) {
+    return outer.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
+  });
+  methods.emplace_back("inner", [&](std::size_t i, MethodRun&) {
+    return inner.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
+  });
+  // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link of
+  // sphere primitives only against a meshed link) counts as colliding, as a planner must
+  // take it.
+  auto certified = [&](const mf::RobotBounds& robot) {
+    return [&](std::size_t i, MethodRun& r) {
+      r.uses_mesh = true;
+      const mf::RobotCollideResult c =
+          mf::robot_collide(robot, configs[i], objects, o.self, o.margin);
+      r.queried_mesh = c.mesh_fallbacks > 0;
+      if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
+      if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
+      return c.verdict != medspheres::BoundsVerdict::free;
+    };
+  };
+  methods.emplace_back("bounds", certified(bounds));
+  methods.emplace_back("bounds/g", certified(plain));
+  const std::vector<MethodRun> runs = run_methods(methods, configs.size());
   const auto t0 = Clock::now();
   const Reference ref = reference(bounds, exact_reference, configs, objects, o.self, o.margin,
                                   std::max<std::size_t>(o.distance_every, 1));
   const double ref_seconds = mb::seconds_since(t0);
   print_table(runs, ref);
-  const MethodRun& b = runs[3];
+  const MethodRun& b = runs[4];
   const double n = static_cast<double>(configs.size());
   const double with_mesh = n - static_cast<double>(b.mesh_free + b.undecided);
-  std::printf("\nbounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
+  std::printf("\nbounds: %.1fx faster than exact+ (the same pair order and scene skip)\n",
+              runs[1].micros / b.micros);
+  std::printf("bounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
   std::printf(
       "bounds: the %.0f configurations that queried a mesh took %.1f%% of its time (%.1f us "
       "each), the others %.1f us each\n",
       with_mesh, 100.0 * b.mesh_micros / (b.micros * n),
       with_mesh > 0 ? b.mesh_micros / with_mesh : 0.0,
       (b.micros * n - b.mesh_micros) / std::max(1.0, n - with_mesh));
-  std::size_t truth = 0, disagree = 0;
+  std::size_t truth = 0, disagree = 0, disagree_plus = 0;
   for (std::size_t i = 0; i < configs.size(); ++i) {
     truth += ref.colliding[i];
     disagree += ref.colliding[i] != runs[0].colliding[i];
+    disagree_plus += ref.colliding[i] != runs[1].colliding[i];
   }
   std::printf(
-      "\nreference: %zu of %zu configurations within %.4g m (%.1f s); FCL's octree "
-      "and the cells as a mesh disagree on %zu; distance errors over %zu "
-      "configurations (every %zu-th)\n",
-      truth, configs.size(), o.margin, ref_seconds, disagree, ref.sampled.size(), o.distance_every);
+      "\nreference: %zu of %zu configurations within %.4g m (%.1f s); exact and exact+ (FCL's "
+      "octree) and the reference (the cells as a mesh) disagree on %zu and %zu; distance errors "
+      "over %zu configurations (every %zu-th)\n",
+      truth, configs.size(), o.margin, ref_seconds, disagree, disagree_plus, ref.sampled.size(),
+      o.distance_every);
   for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
-    if (ref.colliding[i] && !runs[3].colliding[i]) {
+    if (ref.colliding[i] && !runs[4].colliding[i]) {
       const mf::RobotCollideResult c =
           mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
       std::printf("bounds missed configuration %zu: verdict %d, %zu mesh fallbacks\n", i,

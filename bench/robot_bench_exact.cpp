@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <tuple>
 
 #include <fcl/fcl.h>
 
@@ -39,8 +40,9 @@ double ExactRobot::pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::
 }
 
 ExactRobot::ExactRobot(const fcl::RobotBounds& robot, const std::map<std::string, ExactLink>& links,
-                       const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids)
-    : robot_(robot), scene_(scene), solids_(std::move(solids)) {
+                       const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids,
+                       bool skip_beyond)
+    : robot_(robot), scene_(scene), solids_(std::move(solids)), skip_beyond_(skip_beyond) {
   for (const fcl::BoundedGeometry& g : robot.geometries()) {
     std::vector<Part> parts;
     const auto it = links.find(g.link());
@@ -78,18 +80,35 @@ void ExactRobot::add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd*
   if (d <= below) out.push_back({d, a, b, link, other});
 }
 
-// The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order.
-std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, bool include_self,
-                                                          double below) const {
+// The pairs whose AABBs are not farther apart than `below`, in RobotBounds' order: the self
+// pairs [self_from, self_to), then the scene pairs when include_scene.
+std::vector<ExactRobot::Candidate> ExactRobot::candidates(bool include_scene, std::size_t self_from,
+                                                          std::size_t self_to, double below) const {
   std::vector<Candidate> out;
-  if (include_self)
-    for (const auto& [a, b] : robot_.self_pairs())
-      for (const Part& pa : links_[a])
-        for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
-  if (include_scene)
-    for (std::size_t l = 0; l < links_.size(); ++l)
-      for (std::size_t o = 0; o < scene_.size(); ++o)
-        for (const Part& p : links_[l]) add(out, p.object.get(), scene_[o], l, o, below);
+  for (std::size_t k = self_from; k < self_to; ++k) {
+    const auto [a, b] = robot_.self_pairs()[k];
+    for (const Part& pa : links_[a])
+      for (const Part& pb : links_[b]) add(out, pa.object.get(), pb.object.get(), a, b, below);
+  }
+  if (!include_scene) return out;
+  // With skip_beyond_, each object's balls_near over every part's bounding ball.
+  std::vector<std::vector<char>> near;
+  if (skip_beyond_ && std::isfinite(below)) {
+    std::vector<Sphere> balls;
+    for (const std::vector<Part>& parts : links_)
+      for (const Part& p : parts) {
+        const ::fcl::CollisionGeometryd& g = *p.object->collisionGeometry();
+        balls.push_back({p.object->getTransform() * g.aabb_center, g.aabb_radius});
+      }
+    for (const ::fcl::CollisionObjectd* o : scene_)
+      near.push_back(fcl::balls_near(*o, balls, below));
+  }
+  std::size_t first = 0;  // index of the link's first part in the balls
+  for (std::size_t l = 0; l < links_.size(); first += links_[l++].size())
+    for (std::size_t o = 0; o < scene_.size(); ++o)
+      for (std::size_t k = 0; k < links_[l].size(); ++k)
+        if (near.empty() || near[o][first + k])
+          add(out, links_[l][k].object.get(), scene_[o], l, o, below);
   return out;
 }
 
@@ -97,15 +116,21 @@ bool ExactRobot::collide(const std::vector<::fcl::Transform3d>& X, bool include_
                          double margin) {
   pose(X);
   const double above = successor(margin);
-  for (const Candidate& c : candidates(true, include_self, margin))
-    if (pair_distance(c.a, c.b, above) <= margin) return true;
+  // As robot_collide: the self pairs seen colliding (all without a SelfPairOrder), the
+  // scene, the other self pairs; each group's candidates only when no earlier pair collides.
+  const std::size_t n = include_self ? robot_.self_pairs().size() : 0;
+  const std::size_t seen = std::min(robot_.seen_colliding(), n);
+  for (const auto& [scene, from, to] :
+       {std::tuple<bool, std::size_t, std::size_t>{false, 0, seen}, {true, 0, 0}, {false, seen, n}})
+    for (const Candidate& c : candidates(scene, from, to, margin))
+      if (pair_distance(c.a, c.b, above) <= margin) return true;
   return false;
 }
 
 double ExactRobot::distance(const std::vector<::fcl::Transform3d>& X, bool include_self) {
   pose(X);
-  std::vector<Candidate> c =
-      candidates(true, include_self, std::numeric_limits<double>::infinity());
+  std::vector<Candidate> c = candidates(true, 0, include_self ? robot_.self_pairs().size() : 0,
+                                        std::numeric_limits<double>::infinity());
   std::sort(c.begin(), c.end(), [](const Candidate& a, const Candidate& b) {
     return a.aabb_distance < b.aabb_distance;
   });
@@ -136,7 +161,7 @@ std::vector<std::pair<std::size_t, std::size_t>> ExactRobot::self_pairs_within(
   pose(X);
   std::vector<std::pair<std::size_t, std::size_t>> out;
   const double above = successor(margin);
-  for (const Candidate& c : candidates(false, true, margin))
+  for (const Candidate& c : candidates(false, 0, robot_.self_pairs().size(), margin))
     if (pair_distance(c.a, c.b, above) <= margin &&
         (out.empty() || out.back() != std::make_pair(c.link, c.other)))
       out.emplace_back(c.link, c.other);

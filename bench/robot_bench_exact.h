@@ -32,8 +32,12 @@ using Solids = std::map<const ::fcl::CollisionGeometryd*, std::shared_ptr<const 
 class ExactRobot {
  public:
   /// Exact geometry by link name; \p robot gives the geometries' order and the self pairs.
+  /// With \p skip_beyond, collide() also skips a scene pair when the part's bounding ball
+  /// is certainly farther than the margin from the object (fcl::balls_near: an octree's
+  /// occupied cells rather than its root cube's AABB), as robot_collide does.
   ExactRobot(const fcl::RobotBounds& robot, const std::map<std::string, ExactLink>& links,
-             const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids = {});
+             const std::vector<const ::fcl::CollisionObjectd*>& scene, Solids solids = {},
+             bool skip_beyond = false);
 
   /// Links of the robot without exact geometry (left out of every exact query).
   std::size_t missing_links() const { return missing_; }
@@ -70,13 +74,15 @@ class ExactRobot {
   void add(std::vector<Candidate>& out, const ::fcl::CollisionObjectd* a,
            const ::fcl::CollisionObjectd* b, std::size_t link, std::size_t other,
            double below) const;
-  std::vector<Candidate> candidates(bool include_scene, bool include_self, double below) const;
+  std::vector<Candidate> candidates(bool include_scene, std::size_t self_from, std::size_t self_to,
+                                    double below) const;
 
   const fcl::RobotBounds& robot_;
   std::vector<const ::fcl::CollisionObjectd*> scene_;
   std::vector<std::vector<Part>> links_;  // by geometry index; empty: no exact geometry
   std::size_t missing_ = 0;
   Solids solids_;
+  bool skip_beyond_ = false;
   double pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::CollisionObjectd* b,
                        double below) const;
   bool sphere_inside(const ::fcl::CollisionObjectd* s, const ::fcl::CollisionObjectd* m) const;

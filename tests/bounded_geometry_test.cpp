@@ -556,3 +556,90 @@ TEST_CASE("robot collide: meshes only when no pair surely collides; scene AABBs 
   CHECK(free > 0);
   CHECK(fallbacks > 0);
 }
+
+TEST_CASE("sample_configurations are seeded and within the joint limits", "[bounds][robot]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  std::map<std::string, const Solid*> solid_of;
+  const RobotModel model = solid_arm(&meshes, &solid_of);
+  const KinematicTree tree(model);
+  const auto a = mf::sample_configurations(model, tree, 200, 3);
+  REQUIRE(a.size() == 200);
+  CHECK(mf::sample_configurations(model, tree, 200, 3) == a);
+  CHECK(mf::sample_configurations(model, tree, 200, 4) != a);
+  for (std::size_t k = 0; k < tree.num_positions(); ++k) {
+    const Joint& j = *model.find_joint(tree.joint_names()[k]);
+    const bool limited = j.type != JointType::kContinuous && j.limits;
+    const double lo = limited ? j.limits->lower : -M_PI, hi = limited ? j.limits->upper : M_PI;
+    double seen_lo = hi, seen_hi = lo;
+    for (const Eigen::VectorXd& q : a) {
+      REQUIRE(q.size() == static_cast<Eigen::Index>(tree.num_positions()));
+      CHECK(q[k] >= lo);
+      CHECK(q[k] <= hi);
+      seen_lo = std::min(seen_lo, q[k]);
+      seen_hi = std::max(seen_hi, q[k]);
+    }
+    CHECK(seen_hi - seen_lo > 0.8 * (hi - lo));  // spread over the range
+  }
+}
+
+TEST_CASE("a self-pair order changes no verdict and puts the most colliding pair first",
+          "[bounds][robot]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  std::map<std::string, const Solid*> solid_of;
+  RobotModel model = solid_arm(&meshes, &solid_of);
+  for (Joint& j : model.joints)  // l2 near the base, so that the arm collides with itself
+    if (j.name == "j2") j.origin.translation() = Eigen::Vector3d(0.25, 0.0, 0.0);
+  const mf::RobotBounds plain(model, meshes);
+  const mf::SelfPairOrder order{300, 0.01, 7};
+  const mf::RobotBounds ordered(model, meshes, {}, {}, order);
+  auto sorted = [](std::vector<std::pair<std::size_t, std::size_t>> v) {
+    std::sort(v.begin(), v.end());
+    return v;
+  };
+  CHECK(sorted(ordered.self_pairs()) == sorted(plain.self_pairs()));
+  // Brute force over the same samples: every pair's count of certain collisions.
+  const auto samples = mf::sample_configurations(model, plain.kinematics(), order.samples, 7);
+  std::map<std::pair<std::size_t, std::size_t>, int> hits;
+  const auto& g = plain.geometries();
+  const auto& pairs = ordered.self_pairs();
+  const std::size_t seen = ordered.seen_colliding();
+  int samples_hit = 0, samples_hit_by_seen = 0;
+  for (const Eigen::VectorXd& q : samples) {
+    const auto X = plain.poses(q, Eigen::Isometry3d::Identity());
+    bool any = false, by_seen = false;
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const auto [a, b] = pairs[k];
+      const bool c = mf::decide(g[a], X[a], g[b], X[b], 0.01).verdict == BoundsVerdict::colliding;
+      hits[{a, b}] += c ? 1 : 0;
+      any = any || c;
+      by_seen = by_seen || (c && k < seen);
+    }
+    samples_hit += any ? 1 : 0;
+    samples_hit_by_seen += by_seen ? 1 : 0;
+  }
+  int most = 0;
+  for (const auto& [pair, n] : hits) most = std::max(most, n);
+  REQUIRE(most > 0);
+  CHECK(hits[pairs.front()] == most);
+  // The pairs seen colliding cover every sample in which some pair collides, and each of
+  // them collides in some sample; without an order every pair counts as seen.
+  CHECK(seen >= 1);
+  CHECK(samples_hit_by_seen == samples_hit);
+  for (std::size_t k = 0; k < seen; ++k) CHECK(hits[pairs[k]] > 0);
+  CHECK(plain.seen_colliding() == plain.self_pairs().size());
+  CHECK_THROWS_AS(mf::RobotBounds(model, meshes, {}, {}, {10, -1.0, 1}), std::invalid_argument);
+
+  auto box = std::make_shared<::fcl::Boxd>(0.6, 0.4, 0.3);
+  std::mt19937 rng(17);
+  ::fcl::CollisionObjectd o1(box, mt::random_pose(rng, 1.0));
+  const std::vector<const ::fcl::CollisionObjectd*> scene = {&o1};
+  int colliding = 0;
+  for (const Eigen::VectorXd& q : mf::sample_configurations(model, plain.kinematics(), 60, 8)) {
+    const auto a = mf::robot_collide(plain, q, scene, true, 0.01);
+    const auto b = mf::robot_collide(ordered, q, scene, true, 0.01);
+    CHECK(a.verdict == b.verdict);
+    colliding += a.verdict == BoundsVerdict::colliding ? 1 : 0;
+  }
+  CHECK(colliding > 0);
+  CHECK(colliding < 60);
+}

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <random>
 #include <set>
 #include <stdexcept>
 #include <string>
@@ -43,10 +44,13 @@ void add_minimum(DistanceBounds& m, const DistanceBounds& b) {
   m.stats.leaf_tests += b.stats.leaf_tests;
 }
 
-// With include_self, calls on_self(a, b) for every self-collision pair, then
-// on_scene(link, object) for every geometry and scene object, until one returns true.
-// Self pairs come first: two links' sphere walks are cheap, and a robot's certain
-// collision is most often with itself, which ends robot_collide before the scene.
+// With include_self, calls on_self(a, b) for the self-collision pairs seen colliding
+// (robot.seen_colliding(); all of them without a SelfPairOrder), then on_scene(link,
+// object) for every geometry and scene object, then on_self for the other self pairs,
+// until one returns true. Self pairs come first: two links' sphere walks are cheap, and a
+// robot's certain collision is most often with itself, which ends robot_collide before
+// the scene; but a pair never seen colliding in the order's samples is less likely to
+// collide than the scene, so it waits until after it.
 template <class S, class P>
 void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::CollisionObjectd*>& scene,
                  bool include_self, S&& on_scene, P&& on_self) {
@@ -54,24 +58,21 @@ void visit_pairs(const RobotBounds& robot, const std::vector<const ::fcl::Collis
     if (scene[o] == nullptr || scene[o]->collisionGeometry() == nullptr)
       throw std::invalid_argument("robot bounds: scene object " + std::to_string(o) +
                                   " is null or has no geometry");
-  if (include_self)
-    for (const auto& [a, b] : robot.self_pairs())
-      if (on_self(a, b)) return;
+  const auto& self = robot.self_pairs();
+  const std::size_t seen = include_self ? robot.seen_colliding() : 0;
+  for (std::size_t k = 0; k < seen; ++k)
+    if (on_self(self[k].first, self[k].second)) return;
   for (std::size_t l = 0; l < robot.geometries().size(); ++l)
     for (std::size_t o = 0; o < scene.size(); ++o)
       if (on_scene(l, o)) return;
+  for (std::size_t k = seen; k < self.size() && include_self; ++k)
+    if (on_self(self[k].first, self[k].second)) return;
 }
-
-// A ball that contains a posed geometry, in W.
-struct Ball {
-  Eigen::Vector3d centre;
-  double radius;
-};
 
 // Each geometry's outer root ball (which contains its outer set, and so its surface, and
 // its inner set, which lies inside the surface) at the poses X.
-std::vector<Ball> link_balls(const RobotBounds& robot, const std::vector<::fcl::Transform3d>& X) {
-  std::vector<Ball> out;
+std::vector<Sphere> link_balls(const RobotBounds& robot, const std::vector<::fcl::Transform3d>& X) {
+  std::vector<Sphere> out;
   out.reserve(X.size());
   for (std::size_t l = 0; l < X.size(); ++l) {
     const Sphere s = robot.geometries()[l].outer().bounding_ball(0);
@@ -80,29 +81,78 @@ std::vector<Ball> link_balls(const RobotBounds& robot, const std::vector<::fcl::
   return out;
 }
 
-// The ball about the object's local AABB centre of radius aabb_radius (set by
-// computeLocalAABB, which fcl::CollisionObject's constructor calls): it contains the
-// geometry at the object's current transform, whether or not its world AABB is up to date.
-Ball object_ball(const ::fcl::CollisionObjectd& o) {
-  const ::fcl::CollisionGeometryd& g = *o.collisionGeometry();
-  return {o.getTransform() * g.aabb_center, g.aabb_radius};
-}
-
 // True when the balls are certainly farther apart than margin, so that every pair of
 // sets inside them is: the gap is computed in doubles, so it must exceed the margin by a
 // relative allowance (1e-12 of the magnitudes involved, far above the few ulps of error).
-bool apart(const Ball& a, const Ball& b, double margin) {
-  const double gap = (a.centre - b.centre).norm() - a.radius - b.radius;
-  const double scale = a.centre.norm() + b.centre.norm() + a.radius + b.radius + margin;
+bool apart(const Sphere& a, const Sphere& b, double margin) {
+  const double gap = (a.center - b.center).norm() - a.radius - b.radius;
+  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
   return std::isfinite(gap) && gap - 1e-12 * scale > margin;
 }
 
 }  // namespace
 
+std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
+                                                   const KinematicTree& tree, std::size_t n,
+                                                   unsigned seed) {
+  std::mt19937 rng(seed);
+  std::vector<std::pair<double, double>> range;
+  for (const std::string& name : tree.joint_names()) {
+    const Joint& j = *model.find_joint(name);
+    const bool limited =
+        j.type != JointType::kContinuous && j.limits && j.limits->lower < j.limits->upper;
+    range.emplace_back(limited ? j.limits->lower : -M_PI, limited ? j.limits->upper : M_PI);
+  }
+  std::vector<Eigen::VectorXd> out(n, Eigen::VectorXd(range.size()));
+  for (Eigen::VectorXd& q : out)
+    for (std::size_t k = 0; k < range.size(); ++k)
+      q[k] = std::uniform_real_distribution<double>(range[k].first, range[k].second)(rng);
+  return out;
+}
+
+// Greedy: each step takes the pair certainly colliding in the most samples that no pair
+// taken so far collides in (ties: the earlier pair), until no pair adds one.
+void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder& order) {
+  if (!std::isfinite(order.margin) || order.margin < 0.0)
+    throw std::invalid_argument("SelfPairOrder: margin must be finite and >= 0");
+  const std::vector<Eigen::VectorXd> samples =
+      sample_configurations(model, tree_, order.samples, order.seed);
+  std::vector<std::vector<std::size_t>> hits(self_pairs_.size());  // samples, by pair
+  for (std::size_t s = 0; s < samples.size(); ++s) {
+    const std::vector<::fcl::Transform3d> X = poses(samples[s], Eigen::Isometry3d::Identity());
+    const std::vector<Sphere> balls = link_balls(*this, X);
+    for (std::size_t k = 0; k < self_pairs_.size(); ++k) {
+      const auto [a, b] = self_pairs_[k];
+      if (!apart(balls[a], balls[b], order.margin) &&
+          decide(geometries_[a], X[a], geometries_[b], X[b], order.margin).verdict ==
+              BoundsVerdict::colliding)
+        hits[k].push_back(s);
+    }
+  }
+  std::vector<char> covered(samples.size(), 0), taken(self_pairs_.size(), 0);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (;;) {
+    std::size_t best = 0, best_gain = 0;
+    for (std::size_t k = 0; k < hits.size(); ++k) {
+      std::size_t gain = 0;
+      for (std::size_t s : hits[k]) gain += covered[s] ? 0 : 1;
+      if (!taken[k] && gain > best_gain) best = k, best_gain = gain;
+    }
+    if (best_gain == 0) break;
+    taken[best] = 1;
+    out.push_back(self_pairs_[best]);
+    for (std::size_t s : hits[best]) covered[s] = 1;
+  }
+  seen_colliding_ = out.size();
+  for (std::size_t k = 0; k < self_pairs_.size(); ++k)
+    if (!taken[k]) out.push_back(self_pairs_[k]);
+  self_pairs_ = std::move(out);
+}
+
 RobotBounds::RobotBounds(const RobotModel& model,
                          const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                          const std::vector<std::pair<std::string, std::string>>& disabled,
-                         const BoundedGeometryOptions& options)
+                         const BoundedGeometryOptions& options, const SelfPairOrder& order)
     : tree_(model) {
   for (const Link& link : model.links) {
     const LinkSpheres& s = link.spheres;
@@ -116,6 +166,8 @@ RobotBounds::RobotBounds(const RobotModel& model,
   for (std::size_t i = 0; i < geometries_.size(); ++i)
     for (std::size_t k = i + 1; k < geometries_.size(); ++k)
       if (skip.count(ordered(link_of_[i], link_of_[k])) == 0) self_pairs_.emplace_back(i, k);
+  seen_colliding_ = self_pairs_.size();
+  if (order.samples > 0) order_self_pairs(model, order);
 }
 
 std::vector<::fcl::Transform3d> RobotBounds::poses(const Eigen::VectorXd& q,
@@ -159,7 +211,10 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
                                  bool include_self, double margin, const Eigen::Isometry3d& X_WB) {
   const std::vector<::fcl::Transform3d> X = robot.poses(q, X_WB);
   const std::vector<BoundedGeometry>& g = robot.geometries();
-  const std::vector<Ball> links = link_balls(robot, X);
+  const std::vector<Sphere> links = link_balls(robot, X);
+  // By scene object, by link: whether the link's ball may be within the margin of it (made
+  // at the object's first pair).
+  std::vector<std::vector<char>> near(scene.size());
   RobotCollideResult out;
   struct Open {
     std::size_t link, other;
@@ -180,7 +235,8 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
       robot, scene, include_self,
       [&](std::size_t l, std::size_t o) {
         const ::fcl::CollisionObjectd& obj = *scene[o];
-        if (apart(links[l], object_ball(obj), margin)) return false;
+        if (near[o].empty()) near[o] = balls_near(obj, links, margin);
+        if (!near[o][l]) return false;
         return record(l, o, false,
                       decide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
       },

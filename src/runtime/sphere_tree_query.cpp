@@ -297,7 +297,12 @@ BoundsDecision run_bounds(const O& outer, const I& inner, double slack, bool dec
                           double margin) {
   detail::BoundsGather g(decide, margin - slack, margin + slack);
   const detail::BoundsNodes<O, I> nodes(outer, inner, g);
-  detail::traverse(nodes, g);
+  if (decide) {  // the outer pairs first (traversal_bounds.h)
+    detail::traverse_from(nodes, nodes.outer_root(), g);
+    if (!(g.lower() - slack > margin)) detail::traverse_from(nodes, nodes.inner_root(), g);
+  } else {
+    detail::traverse(nodes, g);
+  }
   BoundsDecision d;
   // A walk stopped early (the inner sets decided a collision) leaves outer pairs
   // unvisited and unaccounted: lower is then 0, which every distance is at least.

@@ -83,12 +83,18 @@ void recurse(const Nodes& nodes, const typename Nodes::Pair& p, Acc& acc) {
   }
 }
 
+/// Walks, nearest first, every pair below \p top (itself included) whose bound the
+/// accumulator keeps, until it is done.
+template <class Nodes, class Acc>
+void traverse_from(const Nodes& nodes, const typename Nodes::Pair& top, Acc& acc) {
+  ++acc.stats.bv_tests;
+  if (acc.keeps(nodes.bound(top, acc.prune_at()))) recurse(nodes, top, acc);
+}
+
 /// Walks, nearest first, every pair whose bound the accumulator keeps, until it is done.
 template <class Nodes, class Acc>
 void traverse(const Nodes& nodes, Acc& acc) {
-  const typename Nodes::Pair root = nodes.root();
-  ++acc.stats.bv_tests;
-  if (acc.keeps(nodes.bound(root, acc.prune_at()))) recurse(nodes, root, acc);
+  traverse_from(nodes, nodes.root(), acc);
 }
 
 }  // namespace medspheres::detail

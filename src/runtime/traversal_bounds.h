@@ -11,7 +11,11 @@
 //   U: the smallest inner pair distance seen (an upper bound: any inner pair is a pair of
 //      points of the two solids).
 // Order: the inner root pair first (its bound is taken as -infinity), so that U is known
-// when the outer pairs are walked.
+// when the outer pairs are walked. A decision (sphere_tree_query.cpp) walks the outer pairs
+// first instead, from outer_root(), and the inner pairs from inner_root() only when the
+// outer sets leave "free" open: against a margin, U prunes the outer pairs only once it
+// is below the margin, when the inner sets have already decided; so the order changes no
+// verdict, and most pairs a robot checks are free, decided by the outer sets alone.
 // Pruning. Inner pairs are pruned at U (as a distance query), and in a decision against a
 // margin also at the margin. Outer pairs are pruned at min(U, L): a pair whose bound
 // reaches U cannot lower L below what the bounds report (see lower()), and one whose bound
@@ -96,6 +100,20 @@ class BoundsNodes {
       : outer_(outer), inner_(inner), gather_(gather) {}
 
   Pair root() const { return Pair{}; }
+  /// The outer sets' and the inner sets' root pairs, as the virtual root opens into them.
+  Pair outer_root() const {
+    Pair p;
+    p.side = kOuter;
+    p.o = outer_.root();
+    return p;
+  }
+  Pair inner_root() const {
+    Pair p;
+    p.side = kInner;
+    p.i = inner_.root();
+    p.inner_root = true;
+    return p;
+  }
 
   double bound(const Pair& p, double prune_at) const {
     // The virtual root and the inner root pair get the trivial bound -infinity: the inner
@@ -130,11 +148,8 @@ class BoundsNodes {
   // Only the member of the pair's side is written (the other one is never read).
   int children(const Pair& p, bool first, Pair* out) const {
     if (p.side == kRoot) {
-      out[0].side = kOuter;
-      out[0].o = outer_.root();
-      out[1].side = kInner;
-      out[1].i = inner_.root();
-      out[1].inner_root = true;
+      out[0] = outer_root();
+      out[1] = inner_root();
       return 2;
     }
     int n = 0;

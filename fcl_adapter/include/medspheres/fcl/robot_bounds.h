@@ -24,11 +24,26 @@
 #include <utility>
 #include <vector>
 
+#include "medspheres/fcl/balls_near.h"
 #include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/robot_model.h"
 
 namespace medspheres::fcl {
+
+/// The order in which robot_collide walks the self pairs; it changes how soon a colliding
+/// configuration is found, never an answer. samples = 0: geometry order (the pairs of
+/// geometry i before those of i + 1), all before the scene. samples > 0: the constructor
+/// checks that many seeded configurations (sample_configurations) with the pairs' sphere
+/// bounds (decide() at \p margin) and puts first the pair certainly colliding in the most
+/// of them, then the pair colliding in the most of the rest, and so on (seen_colliding()
+/// pairs); the pairs never seen colliding follow in geometry order, and robot_collide
+/// walks them after the scene.
+struct SelfPairOrder {
+  std::size_t samples = 0;
+  double margin = 0.0;  ///< finite, >= 0
+  unsigned seed = 1;
+};
 
 class RobotBounds {
  public:
@@ -38,16 +53,20 @@ class RobotBounds {
   RobotBounds(const RobotModel& model,
               const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes = {},
               const std::vector<std::pair<std::string, std::string>>& disabled = {},
-              const BoundedGeometryOptions& options = {});
+              const BoundedGeometryOptions& options = {}, const SelfPairOrder& order = {});
 
   const KinematicTree& kinematics() const noexcept { return tree_; }
   /// The links with a geometry, and the index of each in kinematics().link_names().
   const std::vector<BoundedGeometry>& geometries() const noexcept { return geometries_; }
   const std::vector<std::size_t>& link_of() const noexcept { return link_of_; }
-  /// Self-collision pairs, as indices into geometries(), first < second.
+  /// Self-collision pairs, as indices into geometries(), first < second, in the order of
+  /// the constructor's SelfPairOrder.
   const std::vector<std::pair<std::size_t, std::size_t>>& self_pairs() const noexcept {
     return self_pairs_;
   }
+  /// With a SelfPairOrder of samples > 0: how many self pairs (the first ones) were seen
+  /// certainly colliding in its samples; the others follow. Else self_pairs().size().
+  std::size_t seen_colliding() const noexcept { return seen_colliding_; }
   /// X_WL of every geometry's link (in geometries() order).
   std::vector<::fcl::Transform3d> poses(const Eigen::VectorXd& q,
                                         const Eigen::Isometry3d& X_WB) const;
@@ -57,7 +76,17 @@ class RobotBounds {
   std::vector<BoundedGeometry> geometries_;
   std::vector<std::size_t> link_of_;
   std::vector<std::pair<std::size_t, std::size_t>> self_pairs_;
+  std::size_t seen_colliding_ = 0;
+
+  void order_self_pairs(const RobotModel& model, const SelfPairOrder& order);
 };
+
+/// \p n joint vectors for \p tree (KinematicTree::joint_names order), each entry uniform
+/// within its joint's limits ([-pi, pi] for a continuous joint or one without limits),
+/// drawn in order from std::mt19937(seed): configuration by configuration, joint by joint.
+std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
+                                                   const KinematicTree& tree, std::size_t n,
+                                                   unsigned seed);
 
 /// One pair's bounds: geometry index `link`; `other` a geometry index (self) or an index
 /// into the scene.
@@ -91,11 +120,12 @@ struct RobotCollideResult {
 };
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
-/// First every pair's sphere bounds (decide()), the self-collision pairs before the scene,
-/// stopping at the first certainly colliding pair; pairs whose bounding balls (a link's outer root
-/// ball, a scene object's local AABB ball about its transform) are farther apart than the margin
-/// are free without a walk. Only when no pair certainly collides are the undecided pairs settled by
-/// the exact meshes (settle()), stopping at the first colliding one.
+/// First every pair's sphere bounds (decide()): the first seen_colliding() self pairs, the
+/// scene, then the other self pairs (self_pairs() order), stopping at the first certainly
+/// colliding pair; a self pair whose links' outer root balls are farther apart than the
+/// margin, and a scene pair whose link ball is (balls_near), are free without a walk. Only
+/// when no pair certainly collides are the undecided pairs settled by the exact meshes
+/// (settle()), stopping at the first colliding one.
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
                                  bool include_self, double margin = 0.0,
