@@ -905,13 +905,14 @@ Eigen::Vector3d volume_gradient(const std::vector<Sphere>& balls, std::size_t j,
   return patch * (normal + static_cast<double>(exposed) * pull);
 }
 
-// Ball j moved against \p g by the largest of s, s/2, ... that lowers U; \p s grows by
-// half after a success. True when it moved.
+// Ball j moved against \p g by the largest of s, s/2, ... (times its radius) that lowers U
+// and leaves its protrusion at most \p cap (an infinite cap spares the distance queries);
+// \p s grows by half after a success. True when it moved.
 bool descend_ball(const MeshQuery& query, std::vector<Sphere>& balls, std::size_t j,
                   const std::vector<Sphere>& atoms, const Eigen::Vector3d& g, double cap,
                   double& s) {
   if (!(g.norm() > 0.0)) return false;
-  const Probe here = probe(query, balls[j].center, balls[j].center, {});
+  const Probe here = std::isinf(cap) ? Probe{} : probe(query, balls[j].center, balls[j].center, {});
   const Eigen::Vector3d dir = -g.normalized();
   const double step = s * balls[j].radius;
   std::vector<Sphere> set = neighbours(balls, j, step);
@@ -921,8 +922,9 @@ bool descend_ball(const MeshQuery& query, std::vector<Sphere>& balls, std::size_
   for (int h = 0; h <= kDescentHalvings; ++h) {
     const Eigen::Vector3d c = balls[j].center + std::ldexp(step, -h) * dir;
     set.back() = {c, reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
-    if (set.back().radius - probe(query, c, balls[j].center, here).depth <= cap &&
-        measure_union(set).volume - rest < before) {
+    if (measure_union(set).volume - rest < before &&
+        (std::isinf(cap) ||
+         set.back().radius - probe(query, c, balls[j].center, here).depth <= cap)) {
       balls[j] = set.back();
       s = std::min(0.5, h == 0 ? 1.5 * s : std::ldexp(s, -h));
       return true;
