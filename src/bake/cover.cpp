@@ -905,6 +905,14 @@ Eigen::Vector3d volume_gradient(const std::vector<Sphere>& balls, std::size_t j,
   return patch * (normal + static_cast<double>(exposed) * pull);
 }
 
+// Whether ball b, moved from centre x (whose probe is px), sticks out at most \p cap: the
+// depth is 1-Lipschitz, so r - depth(x) + |c - x| <= cap settles it without a query.
+bool within_cap(const MeshQuery& query, const Sphere& b, const Eigen::Vector3d& x, const Probe& px,
+                double cap) {
+  if (std::isinf(cap) || b.radius - px.depth + (b.center - x).norm() <= cap) return true;
+  return b.radius - probe(query, b.center, x, px).depth <= cap;
+}
+
 // Ball j moved against \p g by the largest of s, s/2, ... (times its radius) that lowers U
 // and leaves its protrusion at most \p cap (an infinite cap spares the distance queries);
 // \p s grows by half after a success. True when it moved.
@@ -923,8 +931,7 @@ bool descend_ball(const MeshQuery& query, std::vector<Sphere>& balls, std::size_
     const Eigen::Vector3d c = balls[j].center + std::ldexp(step, -h) * dir;
     set.back() = {c, reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
     if (measure_union(set).volume - rest < before &&
-        (std::isinf(cap) ||
-         set.back().radius - probe(query, c, balls[j].center, here).depth <= cap)) {
+        within_cap(query, set.back(), balls[j].center, here, cap)) {
       balls[j] = set.back();
       s = std::min(0.5, h == 0 ? 1.5 * s : std::ldexp(s, -h));
       return true;
