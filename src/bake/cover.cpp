@@ -850,7 +850,8 @@ Clustering refine(const MeshQuery& query, const Elements& e, Clustering c, std::
 // protrusion-balanced places of steps 4c and 4e) and the product rejects it; capped at
 // the winner's largest protrusion, a lower U is a lower product, so the capped run is
 // kept almost always, while on links of two or three balls the free run's much lower U
-// (a third of it on some) outweighs its somewhat larger protrusion.
+// (a third of it on some) outweighs its somewhat larger protrusion; so the free run is
+// made at small budgets only.
 constexpr int kDescentRounds = 12;
 constexpr double kDescentProgress = 3e-4;
 constexpr int kDescentHalvings = 4;
@@ -967,17 +968,24 @@ Clustering descend_volume(const MeshQuery& query, const Elements& e, Clustering 
   return c;
 }
 
-// Step 4f on the winner: the capped and the free descent (each serial, the two side by
-// side), the one of least cover_cost kept when it is below the winner's.
-Clustering volume_step(const MeshQuery& query, const Elements& e, Clustering c,
+// Step 4f on the winner: the capped descent and, for budgets up to kFreeDescentBudget, the
+// free one beside it (each serial, the two side by side); the one of least cover_cost is
+// kept when it is below the winner's. (The free run wins on few-ball links only, where
+// one ball's move changes much of the union; at larger budgets it costs time for
+// nothing.)
+constexpr std::size_t kFreeDescentBudget = 4;
+
+Clustering volume_step(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
                        const std::optional<double>& volume, int threads) {
+  const int run_count = budget <= kFreeDescentBudget ? 2 : 1;
   std::array<Clustering, 2> runs;
-  std::array<double, 2> cost{};
-#pragma omp parallel for schedule(static, 1) num_threads(std::min(threads, 2))
-  for (int run = 0; run < 2; ++run) {
+  std::array<double, 2> cost{std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::infinity()};
+#pragma omp parallel for schedule(static, 1) num_threads(std::min(threads, run_count))
+  for (int run = 0; run < run_count; ++run) {
     const std::size_t r = static_cast<std::size_t>(run);
-    runs[r] = descend_volume(query, e, c, run == 0, 1);
-    cost[r] = cover_cost(query, runs[r].balls, volume, 1);
+    runs[r] = descend_volume(query, e, c, run == 0, run_count == 1 ? threads : 1);
+    cost[r] = cover_cost(query, runs[r].balls, volume, run_count == 1 ? threads : 1);
   }
   const std::size_t pick = cost[1] < cost[0] ? 1 : 0;
   if (cost[pick] < cover_cost(query, c.balls, volume, threads)) return std::move(runs[pick]);
@@ -1032,7 +1040,7 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
     c = std::move(t);
   c = refine(query, e, std::move(c), budget, volume, one_ball, threads);
   if (!options.volume_descent) return c;
-  return volume_step(query, e, std::move(c), volume, threads);
+  return volume_step(query, e, std::move(c), budget, volume, threads);
 }
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {
