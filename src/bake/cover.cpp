@@ -829,6 +829,169 @@ Clustering refine(const MeshQuery& query, const Elements& e, Clustering c, std::
   return c;
 }
 
+// Step 4f. Union-volume descent. With each ball's elements fixed, its radius is the
+// distance to its farthest point, so the union's volume U is a function of the centres.
+// Its gradient in centre c_j: the integral of the outward normal over ball j's exposed
+// sphere (the part in no other ball) plus the exposed area times d r_j / d c_j, the unit
+// vector from the farthest point to c_j (here the sum of those vectors over the points
+// within 1% of the radius, cut to length 1: the radius is a maximum, and at a minimum
+// enclosing ball the single farthest point's direction says little). Both integrals are estimated
+// on kDirections Fibonacci points of the sphere. Each ball in turn then moves against its gradient
+// by a step s, halved until the move lowers U: the exact change of U from moving ball j alone is
+// that of vol(B_j u N) - vol(N), N the balls that can meet B_j before or after (the radius is
+// 1-Lipschitz in the centre), so each accepted move lowers the exact U. A move is also refused when
+// the ball would stick out beyond \p cap. A round is the moves of every ball, then the shrink of
+// step 4 (which only lowers radii); rounds stop when U falls by less than kDescentProgress of
+// itself. Every element stays held by its owner: a moved ball's radius is that of its elements'
+// farthest point.
+//
+// Why two runs, and the product rule of step 4d to choose. Free, the descent lowers U on
+// robot links but most often raises the largest protrusion (it pulls balls off the
+// protrusion-balanced places of steps 4c and 4e) and the product rejects it; capped at
+// the winner's largest protrusion, a lower U is a lower product, so the capped run is
+// kept almost always, while on links of two or three balls the free run's much lower U
+// (a third of it on some) outweighs its somewhat larger protrusion; so the free run is
+// made at small budgets only.
+constexpr int kDescentRounds = 12;
+constexpr double kDescentProgress = 3e-4;
+constexpr int kDescentHalvings = 4;
+constexpr int kDirections = 160;
+
+std::vector<Eigen::Vector3d> fibonacci_directions(int n) {
+  std::vector<Eigen::Vector3d> u;
+  const double golden = M_PI * (3.0 - std::sqrt(5.0));
+  for (int k = 0; k < n; ++k) {
+    const double z = 1.0 - (2.0 * k + 1.0) / n, rho = std::sqrt(1.0 - z * z);
+    u.emplace_back(rho * std::cos(golden * k), rho * std::sin(golden * k), z);
+  }
+  return u;
+}
+
+// The balls other than j that can meet ball j when its centre moves by up to \p reach.
+std::vector<Sphere> neighbours(const std::vector<Sphere>& balls, std::size_t j, double reach) {
+  std::vector<Sphere> n;
+  for (std::size_t m = 0; m < balls.size(); ++m) {
+    const double d = balls[j].radius + balls[m].radius + 2.0 * reach;
+    if (m != j && balls[m].radius > 0.0 &&
+        (balls[m].center - balls[j].center).squaredNorm() < d * d)
+      n.push_back(balls[m]);
+  }
+  return n;
+}
+
+// The gradient of U in ball j's centre (the file comment of step 4f), \p atoms what it
+// holds.
+Eigen::Vector3d volume_gradient(const std::vector<Sphere>& balls, std::size_t j,
+                                const std::vector<Sphere>& atoms,
+                                const std::vector<Eigen::Vector3d>& dirs) {
+  const Sphere& b = balls[j];
+  const std::vector<Sphere> others = neighbours(balls, j, 0.0);
+  Eigen::Vector3d normal = Eigen::Vector3d::Zero();
+  int exposed = 0;
+  for (const Eigen::Vector3d& u : dirs) {
+    const Eigen::Vector3d x = b.center + b.radius * u;
+    const bool hidden = std::any_of(others.begin(), others.end(), [&](const Sphere& o) {
+      return (x - o.center).squaredNorm() < o.radius * o.radius;
+    });
+    if (!hidden) normal += u, ++exposed;
+  }
+  Eigen::Vector3d pull = Eigen::Vector3d::Zero();
+  for (const Sphere& a : atoms) {
+    const Eigen::Vector3d d = b.center - a.center;
+    const double n = d.norm();
+    if (n + a.radius >= 0.99 * b.radius && n > 0.0) pull += d / n;
+  }
+  if (pull.norm() > 1.0) pull.normalize();
+  const double patch = 4.0 * M_PI * b.radius * b.radius / static_cast<double>(dirs.size());
+  return patch * (normal + static_cast<double>(exposed) * pull);
+}
+
+// Whether ball b, moved from centre x (whose probe is px), sticks out at most \p cap: the
+// depth is 1-Lipschitz, so r - depth(x) + |c - x| <= cap settles it without a query.
+bool within_cap(const MeshQuery& query, const Sphere& b, const Eigen::Vector3d& x, const Probe& px,
+                double cap) {
+  if (std::isinf(cap) || b.radius - px.depth + (b.center - x).norm() <= cap) return true;
+  return b.radius - probe(query, b.center, x, px).depth <= cap;
+}
+
+// Ball j moved against \p g by the largest of s, s/2, ... (times its radius) that lowers U
+// and leaves its protrusion at most \p cap (an infinite cap spares the distance queries);
+// \p s grows by half after a success. True when it moved.
+bool descend_ball(const MeshQuery& query, std::vector<Sphere>& balls, std::size_t j,
+                  const std::vector<Sphere>& atoms, const Eigen::Vector3d& g, double cap,
+                  double& s) {
+  if (!(g.norm() > 0.0)) return false;
+  const Probe here = std::isinf(cap) ? Probe{} : probe(query, balls[j].center, balls[j].center, {});
+  const Eigen::Vector3d dir = -g.normalized();
+  const double step = s * balls[j].radius;
+  std::vector<Sphere> set = neighbours(balls, j, step);
+  const double rest = measure_union(set).volume;
+  set.push_back(balls[j]);
+  const double before = measure_union(set).volume - rest;
+  for (int h = 0; h <= kDescentHalvings; ++h) {
+    const Eigen::Vector3d c = balls[j].center + std::ldexp(step, -h) * dir;
+    set.back() = {c, reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
+    if (measure_union(set).volume - rest < before &&
+        within_cap(query, set.back(), balls[j].center, here, cap)) {
+      balls[j] = set.back();
+      s = std::min(0.5, h == 0 ? 1.5 * s : std::ldexp(s, -h));
+      return true;
+    }
+  }
+  s = std::ldexp(s, -kDescentHalvings - 1);
+  return false;
+}
+
+Clustering descend_volume(const MeshQuery& query, const Elements& e, Clustering c, bool capped,
+                          int threads) {
+  drop_empty(c);
+  const double cap = capped ? largest_protrusion(query, c.balls, threads)
+                            : std::numeric_limits<double>::infinity();
+  const std::vector<Eigen::Vector3d> dirs = fibonacci_directions(kDirections);
+  std::vector<double> step(c.balls.size(), 0.1);
+  std::vector<char> mark(e.points.size(), 0);
+  double volume = union_volume(c.balls);
+  for (int round = 0; round < kDescentRounds; ++round) {
+    const auto members = members_of(c.owner, c.balls.size());
+    for (std::size_t j = 0; j < c.balls.size(); ++j) {
+      if (members[j].empty() || step[j] < 1e-3) continue;
+      const std::vector<Sphere> atoms = atoms_of(e, members[j], mark);
+      descend_ball(query, c.balls, j, atoms, volume_gradient(c.balls, j, atoms, dirs), cap,
+                   step[j]);
+    }
+    shrink(e, c);
+    const double v = union_volume(c.balls);
+    const bool slow = !(v < volume * (1.0 - kDescentProgress));
+    volume = v;
+    if (slow) break;
+  }
+  return c;
+}
+
+// Step 4f on the winner: the capped descent and, for budgets up to kFreeDescentBudget, the
+// free one beside it (each serial, the two side by side); the one of least cover_cost is
+// kept when it is below the winner's. (The free run wins on few-ball links only, where
+// one ball's move changes much of the union; at larger budgets it costs time for
+// nothing.)
+constexpr std::size_t kFreeDescentBudget = 4;
+
+Clustering volume_step(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
+                       const std::optional<double>& volume, int threads) {
+  const int run_count = budget <= kFreeDescentBudget ? 2 : 1;
+  std::array<Clustering, 2> runs;
+  std::array<double, 2> cost{std::numeric_limits<double>::infinity(),
+                             std::numeric_limits<double>::infinity()};
+#pragma omp parallel for schedule(static, 1) num_threads(std::min(threads, run_count))
+  for (int run = 0; run < run_count; ++run) {
+    const std::size_t r = static_cast<std::size_t>(run);
+    runs[r] = descend_volume(query, e, c, run == 0, run_count == 1 ? threads : 1);
+    cost[r] = cover_cost(query, runs[r].balls, volume, run_count == 1 ? threads : 1);
+  }
+  const std::size_t pick = cost[1] < cost[0] ? 1 : 0;
+  if (cost[pick] < cover_cost(query, c.balls, volume, threads)) return std::move(runs[pick]);
+  return c;
+}
+
 // Steps 2 to 4 from every start, on the patches, each result carried over to the elements
 // (step 4b); then the minimax start (step 4c) from candidates that include every start's
 // centres, and its threshold search bounded by the best start's largest protrusion. The
@@ -875,7 +1038,9 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
   if (!t.balls.empty() && union_volume(t.balls) <= one_ball &&
       cover_cost(query, t.balls, volume, threads) < best)
     c = std::move(t);
-  return refine(query, e, std::move(c), budget, volume, one_ball, threads);
+  c = refine(query, e, std::move(c), budget, volume, one_ball, threads);
+  if (!options.volume_descent) return c;
+  return volume_step(query, e, std::move(c), budget, volume, threads);
 }
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {
