@@ -45,6 +45,7 @@
 ///    of the volume outside the solid (U - V; U on an open mesh) and the largest
 ///    protrusion, so that neither is traded for a small gain in the other; a result whose
 ///    union is larger than that of start 0's single ball (moved inward) is not eligible.
+/// 4e and 4f run only for K <= 16, where each ball matters most and they cost least.
 /// 4e. Local search on the winner, at most 3 moves: the ball that protrudes most is split
 ///    in two (each half its minimum enclosing ball), filling the budget while balls are
 ///    missing, else in exchange for the ball whose elements the others take at the least
@@ -95,7 +96,7 @@ struct CoverOptions {
   int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
   CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
   int threads = 0;                      ///< 0: all cores
-  bool volume_descent = true;           ///< step 4f
+  bool volume_descent = true;           ///< step 4f (K <= 16)
 };
 
 struct CoverStats {
