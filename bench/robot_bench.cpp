@@ -417,11 +417,11 @@ int run(const Options& o) {
   // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link of
   // sphere primitives only against a meshed link) counts as colliding, as a planner must
   // take it.
-  auto certified = [&](const mf::RobotBounds& robot) {
+  auto certified = [&](const mf::RobotBounds& checker) {
     return [&](std::size_t i, MethodRun& r) {
       r.uses_mesh = true;
       const mf::RobotCollideResult c =
-          mf::robot_collide(robot, configs[i], objects, o.self, o.margin);
+          mf::robot_collide(checker, configs[i], objects, o.self, o.margin);
       r.queried_mesh = c.mesh_fallbacks > 0;
       if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
       if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;

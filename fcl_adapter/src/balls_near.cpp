@@ -94,6 +94,12 @@ class NearSearch {
 
 }  // namespace
 
+bool balls_apart(const Sphere& a, const Sphere& b, double margin) {
+  const double gap = (a.center - b.center).norm() - a.radius - b.radius;
+  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
+  return std::isfinite(gap) && gap - 1e-12 * scale > margin;
+}
+
 std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
                              const std::vector<Sphere>& balls, double margin) {
   if (object.collisionGeometry() == nullptr)
@@ -102,14 +108,10 @@ std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
   const ::fcl::Transform3d X_BW = object.getTransform().inverse();
   std::vector<char> near(balls.size(), 1);
   // First the object's bounding ball in W, which needs no target view.
-  const Eigen::Vector3d c_W = object.getTransform() * g.aabb_center;
+  const Sphere bound_W{object.getTransform() * g.aabb_center, g.aabb_radius};
   bool open = false;
   for (std::size_t i = 0; i < balls.size(); ++i) {
-    const Sphere& b = balls[i];
-    const double gap = (b.center - c_W).norm() - b.radius - g.aabb_radius;
-    const double allowance =
-        1e-12 * (b.center.norm() + b.radius + c_W.norm() + g.aabb_radius + margin);
-    if (std::isfinite(gap) && gap - allowance > margin)
+    if (balls_apart(balls[i], bound_W, margin))
       near[i] = 0;
     else
       open = true;

@@ -81,15 +81,6 @@ std::vector<Sphere> link_balls(const RobotBounds& robot, const std::vector<::fcl
   return out;
 }
 
-// True when the balls are certainly farther apart than margin, so that every pair of
-// sets inside them is: the gap is computed in doubles, so it must exceed the margin by a
-// relative allowance (1e-12 of the magnitudes involved, far above the few ulps of error).
-bool apart(const Sphere& a, const Sphere& b, double margin) {
-  const double gap = (a.center - b.center).norm() - a.radius - b.radius;
-  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
-  return std::isfinite(gap) && gap - 1e-12 * scale > margin;
-}
-
 }  // namespace
 
 std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
@@ -123,7 +114,7 @@ void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder&
     const std::vector<Sphere> balls = link_balls(*this, X);
     for (std::size_t k = 0; k < self_pairs_.size(); ++k) {
       const auto [a, b] = self_pairs_[k];
-      if (!apart(balls[a], balls[b], order.margin) &&
+      if (!balls_apart(balls[a], balls[b], order.margin) &&
           decide(geometries_[a], X[a], geometries_[b], X[b], order.margin).verdict ==
               BoundsVerdict::colliding)
         hits[k].push_back(s);
@@ -241,7 +232,7 @@ RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd
                       decide(g[l], X[l], *obj.collisionGeometry(), obj.getTransform(), margin));
       },
       [&](std::size_t a, std::size_t b) {
-        if (apart(links[a], links[b], margin)) return false;
+        if (balls_apart(links[a], links[b], margin)) return false;
         return record(a, b, true, decide(g[a], X[a], g[b], X[b], margin));
       });
   if (out.verdict == BoundsVerdict::colliding) return out;

@@ -337,6 +337,12 @@ double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
   return r;
 }
 
+// The radius of a ball centred at c that holds \p atoms: reach_from, raised by 4 ulps so
+// that the rounding of the distances never leaves an atom outside.
+double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
+  return reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+
 // The minimum enclosing ball of the points of the elements in \p members, by a core set:
 // the minimum ball of a subset (first the extreme points along the axes and the
 // diagonals) is the answer once it holds every point; otherwise the farthest points
@@ -521,7 +527,7 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
         }
         if (!moved) step *= 0.5;
       }
-      c.balls[j] = {x, reach_from(pts, x) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
+      c.balls[j] = {x, holding_radius(pts, x)};
     }
   }
 }
@@ -554,9 +560,8 @@ void shrink(const Elements& e, Clustering& c) {
       members[j] = keep;
       const double before = c.balls[j].radius;
       // The same centre, just large enough for what it keeps.
-      const double r = reach_from(atoms_of(e, keep, mark), c.balls[j].center);
       c.balls[j].radius =
-          keep.empty() ? 0.0 : r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+          keep.empty() ? 0.0 : holding_radius(atoms_of(e, keep, mark), c.balls[j].center);
       changed = changed || c.balls[j].radius < before;
     }
     if (!changed) break;
@@ -646,10 +651,8 @@ void hold_members(const Elements& e, Clustering& c) {
   const auto members = members_of(c.owner, c.balls.size());
   std::vector<char> mark(e.points.size(), 0);
   for (std::size_t j = 0; j < c.balls.size(); ++j)
-    c.balls[j].radius = members[j].empty()
-                            ? 0.0
-                            : reach_from(atoms_of(e, members[j], mark), c.balls[j].center) *
-                                  (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+    c.balls[j].radius =
+        members[j].empty() ? 0.0 : holding_radius(atoms_of(e, members[j], mark), c.balls[j].center);
 }
 
 // Step 4c candidates: the points of a grid inside the solid (about kCandidates of them,
@@ -797,15 +800,14 @@ void hand_over(const Elements& e, Clustering& c, std::size_t gone,
 // Step 4e. Local search on the ball count: the ball that protrudes most is split in two,
 // filling the budget while balls are missing, else in exchange for the ball whose elements
 // the others take most cheaply (hand_over); then minimax rounds (step 4c). A move is kept
-// when it lowers cover_cost and its union is no larger than \p one_ball. The search stops
-// at the first move that does not help.
+// when it lowers cover_cost (\p cost, that of \p c, follows the moves kept) and its union
+// is no larger than \p one_ball. The search stops at the first move that does not help.
 constexpr std::size_t kLocalSearchBudget = 16;  // steps 4e and 4f up to this K
 constexpr int kRefineMoves = 3;
 constexpr int kRefineRounds = 2;
 
 Clustering refine(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                  const std::optional<double>& volume, double one_ball, int threads) {
-  double cost = cover_cost(query, c.balls, volume, threads);
+                  const std::optional<double>& volume, double one_ball, double& cost, int threads) {
   for (int move = 0; move < kRefineMoves; ++move) {
     Clustering d = c;
     drop_empty(d);
@@ -931,7 +933,7 @@ bool descend_ball(const MeshQuery& query, std::vector<Sphere>& balls, std::size_
   const double before = measure_union(set).volume - rest;
   for (int h = 0; h <= kDescentHalvings; ++h) {
     const Eigen::Vector3d c = balls[j].center + std::ldexp(step, -h) * dir;
-    set.back() = {c, reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon())};
+    set.back() = {c, holding_radius(atoms, c)};
     if (measure_union(set).volume - rest < before &&
         within_cap(query, set.back(), balls[j].center, here, cap)) {
       balls[j] = set.back();
@@ -971,13 +973,13 @@ Clustering descend_volume(const MeshQuery& query, const Elements& e, Clustering 
 
 // Step 4f on the winner: the capped descent and, for budgets up to kFreeDescentBudget, the
 // free one beside it (each serial, the two side by side); the one of least cover_cost is
-// kept when it is below the winner's. (The free run wins on few-ball links only, where
+// kept when it is below the winner's, \p cost_c. (The free run wins on few-ball links only, where
 // one ball's move changes much of the union; at larger budgets it costs time for
 // nothing.)
 constexpr std::size_t kFreeDescentBudget = 4;
 
 Clustering volume_step(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                       const std::optional<double>& volume, int threads) {
+                       const std::optional<double>& volume, double cost_c, int threads) {
   const int run_count = budget <= kFreeDescentBudget ? 2 : 1;
   std::array<Clustering, 2> runs;
   std::array<double, 2> cost{std::numeric_limits<double>::infinity(),
@@ -989,7 +991,7 @@ Clustering volume_step(const MeshQuery& query, const Elements& e, Clustering c, 
     cost[r] = cover_cost(query, runs[r].balls, volume, run_count == 1 ? threads : 1);
   }
   const std::size_t pick = cost[1] < cost[0] ? 1 : 0;
-  if (cost[pick] < cover_cost(query, c.balls, volume, threads)) return std::move(runs[pick]);
+  if (cost[pick] < cost_c) return std::move(runs[pick]);
   return c;
 }
 
@@ -1036,15 +1038,16 @@ Clustering search(const MeshQuery& query, const Elements& e, const Patching& pat
       threshold_start(query, e, fine, budget, candidates(query, centres, volume, threads),
                       largest_protrusion(query, c.balls, threads),
                       std::min(options.rounds, kMinimaxRounds), threads);
-  if (!t.balls.empty() && union_volume(t.balls) <= one_ball &&
-      cover_cost(query, t.balls, volume, threads) < best)
-    c = std::move(t);
+  if (!t.balls.empty() && union_volume(t.balls) <= one_ball) {
+    const double v = cover_cost(query, t.balls, volume, threads);
+    if (v < best) best = v, c = std::move(t);
+  }
   // Steps 4e and 4f where each ball matters most and they cost least: their cost grows with
   // K (at K = 32 they add a quarter to the bake) while their gain falls.
   if (budget > kLocalSearchBudget) return c;
-  c = refine(query, e, std::move(c), budget, volume, one_ball, threads);
+  c = refine(query, e, std::move(c), budget, volume, one_ball, best, threads);
   if (!options.volume_descent) return c;
-  return volume_step(query, e, std::move(c), budget, volume, threads);
+  return volume_step(query, e, std::move(c), budget, volume, best, threads);
 }
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {

@@ -121,6 +121,12 @@ namespace medspheres {
 namespace {
 
 constexpr double kAmbiguousWinding = 0.1;
+
+// The hierarchical winding number \p w at p, or the direct sum when w is more than
+// kAmbiguousWinding from an integer (step 6).
+double settled_winding(const MeshQuery& query, const Eigen::Vector3d& p, double w) {
+  return std::abs(w - std::round(w)) > kAmbiguousWinding ? query.winding_number_exact(p) : w;
+}
 constexpr std::size_t kSamplesPerCandidate = 8;
 
 void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBoundOptions& o) {
@@ -195,8 +201,7 @@ DepthGrid depth_grid(const MeshQuery& query, int resolution, bool closed, int th
 #pragma omp parallel for schedule(dynamic, 64) num_threads(thread_count(threads))
   for (long long i = 0; i < count; ++i) {
     double& v = w[static_cast<std::size_t>(i)];
-    if (std::abs(v - std::round(v)) > kAmbiguousWinding)
-      v = query.winding_number_exact(centres[static_cast<std::size_t>(i)]);
+    v = settled_winding(query, centres[static_cast<std::size_t>(i)], v);
   }
   const std::vector<char> counted = counted_centres(w, n, !closed);
   DepthGrid g;
@@ -588,8 +593,7 @@ class PairRefinement {
     ++queries_;
     const double r = half.norm(), d = query_.closest_point(g).distance();
     double w = query_.winding_number(g);
-    if (closed_ && std::abs(w - std::round(w)) > kAmbiguousWinding)
-      w = query_.winding_number_exact(g);
+    if (closed_) w = settled_winding(query_, g, w);
     if (!(w > 0.5) && d > r) return;  // the whole cell is outside the solid: phi >= h
     const double off = std::max(0.0, (g - mid_).norm() - r);
     const double reach =

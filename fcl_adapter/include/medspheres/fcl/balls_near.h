@@ -18,6 +18,11 @@
 
 namespace medspheres::fcl {
 
+/// True when the balls \p a and \p b (one frame) are certainly farther apart than
+/// \p margin, so that all they contain is: their gap is computed in doubles, so it must
+/// exceed the margin by 1e-12 of the magnitudes involved, far above its few ulps of error.
+bool balls_apart(const Sphere& a, const Sphere& b, double margin);
+
 /// For each ball of \p balls_W: 0 only when no point of the object's geometry lies within
 /// the ball's radius plus \p margin of its centre (certainly: with a rounding allowance),
 /// else 1. The test: the object's root bounding volume (its local AABB for a primitive),
