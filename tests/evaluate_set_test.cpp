@@ -224,6 +224,14 @@ TEST_CASE("eval of a robot: rows in the URDF's order, from a file as from a map"
   REQUIRE(g.links[2].fit);
   CHECK(g.links[2].fit->volume.nerr == hand.fit->volume.nerr);
   CHECK(nlohmann::json::parse(robot_evaluation_json(g))["unknown_links"][0] == "elbow");
+  // A file none of whose links the robot has is not this robot's: an error naming it.
+  try {
+    evaluate_robot_spheres(urdf, read, {{"elbow", one}}, "mine", fast_fit());
+    FAIL("a file of another robot was measured");
+  } catch (const InputError& err) {
+    CHECK(err.file() == "mine");
+    CHECK(std::string(err.what()).find("'elbow'") != std::string::npos);
+  }
 }
 
 TEST_CASE("eval of a robot: each measured link's surface certificate", "[eval][robot]") {

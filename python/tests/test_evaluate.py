@@ -145,10 +145,15 @@ def test_evaluate_robot_closed_form(baked_arm):
 def test_evaluate_robot_bad_input(cli, baked_arm, eight, tmp_path):
     urdf, out = baked_arm
     # a link the robot lacks is not measured, and named in a warning
+    ball = np.array([[0, 0, 0, 0.01]])
     with pytest.warns(UserWarning, match="link 'elbow' is not in the robot"):
-        rows = medspheres.evaluate_robot(urdf, {"elbow": np.array([[0, 0, 0, 0.01]])}, **FAST)
+        rows = medspheres.evaluate_robot(urdf, {"elbow": ball, "hand": ball}, **FAST)
     assert [r["link"] for r in rows] == ["base", "upper", "hand"]
-    assert all(r["spheres"] == 0 for r in rows)
+    assert [r["spheres"] for r in rows] == [0, 0, 1]
+    # spheres of no link of the robot: an error naming the link
+    with pytest.raises(medspheres.InputError) as info:
+        medspheres.evaluate_robot(urdf, {"elbow": ball})
+    assert "'elbow'" in str(info.value)
     one = tmp_path / "one.json"
     medspheres.SphereSet(np.array([[0, 0, 0, 0.01]])).save(one)
     r = cli("eval", urdf, one, check=False)

@@ -74,6 +74,10 @@ RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOp
       known.emplace(link, set);
     else
       out.unknown_links.push_back(link);
+  if (known.empty() && !out.unknown_links.empty())
+    throw InputError(spheres_file, "none of its " + std::to_string(out.unknown_links.size()) +
+                                       " links is a link of the robot in " + urdf + " (first: '" +
+                                       out.unknown_links.front() + "')");
   out.links = evaluate_robot_fit(solids, known, spheres_file, options);
   return out;
 }

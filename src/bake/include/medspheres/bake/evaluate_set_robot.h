@@ -34,7 +34,8 @@ struct RobotEvaluation {
 /// Reads the URDF \p urdf (with \p read) and its link solids, and measures \p spheres (link
 /// name -> spheres in that link's frame; named \p spheres_file in errors) against them; the
 /// links the robot lacks are listed in `unknown_links`, not measured.
-/// \throws InputError as read_urdf, load_link_solids and evaluate_robot_fit.
+/// \throws InputError naming \p spheres_file when none of its links is a link of the robot,
+///   and as read_urdf, load_link_solids and evaluate_robot_fit.
 RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOptions& read,
                                        const std::map<std::string, SphereSet>& spheres,
                                        const std::string& spheres_file, const FitOptions& options);
