@@ -189,6 +189,14 @@ TEST_CASE("writers reject invalid spheres and duplicate links", "[formats]") {
   CHECK_THROWS_AS(curobo_yaml_text({{"a", {{{0, 0, 0}, 0.0}}}}), InputError);
   CHECK_THROWS_AS(srdf_spheres_text({{"a", {}}, {"a", {}}}, "r"), InputError);
   CHECK_THROWS_AS(sph_text({}), InputError);
+  // Centres 1e200 apart: a squared norm would overflow, the root sphere must still be finite.
+  const std::vector<Sphere> far = {{{0, 1e200, 0}, 1.0}, {{0, -1e200, 0}, 1.0}};
+  CHECK(parse_sph_levels(sph_text(far), "far.sph").size() == 2);
+  CHECK(parse_sph_levels(sph_text({{{1.7e308, 0, 0}, 1.0}, {{1.7e308, 0, 0}, 2.0}}), "f").size() ==
+        2);
+  CHECK_THROWS_WITH(
+      sph_text({{{0, 1.797693134862e308, 0}, 1.0}, {{0, -1.797693134862e308, 0}, 1.0}}),
+      Contains("no root sphere bounds them"));
   CHECK_THROWS_WITH(spherize_urdf(medspheres::test::awkward_urdf(), {{"ghost", {}}}, "u.urdf"),
                     Contains("\"ghost\""));
 }

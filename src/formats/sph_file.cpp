@@ -39,10 +39,13 @@ std::string sph_text(const std::vector<Sphere>& spheres) {
   validate_sphere_set(set, ".sph");
   if (spheres.empty()) throw InputError(".sph", "no spheres to write");
   Eigen::Vector3d c = Eigen::Vector3d::Zero();
-  for (const Sphere& s : spheres) c += s.center;
-  c /= static_cast<double>(spheres.size());
+  for (const Sphere& s : spheres) c += s.center / static_cast<double>(spheres.size());
   double r = 0.0;
-  for (const Sphere& s : spheres) r = std::max(r, (s.center - c).norm() + s.radius);
+  // stableNorm: coordinates beyond 1e154 would overflow a squared norm.
+  for (const Sphere& s : spheres) r = std::max(r, (s.center - c).stableNorm() + s.radius);
+  if (!std::isfinite(r * (1.0 + 1e-12)))
+    throw InputError(".sph",
+                     "the spheres span more than a double holds; no root sphere bounds them");
   std::string out = "2 " + std::to_string(spheres.size()) + "\n";
   out += node_line({c, r * (1.0 + 1e-12)});
   for (const Sphere& s : spheres) out += node_line(s);
