@@ -165,6 +165,19 @@ class SphereRobot {
   std::vector<std::shared_ptr<mf::SphereSetGeometry>> sets_;
 };
 
+// CPU time of the thread per configuration for the link poses alone, the same calls every
+// method makes.
+double kinematics_micros(const mf::RobotBounds& robot,
+                         const std::vector<Eigen::VectorXd>& configs) {
+  const double t0 = mb::thread_cpu_micros();
+  double sink = 0.0;
+  for (const Eigen::VectorXd& q : configs)
+    sink += robot.poses(q, Eigen::Isometry3d::Identity()).back().translation().x();
+  const double micros = mb::thread_cpu_micros() - t0;
+  if (!std::isfinite(sink)) std::printf("(a pose is not finite)\n");
+  return micros / static_cast<double>(std::max<std::size_t>(configs.size(), 1));
+}
+
 // What one method said about every configuration.
 struct MethodRun {
   std::string name;
@@ -436,6 +449,10 @@ int run(const Options& o) {
                                   std::max<std::size_t>(o.distance_every, 1));
   const double ref_seconds = mb::seconds_since(t0);
   print_table(runs, ref);
+  std::printf(
+      "\nforward kinematics (RobotBounds::poses, in every method's time): %.2f us per "
+      "configuration\n",
+      kinematics_micros(bounds, configs));
   const MethodRun& b = runs[4];
   const double n = static_cast<double>(configs.size());
   const double with_mesh = n - static_cast<double>(b.mesh_free + b.undecided);

@@ -48,6 +48,18 @@ bool rss_within(const Rss& b, const Eigen::Vector3d& p, double reach) {
   return rectangle_distance2(b, p) <= r * r;
 }
 
+// Whether every point of the RSS b lies within reach of p: its rectangle's farthest
+// corner within reach - radius.
+bool rss_inside(const Rss& b, const Eigen::Vector3d& p, double reach) {
+  const double r = reach - b.radius;
+  if (r < 0.0) return false;
+  const Eigen::Vector3d u = b.axis.col(0) * b.length[0], v = b.axis.col(1) * b.length[1];
+  const Eigen::Vector3d q = b.corner - p;
+  const double far2 = std::max(std::max(q.squaredNorm(), (q + u).squaredNorm()),
+                               std::max((q + v).squaredNorm(), (q + u + v).squaredNorm()));
+  return far2 <= r * r;
+}
+
 // The search below a target's root, for the balls' centres p (frame B) and reaches.
 class NearSearch {
  public:
@@ -68,10 +80,17 @@ class NearSearch {
       }
       return;
     }
+    // A node lying entirely within reach of a ball holds a primitive within reach of it,
+    // or none: the ball may be called near either way (near is always a safe answer),
+    // with no descent.
     const std::size_t kept = open_.size();
     for (std::size_t k = begin; k < end; ++k) {
       const int i = open_[k];
-      if (!near_[i] && rss_within(n.bounds, p_[i], reach_[i])) open_.push_back(i);
+      if (near_[i] || !rss_within(n.bounds, p_[i], reach_[i])) continue;
+      if (rss_inside(n.bounds, p_[i], reach_[i]))
+        near_[i] = 1;
+      else
+        open_.push_back(i);
     }
     const std::size_t last = open_.size();
     if (last > kept) {

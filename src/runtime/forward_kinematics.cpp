@@ -11,21 +11,35 @@ namespace {
 constexpr long kFixedJoint = -1;
 constexpr long kMimicJoint = -2;
 
-// The motion of a joint at position q: X_JC.
-Eigen::Isometry3d joint_motion(JointType type, const Eigen::Vector3d& axis, double q) {
-  Eigen::Isometry3d m = Eigen::Isometry3d::Identity();
+// The rotation by angle q about the unit axis u (Rodrigues' formula).
+Eigen::Matrix3d rotation(const Eigen::Vector3d& u, double q) {
+  const double c = std::cos(q), s = std::sin(q), t = 1.0 - c;
+  Eigen::Matrix3d r;
+  r << t * u.x() * u.x() + c, t * u.x() * u.y() - s * u.z(), t * u.x() * u.z() + s * u.y(),
+      t * u.x() * u.y() + s * u.z(), t * u.y() * u.y() + c, t * u.y() * u.z() - s * u.x(),
+      t * u.x() * u.z() - s * u.y(), t * u.y() * u.z() + s * u.x(), t * u.z() * u.z() + c;
+  return r;
+}
+
+// X_WC = X_WP X_PJ X_JC(q), the joint's motion X_JC a rotation about, or a translation
+// along, its axis; written out so that no 4 x 4 product is formed.
+void step_pose(const Eigen::Isometry3d& X_WP, const Eigen::Isometry3d& X_PJ, JointType type,
+               const Eigen::Vector3d& axis, double q, Eigen::Isometry3d& X_WC) {
+  const Eigen::Matrix3d R_WJ = X_WP.linear() * X_PJ.linear();
+  X_WC.translation() = X_WP.linear() * X_PJ.translation() + X_WP.translation();
   switch (type) {
     case JointType::kRevolute:
     case JointType::kContinuous:
-      m.linear() = Eigen::AngleAxisd(q, axis).toRotationMatrix();
+      X_WC.linear() = R_WJ * rotation(axis, q);
       break;
     case JointType::kPrismatic:
-      m.translation() = q * axis;
+      X_WC.translation() += R_WJ * (q * axis);
+      X_WC.linear() = R_WJ;
       break;
     case JointType::kFixed:
+      X_WC.linear() = R_WJ;
       break;
   }
-  return m;
 }
 
 }  // namespace
@@ -101,7 +115,7 @@ std::vector<Eigen::Isometry3d> KinematicTree::link_poses(const Eigen::VectorXd& 
   X_WL[root_] = X_WB;
   for (const Step& s : steps_) {
     const double qj = s.source < 0 ? 0.0 : s.multiplier * q[s.source] + s.offset;
-    X_WL[s.child] = X_WL[s.parent] * s.origin * joint_motion(s.type, s.axis, qj);
+    step_pose(X_WL[s.parent], s.origin, s.type, s.axis, qj, X_WL[s.child]);
   }
   return X_WL;
 }
