@@ -10,9 +10,11 @@
 //   inner    the inner sets alone, the same way;
 //   bounds   both sets at once with the exact meshes as fallback
 //            (medspheres::fcl::robot_collide), the library's certified query, its self
-//            pairs ordered by --order-samples seeded configurations (seed + 1); a verdict
-//            left undecided (no mesh pair to settle a pair) counts as colliding;
-//   bounds/g the same with the self pairs in geometry order.
+//            pairs ordered, and its witness sphere pairs picked, by --order-samples
+//            seeded configurations (seed + 1); a verdict left undecided (no mesh pair to
+//            settle a pair) counts as colliding;
+//   bounds/g the same with the self pairs in geometry order and no witnesses.
+// The samples are configurations of their own: none of them is one of the timed ones.
 // Every method visits the same pairs (the links against every scene object, and the
 // self-collision pairs of RobotBounds); exact skips the pairs whose world AABBs are
 // farther apart than the margin (a broadphase that never changes its answer). exact and
@@ -185,6 +187,7 @@ struct MethodRun {
   std::vector<char> colliding;  // per configuration
   std::size_t mesh_free = 0;    // configurations decided without a mesh query
   std::size_t undecided = 0;    // configurations left undecided (counted as colliding)
+  std::size_t by_witness = 0;   // configurations decided by a witness pair (RobotBounds)
   double mesh_micros = 0.0;     // total CPU time of the configurations that queried a mesh
   bool uses_mesh = false;
   bool queried_mesh = false;  // by the last configuration
@@ -438,6 +441,7 @@ int run(const Options& o) {
       r.queried_mesh = c.mesh_fallbacks > 0;
       if (c.mesh_fallbacks == 0 && c.verdict != medspheres::BoundsVerdict::undecided) ++r.mesh_free;
       if (c.verdict == medspheres::BoundsVerdict::undecided) ++r.undecided;
+      if (c.by_witness) ++r.by_witness;
       return c.verdict != medspheres::BoundsVerdict::free;
     };
   };
@@ -459,6 +463,10 @@ int run(const Options& o) {
   std::printf("\nbounds: %.1fx faster than exact+ (the same pair order and scene skip)\n",
               runs[1].micros / b.micros);
   std::printf("bounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
+  std::printf(
+      "bounds: %zu witness sphere pairs (SelfPairOrder) decided %zu configurations "
+      "(%.1f%%) with no walk\n",
+      bounds.witnesses().size(), b.by_witness, 100.0 * b.by_witness / n);
   std::printf(
       "bounds: the %.0f configurations that queried a mesh took %.1f%% of its time (%.1f us "
       "each), the others %.1f us each\n",

@@ -269,6 +269,13 @@ TEST_CASE("the joint walk gives the two sphere-set distances", "[bounds]") {
     // The rounding allowance is at most 64 ulps of a scene of extent < 10.
     CHECK(b.lower == Approx(std::max(0.0, outer)).margin(1e-12));
     CHECK(b.upper == Approx(std::max(0.0, inner)).margin(1e-12));
+    // The pair named for upper is an inner pair at the inner sets' distance.
+    REQUIRE(b.upper_a >= 0);
+    REQUIRE(b.upper_b >= 0);
+    const Sphere sa = p.a->geometry->inner().sphere(static_cast<std::size_t>(b.upper_a));
+    const Sphere sb = p.b->geometry->inner().sphere(static_cast<std::size_t>(b.upper_b));
+    const double gap = (p.X_WA * sa.center - p.X_WB * sb.center).norm() - sa.radius - sb.radius;
+    CHECK(std::max(0.0, gap) == Approx(std::max(0.0, inner)).margin(1e-12));
   }
 }
 
@@ -642,4 +649,72 @@ TEST_CASE("a self-pair order changes no verdict and puts the most colliding pair
   }
   CHECK(colliding > 0);
   CHECK(colliding < 60);
+}
+
+TEST_CASE("witnesses are inner sphere pairs of the samples, and each hit is a true collision",
+          "[bounds][robot]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  std::map<std::string, const Solid*> solid_of;
+  RobotModel model = solid_arm(&meshes, &solid_of);
+  for (Joint& j : model.joints)  // l2 near the base, so that the arm collides with itself
+    if (j.name == "j2") j.origin.translation() = Eigen::Vector3d(0.25, 0.0, 0.0);
+  const double margin = 0.01;
+  const mf::SelfPairOrder order{300, margin, 7};
+  const mf::RobotBounds robot(model, meshes, {}, {}, order);
+  CHECK(mf::RobotBounds(model, meshes).witnesses().empty());
+  CHECK(mf::RobotBounds(model, meshes, {}, {}, {300, margin, 7, 1}).witnesses().size() == 1);
+  const auto& w = robot.witnesses();
+  REQUIRE(!w.empty());
+  CHECK(w.size() <= order.max_witnesses);
+  const auto& g = robot.geometries();
+  auto is_inner_sphere = [&](std::size_t link, const Sphere& s) {
+    const SphereTree& t = g[link].inner();
+    for (std::size_t i = 0; i < t.num_spheres(); ++i)
+      if (t.sphere(i).center == s.center && t.sphere(i).radius == s.radius) return true;
+    return false;
+  };
+  // Brute force over the order's samples: in how many each witness's spheres are within
+  // the margin; the first witness holds in the most (the greedy cover's first pick).
+  const auto samples = mf::sample_configurations(model, robot.kinematics(), order.samples, 7);
+  std::vector<int> held(w.size(), 0);
+  for (const Eigen::VectorXd& q : samples) {
+    const auto X = robot.poses(q, Eigen::Isometry3d::Identity());
+    for (std::size_t k = 0; k < w.size(); ++k) {
+      const double gap = (X[w[k].a] * w[k].in_a.center - X[w[k].b] * w[k].in_b.center).norm() -
+                         w[k].in_a.radius - w[k].in_b.radius;
+      held[k] += gap <= margin ? 1 : 0;
+    }
+  }
+  for (std::size_t k = 0; k < w.size(); ++k) {
+    CHECK(is_inner_sphere(w[k].a, w[k].in_a));
+    CHECK(is_inner_sphere(w[k].b, w[k].in_b));
+    CHECK(held[k] >= 1);
+    CHECK(held[0] >= held[k]);
+  }
+  // Fresh configurations: a witness's "colliding" is confirmed by the exact meshes and by
+  // the pair's own walk.
+  int by_witness = 0;
+  for (const Eigen::VectorXd& q : mf::sample_configurations(model, robot.kinematics(), 200, 8)) {
+    const mf::RobotCollideResult r = mf::robot_collide(robot, q, {}, true, margin);
+    if (!r.by_witness) continue;
+    ++by_witness;
+    CHECK(r.verdict == BoundsVerdict::colliding);
+    const auto X = robot.poses(q, Eigen::Isometry3d::Identity());
+    double nearest = std::numeric_limits<double>::infinity();
+    bool walk_agrees = false;
+    for (const auto& [a, b] : robot.self_pairs()) {
+      bool nested = false;
+      const auto& names = robot.kinematics().link_names();
+      nearest =
+          std::min(nearest, exact_distance(*solid_of.at(names[robot.link_of()[a]]), X[a],
+                                           *solid_of.at(names[robot.link_of()[b]]), X[b], &nested));
+      walk_agrees = walk_agrees ||
+                    mf::decide(g[a], X[a], g[b], X[b], margin).verdict == BoundsVerdict::colliding;
+    }
+    CHECK(nearest <= margin + 1e-12);
+    CHECK(walk_agrees);
+  }
+  CHECK(by_witness > 0);
+  CHECK(mf::robot_collide(robot, samples[0], {}, false, margin).by_witness == false);
+  CHECK_THROWS_AS(mf::robot_collide(robot, samples[0], {}, true, -1.0), std::invalid_argument);
 }

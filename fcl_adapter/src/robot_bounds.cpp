@@ -4,6 +4,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <random>
 #include <set>
@@ -81,6 +82,42 @@ std::vector<Sphere> link_balls(const RobotBounds& robot, const std::vector<::fcl
   return out;
 }
 
+// Whether the witness's two spheres are certainly within margin at the poses X: their
+// gap, computed in doubles, below it by 1e-12 of the magnitudes involved (balls_apart's
+// allowance, far above the few ulps of error of the poses and the gap).
+bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& X, double margin) {
+  const Eigen::Vector3d ca = X[w.a] * w.in_a.center, cb = X[w.b] * w.in_b.center;
+  const double gap = (ca - cb).norm() - w.in_a.radius - w.in_b.radius;
+  const double scale = ca.norm() + cb.norm() + w.in_a.radius + w.in_b.radius + margin;
+  return gap + 1e-12 * scale <= margin;
+}
+
+// Greedy cover of the samples by witnesses: each step takes the candidate holding in the
+// most samples not yet covered (ties: the earlier candidate), while it adds at least
+// min_gain of them, up to max_count.
+std::vector<SelfWitness> cover_samples(const std::vector<SelfWitness>& candidates,
+                                       const std::vector<std::vector<::fcl::Transform3d>>& poses,
+                                       double margin, std::size_t min_gain, std::size_t max_count) {
+  std::vector<std::vector<std::size_t>> holds(candidates.size());
+  for (std::size_t c = 0; c < candidates.size(); ++c)
+    for (std::size_t s = 0; s < poses.size(); ++s)
+      if (witness_holds(candidates[c], poses[s], margin)) holds[c].push_back(s);
+  std::vector<char> covered(poses.size(), 0);
+  std::vector<SelfWitness> out;
+  while (out.size() < max_count) {
+    std::size_t best = 0, best_gain = 0;
+    for (std::size_t c = 0; c < candidates.size(); ++c) {
+      std::size_t gain = 0;
+      for (std::size_t s : holds[c]) gain += covered[s] ? 0 : 1;
+      if (gain > best_gain) best = c, best_gain = gain;
+    }
+    if (best_gain < std::max<std::size_t>(min_gain, 1)) break;
+    out.push_back(candidates[best]);
+    for (std::size_t s : holds[best]) covered[s] = 1;
+  }
+  return out;
+}
+
 }  // namespace
 
 std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
@@ -109,17 +146,30 @@ void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder&
   const std::vector<Eigen::VectorXd> samples =
       sample_configurations(model, tree_, order.samples, order.seed);
   std::vector<std::vector<std::size_t>> hits(self_pairs_.size());  // samples, by pair
+  std::vector<std::vector<::fcl::Transform3d>> X(samples.size());
+  std::set<std::array<std::intptr_t, 3>> named;  // (pair, inner sphere of a, of b)
   for (std::size_t s = 0; s < samples.size(); ++s) {
-    const std::vector<::fcl::Transform3d> X = poses(samples[s], Eigen::Isometry3d::Identity());
-    const std::vector<Sphere> balls = link_balls(*this, X);
+    X[s] = poses(samples[s], Eigen::Isometry3d::Identity());
+    const std::vector<Sphere> balls = link_balls(*this, X[s]);
     for (std::size_t k = 0; k < self_pairs_.size(); ++k) {
       const auto [a, b] = self_pairs_[k];
-      if (!balls_apart(balls[a], balls[b], order.margin) &&
-          decide(geometries_[a], X[a], geometries_[b], X[b], order.margin).verdict ==
-              BoundsVerdict::colliding)
-        hits[k].push_back(s);
+      if (balls_apart(balls[a], balls[b], order.margin)) continue;
+      const CollideResult c =
+          decide(geometries_[a], X[s][a], geometries_[b], X[s][b], order.margin);
+      if (c.verdict != BoundsVerdict::colliding) continue;
+      hits[k].push_back(s);
+      if (c.bounds.upper_a >= 0)
+        named.insert({static_cast<std::intptr_t>(k), c.bounds.upper_a, c.bounds.upper_b});
     }
   }
+  std::vector<SelfWitness> candidates;
+  for (const auto& [k, i, j] : named) {
+    const auto [a, b] = self_pairs_[static_cast<std::size_t>(k)];
+    candidates.push_back({a, b, geometries_[a].inner().sphere(static_cast<std::size_t>(i)),
+                          geometries_[b].inner().sphere(static_cast<std::size_t>(j))});
+  }
+  witnesses_ =
+      cover_samples(candidates, X, order.margin, samples.size() / 400, order.max_witnesses);
   std::vector<char> covered(samples.size(), 0), taken(self_pairs_.size(), 0);
   std::vector<std::pair<std::size_t, std::size_t>> out;
   for (;;) {
@@ -200,13 +250,23 @@ RobotBoundsResult robot_bounds(const RobotBounds& robot, const Eigen::VectorXd& 
 RobotCollideResult robot_collide(const RobotBounds& robot, const Eigen::VectorXd& q,
                                  const std::vector<const ::fcl::CollisionObjectd*>& scene,
                                  bool include_self, double margin, const Eigen::Isometry3d& X_WB) {
+  if (!std::isfinite(margin) || margin < 0.0)
+    throw std::invalid_argument("robot_collide: margin must be finite and >= 0");
   const std::vector<::fcl::Transform3d> X = robot.poses(q, X_WB);
   const std::vector<BoundedGeometry>& g = robot.geometries();
+  RobotCollideResult out;
+  if (include_self)
+    for (const SelfWitness& w : robot.witnesses())
+      if (witness_holds(w, X, margin)) {
+        out.verdict = BoundsVerdict::colliding;
+        out.by_witness = true;
+        out.certified = g[w.a].certified() && g[w.b].certified();
+        return out;
+      }
   const std::vector<Sphere> links = link_balls(robot, X);
   // By scene object, by link: whether the link's ball may be within the margin of it (made
   // at the object's first pair).
   std::vector<std::vector<char>> near(scene.size());
-  RobotCollideResult out;
   struct Open {
     std::size_t link, other;
     bool self;

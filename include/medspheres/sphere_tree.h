@@ -243,6 +243,9 @@ struct DistanceBounds {
   double lower = 0.0;
   double upper = std::numeric_limits<double>::infinity();
   QueryStats stats;
+  /// The inner pair that gave upper: indices into A's and B's inner sets (a target's
+  /// primitive id for B), or -1 when upper is infinity.
+  std::intptr_t upper_a = -1, upper_b = -1;
 };
 
 /// Three-valued collision against a margin m >= 0 ("colliding" means d(A, B) <= m).

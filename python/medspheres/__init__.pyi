@@ -119,9 +119,14 @@ class RobotBounds:
         robot_file: PathLike,
         disabled: Sequence[Tuple[str, str]] = ...,
         allow_uncertified: bool = ...,
+        order_samples: int = ...,
+        order_margin: float = ...,
+        seed: int = ...,
     ) -> None: ...
     @property
     def joint_names(self) -> list[str]: ...
+    @property
+    def witnesses(self) -> int: ...
     def bounds(
         self,
         q: npt.ArrayLike,

@@ -53,18 +53,30 @@ void register_robot_bounds(py::module_& m) {
       "`disabled` pairs left out). Immutable; queries release the GIL.")
       .def(py::init([](const py::object& robot_file,
                        const std::vector<std::pair<std::string, std::string>>& disabled,
-                       bool allow_uncertified) {
+                       bool allow_uncertified, std::size_t order_samples, double order_margin,
+                       unsigned seed) {
              const RobotModel model = load_robot(path_of(robot_file));
              fcl::BoundedGeometryOptions o;
              o.allow_uncertified = allow_uncertified;
+             fcl::SelfPairOrder order;
+             order.samples = order_samples;
+             order.margin = order_margin;
+             order.seed = seed;
              return std::make_shared<fcl::RobotBounds>(
-                 model, std::map<std::string, std::shared_ptr<const fcl::MeshModel>>{}, disabled,
-                 o);
+                 model, std::map<std::string, std::shared_ptr<const fcl::MeshModel>>{}, disabled, o,
+                 order);
            }),
            py::arg("robot_file"),
            py::arg("disabled") = std::vector<std::pair<std::string, std::string>>{},
-           py::arg("allow_uncertified") = false,
-           "From a medspheres robot file (.robot.json, as bake_robot writes it).")
+           py::arg("allow_uncertified") = false, py::arg("order_samples") = 0,
+           py::arg("order_margin") = 0.0, py::arg("seed") = 1,
+           "From a medspheres robot file (.robot.json, as bake_robot writes it). With "
+           "order_samples > 0, that many seeded configurations order the self pairs and pick "
+           "witness sphere pairs at order_margin (SelfPairOrder): collide() is then faster "
+           "on robots that often collide with themselves, with the same verdicts.")
+      .def_property_readonly(
+          "witnesses", [](const fcl::RobotBounds& r) { return r.witnesses().size(); },
+          "How many witness sphere pairs the order's samples picked.")
       .def_property_readonly("joint_names",
                              [](const fcl::RobotBounds& r) { return r.kinematics().joint_names(); })
       .def(
@@ -99,13 +111,14 @@ void register_robot_bounds(py::module_& m) {
             py::dict out;
             out["verdict"] = verdict_text(c.verdict);
             out["pairs_tested"] = c.pairs_tested;
+            out["by_witness"] = c.by_witness;
             out["certified"] = c.certified;
             return out;
           },
           py::arg("q"), py::arg("scene") = py::list(), py::arg("include_self") = true,
           py::arg("margin") = 0.0, py::arg("base_pose") = py::none(),
           "Three-valued collision within margin: {'verdict': 'free' | 'colliding' | "
-          "'undecided', 'pairs_tested', 'certified'}.");
+          "'undecided', 'pairs_tested', 'by_witness', 'certified'}.");
 }
 
 }  // namespace medspheres::python

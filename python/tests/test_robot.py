@@ -141,3 +141,24 @@ def test_bake_robot_lengths_as_numbers_or_text(arm):
         assert info.value.field == field
         assert str(info.value).startswith(field + ": must be a length")
 
+
+
+def test_robot_bounds_order_and_witnesses(arm, tmp_path):
+    """An order's witnesses decide some collisions without a walk; no verdict changes."""
+    medspheres.bake_robot(arm, tmp_path / "out", spheres_per_link=6, formats=["robot"])
+    path = tmp_path / "out" / "arm.robot.json"
+    plain = medspheres.RobotBounds(path)
+    ordered = medspheres.RobotBounds(path, order_samples=200, order_margin=0.2, seed=3)
+    assert plain.witnesses == 0
+    assert ordered.witnesses >= 1
+    by_witness = 0
+    for q in np.linspace(-3.0, 3.0, 25):
+        for margin in (0.0, 0.05, 0.2):
+            a = plain.collide([q], margin=margin)
+            b = ordered.collide([q], margin=margin)
+            assert a["verdict"] == b["verdict"], (q, margin)
+            assert not a["by_witness"]
+            by_witness += b["by_witness"]
+    assert by_witness > 0
+    with pytest.raises(ValueError):
+        medspheres.RobotBounds(path, order_samples=10, order_margin=-1.0)

@@ -292,9 +292,10 @@ const Layout& bounds_layout(const SphereTree& t, const char* name) {
   return *l;
 }
 
+// \p inner_a, \p inner_b: the inner trees' original indices (inner_b null for a target).
 template <class O, class I>
-BoundsDecision run_bounds(const O& outer, const I& inner, double slack, bool decide,
-                          double margin) {
+BoundsDecision run_bounds(const O& outer, const I& inner, double slack, bool decide, double margin,
+                          const std::int32_t* inner_a, const std::int32_t* inner_b) {
   detail::BoundsGather g(decide, margin - slack, margin + slack);
   const detail::BoundsNodes<O, I> nodes(outer, inner, g);
   if (decide) {  // the outer pairs first (traversal_bounds.h)
@@ -309,6 +310,11 @@ BoundsDecision run_bounds(const O& outer, const I& inner, double slack, bool dec
   d.bounds.lower = g.done() ? 0.0 : std::max(0.0, g.lower() - slack);
   d.bounds.upper = std::max(0.0, g.upper() + slack);
   d.bounds.stats = g.total();
+  const TreeDistance witness = g.inner.result(inner_a, inner_b, Eigen::Isometry3d::Identity());
+  if (witness.found()) {
+    d.bounds.upper_a = witness.sphere_a;
+    d.bounds.upper_b = witness.primitive_b;
+  }
   if (d.bounds.upper <= margin)
     d.verdict = BoundsVerdict::colliding;
   else if (d.bounds.lower > margin)
@@ -330,7 +336,8 @@ BoundsDecision tree_bounds(const SphereTree& inner_a, const SphereTree& outer_a,
   BoundsDecision out;
   with_sphere_pairs(oa, ob, frame, false, [&](const auto& outer, double ea, double eb) {
     with_sphere_pairs(ia, ib, frame, false, [&](const auto& inner, double, double) {
-      out = run_bounds(outer, inner, collision_slack(ea, eb, frame), decide, margin);
+      out = run_bounds(outer, inner, collision_slack(ea, eb, frame), decide, margin,
+                       ia.original_index, ib.original_index);
     });
   });
   return out;
@@ -350,7 +357,8 @@ BoundsDecision target_bounds(const SphereTree& inner_a, const SphereTree& outer_
   BoundsDecision out;
   with_target_pairs(oa, b, *root, frame, false, [&](const auto& outer, double ea) {
     with_target_pairs(ia, b, *root, frame, false, [&](const auto& inner, double) {
-      out = run_bounds(outer, inner, collision_slack(ea, eb, frame), decide, margin);
+      out = run_bounds(outer, inner, collision_slack(ea, eb, frame), decide, margin,
+                       ia.original_index, nullptr);
     });
   });
   return out;

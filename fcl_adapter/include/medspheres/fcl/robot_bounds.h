@@ -39,10 +39,23 @@ namespace medspheres::fcl {
 /// of them, then the pair colliding in the most of the rest, and so on (seen_colliding()
 /// pairs); the pairs never seen colliding follow in geometry order, and robot_collide
 /// walks them after the scene.
+/// The same samples pick witnesses (RobotBounds::witnesses()): each colliding decision of
+/// a sample names the pair of inner spheres that proved it; of these, the one within the
+/// margin in the most samples is taken, then the one within it in the most of the rest,
+/// and so on while one adds at least samples / 400 samples (and 2), up to max_witnesses.
 struct SelfPairOrder {
   std::size_t samples = 0;
   double margin = 0.0;  ///< finite, >= 0
   unsigned seed = 1;
+  std::size_t max_witnesses = 64;
+};
+
+/// Two inner spheres, of the geometries a and b of a self pair, each in its link's frame:
+/// whenever they are within the margin of each other, the two links are (a sphere of an
+/// inner set is a part of the link's solid).
+struct SelfWitness {
+  std::size_t a = 0, b = 0;  ///< indices into RobotBounds::geometries()
+  Sphere in_a, in_b;
 };
 
 class RobotBounds {
@@ -67,6 +80,9 @@ class RobotBounds {
   /// With a SelfPairOrder of samples > 0: how many self pairs (the first ones) were seen
   /// certainly colliding in its samples; the others follow. Else self_pairs().size().
   std::size_t seen_colliding() const noexcept { return seen_colliding_; }
+  /// With a SelfPairOrder of samples > 0: the witnesses it picked, in the order taken
+  /// (robot_collide tests them first). Else empty.
+  const std::vector<SelfWitness>& witnesses() const noexcept { return witnesses_; }
   /// X_WL of every geometry's link (in geometries() order).
   std::vector<::fcl::Transform3d> poses(const Eigen::VectorXd& q,
                                         const Eigen::Isometry3d& X_WB) const;
@@ -77,6 +93,7 @@ class RobotBounds {
   std::vector<std::size_t> link_of_;
   std::vector<std::pair<std::size_t, std::size_t>> self_pairs_;
   std::size_t seen_colliding_ = 0;
+  std::vector<SelfWitness> witnesses_;
 
   void order_self_pairs(const RobotModel& model, const SelfPairOrder& order);
 };
@@ -115,12 +132,16 @@ struct RobotCollideResult {
   /// undecided and had no mesh to fall back on).
   BoundsVerdict verdict = BoundsVerdict::free;
   std::size_t pairs_tested = 0;    ///< pairs whose sphere bounds were walked
+  bool by_witness = false;         ///< a witness decided "colliding", before any walk
   std::size_t mesh_fallbacks = 0;  ///< pairs answered by the exact meshes
   bool certified = true;
 };
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
-/// First every pair's sphere bounds (decide()): the first seen_colliding() self pairs, the
+/// With include_self, first the witnesses (RobotBounds::witnesses()), in order: two
+/// spheres certainly within the margin (their gap computed in doubles below it by 1e-12 of
+/// the magnitudes involved) decide "colliding" (by_witness) with no walk.
+/// Then every pair's sphere bounds (decide()): the first seen_colliding() self pairs, the
 /// scene, then the other self pairs (self_pairs() order), stopping at the first certainly
 /// colliding pair; a self pair whose links' outer root balls are farther apart than the
 /// margin, and a scene pair whose link ball is (balls_near), are free without a walk. Only
