@@ -589,13 +589,24 @@ TEST_CASE("sample_configurations are seeded and within the joint limits", "[boun
   }
 }
 
+namespace {
+
+// solid_arm with l2 near the base, so that the arm collides with itself.
+RobotModel self_colliding_arm(std::map<std::string, std::shared_ptr<const mf::MeshModel>>* meshes,
+                              std::map<std::string, const Solid*>* solid_of) {
+  RobotModel model = solid_arm(meshes, solid_of);
+  for (Joint& j : model.joints)
+    if (j.name == "j2") j.origin.translation() = Eigen::Vector3d(0.25, 0.0, 0.0);
+  return model;
+}
+
+}  // namespace
+
 TEST_CASE("a self-pair order changes no verdict and puts the most colliding pair first",
           "[bounds][robot]") {
   std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
   std::map<std::string, const Solid*> solid_of;
-  RobotModel model = solid_arm(&meshes, &solid_of);
-  for (Joint& j : model.joints)  // l2 near the base, so that the arm collides with itself
-    if (j.name == "j2") j.origin.translation() = Eigen::Vector3d(0.25, 0.0, 0.0);
+  const RobotModel model = self_colliding_arm(&meshes, &solid_of);
   const mf::RobotBounds plain(model, meshes);
   const mf::SelfPairOrder order{300, 0.01, 7};
   const mf::RobotBounds ordered(model, meshes, {}, {}, order);
@@ -655,9 +666,7 @@ TEST_CASE("witnesses are inner sphere pairs of the samples, and each hit is a tr
           "[bounds][robot]") {
   std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
   std::map<std::string, const Solid*> solid_of;
-  RobotModel model = solid_arm(&meshes, &solid_of);
-  for (Joint& j : model.joints)  // l2 near the base, so that the arm collides with itself
-    if (j.name == "j2") j.origin.translation() = Eigen::Vector3d(0.25, 0.0, 0.0);
+  const RobotModel model = self_colliding_arm(&meshes, &solid_of);
   const double margin = 0.01;
   const mf::SelfPairOrder order{300, margin, 7};
   const mf::RobotBounds robot(model, meshes, {}, {}, order);
