@@ -92,30 +92,36 @@ bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& 
   return gap + 1e-12 * scale <= margin;
 }
 
-// Greedy cover of the samples by witnesses: each step takes the candidate holding in the
-// most samples not yet covered (ties: the earlier candidate), while it adds at least
-// min_gain of them, up to max_count.
-std::vector<SelfWitness> cover_samples(const std::vector<SelfWitness>& candidates,
-                                       const std::vector<std::vector<::fcl::Transform3d>>& poses,
-                                       double margin, std::size_t min_gain, std::size_t max_count) {
+// Greedy cover: item k holds in the samples holds[k]; each step takes the item holding in
+// the most samples not yet covered (ties: the earlier item), while it adds at least
+// min_gain (>= 1) of them, up to max_count items. Marks what it takes in covered.
+std::vector<std::size_t> greedy_cover(const std::vector<std::vector<std::size_t>>& holds,
+                                      std::vector<char>& covered, std::size_t min_gain,
+                                      std::size_t max_count) {
+  std::vector<std::size_t> out;
+  while (out.size() < max_count) {
+    std::size_t best = 0, best_gain = 0;
+    for (std::size_t k = 0; k < holds.size(); ++k) {
+      std::size_t gain = 0;
+      for (std::size_t s : holds[k]) gain += covered[s] ? 0 : 1;
+      if (gain > best_gain) best = k, best_gain = gain;
+    }
+    if (best_gain < std::max<std::size_t>(min_gain, 1)) break;
+    out.push_back(best);
+    for (std::size_t s : holds[best]) covered[s] = 1;
+  }
+  return out;
+}
+
+// The samples each candidate witness holds in (poses by sample).
+std::vector<std::vector<std::size_t>> witness_holds_in(
+    const std::vector<SelfWitness>& candidates,
+    const std::vector<std::vector<::fcl::Transform3d>>& poses, double margin) {
   std::vector<std::vector<std::size_t>> holds(candidates.size());
   for (std::size_t c = 0; c < candidates.size(); ++c)
     for (std::size_t s = 0; s < poses.size(); ++s)
       if (witness_holds(candidates[c], poses[s], margin)) holds[c].push_back(s);
-  std::vector<char> covered(poses.size(), 0);
-  std::vector<SelfWitness> out;
-  while (out.size() < max_count) {
-    std::size_t best = 0, best_gain = 0;
-    for (std::size_t c = 0; c < candidates.size(); ++c) {
-      std::size_t gain = 0;
-      for (std::size_t s : holds[c]) gain += covered[s] ? 0 : 1;
-      if (gain > best_gain) best = c, best_gain = gain;
-    }
-    if (best_gain < std::max<std::size_t>(min_gain, 1)) break;
-    out.push_back(candidates[best]);
-    for (std::size_t s : holds[best]) covered[s] = 1;
-  }
-  return out;
+  return holds;
 }
 
 }  // namespace
@@ -168,21 +174,22 @@ void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder&
     candidates.push_back({a, b, geometries_[a].inner().sphere(static_cast<std::size_t>(i)),
                           geometries_[b].inner().sphere(static_cast<std::size_t>(j))});
   }
-  witnesses_ =
-      cover_samples(candidates, X, order.margin, samples.size() / 400, order.max_witnesses);
-  std::vector<char> covered(samples.size(), 0), taken(self_pairs_.size(), 0);
+  // The witnesses first; then the pairs, first over the samples no witness holds in
+  // (robot_collide walks pairs only then), then over the rest.
+  std::vector<char> covered(samples.size(), 0);
+  for (std::size_t c : greedy_cover(witness_holds_in(candidates, X, order.margin), covered,
+                                    samples.size() / 400, order.max_witnesses))
+    witnesses_.push_back(candidates[c]);
+  std::vector<std::size_t> seen = greedy_cover(hits, covered, 1, hits.size());
+  std::vector<char> by_seen(samples.size(), 0);
+  for (std::size_t k : seen)
+    for (std::size_t s : hits[k]) by_seen[s] = 1;
+  for (std::size_t k : greedy_cover(hits, by_seen, 1, hits.size())) seen.push_back(k);
+  std::vector<char> taken(self_pairs_.size(), 0);
   std::vector<std::pair<std::size_t, std::size_t>> out;
-  for (;;) {
-    std::size_t best = 0, best_gain = 0;
-    for (std::size_t k = 0; k < hits.size(); ++k) {
-      std::size_t gain = 0;
-      for (std::size_t s : hits[k]) gain += covered[s] ? 0 : 1;
-      if (!taken[k] && gain > best_gain) best = k, best_gain = gain;
-    }
-    if (best_gain == 0) break;
-    taken[best] = 1;
-    out.push_back(self_pairs_[best]);
-    for (std::size_t s : hits[best]) covered[s] = 1;
+  for (std::size_t k : seen) {
+    taken[k] = 1;
+    out.push_back(self_pairs_[k]);
   }
   seen_colliding_ = out.size();
   for (std::size_t k = 0; k < self_pairs_.size(); ++k)

@@ -31,18 +31,20 @@
 
 namespace medspheres::fcl {
 
-/// The order in which robot_collide walks the self pairs; it changes how soon a colliding
-/// configuration is found, never an answer. samples = 0: geometry order (the pairs of
-/// geometry i before those of i + 1), all before the scene. samples > 0: the constructor
-/// checks that many seeded configurations (sample_configurations) with the pairs' sphere
-/// bounds (decide() at \p margin) and puts first the pair certainly colliding in the most
-/// of them, then the pair colliding in the most of the rest, and so on (seen_colliding()
-/// pairs); the pairs never seen colliding follow in geometry order, and robot_collide
-/// walks them after the scene.
-/// The same samples pick witnesses (RobotBounds::witnesses()): each colliding decision of
-/// a sample names the pair of inner spheres that proved it; of these, the one within the
-/// margin in the most samples is taken, then the one within it in the most of the rest,
-/// and so on while one adds at least samples / 400 samples (and 2), up to max_witnesses.
+/// The order in which robot_collide walks the self pairs, and the witnesses it tests
+/// first; they change how soon a colliding configuration is found, never an answer.
+/// samples = 0: geometry order (the pairs of geometry i before those of i + 1), all before
+/// the scene, and no witnesses. samples > 0: the constructor checks that many seeded
+/// configurations (sample_configurations) with the pairs' sphere bounds (decide() at
+/// \p margin). Each colliding decision names the pair of inner spheres that proved it; of
+/// these the witnesses (RobotBounds::witnesses()) are taken greedily: the one within the
+/// margin in the most samples, then the one within it in the most of the rest, and so on
+/// while one adds at least samples / 400 samples (and 1), up to max_witnesses. Then the
+/// pairs, greedily too: first the pair certainly colliding in the most samples that no
+/// witness holds in (robot_collide walks pairs only in such configurations), then the
+/// pair colliding in the most of the rest, and so on; then in the same way over the
+/// samples those pairs leave (seen_colliding() pairs in all); the pairs never seen
+/// colliding follow in geometry order, and robot_collide walks them after the scene.
 struct SelfPairOrder {
   std::size_t samples = 0;
   double margin = 0.0;  ///< finite, >= 0
