@@ -4,7 +4,8 @@
 //   exact    FCL's exact mesh distance (BVHModel<OBBRSS> per link), pair by pair, stopping
 //            at the first pair within the margin;
 //   exact+   the same with robot_collide's robot-level tricks: its self-pair order
-//            (SelfPairOrder) and its scene skip (fcl::balls_near);
+//            (SelfPairOrder, without witnesses, which are sphere pairs) and its scene
+//            skip (fcl::balls_near);
 //   outer    the certified covering sets alone (medspheres::fcl::distance on
 //            SphereSetGeometry, the margin preset as min_distance);
 //   inner    the inner sets alone, the same way;
@@ -401,7 +402,11 @@ int run(const Options& o) {
                                {o.order_samples, o.margin, o.seed + 1});
   const double order_seconds = mb::seconds_since(t_order);
   mb::ExactRobot exact(plain, robot.exact, objects);
-  mb::ExactRobot exact_tricks(bounds, robot.exact, objects, {}, true);
+  // exact+ walks the pairs in every configuration: its order is the greedy one over all
+  // the samples (no witnesses, which robot_collide's order defers to).
+  const mf::RobotBounds pair_order(robot.model, robot.meshes, disabled, {},
+                                   {o.order_samples, o.margin, o.seed + 1, 0});
+  mb::ExactRobot exact_tricks(pair_order, robot.exact, objects, {}, true);
   mb::Solids solids = robot.solids;
   solids.insert(scene.solids.begin(), scene.solids.end());
   mb::ExactRobot exact_reference(bounds, robot.exact, scene.pointers(true), solids);
