@@ -31,6 +31,7 @@
 #include <cmath>
 #include <cstdint>
 #include <limits>
+#include <memory>
 #include <optional>
 #include <stdexcept>
 #include <string>
@@ -693,7 +694,8 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
                            std::size_t budget, const Candidates& cand, double hi, int rounds,
                            int threads) {
   const std::size_t m_count = cand.centres.size(), items = p.size();
-  std::vector<float> cost(m_count * items);
+  // Filled below, every entry: not zeroed first (tens of MB at the larger budgets).
+  const std::unique_ptr<float[]> cost(new float[m_count * items]);
   const long long n = static_cast<long long>(m_count);
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long long mm = 0; mm < n; ++mm) {
@@ -702,7 +704,7 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
       cost[m * items + q] = static_cast<float>(farthest(p, q, cand.centres[m]) - cand.depth[m]);
   }
   const ThresholdCover tc =
-      least_threshold_cover(cost, m_count, items, budget, hi, kThresholdHalvings, threads);
+      least_threshold_cover(cost.get(), m_count, items, budget, hi, kThresholdHalvings, threads);
   Clustering c;
   if (tc.picks.empty()) return c;
   std::vector<double> depth;
