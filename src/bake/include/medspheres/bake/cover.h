@@ -58,9 +58,8 @@
 ///    the union's volume (estimated on points of its sphere), by a step halved until the
 ///    exact union volume falls; then the shrink of step 4; at most 12 rounds (3 for
 ///    K > 16), while the union falls by 3e-4 of itself. One run where no ball may stick
-///    out beyond the
-///    winner's largest protrusion and, for K <= 4, a free one; the one of least product
-///    (4d) is kept when it is below the winner's.
+///    out beyond the winner's largest protrusion and, for K <= 4, a free one; the one of
+///    least product (4d) is kept when it is below the winner's.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
