@@ -150,7 +150,7 @@ TEST_CASE("bake_cover: the volume descent (step 4f) never makes a cover costlier
   int lower = 0;
   for (const Named& m : meshes) {
     const MeshQuery query(m.mesh);
-    for (std::size_t k : {2, 5, 12}) {
+    for (std::size_t k : {2, 5, 12, 24}) {
       CAPTURE(m.name, k);
       CoverOptions off;
       off.volume_descent = false;

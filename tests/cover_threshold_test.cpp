@@ -55,7 +55,7 @@ TEST_CASE("least_threshold_cover: covers at its threshold, never below the optim
     const std::size_t candidates = 3 + trial % 8, items = 5 + trial % 37, budget = 1 + trial % 4;
     std::vector<float> cost(candidates * items);
     for (float& c : cost) c = u(rng);
-    const ThresholdCover a = least_threshold_cover(cost, candidates, items, budget,
+    const ThresholdCover a = least_threshold_cover(cost.data(), candidates, items, budget,
                                                    std::numeric_limits<double>::infinity(), 30, 1);
     const double best = optimum(cost, candidates, items, budget);
     INFO("trial " << trial);
@@ -65,10 +65,11 @@ TEST_CASE("least_threshold_cover: covers at its threshold, never below the optim
     CHECK(a.threshold >= best);
     exact += a.threshold <= best + 1e-6;
     // The same answer for every thread count and from a finite start.
-    const ThresholdCover b = least_threshold_cover(cost, candidates, items, budget, 0.5, 30, 2);
+    const ThresholdCover b =
+        least_threshold_cover(cost.data(), candidates, items, budget, 0.5, 30, 2);
     CHECK(covers(cost, items, b.picks, b.threshold));
     CHECK(b.picks.size() <= budget);
-    const ThresholdCover c = least_threshold_cover(cost, candidates, items, budget,
+    const ThresholdCover c = least_threshold_cover(cost.data(), candidates, items, budget,
                                                    std::numeric_limits<double>::infinity(), 30, 2);
     CHECK(c.picks == a.picks);
     CHECK(c.threshold == a.threshold);
@@ -84,11 +85,11 @@ TEST_CASE("least_threshold_cover: one candidate that holds everything cheaply wi
   const std::vector<float> cost = {0.1f,  0.1f,  0.9f,  0.9f,   //
                                    0.25f, 0.25f, 0.25f, 0.25f,  //
                                    0.9f,  0.9f,  0.1f,  0.1f};
-  const ThresholdCover one = least_threshold_cover(cost, 3, items, 1, 1.0, 40, 1);
+  const ThresholdCover one = least_threshold_cover(cost.data(), 3, items, 1, 1.0, 40, 1);
   REQUIRE(one.picks == std::vector<std::size_t>{1});
   CHECK(one.threshold == Approx(0.25).margin(1e-6));
-  const ThresholdCover two = least_threshold_cover(cost, 3, items, 2, 1.0, 40, 1);
+  const ThresholdCover two = least_threshold_cover(cost.data(), 3, items, 2, 1.0, 40, 1);
   CHECK(two.picks.size() == 2);
   CHECK(two.threshold == Approx(0.1).margin(1e-6));
-  CHECK(least_threshold_cover({}, 0, 0, 2, 1.0, 10, 1).picks.empty());
+  CHECK(least_threshold_cover(nullptr, 0, 0, 2, 1.0, 10, 1).picks.empty());
 }

@@ -25,8 +25,8 @@ int popcount(std::uint64_t x) {  // SWAR: no call, whatever the target's instruc
 // uncovered. Lazy: a candidate's gain only falls as items get covered, so the gains of
 // the previous picks are upper bounds, and a candidate whose fresh gain is at least every
 // other bound (ties: the lower index) is the greedy pick. \p covers is scratch space.
-std::vector<std::size_t> greedy_at(const std::vector<float>& cost, std::size_t candidates,
-                                   std::size_t items, std::size_t budget, double t, int threads,
+std::vector<std::size_t> greedy_at(const float* cost, std::size_t candidates, std::size_t items,
+                                   std::size_t budget, double t, int threads,
                                    std::vector<Words>& covers) {
   const std::size_t words = (items + 63) / 64;
   covers.resize(candidates);
@@ -37,7 +37,7 @@ std::vector<std::size_t> greedy_at(const std::vector<float>& cost, std::size_t c
     const std::size_t m = static_cast<std::size_t>(mm);
     Words& cover = covers[m];
     cover.assign(words, 0);
-    const float* row = cost.data() + m * items;
+    const float* row = cost + m * items;
     for (std::size_t q = 0; q < items; ++q)
       if (row[q] <= t) cover[q / 64] |= std::uint64_t{1} << (q % 64);
     for (std::uint64_t w : cover) bound[m] += popcount(w);
@@ -78,20 +78,23 @@ std::vector<std::size_t> greedy_at(const std::vector<float>& cost, std::size_t c
 
 }  // namespace
 
-ThresholdCover least_threshold_cover(const std::vector<float>& cost, std::size_t candidates,
-                                     std::size_t items, std::size_t budget, double hi,
-                                     int iterations, int threads) {
+ThresholdCover least_threshold_cover(const float* cost, std::size_t candidates, std::size_t items,
+                                     std::size_t budget, double hi, int iterations, int threads) {
   ThresholdCover out;
   if (candidates == 0 || items == 0 || budget == 0) return out;
-  double lo = -std::numeric_limits<double>::infinity();
-  for (std::size_t q = 0; q < items; ++q) {
-    double cheapest = std::numeric_limits<double>::infinity();
-    for (std::size_t m = 0; m < candidates; ++m)
-      cheapest = std::min(cheapest, static_cast<double>(cost[m * items + q]));
-    lo = std::max(lo, cheapest);
+  // Each item's cheapest cost and the largest cost, row by row (the matrix is stored so).
+  std::vector<float> cheapest(items, std::numeric_limits<float>::infinity());
+  float top_cost = -std::numeric_limits<float>::infinity();
+  for (std::size_t m = 0; m < candidates; ++m) {
+    const float* row = cost + m * items;
+    for (std::size_t q = 0; q < items; ++q) {
+      cheapest[q] = std::min(cheapest[q], row[q]);
+      top_cost = std::max(top_cost, row[q]);
+    }
   }
+  double lo = static_cast<double>(*std::max_element(cheapest.begin(), cheapest.end()));
   // At the largest cost any one candidate covers every item.
-  const double top = static_cast<double>(*std::max_element(cost.begin(), cost.end()));
+  const double top = static_cast<double>(top_cost);
   hi = std::min(std::max(hi, lo), top);
   std::vector<Words> covers;
   std::vector<std::size_t> picks = greedy_at(cost, candidates, items, budget, hi, threads, covers);

@@ -7,9 +7,9 @@
 
 namespace medspheres {
 
-// cost[m * items + q]: what candidate m must pay to cover item q (for the cover: the
-// protrusion a ball centred at candidate m needs to hold patch q). A candidate covers at
-// threshold t the items of cost <= t.
+// cost[m * items + q] (candidates x items values): what candidate m must pay to cover item q (for
+// the cover: the protrusion a ball centred at candidate m needs to hold patch q). A candidate
+// covers at threshold t the items of cost <= t.
 struct ThresholdCover {
   double threshold = 0.0;          // the least t found at which `picks` cover every item
   std::vector<std::size_t> picks;  // at most the budget, in the order chosen
@@ -24,8 +24,7 @@ struct ThresholdCover {
 // budget (or is not finite), the search starts from the largest cost instead (one candidate
 // covers all there).
 // Deterministic: the answer does not depend on \p threads.
-ThresholdCover least_threshold_cover(const std::vector<float>& cost, std::size_t candidates,
-                                     std::size_t items, std::size_t budget, double hi,
-                                     int iterations, int threads);
+ThresholdCover least_threshold_cover(const float* cost, std::size_t candidates, std::size_t items,
+                                     std::size_t budget, double hi, int iterations, int threads);
 
 }  // namespace medspheres

@@ -45,7 +45,8 @@
 ///    of the volume outside the solid (U - V; U on an open mesh) and the largest
 ///    protrusion, so that neither is traded for a small gain in the other; a result whose
 ///    union is larger than that of start 0's single ball (moved inward) is not eligible.
-/// 4e and 4f run only for K <= 16, where each ball matters most and they cost least.
+/// 4e runs only for K <= 16, where each ball matters most and it costs least; 4f runs at
+///    every K, with at most 3 rounds above 16.
 /// 4e. Local search on the winner, at most 3 moves: the ball that protrudes most is split
 ///    in two (each half its minimum enclosing ball), filling the budget while balls are
 ///    missing, else in exchange for the ball whose elements the others take at the least
@@ -55,10 +56,10 @@
 /// 4f. Union-volume descent on the winner: with each ball's elements fixed (its radius the
 ///    distance to its farthest point), each centre in turn moves against the gradient of
 ///    the union's volume (estimated on points of its sphere), by a step halved until the
-///    exact union volume falls; then the shrink of step 4; at most 12 rounds, while the
-///    union falls by 3e-4 of itself. One run where no ball may stick out beyond the
-///    winner's largest protrusion and, for K <= 4, a free one; the one of least product
-///    (4d) is kept when it is below the winner's.
+///    exact union volume falls; then the shrink of step 4; at most 12 rounds (3 for
+///    K > 16), while the union falls by 3e-4 of itself. One run where no ball may stick
+///    out beyond the winner's largest protrusion and, for K <= 4, a free one; the one of
+///    least product (4d) is kept when it is below the winner's.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
