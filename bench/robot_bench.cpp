@@ -83,7 +83,7 @@ struct Options {
   bool self = true;
   std::size_t distance_every = 10;
   bool explain = false;
-  std::size_t order_samples = 1000;
+  std::size_t order_samples = 4000;
 };
 
 Options parse(int argc, char** argv) {
@@ -113,7 +113,8 @@ Options parse(int argc, char** argv) {
   app.add_flag("!--no-self", o.self, "Robot against the scene only");
   args.add("--distance-every", o.distance_every, "Distance errors on every k-th configuration");
   args.add("--order-samples", o.order_samples,
-           "Seeded configurations that order the self pairs (SelfPairOrder; 0: geometry order)");
+           "Seeded configurations that order the self pairs and pick witnesses (SelfPairOrder; 0: "
+           "geometry order, none)");
   app.add_flag("--explain", o.explain, "Print the pairs of configurations whose bounds fail");
   args.parse(argc, argv);
   return o;

@@ -178,7 +178,7 @@ void RobotBounds::order_self_pairs(const RobotModel& model, const SelfPairOrder&
   // (robot_collide walks pairs only then), then over the rest.
   std::vector<char> covered(samples.size(), 0);
   for (std::size_t c : greedy_cover(witness_holds_in(candidates, X, order.margin), covered,
-                                    samples.size() / 400, order.max_witnesses))
+                                    samples.size() / 2000, order.max_witnesses))
     witnesses_.push_back(candidates[c]);
   std::vector<std::size_t> seen = greedy_cover(hits, covered, 1, hits.size());
   std::vector<char> by_seen(samples.size(), 0);

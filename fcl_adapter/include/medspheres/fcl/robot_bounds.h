@@ -39,7 +39,7 @@ namespace medspheres::fcl {
 /// \p margin). Each colliding decision names the pair of inner spheres that proved it; of
 /// these the witnesses (RobotBounds::witnesses()) are taken greedily: the one within the
 /// margin in the most samples, then the one within it in the most of the rest, and so on
-/// while one adds at least samples / 400 samples (and 1), up to max_witnesses. Then the
+/// while one adds at least samples / 2000 samples (and 1), up to max_witnesses. Then the
 /// pairs, greedily too: first the pair certainly colliding in the most samples that no
 /// witness holds in (robot_collide walks pairs only in such configurations), then the
 /// pair colliding in the most of the rest, and so on; then in the same way over the
@@ -49,7 +49,7 @@ struct SelfPairOrder {
   std::size_t samples = 0;
   double margin = 0.0;  ///< finite, >= 0
   unsigned seed = 1;
-  std::size_t max_witnesses = 64;
+  std::size_t max_witnesses = 256;
 };
 
 /// Two inner spheres, of the geometries a and b of a self pair, each in its link's frame:
