@@ -126,3 +126,32 @@ TEST_CASE("balls_near only skips balls farther than the margin from the geometry
   CHECK(mf::balls_near(half, {{Eigen::Vector3d(0, 0, 50), 0.1}, {Eigen::Vector3d(0, 0, -5), 0.1}},
                        0.0) == std::vector<char>{1, 1});
 }
+
+TEST_CASE("balls_apart and balls_within: certain answers on either side of the margin",
+          "[bounds][robot]") {
+  // Two unit balls whose centres are 3 apart: gap 1 (exact in doubles).
+  const medspheres::Sphere a{Eigen::Vector3d(0, 0, 0), 1.0}, b{Eigen::Vector3d(3, 0, 0), 1.0};
+  CHECK(mf::balls_apart(a, b, 0.5));
+  CHECK_FALSE(mf::balls_within(a, b, 0.5));
+  CHECK(mf::balls_within(a, b, 1.5));
+  CHECK_FALSE(mf::balls_apart(a, b, 1.5));
+  // At the margin itself neither is certain: the rounding allowance leaves it open.
+  CHECK_FALSE(mf::balls_apart(a, b, 1.0));
+  CHECK_FALSE(mf::balls_within(a, b, 1.0));
+  // Never both, on seeded pairs against the gap in long double.
+  std::mt19937 rng(3);
+  std::uniform_real_distribution<double> u(-2.0, 2.0), r(0.0, 1.0), m(0.0, 0.5);
+  for (int k = 0; k < 2000; ++k) {
+    const medspheres::Sphere p{Eigen::Vector3d(u(rng), u(rng), u(rng)), r(rng)};
+    const medspheres::Sphere q{Eigen::Vector3d(u(rng), u(rng), u(rng)), r(rng)};
+    const double margin = m(rng);
+    const Eigen::Vector3d d = p.center - q.center;
+    const long double gap = std::sqrt(static_cast<long double>(d.x()) * d.x() +
+                                      static_cast<long double>(d.y()) * d.y() +
+                                      static_cast<long double>(d.z()) * d.z()) -
+                            p.radius - q.radius;
+    CHECK_FALSE((mf::balls_apart(p, q, margin) && mf::balls_within(p, q, margin)));
+    if (mf::balls_apart(p, q, margin)) CHECK(gap > margin);
+    if (mf::balls_within(p, q, margin)) CHECK(gap <= margin);
+  }
+}

@@ -26,6 +26,7 @@
 #include <optional>
 
 #include <stdexcept>
+#include <utility>
 
 #include "fcl_dispatch.h"
 
@@ -111,12 +112,24 @@ class NearSearch {
   int budget_ = kNodeBudget;
 };
 
+// The gap between the balls, computed in doubles, and the allowance for its rounding:
+// 1e-12 of the magnitudes involved, far above the few ulps of error of the gap.
+std::pair<double, double> gap_and_allowance(const Sphere& a, const Sphere& b, double margin) {
+  const double gap = (a.center - b.center).norm() - a.radius - b.radius;
+  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
+  return {gap, 1e-12 * scale};
+}
+
 }  // namespace
 
 bool balls_apart(const Sphere& a, const Sphere& b, double margin) {
-  const double gap = (a.center - b.center).norm() - a.radius - b.radius;
-  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
-  return std::isfinite(gap) && gap - 1e-12 * scale > margin;
+  const auto [gap, allowance] = gap_and_allowance(a, b, margin);
+  return std::isfinite(gap) && gap - allowance > margin;
+}
+
+bool balls_within(const Sphere& a, const Sphere& b, double margin) {
+  const auto [gap, allowance] = gap_and_allowance(a, b, margin);
+  return gap + allowance <= margin;
 }
 
 std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,

@@ -82,14 +82,10 @@ std::vector<Sphere> link_balls(const RobotBounds& robot, const std::vector<::fcl
   return out;
 }
 
-// Whether the witness's two spheres are certainly within margin at the poses X: their
-// gap, computed in doubles, below it by 1e-12 of the magnitudes involved (balls_apart's
-// allowance, far above the few ulps of error of the poses and the gap).
+// Whether the witness's two spheres are certainly within margin at the poses X.
 bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& X, double margin) {
-  const Eigen::Vector3d ca = X[w.a] * w.in_a.center, cb = X[w.b] * w.in_b.center;
-  const double gap = (ca - cb).norm() - w.in_a.radius - w.in_b.radius;
-  const double scale = ca.norm() + cb.norm() + w.in_a.radius + w.in_b.radius + margin;
-  return gap + 1e-12 * scale <= margin;
+  return balls_within({X[w.a] * w.in_a.center, w.in_a.radius},
+                      {X[w.b] * w.in_b.center, w.in_b.radius}, margin);
 }
 
 // Greedy cover: item k holds in the samples holds[k]; each step takes the item holding in

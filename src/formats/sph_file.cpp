@@ -43,11 +43,12 @@ std::string sph_text(const std::vector<Sphere>& spheres) {
   double r = 0.0;
   // stableNorm: coordinates beyond 1e154 would overflow a squared norm.
   for (const Sphere& s : spheres) r = std::max(r, (s.center - c).stableNorm() + s.radius);
-  if (!std::isfinite(r * (1.0 + 1e-12)))
+  const double root = r * (1.0 + 1e-12);
+  if (!std::isfinite(root))
     throw InputError(".sph",
                      "the spheres span more than a double holds; no root sphere bounds them");
   std::string out = "2 " + std::to_string(spheres.size()) + "\n";
-  out += node_line({c, r * (1.0 + 1e-12)});
+  out += node_line({c, root});
   for (const Sphere& s : spheres) out += node_line(s);
   return out;
 }

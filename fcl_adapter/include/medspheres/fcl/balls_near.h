@@ -23,6 +23,10 @@ namespace medspheres::fcl {
 /// exceed the margin by 1e-12 of the magnitudes involved, far above its few ulps of error.
 bool balls_apart(const Sphere& a, const Sphere& b, double margin);
 
+/// True when the balls \p a and \p b (one frame) are certainly within \p margin of each
+/// other: their gap, computed in doubles, is below the margin by the same allowance.
+bool balls_within(const Sphere& a, const Sphere& b, double margin);
+
 /// For each ball of \p balls_W: 0 only when no point of the object's geometry lies within
 /// the ball's radius plus \p margin of its centre (certainly: with a rounding allowance),
 /// else 1. The test: the object's root bounding volume (its local AABB for a primitive),

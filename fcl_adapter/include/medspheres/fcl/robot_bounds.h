@@ -141,8 +141,8 @@ struct RobotCollideResult {
 
 /// Three-valued collision of the robot at q against the scene (and itself) within margin.
 /// With include_self, first the witnesses (RobotBounds::witnesses()), in order: two
-/// spheres certainly within the margin (their gap computed in doubles below it by 1e-12 of
-/// the magnitudes involved) decide "colliding" (by_witness) with no walk.
+/// spheres certainly within the margin (balls_within) decide "colliding" (by_witness) with
+/// no walk.
 /// Then every pair's sphere bounds (decide()): the first seen_colliding() self pairs, the
 /// scene, then the other self pairs (self_pairs() order), stopping at the first certainly
 /// colliding pair; a self pair whose links' outer root balls are farther apart than the
