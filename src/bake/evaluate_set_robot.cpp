@@ -68,12 +68,14 @@ RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOp
   const UrdfRobot robot = read_urdf(urdf, read);
   const std::vector<LinkSolid> solids = load_link_solids(robot);
   std::map<std::string, SphereSet> known;
-  for (const auto& [link, set] : spheres)
+  for (const auto& entry : spheres) {
+    const std::string& link = entry.first;
     if (std::any_of(solids.begin(), solids.end(),
                     [&](const LinkSolid& s) { return s.link == link; }))
-      known.emplace(link, set);
+      known.emplace(link, entry.second);
     else
       out.unknown_links.push_back(link);
+  }
   if (known.empty() && !out.unknown_links.empty())
     throw InputError(spheres_file, "none of its " + std::to_string(out.unknown_links.size()) +
                                        " links is a link of the robot in " + urdf + " (first: '" +
