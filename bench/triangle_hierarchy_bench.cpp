@@ -56,7 +56,7 @@ Timing measure(const medspheres::MeshQuery& q, const medspheres::TriangleTree& t
     tests = 0;
     t0 = cpu_seconds();
     for (std::size_t i = 0; i < pts.size(); ++i) {
-      const Eigen::Isometry3d X_WA(Eigen::Translation3d(pts[i]));
+      const Eigen::Isometry3d X_WA{Eigen::Translation3d(pts[i])};
       const medspheres::TreeDistance d =
           medspheres::distance(ball, X_WA, tree, Eigen::Isometry3d::Identity());
       by_tree[i] = d.distance;
