@@ -37,8 +37,10 @@
 // default configuration (every joint at 0, clamped to its limits).
 //
 // The sets: the library's robot bake (inner and certified outer set per link, the robot
-// command's defaults, --spheres-per-link each) at startup, cached in --cache under a key
-// of the URDF's bytes, its meshes and the options; or --robot-file from `medspheres robot`.
+// command's defaults, --spheres-per-link each) at startup, cached in --cache under the
+// batch cache's key (batch_robot.h: the URDF's and its meshes' bytes, the options, the
+// library's version, not the commit: after a change to the bake between releases, pass
+// --cache ''); or --robot-file from `medspheres robot`.
 //
 // Usage: bench_robot [URDF] [--configs N] [--seed S] [--margin M] [--robot-file F]
 //                    [--cache DIR] [--spheres-per-link K] [--srdf F] [--meshes DIR] ...

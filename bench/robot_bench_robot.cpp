@@ -5,12 +5,11 @@
 
 #include <cstdio>
 #include <filesystem>
-#include <sstream>
 
 #include "bench_util.h"
+#include "medspheres/bake/batch_robot.h"
 #include "medspheres/bake/robot_bake.h"
 #include "medspheres/error.h"
-#include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
@@ -30,13 +29,13 @@ void check_same_links(const RobotModel& sets, const UrdfRobot& robot, const std:
     throw InputError(file, "its links are not those of " + robot.path);
 }
 
-RobotModel bake(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
-                const RobotSource& source) {
-  RobotBakeOptions options;
-  options.jobs = source.jobs;
-  options.budget.per_link = source.spheres_per_link;
-  options.outer = true;
-  return bake_robot(robot, solids, options).model;
+// The bake: the robot command's defaults, with outer sets and the source's budget.
+RobotJob bake_job(const RobotSource& source) {
+  RobotJob job;
+  job.bake.jobs = source.jobs;
+  job.bake.budget.per_link = source.spheres_per_link;
+  job.bake.outer = true;
+  return job;
 }
 
 // The sets for the URDF's links, and a line saying where they came from.
@@ -48,18 +47,17 @@ RobotModel robot_sets(const UrdfRobot& robot, const std::vector<LinkSolid>& soli
     from = "robot file " + source.robot_file;
     return m;
   }
-  std::vector<std::string> keys;
-  for (const LinkSolid& s : solids)
-    for (const LinkSolidPart& p : s.parts) keys.push_back(s.link + " " + p.key);
-  const std::string key =
-      robot_cache_key(read_text_file(robot.path), keys, source.spheres_per_link);
+  const RobotJob job = bake_job(source);
+  // The batch cache's key (batch_robot.h): the URDF, its meshes' bytes, the bake and the
+  // library's version.
+  const std::string key = robot_cache_key(robot, file_sha256(robot.path), job);
   const fs::path cached = fs::path(source.cache_dir) / (key + ".robot.json");
   if (!source.cache_dir.empty() && fs::exists(cached)) {
     from = "cached bake " + cached.string();
     return load_robot(cached.string());
   }
   const auto t0 = std::chrono::steady_clock::now();
-  RobotModel m = bake(robot, solids, source);
+  RobotModel m = bake_robot(robot, solids, job.bake).model;
   const double s = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   char text[64];
   std::snprintf(text, sizeof text, "baked in %.1f s", s);
@@ -73,15 +71,6 @@ RobotModel robot_sets(const UrdfRobot& robot, const std::vector<LinkSolid>& soli
 }
 
 }  // namespace
-
-std::string robot_cache_key(const std::string& urdf_text, const std::vector<std::string>& part_keys,
-                            std::size_t spheres_per_link) {
-  std::ostringstream text;
-  text << "medspheres bench_robot v1\nspheres_per_link " << spheres_per_link << "\nurdf "
-       << sha256_hex(urdf_text) << "\n";
-  for (const std::string& k : part_keys) text << "part " << k << "\n";
-  return sha256_hex(text.str());
-}
 
 BenchRobot load_bench_robot(const RobotSource& source) {
   UrdfReadOptions read;

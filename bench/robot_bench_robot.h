@@ -36,11 +36,6 @@ struct BenchRobot {
   std::string spheres_from;   ///< where the sets came from, for the report
 };
 
-/// The key of a bake: the URDF's bytes, every part's geometry key (mesh sha256 and scale)
-/// and the bake options, as a sha256 hex string.
-std::string robot_cache_key(const std::string& urdf_text, const std::vector<std::string>& part_keys,
-                            std::size_t spheres_per_link);
-
 /// Reads the URDF and its meshes, and gets the sets: from source.robot_file when given
 /// (its links must be the URDF's), else from the cache, else by baking (then cached).
 /// \throws InputError naming the file and the problem.
