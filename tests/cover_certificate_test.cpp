@@ -91,13 +91,14 @@ TEST_CASE("a triangle poking out fails, and the worst point found is the true wo
 
 TEST_CASE("random configurations: certified means no dense sample lies outside", "[cover]") {
   std::mt19937 rng(11);
-  std::uniform_real_distribution<double> u(-1, 1), c(-0.5, 0.5), r(0.4, 1.0);
+  std::uniform_real_distribution<double> u(-1, 1), centre(-0.5, 0.5), r(0.4, 1.0);
   int certified = 0, failed = 0;
   for (int trial = 0; trial < 200; ++trial) {
     const TriangleMesh m =
         one_triangle({u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)}, {u(rng), u(rng), u(rng)});
     std::vector<Sphere> balls;
-    for (int i = 0; i < 6; ++i) balls.push_back({Eigen::Vector3d(c(rng), c(rng), c(rng)), r(rng)});
+    for (int i = 0; i < 6; ++i)
+      balls.push_back({Eigen::Vector3d(centre(rng), centre(rng), centre(rng)), r(rng)});
     CoverCertificateOptions o;
     o.worst_tolerance = 1e-5;
     const CoverCertificate c = certify_cover(m, balls, o);
