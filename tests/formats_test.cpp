@@ -43,7 +43,7 @@ std::string problem(void (*read)(const std::string&), const std::string& text) {
 TEST_CASE("every per-link writer read back by its reader gives the same spheres", "[formats]") {
   for (unsigned seed : {1u, 2u, 3u}) {
     const RobotSpheres s = random_robot_spheres(seed);
-    CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s, {"base"}), "f"), s));
+    CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s, {"base", {}}), "f"), s));
     XrdfOptions xo;
     xo.joint_names = {"j1"};
     CHECK(identical(parse_xrdf(xrdf_text(s, xo), "f"), s));
@@ -77,7 +77,7 @@ TEST_CASE("every one-set writer read back by its reader gives the same spheres",
 
 TEST_CASE("XRDF and cuRobo files have the layouts their tools read", "[formats]") {
   const RobotSpheres s = random_robot_spheres(9);
-  const YAML::Node curobo = YAML::Load(curobo_yaml_text(s, {"base"}));
+  const YAML::Node curobo = YAML::Load(curobo_yaml_text(s, {"base", {}}));
   CHECK(curobo["format_version"].as<double>() == 2.0);
   const YAML::Node k = curobo["robot_cfg"]["kinematics"];
   CHECK(k["base_link"].as<std::string>() == "base");
