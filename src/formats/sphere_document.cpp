@@ -172,22 +172,27 @@ SphereDocument read_sphere_document(const std::string& path, std::optional<Spher
   return doc;
 }
 
+std::vector<Sphere> one_set_of(const SphereDocument& doc, const std::string& link,
+                               const std::string& link_field) {
+  if (doc.set) return doc.set->spheres;
+  if (link.empty()) {
+    if (doc.links.size() == 1) return doc.links.front().spheres;
+    std::string names;
+    for (const LinkSphereList& l : doc.links) names += (names.empty() ? "" : ", ") + l.link;
+    throw InputError::option(ErrorKind::kOutOfRange, link_field, "",
+                             "the input has spheres for " + std::to_string(doc.links.size()) +
+                                 " links; pick one (" + names + ")");
+  }
+  if (const LinkSphereList* l = find_link_spheres(doc.links, link)) return l->spheres;
+  throw InputError::option(ErrorKind::kOutOfRange, link_field, "",
+                           "the input has no spheres for the link \"" + link + "\"");
+}
+
 namespace {
 
 // The one set a one-set format writes.
 std::vector<Sphere> single_set(const SphereDocument& doc, const WriteOptions& options) {
-  if (doc.set) return doc.set->spheres;  // --link only names the link of a one-set input
-  if (options.link.empty()) {
-    if (doc.links.size() == 1) return doc.links.front().spheres;
-    std::string names;
-    for (const LinkSphereList& l : doc.links) names += (names.empty() ? "" : ", ") + l.link;
-    throw InputError::option(ErrorKind::kOutOfRange, "link", "",
-                             "the input has spheres for " + std::to_string(doc.links.size()) +
-                                 " links; pick one (" + names + ")");
-  }
-  if (const LinkSphereList* l = find_link_spheres(doc.links, options.link)) return l->spheres;
-  throw InputError::option(ErrorKind::kOutOfRange, "link", "",
-                           "the input has no spheres for the link \"" + options.link + "\"");
+  return one_set_of(doc, options.link);  // --link only names the link of a one-set input
 }
 
 // The per-link spheres a per-link format writes.

@@ -26,6 +26,7 @@
 
 #include <optional>
 #include <string>
+#include <vector>
 
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/robot_model.h"
@@ -82,6 +83,13 @@ SphereDocument read_sphere_document(const std::string& path,
 /// "--urdf") or the problem when the conversion is not possible.
 std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
                                  const WriteOptions& options = {});
+
+/// The one set of \p doc: a one-set file's set (\p link is then ignored), or the spheres of
+/// the link \p link names, or of the only link when \p link is empty.
+/// \throws InputError (option \p link_field) for a link the file has no spheres for, or an
+///   empty \p link when the file has several links.
+std::vector<Sphere> one_set_of(const SphereDocument& doc, const std::string& link,
+                               const std::string& link_field = "link");
 
 /// Writes sphere_document_text atomically to \p path: nothing is written on error.
 void write_sphere_document(const std::string& path, const SphereDocument& doc, SphereFormat format,
