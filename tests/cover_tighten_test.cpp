@@ -51,8 +51,8 @@ std::vector<Sphere> planner_like(const MeshQuery& query, std::size_t k, unsigned
   std::uniform_real_distribution<double> u(0.0, 1.0);
   std::vector<Sphere> balls;
   while (balls.size() < k) {
-    const Eigen::Vector3d p = box.min() + box.sizes().cwiseProduct(
-                                              Eigen::Vector3d(u(rng), u(rng), u(rng)));
+    const Eigen::Vector3d p =
+        box.min() + box.sizes().cwiseProduct(Eigen::Vector3d(u(rng), u(rng), u(rng)));
     if (!query.inside(p)) continue;
     balls.push_back({p, 1.3 * query.closest_point(p).distance()});
   }
@@ -149,8 +149,9 @@ TEST_CASE("tighten_cover rejects a start it cannot use, naming the sphere", "[co
   const MeshQuery query(make_icosphere(1.0, 1));
   const double nan = std::numeric_limits<double>::quiet_NaN();
   CHECK_THROWS_WITH(tighten_cover(query, {}), Catch::Contains("start: no spheres"));
-  CHECK_THROWS_AS(tighten_cover(query, {{Eigen::Vector3d::Zero(), 0.5}, {Eigen::Vector3d::Zero(), -1.0}}),
-                  std::invalid_argument);
+  CHECK_THROWS_AS(
+      tighten_cover(query, {{Eigen::Vector3d::Zero(), 0.5}, {Eigen::Vector3d::Zero(), -1.0}}),
+      std::invalid_argument);
   CHECK_THROWS_WITH(
       tighten_cover(query, {{Eigen::Vector3d::Zero(), 0.5}, {Eigen::Vector3d(nan, 0, 0), 1.0}}),
       Catch::Contains("sphere 1"));

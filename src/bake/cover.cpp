@@ -1084,6 +1084,40 @@ void measure(const MeshQuery& query, const std::vector<Sphere>& balls, int threa
   s.max_protrusion = p.empty() ? 0.0 : *std::max_element(p.begin(), p.end());
 }
 
+// Step 5 and the figures, for both entry points: the live balls of \p c with the slack,
+// certified and repaired, then measured; \p start is when the call began.
+void finish(const MeshQuery& query, const Clustering& c, const CoverOptions& options,
+            std::chrono::steady_clock::time_point start, CoverResult& out) {
+  const TriangleMesh& mesh = query.mesh();
+  CoverStats& s = out.stats;
+  const double coordinates =
+      mesh.bounds().min().cwiseAbs().cwiseMax(mesh.bounds().max().cwiseAbs()).maxCoeff();
+  std::vector<Sphere>& balls = out.spheres.spheres;
+  for (const Sphere& b : c.balls)
+    if (b.radius > 0.0)
+      balls.push_back(
+          {b.center, b.radius + cover_radius_slack(s.largest_side, coordinates + b.radius)});
+  CoverCertificateOptions co = options.certificate;
+  co.threads = options.threads;
+  for (int round = 0; round < options.repair_rounds; ++round) {
+    out.certificate = certify_cover(mesh, balls, co);
+    s.repair_rounds_run = round;
+    if (out.certificate.certified) break;
+    s.repaired += grow_to_hold(balls, out.certificate,
+                               cover_radius_slack(s.largest_side, coordinates + s.largest_side));
+  }
+  if (!out.certificate.certified && s.repaired > 0)
+    out.certificate = certify_cover(mesh, balls, co);
+  s.certified = out.certificate.certified;
+  s.spheres = balls.size();
+  measure(query, balls, options.threads, s);
+  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+}
+
+// tighten_cover's descent: rounds at most (it stops earlier when the union falls by less
+// than kDescentProgress of itself).
+constexpr int kTightenRounds = 40;
+
 }  // namespace
 
 CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOptions& options) {
@@ -1107,29 +1141,47 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   const Clustering c = search(query, e, patching, fine.patches, budget, options, threads);
   s.rounds_run = c.rounds;
   s.best_round = c.best_round;
-  const double coordinates =
-      mesh.bounds().min().cwiseAbs().cwiseMax(mesh.bounds().max().cwiseAbs()).maxCoeff();
-  std::vector<Sphere>& balls = out.spheres.spheres;
-  for (const Sphere& b : c.balls)
-    if (b.radius > 0.0)
-      balls.push_back(
-          {b.center, b.radius + cover_radius_slack(s.largest_side, coordinates + b.radius)});
-  CoverCertificateOptions co = options.certificate;
-  co.threads = options.threads;
-  for (int round = 0; round < options.repair_rounds; ++round) {
-    out.certificate = certify_cover(mesh, balls, co);
-    s.repair_rounds_run = round;
-    if (out.certificate.certified) break;
-    s.repaired += grow_to_hold(balls, out.certificate,
-                               cover_radius_slack(s.largest_side, coordinates + s.largest_side));
-  }
-  if (!out.certificate.certified && s.repaired > 0)
-    out.certificate = certify_cover(mesh, balls, co);
-  s.certified = out.certificate.certified;
-  s.spheres = balls.size();
-  measure(query, balls, options.threads, s);
-  s.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
+  finish(query, c, options, start, out);
   return out;
+}
+
+CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& start_balls,
+                          const CoverOptions& options) {
+  const auto start = std::chrono::steady_clock::now();
+  const std::string problem = cover_start_problem(start_balls);
+  if (!problem.empty()) throw std::invalid_argument("start: " + problem);
+  check_cover_options(start_balls.size(), options);
+  const int threads = thread_count(options.threads);
+  CoverResult out;
+  CoverStats& s = out.stats;
+  s.budget = s.start_spheres = start_balls.size();
+  s.largest_side = query.mesh().bounds().sizes().maxCoeff();
+  CoverOptions surface_only = options;
+  surface_only.interior_resolution = 0;
+  const Elements e = make_elements(query, start_balls.size(), surface_only);
+  s.elements = e.surface;
+  // Each element to the ball that must grow least to hold it, each ball then just large
+  // enough for its elements (grown or shrunk), then steps 4 and 4f (capped).
+  Clustering c;
+  c.balls = start_balls;
+  std::vector<double> radii;
+  for (const Sphere& b : start_balls) radii.push_back(b.radius);
+  assign(e, c.balls, c.owner, threads, radii);
+  hold_members(e, c);
+  shrink(e, c);
+  if (options.volume_descent)
+    c = descend_volume(query, e, std::move(c), true, kTightenRounds, threads);
+  finish(query, c, options, start, out);
+  return out;
+}
+
+std::string cover_start_problem(const std::vector<Sphere>& start) {
+  if (start.empty()) return "no spheres";
+  for (std::size_t j = 0; j < start.size(); ++j)
+    if (!start[j].center.allFinite() || !std::isfinite(start[j].radius) || start[j].radius < 0.0)
+      return "sphere " + std::to_string(j) +
+             " has a non-finite centre or a radius that is not >= 0";
+  return "";
 }
 
 std::size_t grow_to_hold(std::vector<Sphere>& balls, const CoverCertificate& cert, double slack) {

@@ -12,7 +12,7 @@ BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& re
   const CoverCertificate& c = result.certificate;
   BakeRecord r;
   r.source = source;
-  r.mode = "cover_budget";
+  r.mode = s.start_spheres > 0 ? "cover_tighten" : "cover_budget";
   r.mode_target = static_cast<double>(s.budget);
   r.stats.spheres = s.spheres;
   r.stats.seconds = s.seconds;

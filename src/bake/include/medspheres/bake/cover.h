@@ -110,6 +110,7 @@ struct CoverStats {
   int best_round = 0;
   std::size_t repaired = 0;  ///< balls grown by step 5, counted per growth
   int repair_rounds_run = 0;
+  std::size_t start_spheres = 0;      ///< tighten_cover: the balls it started from; 0: bake_cover
   bool certified = false;             ///< the certificate's verdict on the result
   std::optional<double> mesh_volume;  ///< V, when the mesh is closed
   double union_volume = 0.0;          ///< exact
@@ -130,7 +131,27 @@ struct CoverResult {
 CoverResult bake_cover(const MeshQuery& query, std::size_t budget,
                        const CoverOptions& options = {});
 
-/// The BakeRecord of a cover: mode "cover_budget", target the budget, and the cover's
+/// A cover made from the caller's own balls (a planner's hand-made or fitted set, which
+/// need not cover): every surface element of step 1 (no interior points) goes to the ball
+/// that must grow least to hold it, each ball becomes just large enough for its elements
+/// (so it grows where the set left the surface uncovered and shrinks where it was loose),
+/// then the shrink of step 4 and the descent of step 4f (at most 40 rounds), no ball
+/// sticking out beyond the largest protrusion the set had after the first step; then step
+/// 5. At most start.size() balls; their order and layout follow \p start (empty balls are
+/// dropped). The union is never larger than after the first step, and when \p start
+/// already holds every element its union and largest protrusion do not grow (up to step
+/// 5's slack). stats.budget and stats.start_spheres are start.size(); stats.interior_points is 0.
+/// \throws std::invalid_argument for an empty \p start, a sphere with a non-finite centre
+///   or a radius that is not >= 0 (naming its index), or options out of range.
+CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& start,
+                          const CoverOptions& options = {});
+
+/// What tighten_cover refuses in \p start ("no spheres", "sphere 3 has a non-finite centre
+/// or a radius that is not >= 0"), or empty when it accepts it.
+std::string cover_start_problem(const std::vector<Sphere>& start);
+
+/// The BakeRecord of a cover: mode "cover_budget" ("cover_tighten" for tighten_cover), target
+/// the budget, and the cover's
 /// statistics (certified 1/0, the certificate's counts, union and excess volume, max
 /// protrusion, the worst uncovered distance when not certified) in extra_stats.
 BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& result);
