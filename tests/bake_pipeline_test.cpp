@@ -193,6 +193,23 @@ TEST_CASE("every request problem is out of range or a conflict, named by its fie
          r.cover = Length{0.0, false};
        },
        ErrorKind::kOutOfRange, "cover", "0"},
+      {[](BakeRequest& r) {
+         r.cover_start = {{Eigen::Vector3d::Zero(), 1.0}};
+       },
+       ErrorKind::kConflict, "cover_start", "1 spheres"},
+      {[](BakeRequest& r) {
+         r.method = BakeMethod::kCover;
+         r.max_spheres = 4;
+         r.cover_start = {{Eigen::Vector3d::Zero(), 1.0}};
+       },
+       ErrorKind::kConflict, "max_spheres", "4"},
+      {[](BakeRequest& r) {
+         r.method = BakeMethod::kCover;
+         r.cover_start = {{Eigen::Vector3d::Zero(), 1.0}, {Eigen::Vector3d::Zero(), -2.0}};
+       },
+       ErrorKind::kOutOfRange, "cover_start", "2 spheres"},
+      {[](BakeRequest& r) { r.method = BakeMethod::kCover; }, ErrorKind::kConflict, "method",
+       "cover"},
   };
   const TriangleMesh m = make_box({1, 1, 1});
   for (const Case& c : cases) {
@@ -298,6 +315,18 @@ TEST_CASE("a budget gives exactly that many inner spheres, or a cover within it"
   cover.max_spheres = 6;
   cover.dilate = true;
   CHECK(error_of([&] { validate(cover); }).field() == "dilate");
+  // Or the cover starts from given spheres (the inner one, which misses most of the knot):
+  // a certified cover of at most as many, recorded as tightened.
+  BakeRequest start;
+  start.method = BakeMethod::kCover;
+  start.cover_start = {inner.spheres.spheres.front(), inner.spheres.spheres.front()};
+  start.cover_start[1].center.x() += 0.1 * start.cover_start[1].radius;
+  const BakeOutcome t = bake_file(knot, start);
+  REQUIRE(t.cover);
+  CHECK(t.cover->certificate.certified);
+  CHECK(t.spheres.size() <= 2);
+  CHECK(nlohmann::json::parse(t.spheres.metadata_json)["generator"]["params"]["mode"] ==
+        "cover_tighten");
 }
 #endif
 

@@ -272,3 +272,48 @@ TEST_CASE("bake -o: links are followed, devices written in place, failures exit 
   }
   CHECK(entries == 2);
 }
+
+TEST_CASE("bake --cover-start: given spheres become a certified cover; misuse exits 2",
+          "[cli][bake]") {
+  TempDir dir;
+  const std::string inner = dir.file("inner.json"), yml = dir.file("start.yml");
+  REQUIRE(cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(inner) + " --max-spheres 3")
+              .exit_code == 0);
+  REQUIRE(
+      cli("convert " + shell_quote(inner) + " " + shell_quote(yml) + " --link knot").exit_code ==
+      0);
+  // From a one-set file, and from a link of a per-link file: the same spheres.
+  const std::string a = dir.file("a.json"), b = dir.file("b.json");
+  const CommandResult r = cli("bake " + shell_quote(kKnot) + " -o " + shell_quote(a) +
+                              " --method cover --cover-start " + shell_quote(inner));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("from 3 given") && Contains("certified covered"));
+  REQUIRE(cli("bake -q " + shell_quote(kKnot) + " -o " + shell_quote(b) +
+              " --method cover --cover-start " + shell_quote(yml) + " --cover-start-link knot")
+              .exit_code == 0);
+  const nlohmann::json st = stats_of(a);
+  CHECK(st["certified"] == true);
+  CHECK(st["count"].get<int>() <= 3);
+  CHECK(nlohmann::json::parse(
+            medspheres::load_sphere_set(a).metadata_json)["generator"]["params"]["mode"] ==
+        "cover_tighten");
+  CHECK(medspheres::load_sphere_set(a).spheres.size() ==
+        medspheres::load_sphere_set(b).spheres.size());
+  // Misuse: a link the file lacks, a budget beside the start, the medial method, a batch.
+  const std::string out = dir.file("bad.json");
+  const std::string mesh = " " + shell_quote(kKnot) + " -o " + shell_quote(out);
+  for (const auto& [args, expect] : std::vector<std::pair<std::string, std::string>>{
+           {" --method cover --cover-start " + shell_quote(yml) + " --cover-start-link arm",
+            "--cover-start-link"},
+           {" --method cover --max-spheres 4 --cover-start " + shell_quote(inner), "excludes"},
+           {" --cover-start " + shell_quote(inner), "--cover-start"},
+           {" " + shell_quote(kEight) + " --method cover --cover-start " + shell_quote(inner),
+            "--cover-start"}}) {
+    INFO(args);
+    const CommandResult bad = cli("bake" + mesh + args);
+    CHECK(bad.exit_code == 2);
+    CHECK_THAT(bad.err, Contains(expect));
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+}

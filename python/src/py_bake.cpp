@@ -9,6 +9,7 @@
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/bake/evaluate_set.h"
 #include "medspheres/bake/solid_choice.h"
+#include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "py_common.h"
@@ -36,7 +37,8 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
                   bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
                   const py::object& cover, std::uint64_t seed, int threads,
                   const std::string& solid, int robust_resolution,
-                  const py::object& robust_thickness, std::string name) {
+                  const py::object& robust_thickness, const py::object& cover_start,
+                  std::string name) {
   BakeFlags f;
   f.method = method;
   f.resolution = resolution;
@@ -48,6 +50,11 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
                 length_text(max_protrusion, "max_protrusion"), length_text(cover, "cover"), seed};
   f.threads = threads;
   f.solid = {solid, robust_resolution, length_text(robust_thickness, "robust_thickness")};
+  if (is_path(cover_start))
+    f.cover_start =
+        formats::one_set_of(formats::read_sphere_document(path_of(cover_start)), "", "cover_start");
+  else if (!cover_start.is_none())
+    f.cover_start = sphere_set_of(cover_start, "cover_start").spheres;
   const BakeRequest request = bake_request(f);
   BakeOutcome outcome;
   std::vector<std::string> warnings;
@@ -105,13 +112,18 @@ void register_bake(py::module_& m) {
         py::arg("vertex_tolerance") = py::none(), py::arg("max_protrusion") = py::none(),
         py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed, py::arg("threads") = 0,
         py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
-        py::arg("robust_thickness") = py::none(), py::arg("name") = "",
+        py::arg("robust_thickness") = py::none(), py::arg("cover_start") = py::none(),
+        py::arg("name") = "",
         "Bakes spheres of a mesh, as `medspheres bake` does, and returns a SphereSet.\n\n"
         "mesh: a file path (STL, OBJ, PLY, OFF, DAE, glTF, ...) or a pair (vertices n x 3, "
         "triangles m x 3) of arrays, oriented as load_mesh orients a file.\n"
         "method: 'medial' (inner spheres S_D; S+ with dilate or cover) or 'cover' (at most "
         "max_spheres spheres whose union contains the whole surface, certified; "
         "stats['certified'] says whether the certificate holds).\n"
+        "cover_start: with method 'cover', instead of max_spheres: spheres (a SphereSet, an "
+        "n x 4 array, or a sphere file of one set or one link) that need not cover, made "
+        "into a certified cover of at most as many, each grown or shrunk to the surface "
+        "nearest it, then tightened (generator params mode 'cover_tighten').\n"
         "max_spheres / target_error: a budget, or the smallest resolution whose nerr is at "
         "most E. Lengths (vertex_tolerance, max_protrusion, cover, robust_thickness) are "
         "numbers in the mesh's units or text such as '0.003L' (a multiple of the box's "

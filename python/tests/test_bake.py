@@ -141,3 +141,21 @@ def test_bad_meshes_raise(cli, tmp_path):
         medspheres.SphereSet(np.zeros((4, 3)))
     with pytest.raises(ValueError):
         medspheres.evaluate(missing, np.array([[0, 0, 0, 1.0]]), samples=0)
+
+
+def test_cover_start_equals_cli_and_takes_arrays(cli, eight, tmp_path):
+    start = medspheres.bake(eight, max_spheres=4)
+    start.save(tmp_path / "start.json")
+    ours = medspheres.bake(eight, method="cover", cover_start=tmp_path / "start.json")
+    theirs = cli_bake(cli, eight, tmp_path / "cli.json", "--method", "cover", "--cover-start",
+                      tmp_path / "start.json")
+    assert same_bits(ours.spheres, theirs.spheres)
+    assert ours.metadata["generator"]["params"] == {"mode": "cover_tighten", "budget": 4.0}
+    assert ours.stats["certified"] is True and 1 <= len(ours) <= 4
+    # an n x 4 array and a SphereSet start the same cover
+    assert same_bits(medspheres.bake(eight, method="cover", cover_start=start.spheres).spheres,
+                     ours.spheres)
+    assert same_bits(medspheres.bake(eight, method="cover", cover_start=start).spheres,
+                     ours.spheres)
+    with pytest.raises(medspheres.InputError, match="max_spheres"):
+        medspheres.bake(eight, method="cover", max_spheres=4, cover_start=start)

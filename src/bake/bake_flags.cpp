@@ -68,6 +68,7 @@ BakeRequest bake_request(const BakeFlags& f) {
     r.max_spheres = static_cast<std::size_t>(*f.max_spheres);
   }
   r.target_error = f.target_error;
+  r.cover_start = f.cover_start;
   set_dilation(f.dilation, r);
   set_solid(f.solid, r);
   validate(r);

@@ -160,11 +160,21 @@ Length parse_length(const std::string& text) {
 
 namespace {
 
-// A cover to a budget: the budget is max_spheres; nothing of S_D's options applies.
+// A cover to a budget: the budget is max_spheres, or the count of cover_start; nothing of
+// S_D's options applies.
 void validate_cover(const BakeRequest& r) {
-  if (!r.max_spheres)
+  if (!r.max_spheres && r.cover_start.empty())
     throw request_error(ErrorKind::kConflict, "method", "cover",
-                        "a covering set needs a budget (max_spheres)", {"max_spheres"});
+                        "a covering set needs a budget (max_spheres) or spheres to start from",
+                        {"max_spheres", "cover_start"});
+  if (r.max_spheres && !r.cover_start.empty())
+    throw request_error(ErrorKind::kConflict, "max_spheres", std::to_string(*r.max_spheres),
+                        "excludes cover_start: the start's spheres are the budget",
+                        {"cover_start"});
+  const std::string problem = r.cover_start.empty() ? "" : cover_start_problem(r.cover_start);
+  if (!problem.empty())
+    throw request_error(ErrorKind::kOutOfRange, "cover_start",
+                        std::to_string(r.cover_start.size()) + " spheres", problem);
   if (r.target_error)
     throw request_error(ErrorKind::kConflict, "target_error", number_text(*r.target_error),
                         "applies to inner sets, not to a covering set", {"method"});
@@ -178,7 +188,8 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
   CoverOptions options;
   options.threads = r.medial.threads;
   options.seed = r.seed;
-  out.cover = bake_cover(fit.query(), *r.max_spheres, options);
+  out.cover = r.cover_start.empty() ? bake_cover(fit.query(), *r.max_spheres, options)
+                                    : tighten_cover(fit.query(), r.cover_start, options);
   out.self_intersecting_pairs = fit.self_intersections().count();
   out.record = cover_bake_record(out.record.source, *out.cover);
   out.record.record_seconds = r.record_seconds;
@@ -198,6 +209,10 @@ void validate(const BakeRequest& r) {
     throw request_error(ErrorKind::kOutOfRange, "target_error", number_text(*r.target_error),
                         "must be in (0, 1), got " + number_text(*r.target_error));
   if (r.method == BakeMethod::kCover) validate_cover(r);
+  if (r.method != BakeMethod::kCover && !r.cover_start.empty())
+    throw request_error(ErrorKind::kConflict, "cover_start",
+                        std::to_string(r.cover_start.size()) + " spheres",
+                        "applies to a covering set only", {"method"});
   if (r.max_spheres && r.target_error)
     throw request_error(ErrorKind::kConflict, "max_spheres", std::to_string(*r.max_spheres),
                         "excludes target_error: a search has one goal", {"target_error"});

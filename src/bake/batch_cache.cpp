@@ -27,6 +27,14 @@ std::string optional_text(const std::optional<Length>& l) {
 
 }  // namespace
 
+std::string spheres_text(const std::vector<Sphere>& spheres) {
+  std::string t;
+  for (const Sphere& b : spheres)
+    t += exact_number_text(b.center.x()) + " " + exact_number_text(b.center.y()) + " " +
+         exact_number_text(b.center.z()) + " " + exact_number_text(b.radius) + ";";
+  return t;
+}
+
 // A new field of BakeRequest or BakeOptions that changes the result must be added here.
 std::string bake_request_text(const BakeRequest& r) {
   std::string t;
@@ -41,6 +49,7 @@ std::string bake_request_text(const BakeRequest& r) {
   line("object_angle", exact_number_text(r.medial.object_angle));
   line("medial_tolerance", exact_number_text(r.medial.medial_tolerance));
   line("max_spheres", r.max_spheres ? std::to_string(*r.max_spheres) : "none");
+  if (!r.cover_start.empty()) line("cover_start", spheres_text(r.cover_start));
   line("target_error", optional_text(r.target_error));
   line("dilate", r.dilate ? "1" : "0");
   line("vertex_tolerance", optional_text(r.vertex_tolerance));

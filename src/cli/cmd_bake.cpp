@@ -12,6 +12,7 @@
 #include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
+#include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
 #include "solid_flags.h"
 
@@ -25,6 +26,7 @@ struct BakeArgs {
   std::string mesh;
   std::string out;
   BakeFlags flags;
+  std::string cover_start, cover_start_link;  ///< a sphere file, and the link it names
   bool quiet = false;
 };
 
@@ -88,8 +90,10 @@ void print_cover_summary(const BakeArgs& args, const std::string& out, const Bak
   std::cout << "baked " << args.mesh << " -> " << out << "\n"
             << "  mesh          " << o.record.source.report.triangles << " triangles, "
             << mesh_description(o.record.source.report, o.self_intersecting_pairs, o.solid) << "\n"
-            << "  cover         " << o.spheres.size() << " spheres (budget " << r.stats.budget
-            << "), surface " << (r.stats.certified ? "certified covered" : "NOT certified") << " ("
+            << "  cover         " << o.spheres.size() << " spheres ("
+            << (r.stats.start_spheres > 0 ? "from " : "budget ") << r.stats.budget
+            << (r.stats.start_spheres > 0 ? " given" : "") << "), surface "
+            << (r.stats.certified ? "certified covered" : "NOT certified") << " ("
             << r.certificate.pieces_tested << " pieces, depth " << r.certificate.max_depth_reached
             << ")\n"
             << "  fit           excess volume " << number_text(r.stats.excess_volume, 4)
@@ -145,10 +149,17 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
 
 int run_bake(BakeArgs& args) {
   // Options first, then the output path: both are reported before any work is done.
+  if (!args.cover_start.empty())
+    args.flags.cover_start = formats::one_set_of(formats::read_sphere_document(args.cover_start),
+                                                 args.cover_start_link, "cover_start_link");
   BakeRequest request = bake_request(args.flags);
   const BatchCommand batch = mesh_batch(request);
-  if (is_batch(args.inputs, args.batch, batch))
+  if (is_batch(args.inputs, args.batch, batch)) {
+    if (!request.cover_start.empty())
+      throw InputError::option(ErrorKind::kConflict, "cover_start", args.cover_start,
+                               "starts the cover of one mesh, not of a batch");
     return run_batch(args.inputs, args.out, args.batch, batch, args.quiet);
+  }
   args.mesh = args.inputs.front();
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_output_path(out);
@@ -223,6 +234,17 @@ Runner register_bake(CLI::App& app) {
   sub->add_option("--cover", a->flags.dilation.cover,
                   "Dilate, then add spheres until no surface sample is farther than this "
                   "length outside, e.g. 0.003L (implies --dilate)");
+  auto* start = sub->add_option(
+      "--cover-start", a->cover_start,
+      "Method cover: make these spheres (any sphere file convert reads, in the mesh's frame; "
+      "a planner's own set need not cover) into a certified cover of at most as many spheres, "
+      "each grown or shrunk to the surface nearest it, then tightened; instead of "
+      "--max-spheres");
+  start->excludes(max);
+  sub->add_option("--cover-start-link", a->cover_start_link,
+                  "The link of a per-link --cover-start file (cuRobo, XRDF, ...) to start from "
+                  "(default: its only link)")
+      ->needs(start);
   sub->add_option("--seed", a->flags.dilation.seed, "Dilation: seed of its random points")
       ->capture_default_str();
   add_solid_flags(sub, a->flags.solid);

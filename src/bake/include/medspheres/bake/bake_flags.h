@@ -53,6 +53,7 @@ struct BakeFlags {
   DilationFlags dilation;
   SolidFlags solid;
   int threads = 0;
+  std::vector<Sphere> cover_start;  ///< the spheres --cover-start names, read (BakeRequest)
 };
 
 /// The flags as a request, validated (validate()): nonsense is reported before any work.

@@ -42,15 +42,19 @@ Length parse_length(const std::string& text);
 
 /// How the spheres are made: kMedial, the inner medial set S_D (to a budget: the best
 /// max_spheres inner spheres, inner_budget.h), optionally dilated to S+; kCover, at most
-/// max_spheres balls whose union contains the surface, certified (cover.h).
+/// max_spheres balls whose union contains the surface, certified (cover.h), or the balls of
+/// cover_start made into such a cover (tighten_cover).
 enum class BakeMethod { kMedial, kCover };
 
 struct BakeRequest {
   BakeMethod method = BakeMethod::kMedial;
   BakeOptions medial;  ///< resolution, object angle, tolerance, threads, progress
-  std::optional<std::size_t> max_spheres;  ///< at most K spheres (kCover: required, the budget)
-  std::optional<double> target_error;      ///< nerr at most E, in (0, 1) (closed meshes only)
-  bool dilate = false;                     ///< write S+ (implied by cover)
+  std::optional<std::size_t> max_spheres;  ///< at most K spheres (kCover: the budget)
+  /// kCover only, instead of max_spheres: the caller's balls (in the mesh's frame), which
+  /// tighten_cover (cover.h) makes into a certified cover of at most as many balls.
+  std::vector<Sphere> cover_start;
+  std::optional<double> target_error;  ///< nerr at most E, in (0, 1) (closed meshes only)
+  bool dilate = false;                 ///< write S+ (implied by cover)
   /// Dilation lengths (DilateOptions): vertex_tolerance > 0, max_protrusion >= 0, cover > 0.
   std::optional<Length> vertex_tolerance, max_protrusion, cover;
   std::uint64_t seed = 1;  ///< of the dilation's random points

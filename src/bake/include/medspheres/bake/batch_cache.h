@@ -28,6 +28,9 @@ std::string bake_cache_key(const std::string& mesh_sha256, const std::string& ex
 /// (not threads or progress): the part of a key that the request gives.
 std::string bake_request_text(const BakeRequest& request);
 
+/// Spheres as exact text ("x y z r;" each), for cache keys.
+std::string spheres_text(const std::vector<Sphere>& spheres);
+
 class BakeCache {
  public:
   /// Creates \p dir (and its parents) when missing.
