@@ -9,6 +9,7 @@
 #include <nlohmann/json.hpp>
 
 #include "medspheres/formats/sphere_document.h"
+#include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/robot_file.h"
@@ -366,5 +367,52 @@ TEST_CASE("robot: --target-error and --dilate apply to every link", "[cli][robot
     for (const auto& s : plain.find_link(link)->spheres.inner.spheres) r_plain += s.radius;
     for (const auto& s : dilated.find_link(link)->spheres.inner.spheres) r_dilated += s.radius;
     CHECK(r_dilated > r_plain);
+  }
+}
+
+TEST_CASE("robot --cover-start: a planner's own spheres become certified covers, link by link",
+          "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  const std::string pkg =
+      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
+  // The start: the inner sets in cuRobo's format, link frames; they miss the surface.
+  REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("inner")) + " --no-outer --link forearm=5 -q")
+              .exit_code == 0);
+  const std::string start = dir.file("inner/arm.curobo.yml");
+  const CommandResult r =
+      cli("robot " + arm_args(dir, urdf, dir.file("out")) + " --cover-start " + shell_quote(start));
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.out, Contains("covering set of") && Contains("from 5 given"));
+  // Every link with meshed parts is certified covered in the planner file, by eval.
+  const CommandResult e =
+      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/arm.curobo.yml")) + pkg +
+          " --samples 2000 --surface-samples 20000 --json");
+  INFO(e.err);
+  REQUIRE(e.exit_code == 0);
+  const auto j = nlohmann::json::parse(e.out);
+  for (int i = 0; i < 3; ++i) {
+    INFO(j["links"][i]["link"]);
+    CHECK(j["links"][i]["surface_certificate"]["certified"] == true);
+    CHECK(j["links"][i]["uncovered_max"].get<double>() == 0.0);
+  }
+  const auto meta =
+      nlohmann::json::parse(medspheres::load_robot(dir.file("out/arm.robot.json")).metadata_json);
+  CHECK(meta["links"]["forearm"]["outer_start_spheres"] == 5);
+  CHECK(meta["links"]["forearm"]["outer_spheres"].get<int>() <= 5);
+  CHECK(meta["options"]["cover_start"] == start);
+  // Bad uses exit 2 and write nothing: with --no-outer, and a one-set file.
+  medspheres::SphereSet lone;
+  lone.spheres = {{Eigen::Vector3d::Zero(), 0.01}};
+  const std::string one = dir.write("one.json", medspheres::sphere_set_to_json(lone));
+  for (const std::string& bad :
+       std::vector<std::string>{" --cover-start " + shell_quote(start) + " --no-outer",
+                                " --cover-start " + shell_quote(one)}) {
+    const std::string out = dir.file("bad");
+    const CommandResult b = cli("robot " + arm_args(dir, urdf, out) + bad);
+    CHECK(b.exit_code == 2);
+    CHECK_THAT(b.err, Contains("--cover-start"));
+    CHECK_FALSE(fs::exists(out));
   }
 }

@@ -144,6 +144,8 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
       }
     }
   t += bake_request_text(job.bake.request) + budget_text(job.bake.budget);
+  for (const auto& [link, spheres] : job.bake.outer_start)
+    t += "outer_start=" + link + " " + spheres_text(spheres) + "\n";
   t += std::string("outer=") + (job.bake.outer ? "1" : "0") +
        "\nfrom_visual=" + (job.read.from_visual ? "1" : "0") + "\nformats=";
   for (formats::SphereFormat f : chosen_formats(job))

@@ -38,6 +38,7 @@ struct BakeJob {
   std::optional<std::size_t> budget;
   BakeOutcome outcome;
   std::optional<BakeOutcome> outer;  ///< the cover, when outer sets are baked
+  std::vector<Sphere> outer_start;   ///< what the cover starts from, in the bake's frame
   double seconds = 0.0;
   double outer_seconds = 0.0;  ///< of seconds, the cover's
   std::exception_ptr error;
@@ -95,6 +96,7 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
   request.record_seconds = inner.record_seconds;
   request.max_spheres = job.budget ? job.budget : inner.max_spheres;
   if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
+  if (!job.outer_start.empty()) request.max_spheres.reset(), request.cover_start = job.outer_start;
   return bake_mesh(fit, report, request, name, sha256);
 }
 
@@ -226,6 +228,7 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   stats.outer_spheres = spheres.outer.size();
   stats.outer_certified = cover.certificate.certified;
   stats.outer_protrusion = cover.stats.max_protrusion + gap;
+  stats.outer_start = cover.stats.start_spheres;
 }
 
 nlohmann::ordered_json number(double v) {
@@ -252,6 +255,7 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"outer_spheres", s.outer_spheres},
                      {"outer_certified", s.outer_certified},
                      {"outer_max_protrusion", number(s.outer_protrusion)},
+                     {"outer_start_spheres", s.outer_start},
                      {"nerr", number(s.nerr)},
                      {"nerr_kind", s.nerr_kind},
                      {"bake_seconds", s.seconds},
@@ -261,6 +265,38 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
   }
   j["links"] = links;
   return j.dump();
+}
+
+// The spheres link \p solid's cover starts from (options.outer_start), or nullptr; they are
+// checked as tighten_cover would.
+const std::vector<Sphere>* outer_start_of(const RobotBakeOptions& options, const LinkSolid& solid,
+                                          const std::string& source) {
+  const auto it = options.outer_start.find(solid.link);
+  if (it == options.outer_start.end() || solid.parts.empty()) return nullptr;
+  if (!options.outer)
+    throw InputError(source, "link '" + solid.link +
+                                 "': an outer set's start is given, but no outer sets are baked");
+  const std::string problem = cover_start_problem(it->second);
+  if (!problem.empty())
+    throw InputError(source, "link '" + solid.link + "': outer set's start: " + problem);
+  return &it->second;
+}
+
+// Link-frame spheres in the frame the link is baked in (run_job): its one part's, or the
+// link's own for several parts; each radius grown by the rounding of the move (placed).
+std::vector<Sphere> start_in_bake_frame(const std::vector<Sphere>& start, const LinkSolid& solid) {
+  if (solid.parts.size() != 1) return start;
+  return placed(start, solid.parts[0].origin.inverse(), true);
+}
+
+std::vector<std::string> unused_outer_start(const RobotBakeOptions& options,
+                                            const std::vector<LinkSolid>& solids) {
+  std::vector<std::string> unused;
+  for (const auto& entry : options.outer_start)
+    if (std::none_of(solids.begin(), solids.end(),
+                     [&](const LinkSolid& s) { return s.link == entry.first && !s.parts.empty(); }))
+      unused.push_back(entry.first);
+  return unused;
 }
 
 }  // namespace
@@ -277,6 +313,7 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
 
   RobotBakeResult result;
   result.model = robot.model;
+  result.unused_outer_start = unused_outer_start(options, solids);
   std::vector<BakeJob> jobs;
   std::vector<std::size_t> job_of(solids.size(), std::numeric_limits<std::size_t>::max());
   std::map<std::string, std::size_t> job_by_key;
@@ -298,8 +335,15 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
       if (options.progress) options.progress(result.links[i]);
       continue;
     }
-    const auto [it, fresh] = job_by_key.emplace(job_key(solids[i], budgets[i]), jobs.size());
-    if (fresh) jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, 0.0, 0.0, nullptr});
+    const std::vector<Sphere>* given = outer_start_of(options, solids[i], robot.path);
+    // A link whose cover starts from its own spheres shares no bake.
+    const std::string key =
+        job_key(solids[i], budgets[i]) + (given ? " start of " + solids[i].link : "");
+    const auto [it, fresh] = job_by_key.emplace(key, jobs.size());
+    if (fresh) {
+      jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, {}, 0.0, 0.0, nullptr});
+      if (given) jobs.back().outer_start = start_in_bake_frame(*given, solids[i]);
+    }
     job_of[i] = it->second;
   }
 

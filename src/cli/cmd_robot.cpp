@@ -2,6 +2,7 @@
 // several URDFs, folders or a list: a batch, each robot in its own folder under OUTDIR.
 #include <algorithm>
 #include <iostream>
+#include <map>
 #include <memory>
 #include <optional>
 #include <string>
@@ -45,6 +46,7 @@ struct RobotArgs {
   SolidFlags solid;
   bool no_measure = false;
   bool no_outer = false;
+  std::string cover_start;  ///< a per-link sphere file the outer sets start from
   std::string set = "auto";
   bool resolution_given = false;
   bool quiet = false;
@@ -109,6 +111,9 @@ void print_summary(const RobotBakeResult& r, const std::string& out) {
     triangles += s.triangles;
     std::string note = s.note;
     if (!s.baked_as.empty()) note += (note.empty() ? "" : "; ") + ("same bake as " + s.baked_as);
+    if (s.outer_start > 0)
+      note += (note.empty() ? "" : "; ") + ("covering set of " + std::to_string(s.outer_spheres) +
+                                            " from " + std::to_string(s.outer_start) + " given");
     std::cout << cell(s.link, width) << cell(std::to_string(s.triangles), 11)
               << cell(s.budget ? std::to_string(*s.budget) : "-", 8)
               << cell(std::to_string(s.spheres), 9) << cell(nerr_text(s), 24)
@@ -145,8 +150,25 @@ std::string options_json(const RobotArgs& a) {
   o["robust_thickness"] = optional(a.solid.robust_thickness);
   o["measure"] = !a.no_measure;
   o["outer"] = !a.no_outer;
+  o["cover_start"] = a.cover_start.empty() ? nlohmann::ordered_json(nullptr)
+                                           : nlohmann::ordered_json(a.cover_start);
   o["set"] = a.set;
   return o.dump();
+}
+
+// The spheres of --cover-start per link (a per-link file: cuRobo, XRDF, robot file, ...).
+std::map<std::string, std::vector<Sphere>> start_spheres(const RobotArgs& a) {
+  if (a.no_outer)
+    throw InputError::option(ErrorKind::kConflict, "cover_start", a.cover_start,
+                             "starts the outer sets, which --no-outer leaves out");
+  const formats::SphereDocument doc = formats::read_sphere_document(a.cover_start);
+  if (doc.set)
+    throw InputError::option(ErrorKind::kOutOfRange, "cover_start", a.cover_start,
+                             "holds one sphere set; a robot needs a per-link file (cuRobo, "
+                             "XRDF, spherized URDF, SRDF, foam database, robot file)");
+  std::map<std::string, std::vector<Sphere>> out;
+  for (const formats::LinkSphereList& l : doc.links) out[l.link] = l.spheres;
+  return out;
 }
 
 // Everything the flags ask for, checked before any work.
@@ -162,6 +184,7 @@ RobotJob robot_job(const RobotArgs& a) {
   for (const std::string& p : a.packages) add_package_dir(job.read.packages, p);
   job.read.from_visual = a.from_visual;
   job.options_json = options_json(a);
+  if (!a.cover_start.empty()) job.bake.outer_start = start_spheres(a);
   return job;
 }
 
@@ -181,7 +204,12 @@ int run_robot(const RobotArgs& a) {
   // Everything that needs no work first: options, formats, the output folder.
   RobotJob job = robot_job(a);
   const BatchCommand batch = robot_batch(job);
-  if (is_batch(a.urdfs, a.batch, batch)) return run_batch(a.urdfs, a.out, a.batch, batch, a.quiet);
+  if (is_batch(a.urdfs, a.batch, batch)) {
+    if (!a.cover_start.empty())
+      throw InputError::option(ErrorKind::kConflict, "cover_start", a.cover_start,
+                               "starts the outer sets of one robot, not of a batch");
+    return run_batch(a.urdfs, a.out, a.batch, batch, a.quiet);
+  }
   const std::string& urdf = a.urdfs.front();
   formats::check_output_dir(a.out);
   if (!a.quiet) {
@@ -189,6 +217,13 @@ int run_robot(const RobotArgs& a) {
     job.bake.progress = print_progress;
   }
   const RobotFileResult r = bake_robot_file(urdf, a.out, job);
+  if (!a.quiet && !r.bake.unused_outer_start.empty()) {
+    std::cerr << "medspheres: warning: " << a.cover_start << ": "
+              << r.bake.unused_outer_start.size() << " link(s) with no meshed part in " << urdf
+              << ", not used:";
+    for (const std::string& link : r.bake.unused_outer_start) std::cerr << " " << link;
+    std::cerr << "\n";
+  }
   if (!a.quiet) {
     print_summary(r.bake, a.out);
     std::cout << "the planner formats carry each link's "
@@ -243,6 +278,11 @@ Runner register_robot(CLI::App& app) {
   sub->add_flag("--no-outer", a->no_outer,
                 "Bake inner sets only (default: also a certified covering set per link, which "
                 "the planner formats then carry)");
+  sub->add_option("--cover-start", a->cover_start,
+                  "A per-link sphere file (cuRobo, XRDF, ...; link frames) whose spheres, a "
+                  "planner's own set that need not cover, become each link's certified covering "
+                  "set of at most as many spheres, tightened; links it lacks are baked to "
+                  "their budget");
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
   add_batch_flags(*sub, a->batch, robot_batch(RobotJob{}));
   return [a, sub] {

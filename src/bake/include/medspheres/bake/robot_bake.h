@@ -84,10 +84,11 @@ struct LinkBakeStats {
   /// nerr of the baked part (NaN when not measured or not defined), and its kind.
   double nerr = std::numeric_limits<double>::quiet_NaN();
   std::string nerr_kind;
-  double seconds = 0.0;        ///< its bake (0 for a reused one)
-  double outer_seconds = 0.0;  ///< of seconds, the outer set's bake
-  std::string baked_as;        ///< the link whose bake it reuses; empty for its own
-  std::string note;            ///< "no collision geometry" and the like
+  double seconds = 0.0;         ///< its bake (0 for a reused one)
+  double outer_seconds = 0.0;   ///< of seconds, the outer set's bake
+  std::size_t outer_start = 0;  ///< the spheres its outer set started from (0: baked)
+  std::string baked_as;         ///< the link whose bake it reuses; empty for its own
+  std::string note;             ///< "no collision geometry" and the like
 };
 
 /// Called once per link as its spheres are ready (in completion order, one call at a
@@ -105,18 +106,28 @@ struct RobotBakeOptions {
   /// Also bake each link's outer set: a certified cover (BakeMethod::kCover) to the same
   /// budget (kDefaultSpheresPerLink where none applies). Sphere primitives are in both sets.
   bool outer = true;
+  /// Link name -> spheres in its frame (a planner's own set, which need not cover): that
+  /// link's outer set is tighten_cover (cover.h) of them instead of a bake to its budget.
+  /// Links of the robot without meshed parts, and names that are no link of the robot, are
+  /// not used (RobotBakeResult::unused_outer_start). Needs `outer`.
+  std::map<std::string, std::vector<Sphere>> outer_start;
 };
 
 struct RobotBakeResult {
   RobotModel model;  ///< the robot's tree with every link's spheres and the provenance
   std::vector<LinkBakeStats> links;  ///< in link order
-  double seconds = 0.0;              ///< wall clock of the whole bake
+  /// Names of options.outer_start not used: no link of the robot, or one without meshed
+  /// parts; in the map's order.
+  std::vector<std::string> unused_outer_start;
+  double seconds = 0.0;  ///< wall clock of the whole bake
 };
 
 /// Bakes every link of \p robot, whose solids are \p solids (load_link_solids).
 /// \throws InputError (source: robot.path) naming the link and the problem for every
 ///   failure of a link's bake (the first in link order when several fail), and as
 ///   link_bake_budgets and validate(request).
+/// \throws InputError (source: robot.path) for outer_start without outer or with spheres
+///   that tighten_cover refuses (naming the link).
 /// \throws std::invalid_argument for jobs outside [0, kMaxThreads] or solids that do not
 ///   match the robot's links, or a model whose links do not match them.
 RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
