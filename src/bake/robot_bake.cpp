@@ -96,7 +96,10 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
   request.record_seconds = inner.record_seconds;
   request.max_spheres = job.budget ? job.budget : inner.max_spheres;
   if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
-  if (!job.outer_start.empty()) request.max_spheres.reset(), request.cover_start = job.outer_start;
+  if (!job.outer_start.empty()) {  // the link's own spheres are its budget
+    request.max_spheres.reset();
+    request.cover_start = job.outer_start;
+  }
   return bake_mesh(fit, report, request, name, sha256);
 }
 

@@ -138,9 +138,10 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget,
 /// then the shrink of step 4 and the descent of step 4f (at most 40 rounds), no ball
 /// sticking out beyond the largest protrusion the set had after the first step; then step
 /// 5. At most start.size() balls; their order and layout follow \p start (empty balls are
-/// dropped). The union is never larger than after the first step, and when \p start
-/// already holds every element its union and largest protrusion do not grow (up to step
-/// 5's slack). stats.budget and stats.start_spheres are start.size(); stats.interior_points is 0.
+/// dropped). Before step 5 the union is never larger than after the first step, and when
+/// \p start already holds every element its union and largest protrusion do not grow (up
+/// to step 5's slack). stats.budget and stats.start_spheres are start.size();
+/// stats.interior_points is 0.
 /// \throws std::invalid_argument for an empty \p start, a sphere with a non-finite centre
 ///   or a radius that is not >= 0 (naming its index), or options out of range.
 CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& start,
@@ -150,10 +151,10 @@ CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& sta
 /// or a radius that is not >= 0"), or empty when it accepts it.
 std::string cover_start_problem(const std::vector<Sphere>& start);
 
-/// The BakeRecord of a cover: mode "cover_budget" ("cover_tighten" for tighten_cover), target
-/// the budget, and the cover's
-/// statistics (certified 1/0, the certificate's counts, union and excess volume, max
-/// protrusion, the worst uncovered distance when not certified) in extra_stats.
+/// The BakeRecord of a cover: mode "cover_budget" ("cover_tighten" for tighten_cover),
+/// target the budget, and the cover's statistics (certified 1/0, the certificate's counts,
+/// union and excess volume, max protrusion, the worst uncovered distance when not
+/// certified) in extra_stats.
 BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& result);
 
 /// bake_metadata_json(record) with generator.method "cover", the medial parameters
