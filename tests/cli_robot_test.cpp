@@ -35,6 +35,18 @@ std::string arm_args(const TempDir& dir, const std::string& urdf, const std::str
          shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string()) + " --spheres-per-link 10";
 }
 
+// `eval --json` of the arm's URDF against the sphere file \p file (a path in \p dir), which
+// must succeed; \p sampling: its --samples and --surface-samples.
+nlohmann::json eval_arm(const TempDir& dir, const std::string& urdf, const std::string& file,
+                        const std::string& sampling) {
+  const CommandResult r =
+      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file(file)) + " --package " +
+          shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string()) + sampling + " --json");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  return nlohmann::json::parse(r.out);
+}
+
 // The entries of \p dir (the temporary folders robot might leave behind included).
 std::size_t entries(const fs::path& dir) {
   std::size_t n = 0;
@@ -221,14 +233,8 @@ TEST_CASE("eval of a robot: one row per link", "[cli][robot]") {
   const std::string urdf = medspheres::test::write_arm(dir);
   // The planner formats carry the inner sets here, which the robot file's eval measures.
   REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("out")) + " --set inner -q").exit_code == 0);
-  const std::string pkg =
-      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
-  const CommandResult r =
-      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/arm.robot.json")) + pkg +
-          " --samples 20000 --surface-samples 2000 --json");
-  INFO(r.err);
-  REQUIRE(r.exit_code == 0);
-  const auto j = nlohmann::json::parse(r.out);
+  const std::string sampling = " --samples 20000 --surface-samples 2000";
+  const auto j = eval_arm(dir, urdf, "out/arm.robot.json", sampling);
   REQUIRE(j["links"].size() == 4);
   for (int i = 0; i < 3; ++i) {
     INFO(j["links"][i]["link"]);
@@ -244,12 +250,7 @@ TEST_CASE("eval of a robot: one row per link", "[cli][robot]") {
   for (const std::string name :
        {"arm.curobo.yml", "arm.xrdf", "arm.srdf", "arm.spherized.urdf", "arm.foam.json"}) {
     INFO(name);
-    const CommandResult y =
-        cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/" + name)) + pkg +
-            " --samples 20000 --surface-samples 2000 --json");
-    INFO(y.err);
-    REQUIRE(y.exit_code == 0);
-    const auto jy = nlohmann::json::parse(y.out);
+    const auto jy = eval_arm(dir, urdf, "out/" + name, sampling);
     for (int i = 0; i < 3; ++i) CHECK(jy["links"][i]["nerr"] == j["links"][i]["nerr"]);
   }
 }
@@ -374,8 +375,6 @@ TEST_CASE("robot --cover-start: a planner's own spheres become certified covers,
           "[cli][robot]") {
   TempDir dir;
   const std::string urdf = medspheres::test::write_arm(dir);
-  const std::string pkg =
-      " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
   // The start: the inner sets in cuRobo's format, link frames; they miss the surface.
   REQUIRE(cli("robot " + arm_args(dir, urdf, dir.file("inner")) + " --no-outer --link forearm=5 -q")
               .exit_code == 0);
@@ -386,12 +385,8 @@ TEST_CASE("robot --cover-start: a planner's own spheres become certified covers,
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.out, Contains("covering set of") && Contains("from 5 given"));
   // Every link with meshed parts is certified covered in the planner file, by eval.
-  const CommandResult e =
-      cli("eval " + shell_quote(urdf) + " " + shell_quote(dir.file("out/arm.curobo.yml")) + pkg +
-          " --samples 2000 --surface-samples 20000 --json");
-  INFO(e.err);
-  REQUIRE(e.exit_code == 0);
-  const auto j = nlohmann::json::parse(e.out);
+  const auto j =
+      eval_arm(dir, urdf, "out/arm.curobo.yml", " --samples 2000 --surface-samples 20000");
   for (int i = 0; i < 3; ++i) {
     INFO(j["links"][i]["link"]);
     CHECK(j["links"][i]["surface_certificate"]["certified"] == true);

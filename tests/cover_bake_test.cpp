@@ -10,34 +10,14 @@
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "support/cover_solids.h"
 
 using namespace medspheres;
 
-namespace {
-
-struct Named {
-  std::string name;
-  TriangleMesh mesh;
-};
-
-std::vector<Named> solids() {
-  return {{"box", make_box(Eigen::Vector3d(1.0, 0.6, 0.3), 2)},
-          {"capsule", make_capsule(0.3, 0.8, 24, 6)},
-          {"sphere", make_icosphere(1.0, 3)},
-          {"torus", make_torus(1.0, 0.3, 32, 12)}};
-}
-
-// The largest distance outside the union over 20000 area-weighted surface points and every
-// vertex, by the brute-force-free coverage of fit_metrics (an independent check, sampled).
-double sampled_gap(const TriangleMesh& mesh, const std::vector<Sphere>& balls) {
-  const SurfaceSamples s = sample_surface(mesh, 20000, 3);
-  return summarize_coverage(s, point_coverage(balls, s.points)).max;
-}
-
-}  // namespace
+using test::sampled_gap;
 
 TEST_CASE("bake_cover: certified, within budget, on generated solids at K = 1..64", "[cover]") {
-  for (const Named& solid : solids()) {
+  for (const test::NamedSolid& solid : test::cover_solids()) {
     const MeshQuery query(solid.mesh);
     double first_excess = 0.0;
     double excess_4 = 0.0;
@@ -142,13 +122,13 @@ TEST_CASE("bake_cover: the volume descent (step 4f) never makes a cover costlier
   // every element held, so the cover stays certified and costs at most what it cost
   // without the step (up to the slack of step 5, 1e-9 L per radius). On these solids it
   // lowers the cost at least once, so the step is not idle.
-  std::vector<Named> meshes = solids();
+  std::vector<test::NamedSolid> meshes = test::cover_solids();
   meshes.push_back({"bar", make_box(Eigen::Vector3d(5.0, 0.5, 0.5), 4)});
   auto cost = [](const CoverStats& s) {
     return (s.union_volume - *s.mesh_volume) * s.max_protrusion;
   };
   int lower = 0;
-  for (const Named& m : meshes) {
+  for (const test::NamedSolid& m : meshes) {
     const MeshQuery query(m.mesh);
     for (std::size_t k : {2, 5, 12, 24}) {
       CAPTURE(m.name, k);

@@ -17,26 +17,13 @@
 #include "medspheres/bake/union_volume.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "support/cover_solids.h"
 
 using namespace medspheres;
 
 namespace {
 
-struct Named {
-  std::string name;
-  TriangleMesh mesh;
-};
-
-std::vector<Named> solids() {
-  return {{"box", make_box(Eigen::Vector3d(1.0, 0.6, 0.3), 2)},
-          {"capsule", make_capsule(0.3, 0.8, 24, 6)},
-          {"torus", make_torus(1.0, 0.3, 32, 12)}};
-}
-
-double sampled_gap(const TriangleMesh& mesh, const std::vector<Sphere>& balls) {
-  const SurfaceSamples s = sample_surface(mesh, 20000, 5);
-  return summarize_coverage(s, point_coverage(balls, s.points)).max;
-}
+using test::sampled_gap;
 
 double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls) {
   const std::vector<double> p = sphere_protrusions(query, balls, 1);
@@ -63,7 +50,7 @@ std::vector<Sphere> planner_like(const MeshQuery& query, std::size_t k, unsigned
 
 TEST_CASE("tighten_cover: a set that misses the surface becomes a certified cover",
           "[cover][tighten]") {
-  for (const Named& solid : solids()) {
+  for (const test::NamedSolid& solid : test::cover_solids()) {
     const MeshQuery query(solid.mesh);
     for (std::size_t k : {1, 3, 8, 20}) {
       CAPTURE(solid.name, k);
@@ -91,7 +78,7 @@ TEST_CASE("tighten_cover never loosens a set that already covers", "[cover][tigh
   // loose cover. Each ball can only shrink (every element is already held), and the descent
   // only lowers the union; so the union and the largest protrusion stay at most the
   // start's, up to the slack of step 5 (1e-9 L per radius).
-  for (const Named& solid : solids()) {
+  for (const test::NamedSolid& solid : test::cover_solids()) {
     CAPTURE(solid.name);
     const MeshQuery query(solid.mesh);
     const Eigen::AlignedBox3d box = solid.mesh.bounds();
