@@ -12,6 +12,7 @@
 #include "medspheres/bake/evaluate_set_robot.h"
 #include "medspheres/bake/robot_bake.h"
 #include "medspheres/formats/robot_outputs.h"
+#include "medspheres/formats/sphere_document.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_file.h"
@@ -67,7 +68,21 @@ struct RobotArgs {
   std::optional<int> resolution;
   BakeFlags flags;
   bool measure, outer;
+  std::map<std::string, std::vector<Sphere>> cover_start;
 };
+
+// cover_start of bake_robot: None, a per-link sphere file's path, or {link: spheres}
+// (a SphereSet or an n x 4 array each).
+std::map<std::string, std::vector<Sphere>> link_spheres_arg(const py::object& arg) {
+  if (arg.is_none()) return {};
+  if (is_path(arg)) return formats::read_link_sphere_map(path_of(arg), "cover_start");
+  std::map<std::string, std::vector<Sphere>> out;
+  for (const auto& [key, value] : arg.cast<py::dict>()) {
+    const std::string link = key.cast<std::string>();
+    out[link] = sphere_set_of(value, "cover_start['" + link + "']").spheres;
+  }
+  return out;
+}
 
 RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   RobotBakeOptions options;
@@ -78,6 +93,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   options.budget = robot_budget(a.budget, options.request, a.resolution.has_value());
   options.jobs = a.jobs;
   options.outer = a.outer;
+  options.outer_start = a.cover_start;
   if (a.output) {
     formats::robot_output_formats(a.formats);
     formats::parse_set_choice(a.set);
@@ -92,6 +108,13 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
     py::gil_scoped_release release;
     const UrdfRobot robot = read_urdf(urdf, read);
     out.result = bake_robot(robot, load_link_solids(robot), options);
+  }
+  if (!out.result.unused_outer_start.empty()) {
+    std::string links;
+    for (const std::string& l : out.result.unused_outer_start) links += " " + l;
+    warn_all({std::to_string(out.result.unused_outer_start.size()) +
+              " link(s) of cover_start with no meshed part in the robot, not used:" + links},
+             urdf);
   }
   if (a.output) write_outputs(out, *a.output, a.formats, a.set);
   return out;
@@ -173,7 +196,8 @@ void register_robot(py::module_& m) {
          std::optional<int> resolution, double object_angle, std::optional<double> target_error,
          bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
          const py::object& cover, std::uint64_t seed, const std::string& solid,
-         int robust_resolution, const py::object& robust_thickness, bool measure, bool outer) {
+         int robust_resolution, const py::object& robust_thickness, bool measure, bool outer,
+         const py::object& cover_start) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -194,6 +218,7 @@ void register_robot(py::module_& m) {
                          length_text(robust_thickness, "robust_thickness")};
         a.measure = measure;
         a.outer = outer;
+        a.cover_start = link_spheres_arg(cover_start);
         return bake_robot_py(path_of(urdf), a);
       },
       py::arg("urdf"), py::arg("output") = py::none(), py::kw_only(),
@@ -207,13 +232,17 @@ void register_robot(py::module_& m) {
       py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed,
       py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
       py::arg("robust_thickness") = py::none(), py::arg("measure") = true, py::arg("outer") = true,
+      py::arg("cover_start") = py::none(),
       "Bakes every link of a URDF robot, as `medspheres robot URDF -o OUTPUT` does, and "
       "returns a RobotBake (per-link arrays, stats); with `output`, also writes the "
       "planners' files there (see RobotBake.save).\n\n"
       "packages: {'pkg': '/dir'} for package:// URIs. Budgets: spheres_per_link (default 32 "
       "unless budget, target_error or resolution is given), budget (the whole robot, shared "
       "by surface area), links ({'link': K}). outer: also bake a certified covering set per "
-      "link. measure=False skips the exact volume error. solid, robust_resolution, "
+      "link. cover_start: a per-link sphere file's path (cuRobo, XRDF, ...) or {'link': "
+      "spheres} in link frames, a planner's own set: each such link's covering set is made "
+      "from it (tighten_cover) instead of baked; links with no meshed part are named in a "
+      "UserWarning. measure=False skips the exact volume error. solid, robust_resolution, "
       "robust_thickness: each link's solid, as in bake. Lengths (vertex_tolerance, "
       "max_protrusion, cover, robust_thickness) are numbers in metres (the URDF's unit, in "
       "each link's scaled mesh) or text: '0.01' or '0.003L' (a multiple of the largest side "

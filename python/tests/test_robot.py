@@ -162,3 +162,23 @@ def test_robot_bounds_order_and_witnesses(arm, tmp_path):
     assert by_witness > 0
     with pytest.raises(ValueError):
         medspheres.RobotBounds(path, order_samples=10, order_margin=-1.0)
+
+
+def test_bake_robot_cover_start_equals_cli(cli, arm, tmp_path):
+    # the start: the inner sets in cuRobo's format (link frames); they miss the surface
+    cli("robot", arm, "-o", tmp_path / "inner", "--spheres-per-link", "5", "--no-outer", "-q")
+    start = tmp_path / "inner" / "arm.curobo.yml"
+    baked = medspheres.bake_robot(arm, tmp_path / "py", spheres_per_link=6, cover_start=start)
+    cli("robot", arm, "-o", tmp_path / "cli", "--spheres-per-link", "6", "-q", "--cover-start", start)
+    for name in PLANNER_FILES:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    rows = {r["link"]: r for r in baked.stats}
+    assert rows["upper"]["outer_certified"] and 1 <= rows["upper"]["outer_spheres"] <= 5
+    # the same from a dict of arrays
+    doc = medspheres.load(start)
+    again = medspheres.bake_robot(arm, spheres_per_link=6, cover_start=dict(doc.links))
+    assert np.array_equal(again.links["upper"]["outer"], baked.links["upper"]["outer"])
+    # a link the robot lacks is named in a warning
+    with pytest.warns(UserWarning, match="nope"):
+        medspheres.bake_robot(arm, spheres_per_link=6,
+                              cover_start={"nope": doc.links["upper"], **dict(doc.links)})

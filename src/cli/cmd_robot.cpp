@@ -161,14 +161,7 @@ std::map<std::string, std::vector<Sphere>> start_spheres(const RobotArgs& a) {
   if (a.no_outer)
     throw InputError::option(ErrorKind::kConflict, "cover_start", a.cover_start,
                              "starts the outer sets, which --no-outer leaves out");
-  const formats::SphereDocument doc = formats::read_sphere_document(a.cover_start);
-  if (doc.set)
-    throw InputError::option(ErrorKind::kOutOfRange, "cover_start", a.cover_start,
-                             "holds one sphere set; a robot needs a per-link file (cuRobo, "
-                             "XRDF, spherized URDF, SRDF, foam database, robot file)");
-  std::map<std::string, std::vector<Sphere>> out;
-  for (const formats::LinkSphereList& l : doc.links) out[l.link] = l.spheres;
-  return out;
+  return formats::read_link_sphere_map(a.cover_start, "cover_start");
 }
 
 // Everything the flags ask for, checked before any work.

@@ -172,6 +172,18 @@ SphereDocument read_sphere_document(const std::string& path, std::optional<Spher
   return doc;
 }
 
+std::map<std::string, std::vector<Sphere>> read_link_sphere_map(const std::string& path,
+                                                                const std::string& option) {
+  const SphereDocument doc = read_sphere_document(path);
+  if (doc.set)
+    throw InputError::option(ErrorKind::kOutOfRange, option, path,
+                             "holds one sphere set; a robot needs a per-link file (cuRobo, "
+                             "XRDF, spherized URDF, SRDF, foam database, robot file)");
+  std::map<std::string, std::vector<Sphere>> out;
+  for (const LinkSphereList& l : doc.links) out[l.link] = l.spheres;
+  return out;
+}
+
 std::vector<Sphere> one_set_of(const SphereDocument& doc, const std::string& link,
                                const std::string& link_field) {
   if (doc.set) return doc.set->spheres;

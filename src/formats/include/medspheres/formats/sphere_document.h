@@ -24,6 +24,7 @@
 /// robot file (it needs the kinematic tree); a spherized URDF needs the robot's URDF (the input's,
 /// or WriteOptions::urdf_text).
 
+#include <map>
 #include <optional>
 #include <string>
 #include <vector>
@@ -90,6 +91,12 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
 ///   empty \p link when the file has several links.
 std::vector<Sphere> one_set_of(const SphereDocument& doc, const std::string& link,
                                const std::string& link_field = "link");
+
+/// The spheres per link of the per-link file \p path (read_sphere_document), link -> spheres.
+/// \throws InputError naming the option \p option (its value \p path) for a one-set file,
+///   and as read_sphere_document.
+std::map<std::string, std::vector<Sphere>> read_link_sphere_map(const std::string& path,
+                                                                const std::string& option);
 
 /// Writes sphere_document_text atomically to \p path: nothing is written on error.
 void write_sphere_document(const std::string& path, const SphereDocument& doc, SphereFormat format,
