@@ -67,11 +67,7 @@ TEST_CASE("bake_cover: the same spheres for every thread count", "[cover]") {
   one.threads = 1;
   two.threads = 2;
   const CoverResult a = bake_cover(query, 16, one), b = bake_cover(query, 16, two);
-  REQUIRE(a.spheres.size() == b.spheres.size());
-  for (std::size_t i = 0; i < a.spheres.size(); ++i) {
-    CHECK(a.spheres.spheres[i].center == b.spheres.spheres[i].center);
-    CHECK(a.spheres.spheres[i].radius == b.spheres.spheres[i].radius);
-  }
+  test::check_same_spheres(a.spheres.spheres, b.spheres.spheres);
 }
 
 TEST_CASE("bake_cover: the record says cover, certified, and the measures", "[cover]") {

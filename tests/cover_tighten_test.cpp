@@ -112,11 +112,7 @@ TEST_CASE("tighten_cover: the same spheres for every thread count", "[cover][tig
   one.threads = 1;
   two.threads = 2;
   const CoverResult a = tighten_cover(query, start, one), b = tighten_cover(query, start, two);
-  REQUIRE(a.spheres.size() == b.spheres.size());
-  for (std::size_t i = 0; i < a.spheres.size(); ++i) {
-    CHECK(a.spheres.spheres[i].center == b.spheres.spheres[i].center);
-    CHECK(a.spheres.spheres[i].radius == b.spheres.spheres[i].radius);
-  }
+  test::check_same_spheres(a.spheres.spheres, b.spheres.spheres);
 }
 
 TEST_CASE("tighten_cover: the record says the cover was tightened from the start",

@@ -5,6 +5,7 @@
 #include <vector>
 
 #include <Eigen/Core>
+#include <catch2/catch.hpp>
 
 #include "medspheres/bake/fit_metrics.h"
 #include "medspheres/mesh/mesh_generators.h"
@@ -30,6 +31,15 @@ inline std::vector<NamedSolid> cover_solids() {
 inline double sampled_gap(const TriangleMesh& mesh, const std::vector<Sphere>& balls) {
   const SurfaceSamples s = sample_surface(mesh, 20000, 3);
   return summarize_coverage(s, point_coverage(balls, s.points)).max;
+}
+
+/// Checks that two covers have the same spheres, bit for bit, in the same order.
+inline void check_same_spheres(const std::vector<Sphere>& a, const std::vector<Sphere>& b) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t i = 0; i < a.size(); ++i) {
+    CHECK(a[i].center == b[i].center);
+    CHECK(a[i].radius == b[i].radius);
+  }
 }
 
 }  // namespace medspheres::test
