@@ -1,0 +1,166 @@
+#include "scene_grid.h"
+
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <stdexcept>
+
+#include "distance_transform.h"
+
+namespace medspheres::check::detail {
+namespace {
+
+// The largest float <= x (x >= 0 finite, or +inf).
+float float_below(double x) {
+  float f = static_cast<float>(x);
+  if (static_cast<double>(f) > x) f = std::nextafter(f, -std::numeric_limits<float>::infinity());
+  return f;
+}
+
+const double kHalfDiagonal = std::sqrt(3.0) / 2.0;
+
+}  // namespace
+
+SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t max_cells,
+                     double pad)
+    : elements_(scene_elements(scene)), reach_(reach), pad_(pad) {
+  if (!(reach > 0.0) || !std::isfinite(reach))
+    throw std::invalid_argument("scene grid: the reach must be finite and > 0");
+  if (!(cell >= 0.0) || !std::isfinite(cell))
+    throw std::invalid_argument("scene grid: the cell side must be finite and >= 0");
+  if (elements_.empty()) return;
+  for (const Element& e : elements_) bounds_.extend(e.box);
+  h_ = cell > 0.0 ? cell : reach / 2;
+  // The grid holds every point within reach of an element, and a cell more.
+  const Eigen::Vector3d extent = bounds_.max() - bounds_.min();
+  while (true) {
+    double cells = 1.0;
+    for (int k = 0; k < 3; ++k) {
+      n_[k] = static_cast<int>(std::ceil((extent[k] + 2 * (reach + h_)) / h_));
+      cells *= n_[k];
+    }
+    if (cells <= static_cast<double>(std::max<std::size_t>(max_cells, 1))) break;
+    h_ *= std::max(1.01, std::cbrt(cells / static_cast<double>(max_cells)));
+  }
+  origin_ = bounds_.min().array() - (reach + h_);
+  build_lists(pad);
+  build_lower(pad);
+}
+
+long SceneGrid::cell_of(const double* p) const {
+  long index = 0, stride = 1;
+  for (int k = 0; k < 3; ++k) {
+    const double u = (p[k] - origin_[k]) / h_;
+    if (!(u >= 0.0) || u >= n_[k]) return -1;
+    index += static_cast<long>(u) * stride;
+    stride *= n_[k];
+  }
+  return index;
+}
+
+// Outside the grid: the distance to the elements' bounds, less the pad.
+double SceneGrid::outside_lower(const double* p) const {
+  double s = 0.0;
+  for (int k = 0; k < 3; ++k) {
+    const double d = std::max({bounds_.min()[k] - p[k], p[k] - bounds_.max()[k], 0.0});
+    s += d * d;
+  }
+  return std::sqrt(s) - pad_;
+}
+
+void SceneGrid::build_lists(double pad) {
+  const std::size_t cells = std::size_t(n_[0]) * n_[1] * n_[2];
+  struct Hit {
+    std::uint32_t cell, element;
+    float lower;
+  };
+  std::vector<Hit> hits;
+  for (std::size_t i = 0; i < elements_.size(); ++i) {
+    const Element& e = elements_[i];
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::max(0, int(std::floor((e.box.min()[k] - reach_ - pad - origin_[k]) / h_)));
+      hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x) {
+          const Eigen::Vector3d c = origin_ + h_ * Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5);
+          const double lower = element_distance(e, c) - kHalfDiagonal * h_ - pad;
+          if (lower > reach_) continue;  // farther than reach from every point of the cell
+          const auto cell = static_cast<std::uint32_t>(x + n_[0] * (y + std::size_t(n_[1]) * z));
+          hits.push_back({cell, static_cast<std::uint32_t>(i), float_below(std::max(lower, 0.0))});
+        }
+  }
+  begin_.assign(cells + 1, 0);
+  for (const Hit& h : hits) ++begin_[h.cell + 1];
+  for (std::size_t c = 0; c < cells; ++c) begin_[c + 1] += begin_[c];
+  entries_.resize(hits.size());
+  std::vector<std::uint32_t> next(begin_.begin(), begin_.end() - 1);
+  for (const Hit& h : hits) entries_[next[h.cell]++] = {h.element, h.lower};
+  for (std::size_t c = 0; c < cells; ++c)
+    std::sort(entries_.begin() + begin_[c], entries_.begin() + begin_[c + 1],
+              [](const Entry& a, const Entry& b) {
+                return a.lower < b.lower || (a.lower == b.lower && a.element < b.element);
+              });
+}
+
+// Per cell: the lists' bound (the first entry, or reach when none is listed: every element
+// not listed is farther than reach), raised to the distance transform's where larger.
+void SceneGrid::build_lower(double pad) {
+  const std::size_t cells = begin_.size() - 1;
+  std::vector<char> touched(cells, 0);
+  for (const Element& e : elements_) {
+    int lo[3], hi[3];
+    for (int k = 0; k < 3; ++k) {
+      lo[k] = std::max(0, int(std::floor((e.box.min()[k] - pad - origin_[k]) / h_)));
+      hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + pad - origin_[k]) / h_)));
+    }
+    for (int z = lo[2]; z <= hi[2]; ++z)
+      for (int y = lo[1]; y <= hi[1]; ++y)
+        for (int x = lo[0]; x <= hi[0]; ++x)
+          touched[std::size_t(x) + n_[0] * (std::size_t(y) + std::size_t(n_[1]) * z)] = 1;
+  }
+  const std::vector<double> d2 = squared_distance_transform(touched, n_[0], n_[1], n_[2]);
+  lower_.resize(cells);
+  for (std::size_t c = 0; c < cells; ++c) {
+    // Two cubes of side h whose centres are D h apart are at least (D - sqrt 3) h apart.
+    const double transform = h_ * (std::sqrt(d2[c]) - 2 * kHalfDiagonal) - pad;
+    const double listed = begin_[c] < begin_[c + 1] ? double(entries_[begin_[c]].lower) : reach_;
+    lower_[c] = float_below(std::max({std::min(listed, reach_), transform, 0.0}));
+  }
+}
+
+bool SceneGrid::clear(const double* p, double rq) const {
+  if (elements_.empty()) return true;
+  const long c = cell_of(p);
+  if (c < 0) return outside_lower(p) > rq;
+  return double(lower_[std::size_t(c)]) > rq;
+}
+
+bool SceneGrid::within(const double* p, double rq) const {
+  if (elements_.empty() || rq < 0.0) return false;
+  const Eigen::Vector3d P(p[0], p[1], p[2]);
+  const long c = cell_of(p);
+  if (c >= 0 && double(lower_[std::size_t(c)]) > rq) return false;
+  if (c < 0 && outside_lower(p) > rq) return false;
+  if (c < 0 || rq > reach_) {
+    for (const Element& e : elements_)
+      if (element_within(e, P, rq)) return true;
+    return false;
+  }
+  for (std::uint32_t k = begin_[std::size_t(c)]; k < begin_[std::size_t(c) + 1]; ++k) {
+    const Entry& entry = entries_[k];
+    if (double(entry.lower) > rq) break;
+    if (element_within(elements_[entry.element], P, rq)) return true;
+  }
+  return false;
+}
+
+void SceneGrid::objects_within(const double* p, double rq, std::vector<std::uint32_t>& out) const {
+  const Eigen::Vector3d P(p[0], p[1], p[2]);
+  for (const Element& e : elements_)
+    if (element_within(e, P, rq)) out.push_back(e.object);
+}
+
+}  // namespace medspheres::check::detail
