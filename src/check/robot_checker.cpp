@@ -337,6 +337,7 @@ Verdict RobotChecker::check_edge(const double* q0, const double* q1, double reso
   const Impl& m = *impl_;
   m.validate(q0, 0);
   m.validate(q1, 1);
+  edge_steps(q0, q1, resolution);  // validates the resolution
   detail::Workspace w = m.workspace();
   std::size_t count = 0;
   const Verdict v = m.edge(w, q0, q1, resolution, mode, undecided_t, count);
