@@ -70,6 +70,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/formats/srdf_disabled_collisions.h"
+#include "robot_bench_check.h"
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
@@ -95,6 +96,10 @@ struct Options {
   std::size_t distance_every = 10;
   bool explain = false;
   std::size_t order_samples = 4000;
+  std::size_t planner_spheres = 8;  // the checker's planner level (the bake's sets: its fine level)
+  double edge_length = 0.5;
+  double resolution = 0.02;
+  bool checker = true;
 };
 
 Options parse(int argc, char** argv) {
@@ -132,6 +137,11 @@ Options parse(int argc, char** argv) {
            "Seeded configurations that order the self pairs and pick witnesses (SelfPairOrder; 0: "
            "geometry order, none)");
   app.add_flag("--explain", o.explain, "Print the pairs of configurations whose bounds fail");
+  args.add("--planner-spheres", o.planner_spheres,
+           "The checker's planner level: spheres per link (the sets above are its fine level)");
+  args.add("--edge-length", o.edge_length, "The checker's edges: joint-space length");
+  args.add("--resolution", o.resolution, "The checker's edges: resolution");
+  app.add_flag("!--no-checker", o.checker, "Leave out the robot checker's rows");
   args.parse(argc, argv);
   return o;
 }
@@ -507,6 +517,27 @@ int run(const Options& o) {
       "over %zu configurations (every %zu-th)\n",
       truth, configs.size(), o.margin, ref_seconds, disagree, disagree_plus, ref.sampled.size(),
       o.distance_every);
+  if (o.checker) {
+    mb::RobotSource planner_source = o.robot;
+    planner_source.spheres_per_link = o.planner_spheres;
+    const mb::BenchRobot planner = o.planner_spheres == o.robot.spheres_per_link
+                                       ? robot
+                                       : mb::load_bench_robot(planner_source);
+    mb::CheckerBenchInput in;
+    in.planner = &planner;
+    in.fine = &robot;
+    in.scene = objects;
+    in.disabled = disabled;
+    in.configs = configs;
+    in.reference = ref.colliding;
+    in.margin = o.margin;
+    in.self = o.self;
+    in.exact_micros = runs[0].micros;
+    in.edge_length = o.edge_length;
+    in.resolution = o.resolution;
+    std::printf("\nplanner sets: %s\n", planner.spheres_from.c_str());
+    mb::print_checker_rows(in);
+  }
   for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
     if (ref.colliding[i] && !runs[4].colliding[i]) {
       const mf::RobotCollideResult c =

@@ -217,7 +217,12 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   m.layout = detail::make_layout(planner, fine, options.X_WB, options.disabled);
   m.allowance = rounding_allowance(m.layout, scene);
   m.scene_objects = scene.size();
-  const double reach = m.layout.max_radius + options.margin + 2 * m.allowance;
+  // One cell's list answers balls up to the radius of three in four spheres; larger ones
+  // read a few cells (scene_grid.h): short lists for the many, no miss for the few.
+  std::vector<double> radii = m.layout.r;
+  std::sort(radii.begin(), radii.end());
+  const double typical = radii.empty() ? 0.0 : radii[radii.size() * 3 / 4];
+  const double reach = typical + options.margin + 2 * m.allowance;
   m.grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
                                                options.max_cells, m.allowance);
   detail::KernelRobot& k = m.kernel_robot;

@@ -18,7 +18,8 @@ void row_major(const Eigen::Matrix3d& m, double* out) {
     for (int c = 0; c < 3; ++c) out[3 * r + c] = m(r, c);
 }
 
-// The fine model must move as the planner's: the same links, the same joints.
+// The fine model must move as the planner's: the same links, the same joints (origins to
+// 1e-12: a robot file's rotation reads back as its quaternion's matrix, robot_file.h).
 void check_same_robot(const RobotModel& planner, const RobotModel& fine) {
   for (const Link& l : planner.links)
     if (fine.find_link(l.name) == nullptr)
@@ -28,7 +29,8 @@ void check_same_robot(const RobotModel& planner, const RobotModel& fine) {
   for (const Joint& j : planner.joints) {
     const Joint* f = fine.find_joint(j.name);
     if (f == nullptr || f->type != j.type || f->parent != j.parent || f->child != j.child ||
-        !f->origin.isApprox(j.origin, 0.0) || f->axis != j.axis)
+        (f->origin.matrix() - j.origin.matrix()).cwiseAbs().maxCoeff() > 1e-12 ||
+        (f->axis - j.axis).cwiseAbs().maxCoeff() > 1e-12)
       throw InputError(kSource, "joint \"" + j.name + "\" of the fine sets differs from the planner's");
   }
 }

@@ -72,7 +72,7 @@ void SceneGrid::build_lists(double pad) {
   const std::size_t cells = std::size_t(n_[0]) * n_[1] * n_[2];
   struct Hit {
     std::uint32_t cell, element;
-    float lower;
+    float lower, upper;
   };
   std::vector<Hit> hits;
   for (std::size_t i = 0; i < elements_.size(); ++i) {
@@ -86,10 +86,11 @@ void SceneGrid::build_lists(double pad) {
       for (int y = lo[1]; y <= hi[1]; ++y)
         for (int x = lo[0]; x <= hi[0]; ++x) {
           const Eigen::Vector3d c = origin_ + h_ * Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5);
-          const double lower = element_distance(e, c) - kHalfDiagonal * h_ - pad;
-          if (lower > reach_) continue;  // farther than reach from every point of the cell
+          const double d = element_distance(e, c);
+          if (d - kHalfDiagonal * h_ - pad > reach_) continue;  // beyond reach of the cell
           const auto cell = static_cast<std::uint32_t>(x + n_[0] * (y + std::size_t(n_[1]) * z));
-          hits.push_back({cell, static_cast<std::uint32_t>(i), float_below(std::max(lower, 0.0))});
+          hits.push_back({cell, static_cast<std::uint32_t>(i), float_below(std::max(d - pad, 0.0)),
+                          -float_below(-(d + pad))});
         }
   }
   begin_.assign(cells + 1, 0);
@@ -97,7 +98,7 @@ void SceneGrid::build_lists(double pad) {
   for (std::size_t c = 0; c < cells; ++c) begin_[c + 1] += begin_[c];
   entries_.resize(hits.size());
   std::vector<std::uint32_t> next(begin_.begin(), begin_.end() - 1);
-  for (const Hit& h : hits) entries_[next[h.cell]++] = {h.element, h.lower};
+  for (const Hit& h : hits) entries_[next[h.cell]++] = {h.element, h.lower, h.upper};
   for (std::size_t c = 0; c < cells; ++c)
     std::sort(entries_.begin() + begin_[c], entries_.begin() + begin_[c + 1],
               [](const Entry& a, const Entry& b) {
@@ -126,7 +127,9 @@ void SceneGrid::build_lower(double pad) {
   for (std::size_t c = 0; c < cells; ++c) {
     // Two cubes of side h whose centres are D h apart are at least (D - sqrt 3) h apart.
     const double transform = h_ * (std::sqrt(d2[c]) - 2 * kHalfDiagonal) - pad;
-    const double listed = begin_[c] < begin_[c + 1] ? double(entries_[begin_[c]].lower) : reach_;
+    const double listed = begin_[c] < begin_[c + 1]
+                              ? double(entries_[begin_[c]].lower) - kHalfDiagonal * h_ - pad
+                              : reach_;
     lower_[c] = float_below(std::max({std::min(listed, reach_), transform, 0.0}));
   }
 }
@@ -138,29 +141,76 @@ bool SceneGrid::clear(const double* p, double rq) const {
   return double(lower_[std::size_t(c)]) > rq;
 }
 
-bool SceneGrid::within(const double* p, double rq) const {
-  if (elements_.empty() || rq < 0.0) return false;
-  const Eigen::Vector3d P(p[0], p[1], p[2]);
-  const long c = cell_of(p);
-  if (c >= 0 && double(lower_[std::size_t(c)]) > rq) return false;
-  if (c < 0 && outside_lower(p) > rq) return false;
-  if (c < 0 || rq > reach_) {
-    for (const Element& e : elements_)
-      if (element_within(e, P, rq)) return true;
-    return false;
-  }
-  for (std::uint32_t k = begin_[std::size_t(c)]; k < begin_[std::size_t(c) + 1]; ++k) {
+Eigen::Vector3d SceneGrid::centre(std::size_t c) const {
+  const std::size_t x = c % std::size_t(n_[0]), y = c / std::size_t(n_[0]) % std::size_t(n_[1]),
+                    z = c / (std::size_t(n_[0]) * std::size_t(n_[1]));
+  return origin_ + h_ * Eigen::Vector3d(double(x) + 0.5, double(y) + 0.5, double(z) + 0.5);
+}
+
+// The list of cell c: the elements within rq of p, to `found` until it returns true
+// (then true). An element farther than rq + delta from the centre (delta = |p - centre|,
+// padded) is farther than rq from p; one nearer than rq - delta is within; the others are
+// tested exactly. The pad keeps both shortcuts on the side the exact test would take.
+template <class Found>
+bool SceneGrid::scan_list(std::size_t c, const Eigen::Vector3d& p, double rq, Found&& found) const {
+  const double delta = (p - centre(c)).norm() + pad_;
+  for (std::uint32_t k = begin_[c]; k < begin_[c + 1]; ++k) {
     const Entry& entry = entries_[k];
-    if (double(entry.lower) > rq) break;
-    if (element_within(elements_[entry.element], P, rq)) return true;
+    if (double(entry.lower) - delta > rq) break;
+    if ((double(entry.upper) + delta + pad_ <= rq ||
+         element_within(elements_[entry.element], p, rq)) &&
+        found(elements_[entry.element]))
+      return true;
   }
   return false;
 }
 
-void SceneGrid::objects_within(const double* p, double rq, std::vector<std::uint32_t>& out) const {
+// Every element within rq of p to `found` until it returns true (then true).
+template <class Found>
+bool SceneGrid::scan(const double* p, double rq, Found&& found) const {
+  if (elements_.empty() || rq < 0.0) return false;
   const Eigen::Vector3d P(p[0], p[1], p[2]);
-  for (const Element& e : elements_)
-    if (element_within(e, P, rq)) out.push_back(e.object);
+  const long c = cell_of(p);
+  if (c < 0) {
+    if (outside_lower(p) > rq) return false;
+    for (const Element& e : elements_)
+      if (element_within(e, P, rq) && found(e)) return true;
+    return false;
+  }
+  if (double(lower_[std::size_t(c)]) > rq) return false;
+  if (rq <= reach_) return scan_list(std::size_t(c), P, rq, found);
+  // A larger ball: every element within rq of p is within reach of a point x at most
+  // rq - reach from p, so in the list of x's cell; read every cell that such x can be in.
+  const double out = rq - reach_ + pad_;
+  int lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::max(0, int(std::floor((p[k] - out - origin_[k]) / h_)));
+    hi[k] = std::min(n_[k] - 1, int(std::floor((p[k] + out - origin_[k]) / h_)));
+  }
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int x = lo[0]; x <= hi[0]; ++x) {
+        const std::size_t cell = std::size_t(x) + n_[0] * (std::size_t(y) + std::size_t(n_[1]) * z);
+        const Eigen::Vector3d m = centre(cell);
+        double d2 = 0.0;  // from p to the cell's box
+        for (int k = 0; k < 3; ++k) {
+          const double d = std::max(std::abs(P[k] - m[k]) - h_ / 2, 0.0);
+          d2 += d * d;
+        }
+        if (std::sqrt(d2) <= out && scan_list(cell, P, rq, found)) return true;
+      }
+  return false;
+}
+
+bool SceneGrid::within(const double* p, double rq) const {
+  return scan(p, rq, [](const Element&) { return true; });
+}
+
+void SceneGrid::objects_within(const double* p, double rq, std::vector<std::uint32_t>& out) const {
+  scan(p, rq, [&out](const Element& e) {
+    out.push_back(e.object);
+    return false;
+  });
 }
 
 }  // namespace medspheres::check::detail

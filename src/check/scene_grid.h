@@ -5,9 +5,12 @@
 //   nearest element: the larger of the listed elements' bound (below) and an exact
 //   Euclidean distance transform of the cells that elements' boxes touch, so that a
 //   query ball far from everything is cleared with one look-up, however large;
-// - per cell, the elements within `reach` of the cell, ordered by a lower bound of their
-//   distance from the cell, so that a ball of radius up to reach centred in the cell is
-//   decided exactly by the elements listed, stopping at the first whose bound passes it.
+// - per cell, the elements within `reach` of the cell, with their distance from the cell's
+//   centre (rounded down and up) and ordered by it: a ball of radius up to reach centred at
+//   p in the cell, delta from the centre, is decided by the elements listed, skipping those
+//   farther than radius + delta, taking as touching those nearer than radius - delta, and
+//   testing the others exactly; a larger ball goes through the cells within its radius
+//   less reach (every element within its radius is within reach of one of them).
 // Frame W, metres. Every bound is rounded down by `pad` (a few orders of magnitude above
 // the rounding of the doubles involved), so that "clear" is certain and never disagrees
 // with the exact test. Immutable after construction: const queries are thread-safe.
@@ -25,9 +28,9 @@ namespace medspheres::check::detail {
 
 class SceneGrid {
  public:
-  /// \p reach: the largest query radius answered from the lists (larger ones go through
-  /// every element); \p cell: the cell side (0: reach / 2); at most \p max_cells cells (the
-  /// side grows to fit); \p pad: the rounding allowance of bounds.
+  /// \p reach: the query radius answered from one cell's list (larger ones read the cells
+  /// around); \p cell: the cell side (0: reach / 2); at most \p max_cells cells (the side
+  /// grows to fit); \p pad: the rounding allowance of bounds.
   SceneGrid(const Scene& scene, double reach, double cell, std::size_t max_cells, double pad);
 
   bool empty() const noexcept { return elements_.empty(); }
@@ -47,9 +50,14 @@ class SceneGrid {
  private:
   struct Entry {
     std::uint32_t element;
-    float lower;  // <= the distance from any point of the cell to the element
+    float lower, upper;  // <= and >= the distance from the cell's centre to the element
   };
   long cell_of(const double* p) const;
+  template <class Found>
+  bool scan(const double* p, double rq, Found&& found) const;
+  template <class Found>
+  bool scan_list(std::size_t c, const Eigen::Vector3d& p, double rq, Found&& found) const;
+  Eigen::Vector3d centre(std::size_t c) const;
   double outside_lower(const double* p) const;
   void build_lists(double pad);
   void build_lower(double pad);
