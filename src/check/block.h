@@ -14,6 +14,16 @@ inline constexpr int kLanes = 4;
 inline constexpr int kBoundSlot = kLevels;  // the posed bounding sphere's slot
 inline constexpr int kSlots = kLevels + 1;
 
+/// The scene grid's lower bounds, for look-ups inside the kernel (SceneGrid::clear's, with
+/// the cell found by a multiplication: a point a rounding away from its cell is still
+/// within the pad the bounds carry). lower is null when the scene is empty.
+struct GridView {
+  double origin[3] = {0, 0, 0};
+  double inverse_side = 0.0;
+  long n[3] = {0, 0, 0};
+  const float* lower = nullptr;
+};
+
 struct KernelRobot {
   int frames = 0;
   int steps = 0;
@@ -25,6 +35,7 @@ struct KernelRobot {
   int pairs = 0;
   const std::uint32_t *pair_a = nullptr, *pair_b = nullptr;
   bool fine = false;
+  GridView grid;
 };
 
 struct Block;

@@ -20,11 +20,17 @@
 namespace medspheres::check::detail {
 namespace {
 
+// Rounds every lane to the nearest integer (ties to even), exact for |x| < 2^51.
+V round_nearest(V x) {
+  const double kRound = 6755399441055744.0;  // 1.5 * 2^52
+  return (x + splat(kRound)) - splat(kRound);
+}
+
 // sin and cos of every lane: Cody and Waite's reduction by pi / 2 (three parts, exact for
-// |x| < 2^26), then Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp).
+// |x| < 2^26), Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp), then the quadrant's
+// swap and signs as exact arithmetic on 0, 1 and -1 (no per-lane branch).
 void sincos(V x, V& s, V& c) {
-  const double kRound = 6755399441055744.0;  // 1.5 * 2^52: adding it rounds to an integer
-  const V k = (x * splat(0.63661977236758134308) + splat(kRound)) - splat(kRound);
+  const V k = round_nearest(x * splat(0.63661977236758134308));
   const V r = ((x - k * splat(1.57079625129699707031)) - k * splat(7.54978941586159635335e-8)) -
               k * splat(5.39030285815811905290e-15);
   const V z = r * r;
@@ -42,18 +48,16 @@ void sincos(V x, V& s, V& c) {
   pc = pc * z + splat(4.16666666666665929218e-2);
   const V sr = r + (r * z) * ps;
   const V cr = (splat(1.0) - splat(0.5) * z) + (z * z) * pc;
-  double kk[kLanes], ss[kLanes], cc[kLanes], so[kLanes], co[kLanes];
-  store(kk, k);
-  store(ss, sr);
-  store(cc, cr);
-  for (int l = 0; l < kLanes; ++l) {
-    // Quadrant k mod 4 (two's complement & 3 for negative k): swaps and signs, exact.
-    const long q = static_cast<long>(kk[l]) & 3;
-    so[l] = q == 0 ? ss[l] : q == 1 ? cc[l] : q == 2 ? -ss[l] : -cc[l];
-    co[l] = q == 0 ? cc[l] : q == 1 ? -ss[l] : q == 2 ? -cc[l] : ss[l];
-  }
-  s = load(so);
-  c = load(co);
+  // m = k mod 4 in {0, 1, 2, 3}; sin x = (s, c, -s, -c)[m], cos x = (c, -s, -c, s)[m].
+  const V m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
+  const V half = round_nearest(m * splat(0.5) - splat(0.25));  // 0, 0, 1, 1
+  const V swap = m - splat(2.0) * half;                         // 0, 1, 0, 1
+  const V hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
+  const V sign_s = splat(1.0) - splat(2.0) * half;
+  const V sign_c = splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
+  const V keep = splat(1.0) - swap;
+  s = (sr * keep + cr * swap) * sign_s;
+  c = (cr * keep + sr * swap) * sign_c;
 }
 
 // X_WF of every moving frame (frame 0, W itself, is left as the caller set it).
@@ -124,13 +128,27 @@ void lane_point(const double* posed_set, int i, int lane, double* p) {
   for (int k = 0; k < 3; ++k) p[k] = posed_set[(3 * i + k) * kLanes + lane];
 }
 
+// The grid's lower bound at p exceeds rq (so nothing is within rq of p); false outside
+// the grid (the caller asks the grid itself then).
+bool grid_clear(const GridView& g, const double* p, double rq) {
+  if (g.lower == nullptr) return true;  // no element
+  long index = 0;
+  for (int k = 2; k >= 0; --k) {
+    const double u = (p[k] - g.origin[k]) * g.inverse_side;
+    if (!(u >= 0.0) || !(u < g.n[k])) return false;
+    index = index * g.n[k] + static_cast<long>(u);
+  }
+  return double(g.lower[index]) > rq;
+}
+
 // Some sphere of the set within rq(radius) of the scene, in this lane.
 bool set_within(const KernelRobot& robot, const SceneGrid& scene, const double* set, int begin,
                 int count, int lane, double add) {
   double p[3];
   for (int i = 0; i < count; ++i) {
     lane_point(set, i, lane, p);
-    if (scene.within(p, robot.r[begin + i] + add)) return true;
+    const double rq = robot.r[begin + i] + add;
+    if (!grid_clear(robot.grid, p, rq) && scene.within(p, rq)) return true;
   }
   return false;
 }
@@ -240,7 +258,8 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
     for (int lane = 0; lane < kLanes; ++lane) {
       if (!(open >> lane & 1)) continue;
       lane_point(bound, 0, lane, p);
-      if (!scene.clear(p, robot.link[link].bound[3] + cull)) need |= 1u << lane;
+      const double rq = robot.link[link].bound[3] + cull;
+      if (!grid_clear(robot.grid, p, rq) && !scene.clear(p, rq)) need |= 1u << lane;
     }
     if (need) open &= ~scene_pair(robot, scene, b, link, need);
   }

@@ -241,6 +241,15 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();
   k.fine = l.fine;
+  const detail::SceneGrid& g = *m.grid;
+  if (g.lower_bounds() != nullptr) {
+    for (int d = 0; d < 3; ++d) {
+      k.grid.origin[d] = g.origin()[d];
+      k.grid.n[d] = g.dims()[d];
+    }
+    k.grid.inverse_side = 1.0 / g.cell_side();
+    k.grid.lower = g.lower_bounds();
+  }
 }
 
 RobotChecker::~RobotChecker() = default;

@@ -43,6 +43,7 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
     h_ *= std::max(1.01, std::cbrt(cells / static_cast<double>(max_cells)));
   }
   origin_ = bounds_.min().array() - (reach + h_);
+  inverse_h_ = 1.0 / h_;
   build_lists(pad);
   build_lower(pad);
 }
@@ -50,7 +51,7 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
 long SceneGrid::cell_of(const double* p) const {
   long index = 0, stride = 1;
   for (int k = 0; k < 3; ++k) {
-    const double u = (p[k] - origin_[k]) / h_;
+    const double u = (p[k] - origin_[k]) * inverse_h_;  // a rounding off: within the pad
     if (!(u >= 0.0) || u >= n_[k]) return -1;
     index += static_cast<long>(u) * stride;
     stride *= n_[k];

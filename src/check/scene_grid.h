@@ -40,6 +40,11 @@ class SceneGrid {
   std::size_t num_entries() const noexcept { return entries_.size(); }
   std::size_t num_elements() const noexcept { return elements_.size(); }
 
+  /// The grid's frame and lower bounds (null when empty), cells x fastest.
+  const double* origin() const noexcept { return origin_.data(); }
+  const int* dims() const noexcept { return n_; }
+  const float* lower_bounds() const noexcept { return lower_.empty() ? nullptr : lower_.data(); }
+
   /// True when certainly no element lies within \p rq of \p p.
   bool clear(const double* p, double rq) const;
   /// True when some element lies within \p rq of \p p (closed, exact as element_within).
@@ -64,7 +69,7 @@ class SceneGrid {
 
   std::vector<Element> elements_;
   Eigen::AlignedBox3d bounds_;  // of the elements
-  double reach_ = 0.0, h_ = 0.0, pad_ = 0.0;
+  double reach_ = 0.0, h_ = 0.0, inverse_h_ = 0.0, pad_ = 0.0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   int n_[3] = {0, 0, 0};
   std::vector<float> lower_;           // per cell
