@@ -588,7 +588,11 @@ class GeneratedRobot {
 int main(int argc, char** argv) {
   // The checker's rows on every core: OpenMP's threads sleep rather than spin while they
   // wait, which on a machine shared with other work would take the cores the others need.
-  setenv("OMP_WAIT_POLICY", "passive", 0);
+  // The runtime reads the setting when it loads, so the program starts again with it.
+  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
+  }
   Options o = parse(argc, argv);
   const GeneratedRobot generated(o);
   if (!std::filesystem::exists(o.robot.urdf)) {

@@ -140,6 +140,24 @@ double element_distance(const Element& e, const Eigen::Vector3d& p) {
   return std::max(std::sqrt(core_distance_sq(e, p)) - e.radius, 0.0);
 }
 
+// A ball around the element: its box's for primitives and cells, the smallest about the
+// centroid for a triangle; rounded up.
+void enclose(Element& e) {
+  if (e.kind == ElementKind::triangle) {
+    const Eigen::Vector3d a = e.triangle.a, b = a + e.triangle.ab, c = a + e.triangle.ac;
+    e.ball_centre = (a + b + c) / 3;
+    e.ball_radius = std::max({(a - e.ball_centre).norm(), (b - e.ball_centre).norm(),
+                              (c - e.ball_centre).norm()});
+  } else if (e.kind == ElementKind::sphere || e.kind == ElementKind::point) {
+    e.ball_centre = e.a;
+    e.ball_radius = e.radius;
+  } else {
+    e.ball_centre = e.box.center();
+    e.ball_radius = (e.box.max() - e.box.min()).norm() / 2;
+  }
+  e.ball_radius = e.ball_radius * (1 + 1e-12) + 1e-12 * e.ball_centre.cwiseAbs().maxCoeff();
+}
+
 std::vector<Element> scene_elements(const Scene& scene) {
   std::vector<Element> out;
   for (std::size_t i = 0; i < scene.size(); ++i) {
@@ -152,6 +170,7 @@ std::vector<Element> scene_elements(const Scene& scene) {
     else
       add_primitive(o, id, out);
   }
+  for (Element& e : out) enclose(e);
   return out;
 }
 

@@ -30,6 +30,9 @@ struct Element {
   medspheres::detail::QueryTriangle triangle;
   Eigen::Vector3d normal = Eigen::Vector3d::Zero();
   Eigen::AlignedBox3d box;  // contains the element
+  // A ball that contains the element: centre ball_centre, radius ball_radius.
+  Eigen::Vector3d ball_centre = Eigen::Vector3d::Zero();
+  double ball_radius = 0.0;
 };
 
 /// The squared distance from p to the element's core; p is within d of the element when

@@ -29,7 +29,10 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
   if (!(cell >= 0.0) || !std::isfinite(cell))
     throw std::invalid_argument("scene grid: the cell side must be finite and >= 0");
   if (elements_.empty()) return;
-  for (const Element& e : elements_) bounds_.extend(e.box);
+  for (const Element& e : elements_) {
+    bounds_.extend(e.box);
+    balls_.insert(balls_.end(), {e.ball_centre.x(), e.ball_centre.y(), e.ball_centre.z(), e.ball_radius});
+  }
   h_ = cell > 0.0 ? cell : reach / 2;
   // The grid holds every point within reach of an element, and a cell more.
   const Eigen::Vector3d extent = bounds_.max() - bounds_.min();
@@ -150,16 +153,24 @@ Eigen::Vector3d SceneGrid::centre(std::size_t c) const {
 
 // The list of cell c: the elements within rq of p, to `found` until it returns true
 // (then true). An element farther than rq + delta from the centre (delta = |p - centre|,
-// padded) is farther than rq from p; one nearer than rq - delta is within; the others are
-// tested exactly. The pad keeps both shortcuts on the side the exact test would take.
+// padded) is farther than rq from p; one nearer than rq - delta is within; then the same
+// with the element's ball (its centre's distance d from p, its radius b: beyond when
+// d - b > rq, within when d + b <= rq); the others are tested exactly. The pads keep the
+// shortcuts on the side the exact test would take.
 template <class Found>
 bool SceneGrid::scan_list(std::size_t c, const Eigen::Vector3d& p, double rq, Found&& found) const {
   const double delta = (p - centre(c)).norm() + pad_;
   for (std::uint32_t k = begin_[c]; k < begin_[c + 1]; ++k) {
     const Entry& entry = entries_[k];
     if (double(entry.lower) - delta > rq) break;
-    if ((double(entry.upper) + delta + pad_ <= rq ||
-         element_within(elements_[entry.element], p, rq)) &&
+    const double* ball = &balls_[4 * std::size_t(entry.element)];
+    const double dx = p.x() - ball[0], dy = p.y() - ball[1], dz = p.z() - ball[2];
+    const double beyond = rq + ball[3] + pad_;
+    if (dx * dx + dy * dy + dz * dz > beyond * beyond) continue;
+    const double inside = rq - ball[3] - pad_;
+    const bool near = double(entry.upper) + delta + pad_ <= rq ||
+                      (inside >= 0.0 && dx * dx + dy * dy + dz * dz <= inside * inside);
+    if ((near || element_within(elements_[entry.element], p, rq)) &&
         found(elements_[entry.element]))
       return true;
   }

@@ -8,8 +8,8 @@
 // - per cell, the elements within `reach` of the cell, with their distance from the cell's
 //   centre (rounded down and up) and ordered by it: a ball of radius up to reach centred at
 //   p in the cell, delta from the centre, is decided by the elements listed, skipping those
-//   farther than radius + delta, taking as touching those nearer than radius - delta, and
-//   testing the others exactly; a larger ball goes through the cells within its radius
+//   farther than radius + delta, taking as touching those nearer than radius - delta, then
+//   the same with a ball around each element, and testing the others exactly; a larger ball goes through the cells within its radius
 //   less reach (every element within its radius is within reach of one of them).
 // Frame W, metres. Every bound is rounded down by `pad` (a few orders of magnitude above
 // the rounding of the doubles involved), so that "clear" is certain and never disagrees
@@ -68,6 +68,7 @@ class SceneGrid {
   void build_lower(double pad);
 
   std::vector<Element> elements_;
+  std::vector<double> balls_;  // per element: its ball's centre and radius (x, y, z, r)
   Eigen::AlignedBox3d bounds_;  // of the elements
   double reach_ = 0.0, h_ = 0.0, inverse_h_ = 0.0, pad_ = 0.0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
