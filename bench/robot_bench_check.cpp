@@ -170,7 +170,8 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
       for (Verdict x : v) colliding += x != Verdict::free;
       char note[96] = "";
       if (certified_mode)
-        std::snprintf(note, sizeof note, "fallback in %zu edges' samples", stats.configurations);
+        std::snprintf(note, sizeof note, "fallback in %zu samples, %zu pairs to the meshes",
+                      stats.configurations, stats.meshes);
       std::printf("%-10s %7s %12.3f %14.1f %16.3g %10zu  %s\n",
                   certified_mode ? "check/c" : "check/s", threads == 1 ? "1" : "all",
                   micros / double(edges), double(checked) / double(edges),
@@ -254,9 +255,12 @@ void print_checker_rows(const CheckerBenchInput& in) {
                  certified.check(q.data(), n, v.data(), threads, &stats);
                }) / double(n);
     r.colliding = colliding_of(v);
-    char note[128];
-    std::snprintf(note, sizeof note, "certified: %zu configurations (%.2f%%) reached the meshes, %zu pairs; %zu undecided",
-                  stats.configurations, 100.0 * double(stats.configurations) / double(n), stats.pairs,
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "certified: %zu configurations (%.2f%%) to the fallback, %zu pairs, %zu to the "
+                  "meshes; %zu undecided",
+                  stats.configurations, 100.0 * double(stats.configurations) / double(n),
+                  stats.pairs, stats.meshes,
                   static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
     r.note = note;
     rows.push_back(r);

@@ -30,6 +30,12 @@ check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fi
 
 int thread_count(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
 
+// bounded_geometry.h's settle(), by a name the member settle() does not hide.
+template <class... Args>
+CollideResult settle_pair(Args&&... args) {
+  return medspheres::fcl::settle(std::forward<Args>(args)...);
+}
+
 }  // namespace
 
 CertifiedChecker::CertifiedChecker(
@@ -53,8 +59,9 @@ CertifiedChecker::CertifiedChecker(
   }
 }
 
-// One configuration: the bounds, then collide() on every pair they left undecided,
-// stopping at the first colliding one.
+// One configuration: the bounds, then, as robot_collide does, decide() on every pair they
+// left undecided (the links' sphere trees, surface points included), stopping at the first
+// certainly colliding one; only when none is do the meshes settle() the pairs still open.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
   std::vector<check::UndecidedPair> pairs;
   const check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
@@ -64,18 +71,27 @@ check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) c
   const std::vector<::fcl::Transform3d> X = bounds_.poses(qv, checker_.options().X_WB);
   const double margin = checker_.options().margin;
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
-  bool undecided = false;
+  auto object = [&](const check::UndecidedPair& p) { return scene_[scene_source_[p.other]]; };
+  std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
   for (const check::UndecidedPair& p : pairs) {
     ++stats.pairs;
     const std::size_t a = geometry_of_[p.link];
-    CollideResult r;
-    if (p.self) {
-      const std::size_t b = geometry_of_[p.other];
-      r = collide(g[a], X[a], g[b], X[b], margin);
-    } else {
-      const ::fcl::CollisionObjectd* o = scene_[scene_source_[p.other]];
-      r = collide(g[a], X[a], *o->collisionGeometry(), o->getTransform(), margin);
-    }
+    const CollideResult r =
+        p.self ? decide(g[a], X[a], g[geometry_of_[p.other]], X[geometry_of_[p.other]], margin)
+               : decide(g[a], X[a], *object(p)->collisionGeometry(), object(p)->getTransform(),
+                        margin);
+    if (r.verdict == BoundsVerdict::colliding) return check::Verdict::colliding;
+    if (r.verdict == BoundsVerdict::undecided) open.emplace_back(&p, r);
+  }
+  bool undecided = false;
+  for (const auto& [p, decided] : open) {
+    ++stats.meshes;
+    const std::size_t a = geometry_of_[p->link];
+    const CollideResult r =
+        p->self ? settle_pair(decided, g[a], X[a], g[geometry_of_[p->other]],
+                              X[geometry_of_[p->other]], margin)
+                : settle_pair(decided, g[a], X[a], *object(*p)->collisionGeometry(),
+                              object(*p)->getTransform(), margin);
     if (r.verdict == BoundsVerdict::colliding) return check::Verdict::colliding;
     undecided = undecided || r.verdict == BoundsVerdict::undecided;
   }
@@ -88,6 +104,7 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
   if (stats) {
     stats->configurations += s.configurations;
     stats->pairs += s.pairs;
+    stats->meshes += s.meshes;
   }
   return v;
 }
@@ -99,19 +116,21 @@ void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out
   for (std::size_t i = 0; i < n; ++i)
     if (out[i] == check::Verdict::undecided) open.push_back(i);
   const std::size_t dof = checker_.num_positions();
-  std::size_t configurations = 0, pairs = 0;
+  std::size_t configurations = 0, pairs = 0, meshes = 0;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads)) \
-    reduction(+ : configurations, pairs)
+    reduction(+ : configurations, pairs, meshes)
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
     FallbackStats s;
     const std::size_t i = open[std::size_t(k)];
     out[i] = settle(q + i * dof, s);
     configurations += s.configurations;
     pairs += s.pairs;
+    meshes += s.meshes;
   }
   if (stats) {
     stats->configurations += configurations;
     stats->pairs += pairs;
+    stats->meshes += meshes;
   }
 }
 
@@ -139,6 +158,7 @@ check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, 
   if (stats) {
     stats->configurations += s.configurations;
     stats->pairs += s.pairs;
+    stats->meshes += s.meshes;
   }
   return out;
 }
@@ -150,9 +170,9 @@ std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, st
   checker_.validate(q0, n);  // no exception may leave the parallel loop
   checker_.validate(q1, n);
   checker_.edge_steps(q0, q0, resolution);
-  std::size_t total = 0, configurations = 0, pairs = 0;
+  std::size_t total = 0, configurations = 0, pairs = 0, meshes = 0;
 #pragma omp parallel for schedule(dynamic, 4) num_threads(thread_count(threads)) \
-    reduction(+ : total, configurations, pairs)
+    reduction(+ : total, configurations, pairs, meshes)
   for (long i = 0; i < static_cast<long>(n); ++i) {
     std::size_t checked = 0;
     FallbackStats s;
@@ -160,10 +180,12 @@ std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, st
     total += checked;
     configurations += s.configurations;
     pairs += s.pairs;
+    meshes += s.meshes;
   }
   if (stats) {
     stats->configurations += configurations;
     stats->pairs += pairs;
+    stats->meshes += meshes;
   }
   return total;
 }

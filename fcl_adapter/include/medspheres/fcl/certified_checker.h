@@ -4,8 +4,9 @@
 /// Mode::bounds) with RobotBounds' mesh fallback, for whole batches of configurations and
 /// edges. The levels, cheapest first: each link's bounding sphere, the planner's K spheres
 /// (covering and inner sets), the fine sets (a larger cover and inner set per link, baked
-/// once), and only for the pairs these leave undecided, collide() of bounded_geometry.h on
-/// the links' BoundedGeometry (their sphere trees, then the exact meshes).
+/// once), and only for the pairs these leave undecided, decide() of bounded_geometry.h on
+/// the links' BoundedGeometry (their sphere trees, with the meshes' surface points), then,
+/// when no pair is certainly colliding, settle() by the exact meshes (as robot_collide).
 ///
 /// Verdicts: colliding when some link pair is within the margin, free when none is, each
 /// certified (never a missed collision): by the certified covers and the inner sets, and
@@ -38,7 +39,8 @@ namespace medspheres::fcl {
 /// What a batch needed besides the spheres.
 struct FallbackStats {
   std::size_t configurations = 0;  ///< configurations that reached the fallback
-  std::size_t pairs = 0;           ///< pairs settled by collide()
+  std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
+  std::size_t meshes = 0;          ///< pairs that the exact meshes settled
 };
 
 class CertifiedChecker {
