@@ -21,7 +21,8 @@ struct GridView {
   double origin[3] = {0, 0, 0};
   double inverse_side = 0.0;
   long n[3] = {0, 0, 0};
-  const float* lower = nullptr;
+  const std::uint8_t* lower = nullptr;  // in units of `unit`
+  double unit = 0.0;
 };
 
 struct KernelRobot {

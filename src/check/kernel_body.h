@@ -138,7 +138,7 @@ bool grid_clear(const GridView& g, const double* p, double rq) {
     if (!(u >= 0.0) || !(u < g.n[k])) return false;
     index = index * g.n[k] + static_cast<long>(u);
   }
-  return double(g.lower[index]) > rq;
+  return g.lower[index] * g.unit > rq;
 }
 
 // Some sphere of the set within rq(radius) of the scene, in this lane.

@@ -249,6 +249,7 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
     }
     k.grid.inverse_side = 1.0 / g.cell_side();
     k.grid.lower = g.lower_bounds();
+    k.grid.unit = g.lower_unit();
   }
 }
 

@@ -18,6 +18,9 @@ float float_below(double x) {
 }
 
 const double kHalfDiagonal = std::sqrt(3.0) / 2.0;
+// A cell's lower bound is kept in steps of side / kLowerSteps, in one byte: the grid of
+// bounds stays in the processor's cache (a bound is at most 255 / kLowerSteps sides).
+constexpr double kLowerSteps = 8.0;
 
 }  // namespace
 
@@ -47,6 +50,7 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
   }
   origin_ = bounds_.min().array() - (reach + h_);
   inverse_h_ = 1.0 / h_;
+  unit_ = h_ / kLowerSteps;
   build_lists(pad);
   build_lower(pad);
 }
@@ -134,7 +138,10 @@ void SceneGrid::build_lower(double pad) {
     const double listed = begin_[c] < begin_[c + 1]
                               ? double(entries_[begin_[c]].lower) - kHalfDiagonal * h_ - pad
                               : reach_;
-    lower_[c] = float_below(std::max({std::min(listed, reach_), transform, 0.0}));
+    const double value = std::max({std::min(listed, reach_), transform, 0.0});
+    double q = std::min(std::floor(value / unit_), 255.0);
+    if (q * unit_ > value) q -= 1.0;  // the division rounded up
+    lower_[c] = static_cast<std::uint8_t>(std::max(q, 0.0));
   }
 }
 
@@ -142,7 +149,7 @@ bool SceneGrid::clear(const double* p, double rq) const {
   if (elements_.empty()) return true;
   const long c = cell_of(p);
   if (c < 0) return outside_lower(p) > rq;
-  return double(lower_[std::size_t(c)]) > rq;
+  return lower_[std::size_t(c)] * unit_ > rq;
 }
 
 Eigen::Vector3d SceneGrid::centre(std::size_t c) const {
@@ -189,7 +196,7 @@ bool SceneGrid::scan(const double* p, double rq, Found&& found) const {
       if (element_within(e, P, rq) && found(e)) return true;
     return false;
   }
-  if (double(lower_[std::size_t(c)]) > rq) return false;
+  if (lower_[std::size_t(c)] * unit_ > rq) return false;
   if (rq <= reach_) return scan_list(std::size_t(c), P, rq, found);
   // A larger ball: every element within rq of p is within reach of a point x at most
   // rq - reach from p, so in the list of x's cell; read every cell that such x can be in.

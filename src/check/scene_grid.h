@@ -1,8 +1,8 @@
 #pragma once
 // SceneGrid: a check::Scene made for sphere queries (a uniform grid over the scene, in the
 // manner of VAMP's collision-affording point tree, for every kind of element):
-// - per cell, a certified lower bound of the distance from any point of the cell to the
-//   nearest element: the larger of the listed elements' bound (below) and an exact
+// - per cell, a certified lower bound (one byte, in eighths of the side) of the distance
+//   from any point of the cell to the nearest element: the larger of the listed elements' bound (below) and an exact
 //   Euclidean distance transform of the cells that elements' boxes touch, so that a
 //   query ball far from everything is cleared with one look-up, however large;
 // - per cell, the elements within `reach` of the cell, with their distance from the cell's
@@ -43,7 +43,11 @@ class SceneGrid {
   /// The grid's frame and lower bounds (null when empty), cells x fastest.
   const double* origin() const noexcept { return origin_.data(); }
   const int* dims() const noexcept { return n_; }
-  const float* lower_bounds() const noexcept { return lower_.empty() ? nullptr : lower_.data(); }
+  /// Cell c's lower bound is lower_bounds()[c] * lower_unit().
+  const std::uint8_t* lower_bounds() const noexcept {
+    return lower_.empty() ? nullptr : lower_.data();
+  }
+  double lower_unit() const noexcept { return unit_; }
 
   /// True when certainly no element lies within \p rq of \p p.
   bool clear(const double* p, double rq) const;
@@ -70,10 +74,10 @@ class SceneGrid {
   std::vector<Element> elements_;
   std::vector<double> balls_;  // per element: its ball's centre and radius (x, y, z, r)
   Eigen::AlignedBox3d bounds_;  // of the elements
-  double reach_ = 0.0, h_ = 0.0, inverse_h_ = 0.0, pad_ = 0.0;
+  double reach_ = 0.0, h_ = 0.0, inverse_h_ = 0.0, unit_ = 0.0, pad_ = 0.0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   int n_[3] = {0, 0, 0};
-  std::vector<float> lower_;           // per cell
+  std::vector<std::uint8_t> lower_;    // per cell, in units of unit_ (rounded down)
   std::vector<std::uint32_t> begin_;   // per cell + 1: its entries
   std::vector<Entry> entries_;
 };
