@@ -159,11 +159,10 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
       fcl::FallbackStats stats;
       const double micros = best_micros(in.repeats, threads != 1, [&] {
         stats = {};
-        checked = certified_mode
-                      ? certified.check_edges(q0.data(), q1.data(), edges, in.resolution, v.data(),
-                                              threads, &stats)
-                      : spheres.check_edges(q0.data(), q1.data(), edges, in.resolution,
-                                            check::Mode::spheres, v.data(), threads);
+        checked = certified_mode ? certified.check_edges(q0.data(), q1.data(), edges, in.resolution,
+                                                         v.data(), threads, &stats)
+                                 : spheres.check_edges(q0.data(), q1.data(), edges, in.resolution,
+                                                       check::Mode::spheres, v.data(), threads);
       });
       const int cores = threads == 1 ? 1 : omp_get_max_threads();
       std::size_t colliding = 0;
@@ -185,16 +184,19 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
     const std::size_t n = spheres.edge_steps(&q0[e * dof], &q1[e * dof], in.resolution);
     for (std::size_t k = 0; k <= n; ++k)
       for (std::size_t j = 0; j < dof; ++j)
-        samples.push_back(q0[e * dof + j] + double(k) / double(n) * (q1[e * dof + j] - q0[e * dof + j]));
+        samples.push_back(q0[e * dof + j] +
+                          double(k) / double(n) * (q1[e * dof + j] - q0[e * dof + j]));
     first.push_back(first.back() + n + 1);
   }
   std::vector<Verdict> each(first.back());
   spheres.check(samples.data(), each.size(), check::Mode::spheres, each.data(), 0);
-  spheres.check_edges(q0.data(), q1.data(), edges, in.resolution, check::Mode::spheres, v.data(), 0);
+  spheres.check_edges(q0.data(), q1.data(), edges, in.resolution, check::Mode::spheres, v.data(),
+                      0);
   std::size_t agree = 0;
   for (std::size_t e = 0; e < edges; ++e) {
     bool any = false;
-    for (std::size_t k = first[e]; k < first[e + 1]; ++k) any = any || each[k] == Verdict::colliding;
+    for (std::size_t k = first[e]; k < first[e + 1]; ++k)
+      any = any || each[k] == Verdict::colliding;
     agree += any == (v[e] == Verdict::colliding);
   }
   std::printf(
@@ -230,18 +232,19 @@ void print_checker_rows(const CheckerBenchInput& in) {
   std::vector<Row> rows;
   for (int threads : {1, 0}) {
     Row r{"check/s", threads};
-    r.micros = best_micros(in.repeats, threads != 1, [&] {
-                 spheres.check(q.data(), n, check::Mode::spheres, v.data(), threads);
-               }) / double(n);
+    r.micros =
+        best_micros(in.repeats, threads != 1,
+                    [&] { spheres.check(q.data(), n, check::Mode::spheres, v.data(), threads); }) /
+        double(n);
     r.colliding = colliding_of(v);
     r.note = "planner covering sets only";
     rows.push_back(r);
   }
   {
     Row r{"bounds", 1};
-    r.micros = best_micros(in.repeats, false, [&] {
-                 spheres.check(q.data(), n, check::Mode::bounds, v.data(), 1);
-               }) / double(n);
+    r.micros = best_micros(in.repeats, false,
+                           [&] { spheres.check(q.data(), n, check::Mode::bounds, v.data(), 1); }) /
+               double(n);
     r.colliding = colliding_of(v);
     const auto undecided = std::count(v.begin(), v.end(), Verdict::undecided);
     r.note = "no fallback: " + std::to_string(undecided) + " undecided, counted as colliding";
@@ -250,10 +253,12 @@ void print_checker_rows(const CheckerBenchInput& in) {
   for (int threads : {1, 0}) {
     Row r{"check/c", threads};
     fcl::FallbackStats stats;
-    r.micros = best_micros(in.repeats, threads != 1, [&] {
-                 stats = {};
-                 certified.check(q.data(), n, v.data(), threads, &stats);
-               }) / double(n);
+    r.micros = best_micros(in.repeats, threads != 1,
+                           [&] {
+                             stats = {};
+                             certified.check(q.data(), n, v.data(), threads, &stats);
+                           }) /
+               double(n);
     r.colliding = colliding_of(v);
     char note[160];
     std::snprintf(note, sizeof note,
@@ -269,9 +274,11 @@ void print_checker_rows(const CheckerBenchInput& in) {
     FclSphereLoop loop(in.planner->model, spheres, in.scene, in.margin, in.self);
     Row r{"fcl loop", 1};
     std::vector<char> c(n);
-    r.micros = best_micros(1, false, [&] {
-                 for (std::size_t i = 0; i < n; ++i) c[i] = loop.collide(in.configs[i]);
-               }) / double(n);
+    r.micros = best_micros(1, false,
+                           [&] {
+                             for (std::size_t i = 0; i < n; ++i) c[i] = loop.collide(in.configs[i]);
+                           }) /
+               double(n);
     r.colliding = c;
     r.note = "the planner covering sets as fcl::Sphere, a loop of fcl::collide";
     rows.push_back(r);

@@ -9,8 +9,8 @@
 #include <utility>
 #include <vector>
 
-#include <Eigen/Core>
 #include <fcl/narrowphase/collision_object.h>
+#include <Eigen/Core>
 
 #include "robot_bench_robot.h"
 

@@ -8,9 +8,9 @@
 #include <map>
 #include <random>
 
-#include <catch2/catch.hpp>
 #include <fcl/fcl.h>
 #include <octomap/octomap.h>
+#include <catch2/catch.hpp>
 
 #include "medspheres/fcl/certified_checker.h"
 #include "medspheres/forward_kinematics.h"

@@ -194,7 +194,8 @@ TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contac
   const check::RobotChecker scalar(arm, test_scene().scene, scalar_options, &fine);
   CHECK_FALSE(scalar.uses_avx2());
   if (!__builtin_cpu_supports("avx2")) {
-    CHECK_THROWS_AS(check::RobotChecker(arm, test_scene().scene, avx2_options), std::invalid_argument);
+    CHECK_THROWS_AS(check::RobotChecker(arm, test_scene().scene, avx2_options),
+                    std::invalid_argument);
     WARN("no AVX2 on this processor: the AVX2 path is not compared");
     return;
   }
@@ -224,8 +225,7 @@ TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contac
       a = i;
     }
   q.insert(q.end(), edges.begin(), edges.end());
-  for (Mode mode : {Mode::spheres, Mode::bounds})
-    CHECK(run(scalar, q, mode) == run(avx2, q, mode));
+  for (Mode mode : {Mode::spheres, Mode::bounds}) CHECK(run(scalar, q, mode) == run(avx2, q, mode));
   CHECK(edges.size() >= 8 * 2 * 100);
 }
 
@@ -284,8 +284,8 @@ TEST_CASE("edges: the verdict of every interpolated configuration checked alone"
       checker.check_edges(q.data(), q.data() + 8, 120, resolution, Mode::spheres, batch.data(), 2);
   CHECK(checked > 120);
   for (std::size_t e = 0; e < 120; ++e)
-    CHECK(batch[e] == checker.check_edge(q.data() + 8 * e, q.data() + 8 * e + 8, resolution,
-                                         Mode::spheres));
+    CHECK(batch[e] ==
+          checker.check_edge(q.data() + 8 * e, q.data() + 8 * e + 8, resolution, Mode::spheres));
 }
 
 TEST_CASE("robot checker: an empty scene and no self pairs leave everything free", "[check]") {

@@ -15,8 +15,9 @@ const RobotModel& certified(const RobotModel& model, const BoundedGeometryOption
   if (bounds.allow_uncertified) return model;
   for (const Link& l : model.links)
     if (!l.spheres.outer.empty() && !records_certified_cover(l.spheres.outer_certificate_json))
-      throw InputError(l.name, "its covering set carries no certificate (the certified checker "
-                               "decides on covers only)");
+      throw InputError(l.name,
+                       "its covering set carries no certificate (the certified checker "
+                       "decides on covers only)");
   return model;
 }
 
@@ -28,7 +29,9 @@ check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fi
   return check::RobotChecker(planner, scene.scene, options, fine);
 }
 
-int thread_count(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
+int thread_count(int threads) {
+  return threads > 0 ? threads : omp_get_max_threads();
+}
 
 // bounded_geometry.h's settle(), by a name the member settle() does not hide.
 template <class... Args>
@@ -67,7 +70,8 @@ check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) c
   const check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
   if (v != check::Verdict::undecided) return v;
   ++stats.configurations;
-  const Eigen::Map<const Eigen::VectorXd> qv(q, static_cast<Eigen::Index>(checker_.num_positions()));
+  const Eigen::Map<const Eigen::VectorXd> qv(q,
+                                             static_cast<Eigen::Index>(checker_.num_positions()));
   const std::vector<::fcl::Transform3d> X = bounds_.poses(qv, checker_.options().X_WB);
   const double margin = checker_.options().margin;
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
@@ -87,11 +91,11 @@ check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) c
   for (const auto& [p, decided] : open) {
     ++stats.meshes;
     const std::size_t a = geometry_of_[p->link];
-    const CollideResult r =
-        p->self ? settle_pair(decided, g[a], X[a], g[geometry_of_[p->other]],
-                              X[geometry_of_[p->other]], margin)
-                : settle_pair(decided, g[a], X[a], *object(*p)->collisionGeometry(),
-                              object(*p)->getTransform(), margin);
+    const CollideResult r = p->self
+                                ? settle_pair(decided, g[a], X[a], g[geometry_of_[p->other]],
+                                              X[geometry_of_[p->other]], margin)
+                                : settle_pair(decided, g[a], X[a], *object(*p)->collisionGeometry(),
+                                              object(*p)->getTransform(), margin);
     if (r.verdict == BoundsVerdict::colliding) return check::Verdict::colliding;
     undecided = undecided || r.verdict == BoundsVerdict::undecided;
   }
@@ -176,7 +180,8 @@ std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, st
   for (long i = 0; i < static_cast<long>(n); ++i) {
     std::size_t checked = 0;
     FallbackStats s;
-    out[i] = check_edge(q0 + std::size_t(i) * dof, q1 + std::size_t(i) * dof, resolution, &checked, &s);
+    out[i] =
+        check_edge(q0 + std::size_t(i) * dof, q1 + std::size_t(i) * dof, resolution, &checked, &s);
     total += checked;
     configurations += s.configurations;
     pairs += s.pairs;

@@ -10,8 +10,8 @@ namespace medspheres::fcl {
 namespace {
 
 template <class BV>
-bool add_bvh(const ::fcl::CollisionGeometryd& g, const Eigen::Isometry3d& X, const std::string& name,
-             check::Scene& scene) {
+bool add_bvh(const ::fcl::CollisionGeometryd& g, const Eigen::Isometry3d& X,
+             const std::string& name, check::Scene& scene) {
   const auto* m = dynamic_cast<const ::fcl::BVHModel<BV>*>(&g);
   if (m == nullptr) return false;
   TriangleMesh mesh;
@@ -73,8 +73,9 @@ FclScene scene_from_fcl(const std::vector<const ::fcl::CollisionObjectd*>& objec
         add_octree(static_cast<const ::fcl::OcTreed&>(g), X, name, scene);
         break;
       default:
-        if (!add_bvh<::fcl::OBBRSSd>(g, X, name, scene) && !add_bvh<::fcl::AABBd>(g, X, name, scene) &&
-            !add_bvh<::fcl::OBBd>(g, X, name, scene) && !add_bvh<::fcl::RSSd>(g, X, name, scene))
+        if (!add_bvh<::fcl::OBBRSSd>(g, X, name, scene) &&
+            !add_bvh<::fcl::AABBd>(g, X, name, scene) && !add_bvh<::fcl::OBBd>(g, X, name, scene) &&
+            !add_bvh<::fcl::RSSd>(g, X, name, scene))
           throw std::invalid_argument(name + ": a geometry the robot checker does not take");
     }
     out.source.resize(scene.size(), i);

@@ -38,8 +38,9 @@ std::vector<Eigen::Vector3d> points_of(const py::handle& array, const char* what
 }
 
 // An n x dof float64 C-contiguous array of configurations; ValueError naming `what`.
-py::array_t<double, py::array::c_style | py::array::forcecast> configurations(
-    const py::handle& q, std::size_t dof, const char* what) {
+py::array_t<double, py::array::c_style | py::array::forcecast> configurations(const py::handle& q,
+                                                                              std::size_t dof,
+                                                                              const char* what) {
   return float_rows(q, static_cast<py::ssize_t>(dof), std::string(what) + " (joint_names order)");
 }
 
@@ -55,46 +56,55 @@ void register_scene(py::module_& m) {
                            "Obstacles for a RobotChecker, in the world frame (metres): FCL's "
                            "primitives, meshes (surfaces), point clouds and octomap cells.")
       .def(py::init<>())
-      .def("add_sphere",
-           [](check::Scene& s, const Eigen::Vector3d& c, double r, const std::string& name) {
-             return s.add_sphere(c, r, name);
-           },
-           py::arg("center"), py::arg("radius"), py::arg("name") = "sphere")
-      .def("add_box",
-           [](check::Scene& s, const Eigen::Vector3d& size, const py::handle& pose,
-              const std::string& name) { return s.add_box(size, pose_of(pose, "pose"), name); },
-           py::arg("size"), py::arg("pose") = py::none(), py::arg("name") = "box",
-           "A box of the given side lengths centred on the 4 x 4 pose's origin.")
-      .def("add_capsule",
-           [](check::Scene& s, double r, double length, const py::handle& pose,
-              const std::string& name) { return s.add_capsule(r, length, pose_of(pose, "pose"), name); },
-           py::arg("radius"), py::arg("length"), py::arg("pose") = py::none(),
-           py::arg("name") = "capsule", "Along the pose's z axis, length of the axis segment.")
-      .def("add_cylinder",
-           [](check::Scene& s, double r, double length, const py::handle& pose,
-              const std::string& name) {
-             return s.add_cylinder(r, length, pose_of(pose, "pose"), name);
-           },
-           py::arg("radius"), py::arg("length"), py::arg("pose") = py::none(),
-           py::arg("name") = "cylinder")
-      .def("add_mesh",
-           [](check::Scene& s, const py::handle& mesh, const py::handle& pose,
-              const std::string& name) {
-             return s.add_mesh(mesh_of_arrays(mesh), pose_of(pose, "pose"), name);
-           },
-           py::arg("mesh"), py::arg("pose") = py::none(), py::arg("name") = "mesh",
-           "mesh: (vertices n x 3, triangles m x 3); a surface, as FCL's BVHModel.")
-      .def("add_points",
-           [](check::Scene& s, const py::handle& p, const std::string& name) {
-             return s.add_points(points_of(p, "points"), name);
-           },
-           py::arg("points"), py::arg("name") = "points")
-      .def("add_cells",
-           [](check::Scene& s, const py::handle& c, double side, const std::string& name) {
-             return s.add_cells(points_of(c, "centres"), side, name);
-           },
-           py::arg("centres"), py::arg("side"), py::arg("name") = "cells",
-           "Axis-aligned cubes of one side (an octomap's occupied leaves).")
+      .def(
+          "add_sphere",
+          [](check::Scene& s, const Eigen::Vector3d& c, double r, const std::string& name) {
+            return s.add_sphere(c, r, name);
+          },
+          py::arg("center"), py::arg("radius"), py::arg("name") = "sphere")
+      .def(
+          "add_box",
+          [](check::Scene& s, const Eigen::Vector3d& size, const py::handle& pose,
+             const std::string& name) { return s.add_box(size, pose_of(pose, "pose"), name); },
+          py::arg("size"), py::arg("pose") = py::none(), py::arg("name") = "box",
+          "A box of the given side lengths centred on the 4 x 4 pose's origin.")
+      .def(
+          "add_capsule",
+          [](check::Scene& s, double r, double length, const py::handle& pose,
+             const std::string& name) {
+            return s.add_capsule(r, length, pose_of(pose, "pose"), name);
+          },
+          py::arg("radius"), py::arg("length"), py::arg("pose") = py::none(),
+          py::arg("name") = "capsule", "Along the pose's z axis, length of the axis segment.")
+      .def(
+          "add_cylinder",
+          [](check::Scene& s, double r, double length, const py::handle& pose,
+             const std::string& name) {
+            return s.add_cylinder(r, length, pose_of(pose, "pose"), name);
+          },
+          py::arg("radius"), py::arg("length"), py::arg("pose") = py::none(),
+          py::arg("name") = "cylinder")
+      .def(
+          "add_mesh",
+          [](check::Scene& s, const py::handle& mesh, const py::handle& pose,
+             const std::string& name) {
+            return s.add_mesh(mesh_of_arrays(mesh), pose_of(pose, "pose"), name);
+          },
+          py::arg("mesh"), py::arg("pose") = py::none(), py::arg("name") = "mesh",
+          "mesh: (vertices n x 3, triangles m x 3); a surface, as FCL's BVHModel.")
+      .def(
+          "add_points",
+          [](check::Scene& s, const py::handle& p, const std::string& name) {
+            return s.add_points(points_of(p, "points"), name);
+          },
+          py::arg("points"), py::arg("name") = "points")
+      .def(
+          "add_cells",
+          [](check::Scene& s, const py::handle& c, double side, const std::string& name) {
+            return s.add_cells(points_of(c, "centres"), side, name);
+          },
+          py::arg("centres"), py::arg("side"), py::arg("name") = "cells",
+          "Axis-aligned cubes of one side (an octomap's occupied leaves).")
       .def("__len__", &check::Scene::size);
 }
 
@@ -113,7 +123,8 @@ void register_check(py::module_& m) {
                        bool self_collision, const py::handle& base_pose, const std::string& simd) {
              const RobotModel planner = load_robot(path_of(robot_file));
              std::unique_ptr<RobotModel> fine_model;
-             if (!fine.is_none()) fine_model = std::make_unique<RobotModel>(load_robot(path_of(fine)));
+             if (!fine.is_none())
+               fine_model = std::make_unique<RobotModel>(load_robot(path_of(fine)));
              check::CheckerOptions o;
              o.margin = margin;
              o.disabled = disabled;
@@ -161,8 +172,8 @@ void register_check(py::module_& m) {
             std::size_t checked = 0;
             {
               py::gil_scoped_release release;
-              checked = c.check_edges(a.data(), b.data(), out.size(), resolution, chosen, out.data(),
-                                      threads);
+              checked = c.check_edges(a.data(), b.data(), out.size(), resolution, chosen,
+                                      out.data(), threads);
             }
             return py::make_tuple(verdict_array(out), checked);
           },

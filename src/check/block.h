@@ -52,8 +52,8 @@ struct Block {
   bool self = true;
   double margin = 0.0, allowance = 0.0;
   // Workspace, sized by the caller.
-  double* frames = nullptr;          // frames * 12 * kLanes (frame 0: identity)
-  double* posed = nullptr;           // per sphere 3 * kLanes, then per link 3 * kLanes
+  double* frames = nullptr;             // frames * 12 * kLanes (frame 0: identity)
+  double* posed = nullptr;              // per sphere 3 * kLanes, then per link 3 * kLanes
   unsigned char* posed_flag = nullptr;  // links * kSlots
   // Output (lane bits).
   unsigned colliding = 0, undecided = 0;

@@ -56,9 +56,11 @@ std::vector<double> squared_distance_transform(const std::vector<char>& marked, 
     for (int j = 0; j < b; ++j)
       for (int i = 0; i < a; ++i) {
         const long base = i * sa + j * sb;
-        for (int q = 0; q < n; ++q) line[static_cast<std::size_t>(q)] = g[static_cast<std::size_t>(base + q * stride)];
+        for (int q = 0; q < n; ++q)
+          line[static_cast<std::size_t>(q)] = g[static_cast<std::size_t>(base + q * stride)];
         transform_line(line.data(), n, out.data(), v, z);
-        for (int q = 0; q < n; ++q) g[static_cast<std::size_t>(base + q * stride)] = out[static_cast<std::size_t>(q)];
+        for (int q = 0; q < n; ++q)
+          g[static_cast<std::size_t>(base + q * stride)] = out[static_cast<std::size_t>(q)];
       }
   }
   return g;

@@ -14,12 +14,24 @@ struct V {
   __m256d v;
 };
 
-V splat(double a) { return {_mm256_set1_pd(a)}; }
-V load(const double* p) { return {_mm256_loadu_pd(p)}; }
-void store(double* p, V a) { _mm256_storeu_pd(p, a.v); }
-V operator+(V a, V b) { return {_mm256_add_pd(a.v, b.v)}; }
-V operator-(V a, V b) { return {_mm256_sub_pd(a.v, b.v)}; }
-V operator*(V a, V b) { return {_mm256_mul_pd(a.v, b.v)}; }
+V splat(double a) {
+  return {_mm256_set1_pd(a)};
+}
+V load(const double* p) {
+  return {_mm256_loadu_pd(p)};
+}
+void store(double* p, V a) {
+  _mm256_storeu_pd(p, a.v);
+}
+V operator+(V a, V b) {
+  return {_mm256_add_pd(a.v, b.v)};
+}
+V operator-(V a, V b) {
+  return {_mm256_sub_pd(a.v, b.v)};
+}
+V operator*(V a, V b) {
+  return {_mm256_mul_pd(a.v, b.v)};
+}
 unsigned le_bits(V a, V b) {
   return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a.v, b.v, _CMP_LE_OQ)));
 }

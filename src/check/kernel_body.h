@@ -50,11 +50,12 @@ void sincos(V x, V& s, V& c) {
   const V cr = (splat(1.0) - splat(0.5) * z) + (z * z) * pc;
   // m = k mod 4 in {0, 1, 2, 3}; sin x = (s, c, -s, -c)[m], cos x = (c, -s, -c, s)[m].
   const V m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
-  const V half = round_nearest(m * splat(0.5) - splat(0.25));  // 0, 0, 1, 1
-  const V swap = m - splat(2.0) * half;                         // 0, 1, 0, 1
+  const V half = round_nearest(m * splat(0.5) - splat(0.25));               // 0, 0, 1, 1
+  const V swap = m - splat(2.0) * half;                                     // 0, 1, 0, 1
   const V hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
   const V sign_s = splat(1.0) - splat(2.0) * half;
-  const V sign_c = splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
+  const V sign_c =
+      splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
   const V keep = splat(1.0) - swap;
   s = (sr * keep + cr * swap) * sign_s;
   c = (cr * keep + sr * swap) * sign_c;
@@ -72,7 +73,8 @@ void pose_frames(const KernelRobot& robot, Block& b) {
     } else {
       V sn, cs;
       sincos(q, sn, cs);
-      for (int e = 0; e < 9; ++e) rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
+      for (int e = 0; e < 9; ++e)
+        rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
       for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]);
     }
     double* out = b.frames + s.frame * 12 * kLanes;
@@ -102,7 +104,8 @@ void pose_points(const Block& b, int f, const double* x, const double* y, const 
   for (int i = 0; i < n; ++i) {
     const V px = splat(x[i]), py = splat(y[i]), pz = splat(z[i]);
     for (int r = 0; r < 3; ++r)
-      store(out + (3 * i + r) * kLanes, ((R[3 * r] * px + R[3 * r + 1] * py) + R[3 * r + 2] * pz) + R[9 + r]);
+      store(out + (3 * i + r) * kLanes,
+            ((R[3 * r] * px + R[3 * r + 1] * py) + R[3 * r + 2] * pz) + R[9 + r]);
   }
 }
 
@@ -173,17 +176,17 @@ unsigned scene_pair(const KernelRobot& robot, const SceneGrid& scene, Block& b, 
     if (l.count[outer] > 0) {
       const double* set = posed(robot, b, link, outer);
       for (int lane = 0; lane < kLanes; ++lane)
-        if ((pending >> lane & 1) && !set_within(robot, scene, set, static_cast<int>(l.begin[outer]),
-                                                 static_cast<int>(l.count[outer]), lane,
-                                                 b.margin + b.allowance))
+        if ((pending >> lane & 1) &&
+            !set_within(robot, scene, set, static_cast<int>(l.begin[outer]),
+                        static_cast<int>(l.count[outer]), lane, b.margin + b.allowance))
           pending &= ~(1u << lane);  // certainly free
     }
     if (l.count[inner] > 0 && pending) {
       const double* set = posed(robot, b, link, inner);
       for (int lane = 0; lane < kLanes; ++lane)
-        if ((pending >> lane & 1) && set_within(robot, scene, set, static_cast<int>(l.begin[inner]),
-                                                static_cast<int>(l.count[inner]), lane,
-                                                b.margin - b.allowance)) {
+        if ((pending >> lane & 1) &&
+            set_within(robot, scene, set, static_cast<int>(l.begin[inner]),
+                       static_cast<int>(l.count[inner]), lane, b.margin - b.allowance)) {
           hit |= 1u << lane;  // certainly colliding
           pending &= ~(1u << lane);
         }
@@ -244,7 +247,8 @@ unsigned self_pair(const KernelRobot& robot, Block& b, int a, int c, unsigned ne
     if (la.count[outer] > 0 && lc.count[outer] > 0)
       pending = level_within(robot, b, a, c, outer, outer, b.margin + b.allowance, pending);
     if (la.count[inner] > 0 && lc.count[inner] > 0 && pending) {
-      const unsigned in = level_within(robot, b, a, c, inner, inner, b.margin - b.allowance, pending);
+      const unsigned in =
+          level_within(robot, b, a, c, inner, inner, b.margin - b.allowance, pending);
       hit |= in;
       pending &= ~in;
     }

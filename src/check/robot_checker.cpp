@@ -25,7 +25,8 @@ bool cpu_has_avx2() {
 KernelFn choose_kernel(Simd simd) {
   const bool avx2 = cpu_has_avx2();
   if (simd == Simd::avx2 && !avx2)
-    throw std::invalid_argument("robot checker: AVX2 asked for, but this processor or build has none");
+    throw std::invalid_argument(
+        "robot checker: AVX2 asked for, but this processor or build has none");
 #if defined(MEDSPHERES_CHECK_AVX2)
   if (simd != Simd::scalar && avx2) return run_block_avx2;
 #endif
@@ -84,7 +85,8 @@ namespace {
 void scene_objects(const detail::RobotLayout& layout, const detail::SceneGrid& grid,
                    const detail::Block& b, int lane, int link, std::vector<std::uint32_t>& out) {
   const detail::LinkLayout& l = layout.links[static_cast<std::size_t>(link)];
-  const int slot = layout.fine && l.count[detail::kFineOuter] > 0 ? detail::kFineOuter : detail::kOuter;
+  const int slot =
+      layout.fine && l.count[detail::kFineOuter] > 0 ? detail::kFineOuter : detail::kOuter;
   if (l.count[slot] == 0) {
     out.push_back(UINT32_MAX);
     return;
@@ -153,7 +155,8 @@ Verdict RobotChecker::Impl::edge(detail::Workspace& w, const double* q0, const d
                                  std::size_t& checked) const {
   double s = 0.0;
   for (std::size_t j = 0; j < layout.dof; ++j) s += (q1[j] - q0[j]) * (q1[j] - q0[j]);
-  const auto n = std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(s) / resolution)));
+  const auto n =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(s) / resolution)));
   const std::size_t run = (n + 1 + detail::kLanes - 1) / detail::kLanes;  // samples per lane
   bool undecided = false;
   for (std::size_t step = 0; step < run; ++step) {
@@ -191,8 +194,8 @@ double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene)
     extent += std::sqrt(s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2]) +
               std::sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]);
   for (const SceneObject& o : scene.objects()) {
-    extent = std::max(extent, o.X_WO.translation().cwiseAbs().maxCoeff() + o.size.norm() +
-                                  o.radius + o.length);
+    extent = std::max(
+        extent, o.X_WO.translation().cwiseAbs().maxCoeff() + o.size.norm() + o.radius + o.length);
     for (const Eigen::Vector3d& p : o.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
     for (const Eigen::Vector3d& v : o.mesh.vertices)
       extent = std::max(extent, (o.X_WO * v).cwiseAbs().maxCoeff());
@@ -200,7 +203,9 @@ double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene)
   return 1e-9 * (1.0 + extent);
 }
 
-int thread_count(int threads) { return threads > 0 ? threads : omp_get_max_threads(); }
+int thread_count(int threads) {
+  return threads > 0 ? threads : omp_get_max_threads();
+}
 
 }  // namespace
 
@@ -257,7 +262,9 @@ RobotChecker::~RobotChecker() = default;
 RobotChecker::RobotChecker(RobotChecker&&) noexcept = default;
 RobotChecker& RobotChecker::operator=(RobotChecker&&) noexcept = default;
 
-std::size_t RobotChecker::num_positions() const noexcept { return impl_->layout.dof; }
+std::size_t RobotChecker::num_positions() const noexcept {
+  return impl_->layout.dof;
+}
 const std::vector<std::string>& RobotChecker::joint_names() const noexcept {
   return impl_->layout.joint_names;
 }
@@ -270,11 +277,15 @@ std::vector<std::pair<std::size_t, std::size_t>> RobotChecker::self_pairs() cons
     out.emplace_back(impl_->layout.pair_a[k], impl_->layout.pair_b[k]);
   return out;
 }
-const CheckerOptions& RobotChecker::options() const noexcept { return impl_->options; }
+const CheckerOptions& RobotChecker::options() const noexcept {
+  return impl_->options;
+}
 bool RobotChecker::uses_avx2() const noexcept {
   return impl_->kernel != detail::run_block_scalar;
 }
-double RobotChecker::allowance() const noexcept { return impl_->allowance; }
+double RobotChecker::allowance() const noexcept {
+  return impl_->allowance;
+}
 GridStats RobotChecker::grid() const noexcept {
   const detail::SceneGrid& g = *impl_->grid;
   return {g.cell_side(), g.num_cells(), g.num_entries(), g.num_elements()};
@@ -292,7 +303,8 @@ void fill_block(std::vector<double>& q, const double* rows, std::size_t first, s
                 std::size_t dof) {
   for (int l = 0; l < detail::kLanes; ++l) {
     const std::size_t i = std::min(first + std::size_t(l), n - 1);
-    for (std::size_t j = 0; j < dof; ++j) q[j * detail::kLanes + std::size_t(l)] = rows[i * dof + j];
+    for (std::size_t j = 0; j < dof; ++j)
+      q[j * detail::kLanes + std::size_t(l)] = rows[i * dof + j];
   }
 }
 

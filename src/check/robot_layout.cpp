@@ -31,7 +31,8 @@ void check_same_robot(const RobotModel& planner, const RobotModel& fine) {
     if (f == nullptr || f->type != j.type || f->parent != j.parent || f->child != j.child ||
         (f->origin.matrix() - j.origin.matrix()).cwiseAbs().maxCoeff() > 1e-12 ||
         (f->axis - j.axis).cwiseAbs().maxCoeff() > 1e-12)
-      throw InputError(kSource, "joint \"" + j.name + "\" of the fine sets differs from the planner's");
+      throw InputError(kSource,
+                       "joint \"" + j.name + "\" of the fine sets differs from the planner's");
   }
 }
 

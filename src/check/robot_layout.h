@@ -36,21 +36,21 @@ struct LinkLayout {
   int frame = 0;
   double bound[4] = {};  // x, y, z, r in the frame: contains every sphere of every level
   std::uint32_t begin[kLevels] = {}, count[kLevels] = {};  // into RobotLayout's spheres
-  Level spheres = kOuter;                                   // the spheres-only mode's set
+  Level spheres = kOuter;                                  // the spheres-only mode's set
 };
 
 struct RobotLayout {
   std::size_t dof = 0;
   int frames = 1;
   std::vector<FrameStep> steps;
-  std::vector<LinkLayout> links;             // the links with geometry
-  std::vector<std::string> link_names;       // of those links
-  std::vector<double> x, y, z, r;            // every sphere, in its link's frame
-  std::vector<std::uint32_t> pair_a, pair_b; // self pairs, indices into links, a < b
-  double max_radius = 0.0;                   // over every sphere
-  double extent = 0.0;                       // largest |coordinate| + radius in any frame
+  std::vector<LinkLayout> links;              // the links with geometry
+  std::vector<std::string> link_names;        // of those links
+  std::vector<double> x, y, z, r;             // every sphere, in its link's frame
+  std::vector<std::uint32_t> pair_a, pair_b;  // self pairs, indices into links, a < b
+  double max_radius = 0.0;                    // over every sphere
+  double extent = 0.0;                        // largest |coordinate| + radius in any frame
   bool fine = false;
-  std::vector<std::string> joint_names;      // the actuated joints, in q's order
+  std::vector<std::string> joint_names;  // the actuated joints, in q's order
 };
 
 /// \p planner: the planner's sets; \p fine: the larger sets of the same robot (may be

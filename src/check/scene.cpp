@@ -10,7 +10,9 @@ void require(bool ok, const std::string& name, const std::string& problem) {
   if (!ok) throw std::invalid_argument("scene object \"" + name + "\": " + problem);
 }
 
-bool finite(const Eigen::Isometry3d& X) { return X.matrix().allFinite(); }
+bool finite(const Eigen::Isometry3d& X) {
+  return X.matrix().allFinite();
+}
 
 void require_positive(double v, const std::string& name, const char* what) {
   require(std::isfinite(v) && v > 0.0, name, std::string(what) + " must be finite and > 0");

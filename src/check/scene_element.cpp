@@ -6,7 +6,9 @@
 namespace medspheres::check::detail {
 namespace {
 
-double sq(double x) { return x * x; }
+double sq(double x) {
+  return x * x;
+}
 
 // Squared distance from p to the axis-aligned box of centre c and half sides h.
 double box_distance_sq(const Eigen::Vector3d& local, const Eigen::Vector3d& h) {
@@ -146,8 +148,8 @@ void enclose(Element& e) {
   if (e.kind == ElementKind::triangle) {
     const Eigen::Vector3d a = e.triangle.a, b = a + e.triangle.ab, c = a + e.triangle.ac;
     e.ball_centre = (a + b + c) / 3;
-    e.ball_radius = std::max({(a - e.ball_centre).norm(), (b - e.ball_centre).norm(),
-                              (c - e.ball_centre).norm()});
+    e.ball_radius = std::max(
+        {(a - e.ball_centre).norm(), (b - e.ball_centre).norm(), (c - e.ball_centre).norm()});
   } else if (e.kind == ElementKind::sphere || e.kind == ElementKind::point) {
     e.ball_centre = e.a;
     e.ball_radius = e.radius;

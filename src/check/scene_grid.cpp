@@ -34,7 +34,8 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
   if (elements_.empty()) return;
   for (const Element& e : elements_) {
     bounds_.extend(e.box);
-    balls_.insert(balls_.end(), {e.ball_centre.x(), e.ball_centre.y(), e.ball_centre.z(), e.ball_radius});
+    balls_.insert(balls_.end(),
+                  {e.ball_centre.x(), e.ball_centre.y(), e.ball_centre.z(), e.ball_radius});
   }
   h_ = cell > 0.0 ? cell : reach / 2;
   // The grid holds every point within reach of an element, and a cell more.
@@ -88,7 +89,8 @@ void SceneGrid::build_lists(double pad) {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
       lo[k] = std::max(0, int(std::floor((e.box.min()[k] - reach_ - pad - origin_[k]) / h_)));
-      hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
+      hi[k] =
+          std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
     }
     for (int z = lo[2]; z <= hi[2]; ++z)
       for (int y = lo[1]; y <= hi[1]; ++y)

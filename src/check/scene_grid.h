@@ -2,15 +2,16 @@
 // SceneGrid: a check::Scene made for sphere queries (a uniform grid over the scene, in the
 // manner of VAMP's collision-affording point tree, for every kind of element):
 // - per cell, a certified lower bound (one byte, in eighths of the side) of the distance
-//   from any point of the cell to the nearest element: the larger of the listed elements' bound (below) and an exact
-//   Euclidean distance transform of the cells that elements' boxes touch, so that a
-//   query ball far from everything is cleared with one look-up, however large;
+//   from any point of the cell to the nearest element: the larger of the listed elements' bound
+//   (below) and an exact Euclidean distance transform of the cells that elements' boxes touch, so
+//   that a query ball far from everything is cleared with one look-up, however large;
 // - per cell, the elements within `reach` of the cell, with their distance from the cell's
 //   centre (rounded down and up) and ordered by it: a ball of radius up to reach centred at
 //   p in the cell, delta from the centre, is decided by the elements listed, skipping those
 //   farther than radius + delta, taking as touching those nearer than radius - delta, then
-//   the same with a ball around each element, and testing the others exactly; a larger ball goes through the cells within its radius
-//   less reach (every element within its radius is within reach of one of them).
+//   the same with a ball around each element, and testing the others exactly; a larger ball goes
+//   through the cells within its radius less reach (every element within its radius is within reach
+//   of one of them).
 // Frame W, metres. Every bound is rounded down by `pad` (a few orders of magnitude above
 // the rounding of the doubles involved), so that "clear" is certain and never disagrees
 // with the exact test. Immutable after construction: const queries are thread-safe.
@@ -72,13 +73,13 @@ class SceneGrid {
   void build_lower(double pad);
 
   std::vector<Element> elements_;
-  std::vector<double> balls_;  // per element: its ball's centre and radius (x, y, z, r)
+  std::vector<double> balls_;   // per element: its ball's centre and radius (x, y, z, r)
   Eigen::AlignedBox3d bounds_;  // of the elements
   double reach_ = 0.0, h_ = 0.0, inverse_h_ = 0.0, unit_ = 0.0, pad_ = 0.0;
   Eigen::Vector3d origin_ = Eigen::Vector3d::Zero();
   int n_[3] = {0, 0, 0};
-  std::vector<std::uint8_t> lower_;    // per cell, in units of unit_ (rounded down)
-  std::vector<std::uint32_t> begin_;   // per cell + 1: its entries
+  std::vector<std::uint8_t> lower_;   // per cell, in units of unit_ (rounded down)
+  std::vector<std::uint32_t> begin_;  // per cell + 1: its entries
   std::vector<Entry> entries_;
 };
 

@@ -24,7 +24,7 @@ namespace medspheres::test {
 
 struct CapsuleLink {
   std::string name;
-  double radius = 0.0, half = 0.0;  // capsule radius and half axis length
+  double radius = 0.0, half = 0.0;                         // capsule radius and half axis length
   Eigen::Isometry3d X_LC = Eigen::Isometry3d::Identity();  // the capsule (axis z) in L
 };
 
@@ -45,8 +45,8 @@ inline std::vector<CapsuleLink> capsule_arm_links() {
   const double lengths[] = {0.2, 0.25, 0.22, 0.2, 0.18, 0.15, 0.1, 0.08};
   const double radii[] = {0.07, 0.05, 0.045, 0.045, 0.04, 0.035, 0.035, 0.03};
   for (int i = 0; i < 8; ++i)
-    out.push_back({"l" + std::to_string(i), radii[i], lengths[i] / 2,
-                   pose_of({0, 0, lengths[i] / 2})});
+    out.push_back(
+        {"l" + std::to_string(i), radii[i], lengths[i] / 2, pose_of({0, 0, lengths[i] / 2})});
   out.push_back({"tool", 0.025, 0.06, pose_of({0, 0, 0.02}, M_PI / 2)});
   out.push_back({"finger_a", 0.01, 0.02, pose_of({0, 0, 0.03})});
   out.push_back({"finger_b", 0.01, 0.02, pose_of({0, 0, 0.03})});
@@ -64,8 +64,8 @@ inline TriangleMesh capsule_link_mesh(const CapsuleLink& l) {
 inline SphereSet capsule_set(const CapsuleLink& l, int k, bool cover) {
   SphereSet s;
   const double step = 2 * l.half / (k - 1);
-  const double r = cover ? std::sqrt(l.radius * l.radius + step * step / 4) * (1 + 1e-9)
-                         : 0.85 * l.radius;
+  const double r =
+      cover ? std::sqrt(l.radius * l.radius + step * step / 4) * (1 + 1e-9) : 0.85 * l.radius;
   for (int i = 0; i < k; ++i)
     s.spheres.push_back({l.X_LC * Eigen::Vector3d(0, 0, -l.half + i * step), r});
   return s;
@@ -97,12 +97,32 @@ inline RobotModel capsule_arm(int k) {
     j.limits = JointLimits{-2.8, 2.8, 2.0, 10.0};
     m.joints.push_back(j);
   }
-  Joint flange{"flange_fix", JointType::kFixed, "l7", "flange", pose_of({0, 0, 0.08}), {1, 0, 0}, {}, {}};
-  Joint tool{"tool_fix", JointType::kFixed, "flange", "tool", pose_of({0, 0, 0.01}, 0, 0, 0.4), {1, 0, 0}, {}, {}};
-  Joint fa{"slide_a", JointType::kPrismatic, "tool", "finger_a", pose_of({0, 0.03, 0.04}), {0, 1, 0},
-           JointLimits{0.0, 0.04, 1.0, 10.0}, {}};
-  Joint fb{"slide_b", JointType::kPrismatic, "tool", "finger_b", pose_of({0, -0.03, 0.04}), {0, -1, 0},
-           JointLimits{0.0, 0.04, 1.0, 10.0}, JointMimic{"slide_a", 1.0, 0.0}};
+  Joint flange{"flange_fix",          JointType::kFixed, "l7", "flange",
+               pose_of({0, 0, 0.08}), {1, 0, 0},         {},   {}};
+  Joint tool{"tool_fix",
+             JointType::kFixed,
+             "flange",
+             "tool",
+             pose_of({0, 0, 0.01}, 0, 0, 0.4),
+             {1, 0, 0},
+             {},
+             {}};
+  Joint fa{"slide_a",
+           JointType::kPrismatic,
+           "tool",
+           "finger_a",
+           pose_of({0, 0.03, 0.04}),
+           {0, 1, 0},
+           JointLimits{0.0, 0.04, 1.0, 10.0},
+           {}};
+  Joint fb{"slide_b",
+           JointType::kPrismatic,
+           "tool",
+           "finger_b",
+           pose_of({0, -0.03, 0.04}),
+           {0, -1, 0},
+           JointLimits{0.0, 0.04, 1.0, 10.0},
+           JointMimic{"slide_a", 1.0, 0.0}};
   for (const Joint& j : {flange, tool, fa, fb}) m.joints.push_back(j);
   return m;
 }

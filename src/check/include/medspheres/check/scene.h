@@ -33,10 +33,10 @@ struct SceneObject {
   ShapeKind kind = ShapeKind::sphere;
   std::string name;
   Eigen::Isometry3d X_WO = Eigen::Isometry3d::Identity();  ///< the object's frame O in W
-  Eigen::Vector3d size = Eigen::Vector3d::Zero();  ///< box: side lengths along O's axes
-  double radius = 0.0;  ///< sphere, capsule, cylinder
-  double length = 0.0;  ///< capsule, cylinder: along O's z axis
-  TriangleMesh mesh;    ///< mesh: in O
+  Eigen::Vector3d size = Eigen::Vector3d::Zero();          ///< box: side lengths along O's axes
+  double radius = 0.0;                                     ///< sphere, capsule, cylinder
+  double length = 0.0;                                     ///< capsule, cylinder: along O's z axis
+  TriangleMesh mesh;                                       ///< mesh: in O
   /// points: the points, in W; cells: the cells' centres, in W.
   std::vector<Eigen::Vector3d> points;
   double cell_side = 0.0;  ///< cells: side of every cell
