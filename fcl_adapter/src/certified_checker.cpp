@@ -105,11 +105,7 @@ check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) c
 check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) const {
   FallbackStats s;
   const check::Verdict v = settle(q, s);
-  if (stats) {
-    stats->configurations += s.configurations;
-    stats->pairs += s.pairs;
-    stats->meshes += s.meshes;
-  }
+  if (stats) *stats += s;
   return v;
 }
 
@@ -120,22 +116,14 @@ void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out
   for (std::size_t i = 0; i < n; ++i)
     if (out[i] == check::Verdict::undecided) open.push_back(i);
   const std::size_t dof = checker_.num_positions();
-  std::size_t configurations = 0, pairs = 0, meshes = 0;
-#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads)) \
-    reduction(+ : configurations, pairs, meshes)
+  std::vector<FallbackStats> each(open.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
-    FallbackStats s;
     const std::size_t i = open[std::size_t(k)];
-    out[i] = settle(q + i * dof, s);
-    configurations += s.configurations;
-    pairs += s.pairs;
-    meshes += s.meshes;
+    out[i] = settle(q + i * dof, each[std::size_t(k)]);
   }
-  if (stats) {
-    stats->configurations += configurations;
-    stats->pairs += pairs;
-    stats->meshes += meshes;
-  }
+  if (stats)
+    for (const FallbackStats& s : each) *stats += s;
 }
 
 check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, double resolution,
@@ -159,11 +147,7 @@ check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, 
     undecided = undecided || w == check::Verdict::undecided;
   }
   if (out != check::Verdict::colliding && undecided) out = check::Verdict::undecided;
-  if (stats) {
-    stats->configurations += s.configurations;
-    stats->pairs += s.pairs;
-    stats->meshes += s.meshes;
-  }
+  if (stats) *stats += s;
   return out;
 }
 
@@ -174,24 +158,17 @@ std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, st
   checker_.validate(q0, n);  // no exception may leave the parallel loop
   checker_.validate(q1, n);
   checker_.edge_steps(q0, q0, resolution);
-  std::size_t total = 0, configurations = 0, pairs = 0, meshes = 0;
-#pragma omp parallel for schedule(dynamic, 4) num_threads(thread_count(threads)) \
-    reduction(+ : total, configurations, pairs, meshes)
+  std::vector<FallbackStats> each(n);
+  std::vector<std::size_t> checked(n, 0);
+#pragma omp parallel for schedule(dynamic, 4) num_threads(thread_count(threads))
   for (long i = 0; i < static_cast<long>(n); ++i) {
-    std::size_t checked = 0;
-    FallbackStats s;
-    out[i] =
-        check_edge(q0 + std::size_t(i) * dof, q1 + std::size_t(i) * dof, resolution, &checked, &s);
-    total += checked;
-    configurations += s.configurations;
-    pairs += s.pairs;
-    meshes += s.meshes;
+    const std::size_t e = std::size_t(i);
+    out[e] = check_edge(q0 + e * dof, q1 + e * dof, resolution, &checked[e], &each[e]);
   }
-  if (stats) {
-    stats->configurations += configurations;
-    stats->pairs += pairs;
-    stats->meshes += meshes;
-  }
+  if (stats)
+    for (const FallbackStats& s : each) *stats += s;
+  std::size_t total = 0;
+  for (std::size_t c : checked) total += c;
   return total;
 }
 

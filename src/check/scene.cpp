@@ -48,12 +48,15 @@ std::size_t Scene::add_box(const Eigen::Vector3d& size, const Eigen::Isometry3d&
   return add(std::move(o));
 }
 
-std::size_t Scene::add_capsule(double radius, double length, const Eigen::Isometry3d& X_WC,
-                               std::string name) {
+// A capsule or a cylinder: a radius about a length of the frame's z axis (a capsule may
+// have length 0, a ball).
+std::size_t Scene::add_axial(ShapeKind kind, double radius, double length,
+                             const Eigen::Isometry3d& X_WC, std::string name) {
   require_positive(radius, name, "the radius");
-  require(std::isfinite(length) && length >= 0.0, name, "the length must be finite and >= 0");
+  require(std::isfinite(length) && (length > 0.0 || (length == 0.0 && kind == ShapeKind::capsule)),
+          name, "the length must be finite and > 0 (>= 0 for a capsule)");
   SceneObject o;
-  o.kind = ShapeKind::capsule;
+  o.kind = kind;
   o.name = std::move(name);
   o.X_WO = X_WC;
   o.radius = radius;
@@ -61,17 +64,14 @@ std::size_t Scene::add_capsule(double radius, double length, const Eigen::Isomet
   return add(std::move(o));
 }
 
+std::size_t Scene::add_capsule(double radius, double length, const Eigen::Isometry3d& X_WC,
+                               std::string name) {
+  return add_axial(ShapeKind::capsule, radius, length, X_WC, std::move(name));
+}
+
 std::size_t Scene::add_cylinder(double radius, double length, const Eigen::Isometry3d& X_WC,
                                 std::string name) {
-  require_positive(radius, name, "the radius");
-  require_positive(length, name, "the length");
-  SceneObject o;
-  o.kind = ShapeKind::cylinder;
-  o.name = std::move(name);
-  o.X_WO = X_WC;
-  o.radius = radius;
-  o.length = length;
-  return add(std::move(o));
+  return add_axial(ShapeKind::cylinder, radius, length, X_WC, std::move(name));
 }
 
 std::size_t Scene::add_mesh(const TriangleMesh& mesh, const Eigen::Isometry3d& X_WM,

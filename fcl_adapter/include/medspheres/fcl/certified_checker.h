@@ -41,6 +41,13 @@ struct FallbackStats {
   std::size_t configurations = 0;  ///< configurations that reached the fallback
   std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
   std::size_t meshes = 0;          ///< pairs that the exact meshes settled
+
+  FallbackStats& operator+=(const FallbackStats& o) {
+    configurations += o.configurations;
+    pairs += o.pairs;
+    meshes += o.meshes;
+    return *this;
+  }
 };
 
 class CertifiedChecker {

@@ -67,6 +67,8 @@ class Scene {
 
  private:
   std::size_t add(SceneObject o);
+  std::size_t add_axial(ShapeKind kind, double radius, double length, const Eigen::Isometry3d& X_WC,
+                        std::string name);
   std::vector<SceneObject> objects_;
 };
 
