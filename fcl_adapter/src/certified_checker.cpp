@@ -46,13 +46,17 @@ CertifiedChecker::CertifiedChecker(
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, const check::CheckerOptions& options,
     const BoundedGeometryOptions& bounds)
-    : checker_([&] {
-        const FclScene s = scene_from_fcl(scene);
-        return make_checker(planner, fine, s, options, bounds);
-      }()),
+    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, bounds) {}
+
+CertifiedChecker::CertifiedChecker(
+    const RobotModel& planner, const RobotModel* fine,
+    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
+    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds)
+    : checker_(make_checker(planner, fine, converted, options, bounds)),
       bounds_(fine ? *fine : planner, meshes, options.disabled, bounds),
       scene_(scene),
-      scene_source_(scene_from_fcl(scene).source) {
+      scene_source_(std::move(converted.source)) {
   for (const std::string& link : checker_.links()) {
     std::size_t g = 0;
     while (g < bounds_.geometries().size() && bounds_.geometries()[g].link() != link) ++g;

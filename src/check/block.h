@@ -55,6 +55,7 @@ struct Block {
   double* frames = nullptr;             // frames * 12 * kLanes (frame 0: identity)
   double* posed = nullptr;              // per sphere 3 * kLanes, then per link 3 * kLanes
   unsigned char* posed_flag = nullptr;  // links * kSlots
+  unsigned char* pending = nullptr;     // links + self pairs (bounds mode)
   // Output (lane bits).
   unsigned colliding = 0, undecided = 0;
   UndecidedSink sink = nullptr;

@@ -156,45 +156,46 @@ bool set_within(const KernelRobot& robot, const SceneGrid& scene, const double* 
   return false;
 }
 
-// A link against the scene, in the lanes `need`; returns the lanes it collides in.
-unsigned scene_pair(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
-                    unsigned need) {
+// Spheres mode: a link against the scene in the lanes `need`; the lanes it collides in.
+unsigned scene_spheres(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
+                       unsigned need) {
   const LinkLayout& l = robot.link[link];
+  const int slot = l.spheres;
+  const double* set = posed(robot, b, link, slot);
   unsigned hit = 0;
-  if (!b.bounds) {
-    const int slot = l.spheres;
-    const double* set = posed(robot, b, link, slot);
-    for (int lane = 0; lane < kLanes; ++lane)
-      if ((need >> lane & 1) && set_within(robot, scene, set, static_cast<int>(l.begin[slot]),
-                                           static_cast<int>(l.count[slot]), lane, b.margin))
-        hit |= 1u << lane;
-    return hit;
-  }
-  unsigned pending = need;
-  for (int level = 0; level < (robot.fine ? 2 : 1) && pending; ++level) {
-    const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
-    if (l.count[outer] > 0) {
-      const double* set = posed(robot, b, link, outer);
-      for (int lane = 0; lane < kLanes; ++lane)
-        if ((pending >> lane & 1) &&
-            !set_within(robot, scene, set, static_cast<int>(l.begin[outer]),
-                        static_cast<int>(l.count[outer]), lane, b.margin + b.allowance))
-          pending &= ~(1u << lane);  // certainly free
-    }
-    if (l.count[inner] > 0 && pending) {
-      const double* set = posed(robot, b, link, inner);
-      for (int lane = 0; lane < kLanes; ++lane)
-        if ((pending >> lane & 1) &&
-            set_within(robot, scene, set, static_cast<int>(l.begin[inner]),
-                       static_cast<int>(l.count[inner]), lane, b.margin - b.allowance)) {
-          hit |= 1u << lane;  // certainly colliding
-          pending &= ~(1u << lane);
-        }
-    }
-  }
-  b.undecided |= pending;
   for (int lane = 0; lane < kLanes; ++lane)
-    if ((pending >> lane & 1) && b.sink) b.sink(b, lane, link, -1);
+    if ((need >> lane & 1) && set_within(robot, scene, set, static_cast<int>(l.begin[slot]),
+                                         static_cast<int>(l.count[slot]), lane, b.margin))
+      hit |= 1u << lane;
+  return hit;
+}
+
+// Bounds mode, one level (0 the planner's sets, 1 the fine ones) of a link against the
+// scene in the lanes `pending`: the lanes certainly free leave `pending`, those certainly
+// colliding leave it for the result.
+unsigned scene_level(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
+                     int level, unsigned& pending) {
+  const LinkLayout& l = robot.link[link];
+  const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
+  unsigned hit = 0;
+  if (l.count[outer] > 0) {
+    const double* set = posed(robot, b, link, outer);
+    for (int lane = 0; lane < kLanes; ++lane)
+      if ((pending >> lane & 1) &&
+          !set_within(robot, scene, set, static_cast<int>(l.begin[outer]),
+                      static_cast<int>(l.count[outer]), lane, b.margin + b.allowance))
+        pending &= ~(1u << lane);  // certainly free
+  }
+  if (l.count[inner] > 0 && pending) {
+    const double* set = posed(robot, b, link, inner);
+    for (int lane = 0; lane < kLanes; ++lane)
+      if ((pending >> lane & 1) &&
+          set_within(robot, scene, set, static_cast<int>(l.begin[inner]),
+                     static_cast<int>(l.count[inner]), lane, b.margin - b.allowance)) {
+        hit |= 1u << lane;  // certainly colliding
+        pending &= ~(1u << lane);
+      }
+  }
   return hit;
 }
 
@@ -237,56 +238,102 @@ unsigned level_within(const KernelRobot& robot, Block& b, int a, int c, int slot
                      posed(robot, b, c, kBoundSlot), lc.bound[3], add, need);
 }
 
-// A self pair in the lanes `need`; returns the lanes it collides in.
-unsigned self_pair(const KernelRobot& robot, Block& b, int a, int c, unsigned need) {
+// Bounds mode, one level of a self pair in the lanes `pending`, as scene_level.
+unsigned self_level(const KernelRobot& robot, Block& b, int a, int c, int level,
+                    unsigned& pending) {
   const LinkLayout &la = robot.link[a], &lc = robot.link[c];
-  if (!b.bounds) return level_within(robot, b, a, c, la.spheres, lc.spheres, b.margin, need);
-  unsigned pending = need, hit = 0;
-  for (int level = 0; level < (robot.fine ? 2 : 1) && pending; ++level) {
-    const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
-    if (la.count[outer] > 0 && lc.count[outer] > 0)
-      pending = level_within(robot, b, a, c, outer, outer, b.margin + b.allowance, pending);
-    if (la.count[inner] > 0 && lc.count[inner] > 0 && pending) {
-      const unsigned in =
-          level_within(robot, b, a, c, inner, inner, b.margin - b.allowance, pending);
-      hit |= in;
-      pending &= ~in;
+  const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
+  if (la.count[outer] > 0 && lc.count[outer] > 0)
+    pending = level_within(robot, b, a, c, outer, outer, b.margin + b.allowance, pending);
+  unsigned hit = 0;
+  if (la.count[inner] > 0 && lc.count[inner] > 0 && pending) {
+    hit = level_within(robot, b, a, c, inner, inner, b.margin - b.allowance, pending);
+    pending &= ~hit;
+  }
+  return hit;
+}
+
+// The lanes of `open` in which link's bounding sphere may come within the margin of the
+// scene.
+unsigned scene_near(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
+                    unsigned open) {
+  const double* bound = posed(robot, b, link, kBoundSlot);
+  const double rq = robot.link[link].bound[3] + b.margin + b.allowance;
+  unsigned need = 0;
+  double p[3];
+  for (int lane = 0; lane < kLanes; ++lane) {
+    if (!(open >> lane & 1)) continue;
+    lane_point(bound, 0, lane, p);
+    if (!grid_clear(robot.grid, p, rq) && !scene.clear(p, rq)) need |= 1u << lane;
+  }
+  return need;
+}
+
+// The lanes of `open` in which the bounding spheres of links a and c may come within the
+// margin of each other.
+unsigned pair_near(const KernelRobot& robot, Block& b, int a, int c, unsigned open) {
+  const double* ba = posed(robot, b, a, kBoundSlot);
+  const double* bc = posed(robot, b, c, kBoundSlot);
+  const V dx = load(ba) - load(bc), dy = load(ba + kLanes) - load(bc + kLanes),
+          dz = load(ba + 2 * kLanes) - load(bc + 2 * kLanes);
+  const double reach = robot.link[a].bound[3] + robot.link[c].bound[3] + b.margin + b.allowance;
+  return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
+}
+
+// The bounds mode level by level: every pair at the planner's level first (a certain
+// collision found there spares the fine level of every other pair), then the fine level
+// of the pairs still open. b.pending holds per link (scene) and per self pair the lanes
+// still undecided.
+unsigned run_bounds(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
+  unsigned char* pending = b.pending;
+  for (int k = 0; k < robot.links + robot.pairs; ++k) pending[k] = 0;
+  unsigned open = b.lanes;
+  for (int level = 0; level < (robot.fine ? 2 : 1); ++level) {
+    for (int link = 0; link < robot.links && open; ++link) {
+      unsigned p = level ? pending[link] & open : scene_near(robot, scene, b, link, open);
+      if (p) open &= ~scene_level(robot, scene, b, link, level, p);
+      pending[link] = static_cast<unsigned char>(p);
+    }
+    for (int k = 0; k < robot.pairs && open && b.self; ++k) {
+      const int a = static_cast<int>(robot.pair_a[k]), c = static_cast<int>(robot.pair_b[k]);
+      unsigned p = level ? pending[robot.links + k] & open : pair_near(robot, b, a, c, open);
+      if (p) open &= ~self_level(robot, b, a, c, level, p);
+      pending[robot.links + k] = static_cast<unsigned char>(p);
     }
   }
-  b.undecided |= pending;
-  for (int lane = 0; lane < kLanes; ++lane)
-    if ((pending >> lane & 1) && b.sink) b.sink(b, lane, a, c);
-  return hit;
+  for (int k = 0; k < robot.links + robot.pairs; ++k) {
+    const unsigned p = pending[k] & open;
+    b.undecided |= p;
+    for (int lane = 0; lane < kLanes && b.sink; ++lane)
+      if (p >> lane & 1)
+        k < robot.links ? b.sink(b, lane, k, -1)
+                        : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
+                                 static_cast<int>(robot.pair_b[k - robot.links]));
+  }
+  return open;
+}
+
+// The spheres mode: every link against the scene, then every self pair.
+unsigned run_spheres(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
+  unsigned open = b.lanes;
+  for (int link = 0; link < robot.links && open; ++link) {
+    const unsigned need = scene_near(robot, scene, b, link, open);
+    if (need) open &= ~scene_spheres(robot, scene, b, link, need);
+  }
+  for (int k = 0; k < robot.pairs && open && b.self; ++k) {
+    const int a = static_cast<int>(robot.pair_a[k]), c = static_cast<int>(robot.pair_b[k]);
+    const unsigned need = pair_near(robot, b, a, c, open);
+    const LinkLayout &la = robot.link[a], &lc = robot.link[c];
+    if (need) open &= ~level_within(robot, b, a, c, la.spheres, lc.spheres, b.margin, need);
+  }
+  return open;
 }
 
 void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
   for (int k = 0; k < robot.links * kSlots; ++k) b.posed_flag[k] = 0;
   b.colliding = b.undecided = 0;
   pose_frames(robot, b);
-  const double cull = b.margin + b.allowance;
-  unsigned open = b.lanes;
-  for (int link = 0; link < robot.links && open; ++link) {
-    const double* bound = posed(robot, b, link, kBoundSlot);
-    unsigned need = 0;
-    double p[3];
-    for (int lane = 0; lane < kLanes; ++lane) {
-      if (!(open >> lane & 1)) continue;
-      lane_point(bound, 0, lane, p);
-      const double rq = robot.link[link].bound[3] + cull;
-      if (!grid_clear(robot.grid, p, rq) && !scene.clear(p, rq)) need |= 1u << lane;
-    }
-    if (need) open &= ~scene_pair(robot, scene, b, link, need);
-  }
-  for (int k = 0; k < robot.pairs && open && b.self; ++k) {
-    const int a = static_cast<int>(robot.pair_a[k]), c = static_cast<int>(robot.pair_b[k]);
-    const double* ba = posed(robot, b, a, kBoundSlot);
-    const double* bc = posed(robot, b, c, kBoundSlot);
-    const V dx = load(ba) - load(bc), dy = load(ba + kLanes) - load(bc + kLanes),
-            dz = load(ba + 2 * kLanes) - load(bc + 2 * kLanes);
-    const double reach = robot.link[a].bound[3] + robot.link[c].bound[3] + cull;
-    const unsigned need = open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
-    if (need) open &= ~self_pair(robot, b, a, c, need);
-  }
+  const unsigned open = b.bounds ? run_bounds(robot, scene, b) : run_spheres(robot, scene, b);
   b.colliding = b.lanes & ~open;
   b.undecided &= ~b.colliding;
 }

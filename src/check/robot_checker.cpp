@@ -36,7 +36,7 @@ KernelFn choose_kernel(Simd simd) {
 // One thread's buffers for the kernel.
 struct Workspace {
   std::vector<double> frames, posed, q;
-  std::vector<unsigned char> flags;
+  std::vector<unsigned char> flags, pending;
   std::vector<UndecidedPair>* pairs[kLanes] = {};
 };
 
@@ -59,6 +59,7 @@ struct RobotChecker::Impl {
       for (int l = 0; l < detail::kLanes; ++l) w.frames[e * detail::kLanes + l] = 1.0;  // frame 0
     w.posed.assign((layout.x.size() + layout.links.size()) * 3 * detail::kLanes, 0.0);
     w.flags.assign(layout.links.size() * detail::kSlots, 0);
+    w.pending.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.q.assign(layout.dof * detail::kLanes, 0.0);
     return w;
   }
@@ -139,6 +140,7 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.frames = w.frames.data();
   b.posed = w.posed.data();
   b.posed_flag = w.flags.data();
+  b.pending = w.pending.data();
   SinkContext context{&layout, grid.get(), scene_objects, &w};
   if (want_pairs) {
     b.sink = record_pair;

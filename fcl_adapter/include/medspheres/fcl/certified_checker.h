@@ -33,6 +33,7 @@
 
 #include "medspheres/check/robot_checker.h"
 #include "medspheres/fcl/robot_bounds.h"
+#include "medspheres/fcl/scene_from_fcl.h"
 
 namespace medspheres::fcl {
 
@@ -80,6 +81,10 @@ class CertifiedChecker {
                           FallbackStats* stats = nullptr) const;
 
  private:
+  CertifiedChecker(const RobotModel& planner, const RobotModel* fine,
+                   const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                   const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
+                   const check::CheckerOptions& options, const BoundedGeometryOptions& bounds);
   check::Verdict settle(const double* q, FallbackStats& stats) const;
 
   check::RobotChecker checker_;
