@@ -34,9 +34,11 @@ from ._medspheres import (  # noqa: F401
 
 __all__ = [
     "BoundedGeometry",
+    "CheckScene",
     "InputError",
     "RobotBake",
     "RobotBounds",
+    "RobotChecker",
     "SphereDocument",
     "SphereSet",
     "SphereTree",
