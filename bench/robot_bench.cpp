@@ -42,6 +42,13 @@
 // library's version, not the commit: after a change to the bake between releases, pass
 // --cache ''); or --robot-file from `medspheres robot`.
 //
+// Then the robot checker's table (robot_bench_check.h; --no-checker leaves it out): the
+// planner level baked with --planner-spheres K per link (cached as above), the sets above as
+// its fine level; spheres only, the bounds alone, and certified (with the meshes' fallback),
+// per configuration and per edge (--edge-length, --resolution), on one thread (its CPU
+// time) and on every core (wall clock), each the best of three runs; and a loop of FCL calls
+// on the same spheres. Missed and alarms against the same reference.
+//
 // The robot: a URDF (the G1 of ../shared by default), or with --robot coarse-arm the
 // generated 7-joint arm of coarse meshes (tests/support/coarse_arm.h: 11 links of 32 to 256
 // triangles), written into the cache folder (a temporary one with --cache '').
