@@ -7,10 +7,10 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake/robot_bake.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/robot_bake/robot_bake.h"
 #include "support/urdf_fixtures.h"
 
 using namespace medspheres;
