@@ -11,6 +11,7 @@
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_fit.h"
 #include "support/urdf_fixtures.h"
 
 using namespace medspheres;

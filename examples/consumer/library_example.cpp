@@ -21,8 +21,7 @@ int main(int argc, char** argv) {
   try {
     medspheres::BakeFlags flags;
     flags.max_spheres = 16;
-    flags.dilation.dilate = true;
-    flags.dilation.vertex_tolerance = "0.01L";
+    flags.solid.solid = "winding";
     const medspheres::BakeRequest request = medspheres::bake_request(flags);
     const medspheres::BakeOutcome baked = medspheres::bake_file(argv[1], request);
     const medspheres::LoadedMesh loaded = medspheres::load_mesh(argv[1]);

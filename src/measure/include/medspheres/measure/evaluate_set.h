@@ -6,7 +6,7 @@
 /// request chooses (solid_choice.h), in the mesh's frame and units.
 ///
 /// Errors: InputError named by the library's fields ("samples", "surface_samples",
-/// "threads", "solid", "robust_resolution", "robust_thickness") for options out of range;
+/// "threads", "robust_resolution", "robust_thickness") for options out of range;
 /// a problem of the set names it by the caller's name for it; as FitEvaluator::evaluate,
 /// certify_cover and make_robust_solid otherwise.
 

@@ -2,7 +2,7 @@
 /// \file
 /// What `medspheres eval ROBOT.urdf SPHERES` measures, as one call for every tool (the CLI,
 /// the Python module): each link's spheres against that link's solid, in the link's frame
-/// (metres), by evaluate_robot_fit (robot_bake.h).
+/// (metres), by evaluate_robot_fit (robot_fit.h).
 
 #include <map>
 #include <string>
@@ -10,7 +10,7 @@
 
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/robot/urdf_robot.h"
-#include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_fit.h"
 #include "medspheres/sphere_set.h"
 
 namespace medspheres {

@@ -1,9 +1,10 @@
-// The fit of a robot's sphere file, link by link.
+// The fit of a robot's sphere file, link by link (robot_fit.h).
+#include "medspheres/robot_bake/robot_fit.h"
+
 #include <algorithm>
 #include <cmath>
 
 #include "medspheres/error.h"
-#include "medspheres/robot_bake/robot_bake.h"
 
 namespace medspheres {
 
