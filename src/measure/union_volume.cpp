@@ -56,7 +56,7 @@
 //   vol(union) = sum over s in K of (-1)^dim(s) vol(intersection of the balls of s),
 // and the same alternating sum of the areas of the sphere pieces inside the other balls
 // of each simplex gives the boundary area. The intersections of two, three and four
-// balls have closed forms (derived in src/bake/ball_intersection.h).
+// balls have closed forms (derived in src/measure/ball_intersection.h).
 //
 // Frame and units: centres and radii are in the caller's frame and units (frame M, as
 // in sphere_set.h). Volumes are in units^3, areas in units^2, positions in frame M.
