@@ -139,11 +139,13 @@ void print(const std::string& mesh, std::size_t k, const char* method, const Row
 // The depth grid and the refinement queries of the bound (--lb-resolution, --lb-refine).
 int bound_resolution = CoverLowerBoundOptions{}.resolution;
 std::size_t bound_refine = CoverLowerBoundOptions{}.refine_queries;
+std::size_t bound_candidates = CoverLowerBoundOptions{}.candidates;
 
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
   o.resolution = bound_resolution;
   o.refine_queries = bound_refine;
+  o.candidates = bound_candidates;
   const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
@@ -461,6 +463,7 @@ int main(int argc, char** argv) {
   app.add_option("--lb-resolution", bound_resolution,
                  "Depth grid cells along L of the lower bound (cover rows)");
   app.add_option("--lb-refine", bound_refine, "Refinement queries of the lower bound");
+  app.add_option("--lb-candidates", bound_candidates, "Candidate witnesses of the lower bound");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,
