@@ -32,7 +32,9 @@
 //   environment's SPHERETREE_BIN), each cover row gets two more at the same K: `st`, the
 //   spheres of spheretree's medial method with foam's settings, and `st+`, the same grown to
 //   cover as cuRobo's `grown` row. --spheretree-cache DIR keeps its runs (tens of seconds
-//   each) for the next run of the bench. Without the folder these rows are skipped.
+//   each) for the next run of the bench; with --spheretree-cached-only only the meshes and
+//   K the cache holds get the rows (and count in the tallies). Without the folder these rows
+//   are skipped.
 //   At the end, one line per mesh and K: the cover, spheretree's grown set and cuRobo's
 //   grown set (protrusion and excess), the bound and the cover's protrusion over it, and
 //   the seconds; then how many meet each target. Every certified set (cover, grown, tight,
@@ -199,6 +201,7 @@ void check_bound(const std::string& name, std::size_t k, const char* method, con
 
 // spheretree's build folder (empty: no spheretree rows), its cache and its scratch folder.
 std::string spheretree_bin, spheretree_cache, spheretree_work;
+bool spheretree_cached_only = false;  // --spheretree-cached-only
 
 // spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
 // or nothing when spheretree made no set (the reason in \p error).
@@ -206,8 +209,9 @@ std::optional<Row> spheretree_rows(const std::string& name, const FitEvaluator& 
                                    std::size_t samples, int threads, std::string& error) {
   if (spheretree_bin.empty()) return std::nullopt;
   const TriangleMesh& mesh = fit.query().mesh();
-  const bench::SpheretreeRun run =
-      bench::run_spheretree(spheretree_bin, mesh, K, spheretree_cache, spheretree_work);
+  const bench::SpheretreeRun run = bench::run_spheretree(spheretree_bin, mesh, K, spheretree_cache,
+                                                         spheretree_work, spheretree_cached_only);
+  if (run.skipped) return std::nullopt;
   if (!run.error.empty()) {
     error = run.error;
     std::printf("%-34s %3zu st     failed: %s\n", name.c_str(), K, run.error.c_str());
@@ -421,7 +425,8 @@ void print_peer_tally(const char* which, bool links) {
 // The cover's protrusion over the bound on \p which meshes, and the seconds.
 void print_bound_tally(const char* which, bool links) {
   int n = 0, within = 0, slow = 0, certified = 0;
-  double slowest = 0;
+  int slow_cpu = 0;
+  double slowest = 0, slowest_cpu = 0;
   std::vector<double> q;
   for (const Comparison& c : comparisons) {
     if (c.link != links) continue;
@@ -429,6 +434,8 @@ void print_bound_tally(const char* which, bool links) {
     certified += c.cover.certified;
     slow += c.cover.seconds > 1.0;
     slowest = std::max(slowest, c.cover.seconds);
+    slow_cpu += c.cover.cpu > 1.0;
+    slowest_cpu = std::max(slowest_cpu, c.cover.cpu);
     if (c.cover.bound <= 0) continue;
     q.push_back(c.cover.protrusion / c.cover.bound);
     within += q.back() <= 1.5;
@@ -437,9 +444,10 @@ void print_bound_tally(const char* which, bool links) {
   std::sort(q.begin(), q.end());
   std::printf(
       "%s: %d covers, certified %d; protrusion <= 1.5 x the bound on %d (%.0f%%; ratio median "
-      "%.2f, range %.2f to %.2f); over 1 s on %d (slowest %.2f s)\n",
+      "%.2f, range %.2f to %.2f); over 1 s on %d (slowest %.2f s), over 1 CPU second on %d "
+      "(most %.2f)\n",
       which, n, certified, within, 100.0 * within / n, median_of(q), q.empty() ? 0.0 : q.front(),
-      q.empty() ? 0.0 : q.back(), slow, slowest);
+      q.empty() ? 0.0 : q.back(), slow, slowest, slow_cpu, slowest_cpu);
 }
 
 }  // namespace
@@ -474,6 +482,8 @@ int main(int argc, char** argv) {
                  "none: no spheretree rows");
   app.add_option("--spheretree-cache", spheretree_cache,
                  "Keep spheretree's runs here and reuse them");
+  app.add_flag("--spheretree-cached-only", spheretree_cached_only,
+               "spheretree rows only where the cache holds its run (no new runs)");
   spheretree_work = (std::filesystem::temp_directory_path() /
                      ("bench_budget_spheretree." + std::to_string(::getpid())))
                         .string();
