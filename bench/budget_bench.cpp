@@ -39,6 +39,10 @@
 //   grown set (protrusion and excess), the bound and the cover's protrusion over it, and
 //   the seconds; then how many meet each target. Every certified set (cover, grown, tight,
 //   st+) must stick out at least the bound: a set below it fails the bench (exit 1).
+//   On a machine shared with other work, run it with OMP_WAIT_POLICY=passive: OpenMP's
+//   threads otherwise spin at every barrier, and the volume stage's many short parallel loops
+//   then cost the cover rows several times their work (the bunny at K = 8, --threads 2, at a
+//   load average of 16: 17.0 s wall and 1.63 CPU seconds, against 1.83 s and 0.16 passive).
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
 // cores; the cover at most spheretree's grown set on both protrusion and excess on 90% of
 // the meshes and links, never more than 5% worse on either; its protrusion at most 1.5
