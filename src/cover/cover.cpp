@@ -99,8 +99,8 @@ Candidate refined(Elements e, Clustering c, const CoverOptions& o) {
 // The stages for budget >= 2 (file comment). The candidates: the protrusion stage's result,
 // the volume stage's when no ball of it protrudes beyond the cap, and the single ball (the
 // minimum enclosing ball moved inward); of those whose union is no larger than the single
-// ball's, the one of least cover_cost (ties: that order). Refining the binding elements
-// only shrinks balls, so the cap holds after it.
+// ball's, the one of least cover_cost (ties: that order), with its binding elements then
+// refined. Refining only shrinks balls, so the cap holds after it.
 Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
                  const CoverOptions& options, int threads, CoverStats& s) {
   const Elements fine =
@@ -109,27 +109,32 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
   detail::ProtrusionStage p =
       detail::protrusion_stage(query, e, fine, budget, options.rounds, threads);
   s.rounds_run = p.rounds;
-  std::vector<Candidate> results;
+  std::vector<Clustering> results;
   if (options.volume_descent) {
     const double cap = (1.0 + options.protrusion_allowance) *
                        detail::largest_protrusion(query, p.clustering.balls, threads);
+    // The flow's penalties aim at the cap without certainty: while it overshoots, at most
+    // twice more with the aim lowered by the first overshoot, then by twice it.
     Clustering v = volume_stage(query, e, p.clustering, cap, threads);
-    if (detail::largest_protrusion(query, v.balls, threads) <= cap)
-      results.push_back(refined(e, std::move(v), options));
+    const double over = detail::largest_protrusion(query, v.balls, threads);
+    for (int retry = 1; retry <= 2 && detail::largest_protrusion(query, v.balls, threads) > cap;
+         ++retry)
+      v = volume_stage(query, e, p.clustering, cap * std::pow(cap / over, retry), threads);
+    if (detail::largest_protrusion(query, v.balls, threads) <= cap) results.push_back(std::move(v));
   }
-  results.insert(results.begin(), refined(e, std::move(p.clustering), options));
-  results.push_back(refined(e, detail::one_ball(query, e, threads), options));
+  results.insert(results.begin(), std::move(p.clustering));
+  results.push_back(detail::one_ball(query, e, threads));
   const double volume = options.interior_resolution > 0 ? volume_of(query, e, options) : 0.0;
-  const double one = detail::union_volume(results.back().clustering.balls);
+  const double one = detail::union_volume(results.back().balls);
   std::size_t best = results.size() - 1;
-  double least = cover_cost(query, results.back().clustering.balls, volume, threads);
+  double least = cover_cost(query, results.back().balls, volume, threads);
   for (std::size_t r = 0; r + 1 < results.size(); ++r) {
-    const std::vector<Sphere>& balls = results[r].clustering.balls;
+    const std::vector<Sphere>& balls = results[r].balls;
     if (detail::union_volume(balls) > one) continue;
     const double cost = cover_cost(query, balls, volume, threads);
     if (cost < least || (cost == least && r < best)) least = cost, best = r;
   }
-  return std::move(results[best]);
+  return refined(e, std::move(results[best]), options);
 }
 
 void check_cover_options(std::size_t budget, const CoverOptions& o) {

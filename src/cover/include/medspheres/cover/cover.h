@@ -25,15 +25,18 @@
 /// 3. Volume stage (volume_descent): all balls move and resize at once, by gradient steps,
 ///    down the union's volume plus penalties that keep the elements held and each
 ///    protrusion within (1 + protrusion_allowance) P; each element then goes to the ball
-///    that must grow least to hold it, and balls shrink to what no other ball holds. A
-///    candidate when no ball then protrudes beyond that cap.
-/// 4. In each candidate (steps 2 and 3, and the single ball: the minimum enclosing ball of
-///    the surface, moved inward to stick out least) the elements that bind a ball's radius
-///    are split (at most 3 times, and no deeper than the certificate's max_depth) and
-///    handed to the balls that hold their pieces. Of the candidates whose union is no
-///    larger than the single ball's, the one of least product of the volume outside the
-///    solid (U - V; on an open mesh V is the interior points' cells) and the largest
-///    protrusion is kept (ties: in that order).
+///    that must grow least to hold it, and balls shrink to what no other ball holds. The
+///    penalties aim at the cap without certainty: while some ball protrudes beyond it, the
+///    stage runs at most twice more from step 2's balls, its aim lowered by the first
+///    overshoot (aim = cap (cap / overshoot)^n). A candidate when no ball protrudes beyond
+///    the cap.
+/// 4. Of the candidates (steps 2 and 3, and the single ball: the minimum enclosing ball of
+///    the surface, moved inward to stick out least) whose union is no larger than the
+///    single ball's, the one of least product of the volume outside the solid (U - V; on an
+///    open mesh V is the interior points' cells) and the largest protrusion is kept (ties:
+///    in that order). In it, the elements that bind a ball's radius are split (at most 3
+///    times, and no deeper than the certificate's max_depth) and handed to the balls that
+///    hold their pieces.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
