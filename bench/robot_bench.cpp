@@ -42,7 +42,12 @@
 // library's version, not the commit: after a change to the bake between releases, pass
 // --cache ''); or --robot-file from `medspheres robot`.
 //
-// Usage: bench_robot [URDF] [--configs N] [--seed S] [--margin M] [--robot-file F]
+// The robot: a URDF (the G1 of ../shared by default), or with --robot coarse-arm the
+// generated 7-joint arm of coarse meshes (tests/support/coarse_arm.h: 11 links of 32 to 256
+// triangles), written into the cache folder (a temporary one with --cache '').
+//
+// Usage: bench_robot [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
+// [--robot-file F]
 //                    [--cache DIR] [--spheres-per-link K] [--srdf F] [--meshes DIR] ...
 #include <algorithm>
 #include <cmath>
@@ -55,6 +60,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <fcl/fcl.h>
 
 #include "bench_args.h"
@@ -66,6 +73,7 @@
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
+#include "support/coarse_arm.h"
 
 namespace {
 
@@ -76,6 +84,7 @@ using mb::Clock;
 
 struct Options {
   mb::RobotSource robot;
+  std::string generated;  // a generated robot's name ("coarse-arm"); empty: the URDF
   std::size_t configs = 10000;
   unsigned seed = 1;
   double margin = 0.01;
@@ -100,7 +109,12 @@ Options parse(int argc, char** argv) {
   o.robot.spheres_per_link = 32;
   mb::Args args("bench_robot", "Certified robot queries against exact meshes");
   CLI::App& app = args.app();
-  app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
+  CLI::Option* urdf =
+      app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
+  app.add_option("--robot", o.generated,
+                 "A generated robot instead of a URDF: coarse-arm (7 joints, 11 coarse links)")
+      ->check(CLI::IsMember({"coarse-arm"}))
+      ->excludes(urdf);
   args.add("--configs", o.configs, "Seeded joint configurations");
   args.add("--seed", o.seed, "Seed of the configurations and the scene");
   args.add("--margin", o.margin, "Collision threshold (m): colliding means distance <= it");
@@ -512,8 +526,37 @@ int run(const Options& o) {
 
 }  // namespace
 
+namespace {
+
+// A generated robot's files: in the cache folder (the same bytes each time, so the bake's
+// cache key holds), or in a temporary folder removed at exit when there is no cache.
+class GeneratedRobot {
+ public:
+  explicit GeneratedRobot(Options& o) {
+    if (o.generated.empty()) return;
+    namespace fs = std::filesystem;
+    fs::path dir = fs::path(o.robot.cache_dir) / "coarse_arm";
+    if (o.robot.cache_dir.empty())
+      dir = temp_ =
+          fs::temp_directory_path() / ("medspheres-bench-coarse-arm-" + std::to_string(::getpid()));
+    o.robot.urdf = medspheres::test::write_coarse_arm(dir);
+  }
+  ~GeneratedRobot() {
+    std::error_code ec;
+    if (!temp_.empty()) std::filesystem::remove_all(temp_, ec);
+  }
+  GeneratedRobot(const GeneratedRobot&) = delete;
+  GeneratedRobot& operator=(const GeneratedRobot&) = delete;
+
+ private:
+  std::filesystem::path temp_;
+};
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  const Options o = parse(argc, argv);
+  Options o = parse(argc, argv);
+  const GeneratedRobot generated(o);
   if (!std::filesystem::exists(o.robot.urdf)) {
     std::fprintf(stderr, "bench_robot: no robot at %s (give a URDF)\n", o.robot.urdf.c_str());
     return 2;
