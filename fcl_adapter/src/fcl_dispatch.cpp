@@ -45,6 +45,7 @@
 #include "medspheres/proximity_target.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_tree.h"
+#include "pair_beyond.h"
 
 namespace medspheres::fcl {
 namespace {
@@ -484,6 +485,10 @@ double distance(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& t
     return ::fcl::distance<double>(o1, tf1, o2, tf2, request, result);
   if (!finite_pose(tf1) || !finite_pose(tf2))
     throw std::invalid_argument("medspheres::fcl::distance: a transform has a non-finite entry");
+  // Nothing closer than a preset min_distance can be found when the bounds are farther.
+  if (s1 != nullptr ? detail::pair_beyond(*s1, tf1, *o2, s2, tf2, result.min_distance)
+                    : detail::pair_beyond(*s2, tf2, *o1, s1, tf1, result.min_distance))
+    return result.min_distance;
 
   DistanceOptions options;
   options.abs_err = request.abs_err;
@@ -536,6 +541,10 @@ std::size_t collide(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3
                                ? request.num_max_contacts - result.numContacts()
                                : 0;
   if (room == 0) return result.numContacts();
+  // Touching is a contact: bounds farther apart than 0 hold none.
+  if (s1 != nullptr ? detail::pair_beyond(*s1, tf1, *o2, s2, tf2, 0.0)
+                    : detail::pair_beyond(*s2, tf2, *o1, s1, tf1, 0.0))
+    return result.numContacts();
 
   Narrowphase np;
   np.solver = request.gjk_solver_type;
