@@ -188,3 +188,34 @@ TEST_CASE("collide() finds what the full distance query puts at or below 0", "[f
     CHECK(apart > 4);
   }
 }
+
+TEST_CASE("Non-finite poses throw before the bounding test; finite ones never do",
+          "[fcl][threshold]") {
+  std::mt19937 rng(43);
+  auto set = std::make_shared<SphereSetGeometry>(mt::random_sphere_set(rng, 10, 0.3));
+  const fcl::Boxd box(0.2, 0.2, 0.2);
+  fcl::Transform3d far = fcl::Transform3d::Identity();
+  far.translation() = Eigen::Vector3d(5.0, 0.0, 0.0);  // beyond any threshold used here
+  const fcl::Transform3d I = fcl::Transform3d::Identity();
+  fcl::Transform3d nan_rotation = far, inf_corner = far, huge = far;
+  nan_rotation.linear()(1, 2) = std::nan("");
+  inf_corner.matrix()(3, 0) = kInf;                            // the row an isometry never reads
+  huge.translation() = Eigen::Vector3d(1e308, 1e308, -1e308);  // entries sum past the largest
+  for (const fcl::Transform3d* bad : {&nan_rotation, &inf_corner}) {
+    fcl::DistanceResultd r;
+    r.min_distance = 0.01;
+    CHECK_THROWS_AS(medspheres::fcl::distance(set.get(), *bad, &box, I, fcl::DistanceRequestd(), r),
+                    std::invalid_argument);
+    CHECK_THROWS_AS(medspheres::fcl::distance(&box, I, set.get(), *bad, fcl::DistanceRequestd(), r),
+                    std::invalid_argument);
+    fcl::CollisionResultd c;
+    CHECK_THROWS_AS(medspheres::fcl::collide(set.get(), *bad, &box, I, fcl::CollisionRequestd(), c),
+                    std::invalid_argument);
+  }
+  fcl::DistanceResultd r;
+  r.min_distance = 0.01;
+  CHECK_NOTHROW(medspheres::fcl::distance(set.get(), huge, &box, huge, fcl::DistanceRequestd(), r));
+  CHECK(r.min_distance < 0.0);  // the box sits among the spheres
+  fcl::CollisionResultd c;
+  CHECK(medspheres::fcl::collide(set.get(), huge, &box, far, fcl::CollisionRequestd(), c) == 0);
+}

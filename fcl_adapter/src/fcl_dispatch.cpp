@@ -417,6 +417,13 @@ bool finite_pose(const ::fcl::Transform3d& X) {
   return X.matrix().allFinite();
 }
 
+// Both poses finite: a finite sum of all their entries shows it at once (a non-finite
+// entry makes the sum infinite or NaN); only a sum that overflows needs the entries.
+bool finite_poses(const ::fcl::Transform3d& X1, const ::fcl::Transform3d& X2) {
+  return std::isfinite(X1.matrix().sum() + X2.matrix().sum()) ||
+         (finite_pose(X1) && finite_pose(X2));
+}
+
 // --- distance ----------------------------------------------------------------------------
 
 // The sphere set s at X_WS against geometry g at X_WG; the result's a side is s.
@@ -483,7 +490,7 @@ double distance(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& t
   const SphereSetGeometry* s2 = as_sphere_set(o2);
   if (s1 == nullptr && s2 == nullptr)
     return ::fcl::distance<double>(o1, tf1, o2, tf2, request, result);
-  if (!finite_pose(tf1) || !finite_pose(tf2))
+  if (!finite_poses(tf1, tf2))
     throw std::invalid_argument("medspheres::fcl::distance: a transform has a non-finite entry");
   // Nothing closer than a preset min_distance can be found when the bounds are farther.
   if (s1 != nullptr ? detail::pair_beyond(*s1, tf1, *o2, s2, tf2, result.min_distance)
@@ -532,7 +539,7 @@ std::size_t collide(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3
   const SphereSetGeometry* s2 = as_sphere_set(o2);
   if (s1 == nullptr && s2 == nullptr)
     return ::fcl::collide<double>(o1, tf1, o2, tf2, request, result);
-  if (!finite_pose(tf1) || !finite_pose(tf2))
+  if (!finite_poses(tf1, tf2))
     throw std::invalid_argument("medspheres::fcl::collide: a transform has a non-finite entry");
   if (request.num_max_contacts == 0) return 0;
   if (request.isSatisfied(result)) return result.numContacts();

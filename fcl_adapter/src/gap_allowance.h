@@ -19,4 +19,12 @@ inline bool gap_beyond(double gap, double scale, double margin) {
   return std::isfinite(gap) && gap - gap_allowance(scale, margin) > margin;
 }
 
+/// gap_beyond for the gap sqrt(d2) - sub (a distance given by its square d2, less radii
+/// \p sub), without the square root: sqrt(d2) must exceed margin + allowance + sub.
+inline bool squared_gap_beyond(double d2, double sub, double scale, double margin) {
+  const double reach = margin + gap_allowance(scale, margin) + sub;
+  if (!std::isfinite(d2) || !std::isfinite(reach)) return false;
+  return reach < 0.0 || d2 > reach * reach;
+}
+
 }  // namespace medspheres::fcl::detail

@@ -31,7 +31,10 @@ struct BeyondBound {
   double scale;
   double margin;
 
-  bool beyond(double gap, double size) const { return gap_beyond(gap, scale + size, margin); }
+  // Whether sqrt(d2) - sub exceeds the margin; size: g's magnitude.
+  bool beyond(double d2, double sub, double size) const {
+    return squared_gap_beyond(d2, sub, scale + size, margin);
+  }
 
   template <class BV>
   bool operator()(const ::fcl::BVHModel<BV>& m) const {
@@ -42,11 +45,11 @@ struct BeyondBound {
     const BV& bv = m.getBV(0).bv;
     if constexpr (std::is_same_v<BV, ::fcl::OBBRSSd> || std::is_same_v<BV, ::fcl::RSSd>) {
       const ::fcl::RSSd& b = rss_part(bv);  // as rss_of(bv), without the copy
-      return beyond(std::sqrt(rectangle_distance2(b.axis, b.To, b.l[0], b.l[1], p)) - b.r - r,
+      return beyond(rectangle_distance2(b.axis, b.To, b.l[0], b.l[1], p), b.r + r,
                     b.To.cwiseAbs().sum() + b.l[0] + b.l[1] + b.r);
     } else {
       const Rss b = rss_of(bv);
-      return beyond(std::sqrt(rectangle_distance2(b, p)) - b.radius - r,
+      return beyond(rectangle_distance2(b, p), b.radius + r,
                     b.corner.cwiseAbs().sum() + b.length.sum() + b.radius);
     }
   }
@@ -59,23 +62,23 @@ struct BeyondBound {
     switch (shape.type) {
       case ::fcl::GEOM_BOX: {
         const Eigen::Vector3d h = 0.5 * static_cast<const ::fcl::Boxd&>(g).side;
-        return beyond((p.cwiseAbs() - h).cwiseMax(0.0).norm() - r, h.sum());
+        return beyond((p.cwiseAbs() - h).cwiseMax(0.0).squaredNorm(), r, h.sum());
       }
       case ::fcl::GEOM_SPHERE: {
         const double rho = static_cast<const ::fcl::Sphered&>(g).radius;
-        return beyond(p.norm() - r - rho, rho);
+        return beyond(p.squaredNorm(), r + rho, rho);
       }
       case ::fcl::GEOM_CAPSULE: {
         const auto& c = static_cast<const ::fcl::Capsuled&>(g);
         const double h = 0.5 * c.lz;
         const Eigen::Vector3d axis_point(0.0, 0.0, std::clamp(p.z(), -h, h));
-        return beyond((p - axis_point).norm() - r - c.radius, h + c.radius);
+        return beyond((p - axis_point).squaredNorm(), r + c.radius, h + c.radius);
       }
       case ::fcl::GEOM_CYLINDER: {
         const auto& c = static_cast<const ::fcl::Cylinderd&>(g);
         const double radial = std::max(std::hypot(p.x(), p.y()) - c.radius, 0.0);
         const double axial = std::max(std::abs(p.z()) - 0.5 * c.lz, 0.0);
-        return beyond(std::hypot(radial, axial) - r, c.lz + c.radius);
+        return beyond(radial * radial + axial * axial, r, c.lz + c.radius);
       }
       default:
         return false;
@@ -105,8 +108,8 @@ bool pair_beyond(const SphereSetGeometry& s, const ::fcl::Transform3d& X_WS,
   if (g_set != nullptr) {
     const Sphere& o = g_set->bounding_ball();
     const Eigen::Vector3d o_W = X_WG * o.center;
-    return gap_beyond((o_W - c_W).norm() - b.radius - o.radius,
-                      scale + o_W.cwiseAbs().sum() + o.radius, margin);
+    return squared_gap_beyond((o_W - c_W).squaredNorm(), b.radius + o.radius,
+                              scale + o_W.cwiseAbs().sum() + o.radius, margin);
   }
   const Eigen::Vector3d p_G = X_WG.linear().transpose() * (c_W - X_WG.translation());
   return visit_geometry(g, BeyondBound{p_G, b.radius, scale, margin});
