@@ -69,6 +69,21 @@ std::vector<Named> geometries(std::mt19937& rng) {
   };
 }
 
+// A set of 1 to 30 spheres and two poses, each within `extent` of the origin.
+struct Scene {
+  std::shared_ptr<SphereSetGeometry> set;
+  fcl::Transform3d X_WA, X_WB;
+};
+
+Scene random_scene(std::mt19937& rng, double extent) {
+  Scene s;
+  s.set = std::make_shared<SphereSetGeometry>(
+      mt::random_sphere_set(rng, 1 + rng() % 30, 0.4, 0.03, 0.2));
+  s.X_WA = mt::random_pose(rng, extent);
+  s.X_WB = mt::random_pose(rng, extent);
+  return s;
+}
+
 // Thresholds at the full answer d, next to it, and across [0, 2 d + 0.2]. Next to it: 1e-12
 // away, above the few ulps by which the walk's bounds and sums round (sphere_tree.h), far
 // below the bounding test's allowance.
@@ -133,10 +148,7 @@ TEST_CASE("A preset min_distance gives the full answer's verdict, distance, pair
     INFO(other.name);
     int closer = 0, beyond = 0;
     for (int scene = 0; scene < 12; ++scene) {
-      auto set = std::make_shared<SphereSetGeometry>(
-          mt::random_sphere_set(rng, 1 + rng() % 30, 0.4, 0.03, 0.2));
-      const fcl::Transform3d X_WA = mt::random_pose(rng, 1.6);
-      const fcl::Transform3d X_WB = mt::random_pose(rng, 1.6);
+      const auto [set, X_WA, X_WB] = random_scene(rng, 1.6);
       for (bool is_signed : {false, true})
         for (bool set_first : {true, false}) {
           INFO("scene " << scene << ", signed " << is_signed << ", set first " << set_first);
@@ -164,10 +176,7 @@ TEST_CASE("collide() finds what the full distance query puts at or below 0", "[f
     INFO(other.name);
     int touching = 0, apart = 0;
     for (int scene = 0; scene < 60; ++scene) {
-      auto set = std::make_shared<SphereSetGeometry>(
-          mt::random_sphere_set(rng, 1 + rng() % 30, 0.4, 0.03, 0.2));
-      const fcl::Transform3d X_WA = mt::random_pose(rng, 1.0);
-      const fcl::Transform3d X_WB = mt::random_pose(rng, 1.0);
+      const auto [set, X_WA, X_WB] = random_scene(rng, 1.0);
       fcl::DistanceResultd full;
       medspheres::fcl::distance(set.get(), X_WA, other.g.get(), X_WB, fcl::DistanceRequestd(),
                                 full);
