@@ -48,7 +48,7 @@ namespace medspheres::detail {
 
 /// The child pairs of \p p, opened on the side the adapter chooses, with their bounds
 /// (each counted in stats.bv_tests), and in \p order their indices nearest first, ties in
-/// child order (the pairs themselves stay put: a target's pairs are large to move).
+/// child order (the pairs themselves stay put: a bounds walk's pairs hold two pairs each).
 template <class Nodes>
 int open_pair(const Nodes& nodes, const typename Nodes::Pair& p, double prune_at, QueryStats& stats,
               typename Nodes::Pair* next, double* lb, int* order) {
