@@ -42,6 +42,13 @@
 // library's version, not the commit: after a change to the bake between releases, pass
 // --cache ''); or --robot-file from `medspheres robot`.
 //
+// Then the robot checker's table (robot_bench_check.h; --no-checker leaves it out): the
+// planner level baked with --planner-spheres K per link (cached as above), the sets above as
+// its fine level; spheres only, the bounds alone, and certified (with the meshes' fallback),
+// per configuration and per edge (--edge-length, --resolution), on one thread (its CPU
+// time) and on every core (wall clock), each the best of three runs; and a loop of FCL calls
+// on the same spheres. Missed and alarms against the same reference.
+//
 // The robot: a URDF (the G1 of ../shared by default), or with --robot coarse-arm the
 // generated 7-joint arm of coarse meshes (tests/support/coarse_arm.h: 11 links of 32 to 256
 // triangles), written into the cache folder (a temporary one with --cache '').
@@ -52,7 +59,7 @@
 //
 // Usage: bench_robot [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
 //                    [--robot-file F] [--cache DIR] [--spheres-per-link K] [--srdf F]
-//                    [--meshes DIR] [--breakdown N] ...
+//                    [--meshes DIR] [--breakdown N] [--planner-spheres K] [--no-checker] ...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -75,6 +82,7 @@
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/formats/srdf_disabled_collisions.h"
 #include "robot_bench_breakdown.h"
+#include "robot_bench_check.h"
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
@@ -102,6 +110,10 @@ struct Options {
   bool explain = false;
   std::size_t breakdown = 0;
   std::size_t order_samples = 4000;
+  std::size_t planner_spheres = 8;  // the checker's planner level (the bake's sets: its fine level)
+  double edge_length = 0.5;
+  double resolution = 0.02;
+  bool checker = true;
 };
 
 Options parse(int argc, char** argv) {
@@ -142,6 +154,11 @@ Options parse(int argc, char** argv) {
   args.add("--breakdown", o.breakdown,
            "Time per kind of pair (boxes, meshes, octomap, self) over the first N "
            "configurations, no stop (0: none)");
+  args.add("--planner-spheres", o.planner_spheres,
+           "The checker's planner level: spheres per link (the sets above are its fine level)");
+  args.add("--edge-length", o.edge_length, "The checker's edges: joint-space length");
+  args.add("--resolution", o.resolution, "The checker's edges: resolution");
+  app.add_flag("!--no-checker", o.checker, "Leave out the robot checker's rows");
   args.parse(argc, argv);
   return o;
 }
@@ -492,6 +509,27 @@ int run(const Options& o) {
     mb::print_breakdown(poses, scene, bounds.geometries().size(), bounds.self_pairs().size(), exact,
                         outer, inner, o.self, o.margin);
   }
+  if (o.checker) {
+    mb::RobotSource planner_source = o.robot;
+    planner_source.spheres_per_link = o.planner_spheres;
+    const mb::BenchRobot planner = o.planner_spheres == o.robot.spheres_per_link
+                                       ? robot
+                                       : mb::load_bench_robot(planner_source);
+    mb::CheckerBenchInput in;
+    in.planner = &planner;
+    in.fine = &robot;
+    in.scene = objects;
+    in.disabled = disabled;
+    in.configs = configs;
+    in.reference = ref.colliding;
+    in.margin = o.margin;
+    in.self = o.self;
+    in.exact_micros = runs[0].micros;
+    in.edge_length = o.edge_length;
+    in.resolution = o.resolution;
+    std::printf("\nplanner sets: %s\n", planner.spheres_from.c_str());
+    mb::print_checker_rows(in);
+  }
   for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
     if (ref.colliding[i] && !runs[4].colliding[i]) {
       const mf::RobotCollideResult c =
@@ -540,6 +578,13 @@ class GeneratedRobot {
 }  // namespace
 
 int main(int argc, char** argv) {
+  // The checker's rows on every core: OpenMP's threads sleep rather than spin while they
+  // wait, which on a machine shared with other work would take the cores the others need.
+  // The runtime reads the setting when it loads, so the program starts again with it.
+  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
+  }
   Options o = parse(argc, argv);
   const GeneratedRobot generated(o);
   if (!std::filesystem::exists(o.robot.urdf)) {
