@@ -67,8 +67,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include <fcl/fcl.h>
 
 #include "bench_args.h"
@@ -76,12 +74,11 @@
 #include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
-#include "medspheres/formats/srdf_disabled_collisions.h"
 #include "robot_bench_check.h"
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
-#include "support/coarse_arm.h"
+#include "robot_bench_setup.h"
 
 namespace {
 
@@ -151,18 +148,6 @@ Options parse(int argc, char** argv) {
   app.add_flag("!--no-checker", o.checker, "Leave out the robot checker's rows");
   args.parse(argc, argv);
   return o;
-}
-
-// Every joint at 0, clamped to its limits.
-Eigen::VectorXd default_config(const medspheres::RobotModel& model,
-                               const medspheres::KinematicTree& tree) {
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(tree.num_positions());
-  for (Eigen::Index k = 0; k < q.size(); ++k) {
-    const medspheres::Joint& j = *model.find_joint(tree.joint_names()[k]);
-    if (j.type != medspheres::JointType::kContinuous && j.limits)
-      q[k] = std::clamp(0.0, j.limits->lower, j.limits->upper);
-  }
-  return q;
 }
 
 // One sphere set per link (inner or outer) as an FCL geometry, checked pair by pair within
@@ -382,25 +367,6 @@ void print_table(const std::vector<MethodRun>& runs, const Reference& ref) {
               }));
 }
 
-using NamePairs = std::vector<std::pair<std::string, std::string>>;
-
-// The pairs excluded from self-collision: the SRDF's, and those within the margin at the
-// default configuration (by the exact meshes).
-NamePairs disabled_pairs(const Options& o, const mb::BenchRobot& robot, std::size_t& by_default) {
-  NamePairs out;
-  if (!o.srdf.empty())
-    for (const auto& d : medspheres::formats::load_srdf_disabled_collisions(o.srdf))
-      out.emplace_back(d.link1, d.link2);
-  const mf::RobotBounds all(robot.model, robot.meshes, out);
-  mb::ExactRobot exact(all, robot.exact, {}, robot.solids);
-  const Eigen::VectorXd q0 = default_config(robot.model, all.kinematics());
-  const auto near = exact.self_pairs_within(all.poses(q0, Eigen::Isometry3d::Identity()), o.margin);
-  for (const auto& [a, b] : near)
-    out.emplace_back(all.geometries()[a].link(), all.geometries()[b].link());
-  by_default = near.size();
-  return out;
-}
-
 void print_setup(const Options& o, const mb::BenchRobot& robot, const mf::RobotBounds& bounds,
                  const mb::BenchScene& scene, std::size_t by_default) {
   std::size_t inner = 0, outer = 0;
@@ -429,7 +395,7 @@ int run(const Options& o) {
   const mb::BenchScene scene = mb::make_scene(o.seed, o.meshes, o.scale);
   const std::vector<const ::fcl::CollisionObjectd*> objects = scene.pointers();
   std::size_t by_default = 0;
-  const NamePairs disabled = disabled_pairs(o, robot, by_default);
+  const mb::NamePairs disabled = mb::disabled_pairs(o.srdf, o.margin, robot, by_default);
   const mf::RobotBounds plain(robot.model, robot.meshes, disabled);
   const auto t_order = Clock::now();
   const mf::RobotBounds bounds(robot.model, robot.meshes, disabled, {},
@@ -564,44 +530,11 @@ int run(const Options& o) {
 
 }  // namespace
 
-namespace {
-
-// A generated robot's files: in the cache folder (the same bytes each time, so the bake's
-// cache key holds), or in a temporary folder removed at exit when there is no cache.
-class GeneratedRobot {
- public:
-  explicit GeneratedRobot(Options& o) {
-    if (o.generated.empty()) return;
-    namespace fs = std::filesystem;
-    fs::path dir = fs::path(o.robot.cache_dir) / "coarse_arm";
-    if (o.robot.cache_dir.empty())
-      dir = temp_ =
-          fs::temp_directory_path() / ("medspheres-bench-coarse-arm-" + std::to_string(::getpid()));
-    o.robot.urdf = medspheres::test::write_coarse_arm(dir);
-  }
-  ~GeneratedRobot() {
-    std::error_code ec;
-    if (!temp_.empty()) std::filesystem::remove_all(temp_, ec);
-  }
-  GeneratedRobot(const GeneratedRobot&) = delete;
-  GeneratedRobot& operator=(const GeneratedRobot&) = delete;
-
- private:
-  std::filesystem::path temp_;
-};
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  // The checker's rows on every core: OpenMP's threads sleep rather than spin while they
-  // wait, which on a machine shared with other work would take the cores the others need.
-  // The runtime reads the setting when it loads, so the program starts again with it.
-  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
-  }
+  mb::restart_with_passive_openmp(argv);
   Options o = parse(argc, argv);
-  const GeneratedRobot generated(o);
+  const mb::GeneratedRobot generated(o.generated, o.robot.cache_dir);
+  if (!o.generated.empty()) o.robot.urdf = generated.urdf();
   if (!std::filesystem::exists(o.robot.urdf)) {
     std::fprintf(stderr, "bench_robot: no robot at %s (give a URDF)\n", o.robot.urdf.c_str());
     return 2;

@@ -155,6 +155,7 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
               "configs/edge", "configs/s/core", "colliding", "note");
   for (int certified_mode : {0, 1})
     for (int threads : {1, 0}) {
+      if (threads != 1 && !in.all_cores) continue;
       std::size_t checked = 0;
       fcl::FallbackStats stats;
       const double micros = best_micros(in.repeats, threads != 1, [&] {
@@ -231,6 +232,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   std::vector<Verdict> v(n);
   std::vector<Row> rows;
   for (int threads : {1, 0}) {
+    if (threads != 1 && !in.all_cores) continue;
     Row r{"check/s", threads};
     r.micros =
         best_micros(in.repeats, threads != 1,
@@ -251,6 +253,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
     rows.push_back(r);
   }
   for (int threads : {1, 0}) {
+    if (threads != 1 && !in.all_cores) continue;
     Row r{"check/c", threads};
     fcl::FallbackStats stats;
     r.micros = best_micros(in.repeats, threads != 1,
@@ -270,7 +273,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.note = note;
     rows.push_back(r);
   }
-  {
+  if (in.fcl_loop) {
     FclSphereLoop loop(in.planner->model, spheres, in.scene, in.margin, in.self);
     Row r{"fcl loop", 1};
     std::vector<char> c(n);

@@ -1,0 +1,49 @@
+#pragma once
+// What bench_robot and bench_checker set up alike: the self pairs left out (an SRDF's, and
+// those within the margin at the default configuration, as MoveIt's setup assistant does
+// with its "Default" reason), and a generated robot's files.
+
+#include <cstddef>
+#include <filesystem>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include "robot_bench_robot.h"
+
+namespace medspheres::bench {
+
+using NamePairs = std::vector<std::pair<std::string, std::string>>;
+
+/// The pairs excluded from self-collision: those of \p srdf (none when empty), and those
+/// within \p margin at the default configuration (every joint at 0, clamped to its limits)
+/// by the exact meshes; \p by_default receives how many of the latter.
+NamePairs disabled_pairs(const std::string& srdf, double margin, const BenchRobot& robot,
+                         std::size_t& by_default);
+
+/// A generated robot's files (\p name "coarse-arm": tests/support/coarse_arm.h), in
+/// \p cache_dir (the same bytes each time, so the bake's cache key holds), or in a
+/// temporary folder removed with this object when \p cache_dir is empty. An empty name
+/// writes nothing.
+class GeneratedRobot {
+ public:
+  GeneratedRobot(const std::string& name, const std::string& cache_dir);
+  ~GeneratedRobot();
+  GeneratedRobot(const GeneratedRobot&) = delete;
+  GeneratedRobot& operator=(const GeneratedRobot&) = delete;
+
+  /// The URDF written (empty for an empty name).
+  const std::string& urdf() const noexcept { return urdf_; }
+
+ private:
+  std::filesystem::path temp_;
+  std::string urdf_;
+};
+
+/// Starts the program again with OMP_WAIT_POLICY=passive when it is unset: the checker's
+/// rows on every core then sleep rather than spin while they wait, which on a machine
+/// shared with other work would take the cores the others need (the OpenMP runtime reads
+/// the setting when it loads). Returns only when it is already set or the restart failed.
+void restart_with_passive_openmp(char** argv);
+
+}  // namespace medspheres::bench
