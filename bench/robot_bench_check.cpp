@@ -13,6 +13,7 @@
 
 #include "bench_timing.h"
 #include "medspheres/fcl/certified_checker.h"
+#include "medspheres/fcl/scene_from_fcl.h"
 #include "medspheres/forward_kinematics.h"
 
 namespace medspheres::bench {
@@ -240,6 +241,20 @@ void print_checker_rows(const CheckerBenchInput& in) {
         double(n);
     r.colliding = colliding_of(v);
     r.note = "planner covering sets only";
+    rows.push_back(r);
+  }
+  {
+    // The same checks with every test in doubles (no float pass): the float pass's gain.
+    check::CheckerOptions od = o;
+    od.float_tests = false;
+    const check::RobotChecker doubles(in.planner->model, fcl::scene_from_fcl(in.scene).scene, od,
+                                      fine);
+    Row r{"check/d", 1};
+    r.micros = best_micros(in.repeats, false,
+                           [&] { doubles.check(q.data(), n, check::Mode::spheres, v.data(), 1); }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    r.note = "as check/s, every test in doubles";
     rows.push_back(r);
   }
   {
