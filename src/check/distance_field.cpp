@@ -35,20 +35,7 @@ DistanceField::DistanceField(const SceneGrid& grid, int split) {
   }
   const std::size_t cells = std::size_t(n_[0]) * n_[1] * n_[2];
   const double pad = grid.pad(), reach = grid.reach();
-  // The cells that the elements' boxes touch, for the distance transform.
-  std::vector<char> touched(cells, 0);
-  for (const Element& e : grid.elements()) {
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, int(std::floor((e.box.min()[k] - pad - origin_[k]) / h_)));
-      hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + pad - origin_[k]) / h_)));
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x)
-          touched[std::size_t(x) + n_[0] * (std::size_t(y) + std::size_t(n_[1]) * z)] = 1;
-  }
-  const std::vector<double> d2 = squared_distance_transform(touched, n_[0], n_[1], n_[2]);
+  const std::vector<double> d2 = boxes_distance_transform(grid.elements(), origin_, h_, n_, pad);
   bounds_.assign(cells + 2, 0);
   std::size_t c = 0;
   for (int z = 0; z < n_[2]; ++z)

@@ -127,19 +127,7 @@ void SceneGrid::build_lists(double pad) {
 // not listed is farther than that from the centre) and the distance transform's.
 void SceneGrid::build_lower(double pad) {
   const std::size_t cells = begin_.size() - 1;
-  std::vector<char> touched(cells, 0);
-  for (const Element& e : elements_) {
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, int(std::floor((e.box.min()[k] - pad - origin_[k]) / h_)));
-      hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + pad - origin_[k]) / h_)));
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x)
-          touched[std::size_t(x) + n_[0] * (std::size_t(y) + std::size_t(n_[1]) * z)] = 1;
-  }
-  const std::vector<double> d2 = squared_distance_transform(touched, n_[0], n_[1], n_[2]);
+  const std::vector<double> d2 = boxes_distance_transform(elements_, origin_.data(), h_, n_, pad);
   lower_.assign(cells + 3, 0);  // 3 bytes beyond the last cell for 4-byte reads
   // Every element not listed is farther than reach from the cell, so from its centre.
   const double unlisted = reach_;
