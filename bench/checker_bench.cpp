@@ -18,7 +18,6 @@
 
 #include "bench_args.h"
 #include "bench_timing.h"
-#include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "robot_bench_check.h"
 #include "robot_bench_exact.h"
@@ -31,15 +30,7 @@ namespace {
 namespace mb = medspheres::bench;
 namespace mf = medspheres::fcl;
 
-struct Options {
-  mb::RobotSource robot;
-  std::string generated;
-  std::size_t configs = 10000;
-  unsigned seed = 1;
-  double margin = 0.01;
-  std::string srdf;
-  std::string meshes;
-  bool self = true;
+struct Options : mb::RobotBenchOptions {
   std::size_t planner_spheres = 8;
   std::size_t fine_spheres = 32;
   double edge_length = 0.5;
@@ -51,30 +42,9 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  const std::string shared = std::string(MEDSPHERES_SOURCE_DIR) + "/../shared";
-  o.robot.urdf = shared + "/robots/unitree_g1/g1_29dof_rev_1_0.urdf";
-  if (std::filesystem::exists(shared + "/meshes/MANIFEST.tsv")) o.meshes = shared + "/meshes";
-  const char* home = std::getenv("HOME");
-  const char* xdg = std::getenv("XDG_CACHE_HOME");
-  o.robot.cache_dir = xdg ? std::string(xdg) + "/medspheres/bench_robot"
-                          : std::string(home ? home : ".") + "/.cache/medspheres/bench_robot";
   mb::Args args("bench_checker", "The robot checker against exact meshes");
   CLI::App& app = args.app();
-  CLI::Option* urdf =
-      app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
-  app.add_option("--robot", o.generated,
-                 "A generated robot instead of a URDF: coarse-arm (7 joints, 11 coarse links)")
-      ->check(CLI::IsMember({"coarse-arm"}))
-      ->excludes(urdf);
-  args.add("--configs", o.configs, "Seeded joint configurations");
-  args.add("--seed", o.seed, "Seed of the configurations and the scene");
-  args.add("--margin", o.margin, "Collision threshold (m): colliding means distance <= it");
-  args.add("--cache", o.robot.cache_dir, "Folder of cached bakes ('' for none)");
-  args.add("--jobs", o.robot.jobs, "Links baked at once (0: one per core)");
-  app.add_option("--package", o.robot.packages, "PKG=DIR for package:// (repeatable)");
-  args.add("--srdf", o.srdf, "SRDF whose <disable_collisions> pairs are excluded");
-  args.add_meshes(o.meshes);
-  app.add_flag("!--no-self", o.self, "Robot against the scene only");
+  o.add_to(args);
   args.add("--planner-spheres", o.planner_spheres, "The planner's level: spheres per link");
   args.add("--fine-spheres", o.fine_spheres, "The fine level: spheres per link");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
@@ -149,16 +119,6 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   mb::restart_with_passive_openmp(argv);
   Options o = parse(argc, argv);
-  const mb::GeneratedRobot generated(o.generated, o.robot.cache_dir);
-  if (!o.generated.empty()) o.robot.urdf = generated.urdf();
-  if (!std::filesystem::exists(o.robot.urdf)) {
-    std::fprintf(stderr, "bench_checker: no robot at %s (give a URDF)\n", o.robot.urdf.c_str());
-    return 2;
-  }
-  try {
-    return run(o);
-  } catch (const medspheres::InputError& e) {
-    std::fprintf(stderr, "bench_checker: %s\n", e.what());
-    return 2;
-  }
+  return mb::run_robot_bench("bench_checker", o.generated, o.robot.cache_dir, o.robot.urdf,
+                             [&o] { return run(o); });
 }

@@ -87,16 +87,8 @@ namespace mb = medspheres::bench;
 using Poses = std::vector<::fcl::Transform3d>;
 using mb::Clock;
 
-struct Options {
-  mb::RobotSource robot;
-  std::string generated;  // a generated robot's name ("coarse-arm"); empty: the URDF
-  std::size_t configs = 10000;
-  unsigned seed = 1;
-  double margin = 0.01;
+struct Options : mb::RobotBenchOptions {
   double scale = 1.0;
-  std::string srdf;
-  std::string meshes;
-  bool self = true;
   std::size_t distance_every = 10;
   bool explain = false;
   std::size_t order_samples = 4000;
@@ -108,34 +100,13 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  const std::string shared = std::string(MEDSPHERES_SOURCE_DIR) + "/../shared";
-  o.robot.urdf = shared + "/robots/unitree_g1/g1_29dof_rev_1_0.urdf";
-  if (std::filesystem::exists(shared + "/meshes/MANIFEST.tsv")) o.meshes = shared + "/meshes";
-  const char* home = std::getenv("HOME");
-  const char* xdg = std::getenv("XDG_CACHE_HOME");
-  o.robot.cache_dir = xdg ? std::string(xdg) + "/medspheres/bench_robot"
-                          : std::string(home ? home : ".") + "/.cache/medspheres/bench_robot";
   o.robot.spheres_per_link = 32;
   mb::Args args("bench_robot", "Certified robot queries against exact meshes");
   CLI::App& app = args.app();
-  CLI::Option* urdf =
-      app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
-  app.add_option("--robot", o.generated,
-                 "A generated robot instead of a URDF: coarse-arm (7 joints, 11 coarse links)")
-      ->check(CLI::IsMember({"coarse-arm"}))
-      ->excludes(urdf);
-  args.add("--configs", o.configs, "Seeded joint configurations");
-  args.add("--seed", o.seed, "Seed of the configurations and the scene");
-  args.add("--margin", o.margin, "Collision threshold (m): colliding means distance <= it");
+  o.add_to(args);
   args.add("--scale", o.scale, "Scale of the scene's positions and sizes");
   args.add("--robot-file", o.robot.robot_file, "Sets from `medspheres robot` (no bake)");
-  args.add("--cache", o.robot.cache_dir, "Folder of cached bakes ('' for none)");
   args.add("--spheres-per-link", o.robot.spheres_per_link, "Bake budget per link");
-  args.add("--jobs", o.robot.jobs, "Links baked at once (0: one per core)");
-  app.add_option("--package", o.robot.packages, "PKG=DIR for package:// (repeatable)");
-  args.add("--srdf", o.srdf, "SRDF whose <disable_collisions> pairs are excluded");
-  args.add_meshes(o.meshes);
-  app.add_flag("!--no-self", o.self, "Robot against the scene only");
   args.add("--distance-every", o.distance_every, "Distance errors on every k-th configuration");
   args.add("--order-samples", o.order_samples,
            "Seeded configurations that order the self pairs and pick witnesses (SelfPairOrder; 0: "
@@ -533,16 +504,6 @@ int run(const Options& o) {
 int main(int argc, char** argv) {
   mb::restart_with_passive_openmp(argv);
   Options o = parse(argc, argv);
-  const mb::GeneratedRobot generated(o.generated, o.robot.cache_dir);
-  if (!o.generated.empty()) o.robot.urdf = generated.urdf();
-  if (!std::filesystem::exists(o.robot.urdf)) {
-    std::fprintf(stderr, "bench_robot: no robot at %s (give a URDF)\n", o.robot.urdf.c_str());
-    return 2;
-  }
-  try {
-    return run(o);
-  } catch (const medspheres::InputError& e) {
-    std::fprintf(stderr, "bench_robot: %s\n", e.what());
-    return 2;
-  }
+  return mb::run_robot_bench("bench_robot", o.generated, o.robot.cache_dir, o.robot.urdf,
+                             [&o] { return run(o); });
 }
