@@ -28,7 +28,7 @@ CLI::Option* Args::add_only(std::string& only) {
 }
 
 // CLI11's own exit codes for parse errors run from 100 up; the benchmarks keep the
-// project's convention (README, "Exit codes"): 2 for bad usage.
+// project's convention (docs/command-line.md, "Exit codes"): 2 for bad usage.
 void Args::parse(int argc, char** argv) {
   try {
     app_.parse(argc, argv);

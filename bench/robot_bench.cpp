@@ -1,6 +1,6 @@
-// Certified queries for a whole robot against a scene and itself (README, "Certified
-// queries"): the robot at seeded joint configurations within its limits, each checked for
-// collision within a margin (1 cm by default) by six methods in one run:
+// Certified queries for a whole robot against a scene and itself
+// (docs/certified-queries.md): the robot at seeded joint configurations within its limits,
+// each checked for collision within a margin (1 cm by default) by six methods in one run:
 //   exact    FCL's exact mesh distance (BVHModel<OBBRSS> per link), pair by pair, stopping
 //            at the first pair within the margin;
 //   exact+   the same with robot_collide's robot-level tricks: its self-pair order

@@ -1,6 +1,6 @@
 // Loads a medspheres robot file, poses the robot from a joint vector (forward kinematics)
 // and asks FCL for the distance from the robot to a box obstacle. Links only
-// medspheres::fcl_adapter (the runtime and FCL, no CGAL). The README shows this code.
+// medspheres::fcl_adapter (the runtime and FCL, no CGAL). The README's tour shows this code.
 //
 //   robot_distance ROBOT.robot.json CX CY CZ SIDE [q1 q2 ...]
 //

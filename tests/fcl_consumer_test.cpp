@@ -1,5 +1,5 @@
-// The consumer code of the README ("Using a baked sphere set in FCL"), verbatim inside a
-// test: these names must compile and work.
+// The consumer code of docs/certified-queries.md ("Using a baked sphere set in FCL") inside
+// a test: these names must compile and work.
 
 #include <filesystem>
 

@@ -1,4 +1,4 @@
-// examples/robot_distance.cpp, the README's FCL pose example, run on a robot file written
+// examples/robot_distance.cpp, the README tour's FCL pose example, run on a robot file written
 // here: its distances against the closed form (sphere centre to box, minus the radius),
 // with the link poses worked out by hand.
 #include <cmath>

@@ -2,7 +2,7 @@
 /// \file
 /// Reading and writing sphere-set files: JSON with "format": "medspheres.sphere_set",
 /// "version": 1, "spheres": [[x, y, z, r], ...] and provenance keys ("source",
-/// "generator", "stats"; README, "The sphere-set file"). A reader needs only "spheres";
+/// "generator", "stats"; docs/baking.md, "The sphere-set file"). A reader needs only "spheres";
 /// "format" and "version", when present, must be the values below. Every other key is
 /// kept in SphereSet::metadata_json and written back unchanged; unknown keys are not
 /// errors.

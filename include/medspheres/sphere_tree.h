@@ -56,7 +56,7 @@ enum class BoundingVolumeKind {
 
 struct SphereTreeOptions {
   BoundingVolumeKind kind = BoundingVolumeKind::rss;  ///< node bounding volume
-  int max_leaf_size = 8;  ///< most spheres in a leaf, >= 1 (see README, Benchmarks)
+  int max_leaf_size = 8;  ///< most spheres in a leaf, >= 1 (see docs/benchmarks.md)
   /// Accept balls of radius 0 (points, e.g. surface points added to an inner set: a
   /// point's distance to anything is the distance of the point itself).
   bool allow_points = false;

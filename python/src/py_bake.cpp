@@ -130,7 +130,7 @@ void register_bake(py::module_& m) {
         "largest side); another type raises InputError naming the keyword.\n"
         "solid: 'auto' (the winding number's, the robust solid when that is ambiguous), "
         "'winding' or 'robust'; robust_resolution and robust_thickness shape the robust solid "
-        "(README: Solids).\n"
+        "(docs/baking.md: Solids).\n"
         "name: the mesh's name in errors and provenance for arrays (default 'mesh').\n"
         "The loader's warnings are issued as UserWarning. The GIL is released while baking.\n"
         "Raises InputError (a ValueError) for bad options or a bad mesh.");
@@ -147,7 +147,7 @@ void register_bake(py::module_& m) {
       "records, robust for a set baked from the robust solid; the winding number's for an "
       "array), 'winding' or 'robust'; robust_resolution and robust_thickness (a number in "
       "the mesh's units or text such as '0.01L') shape the robust solid, and by default "
-      "are the recorded ones (README: Solids).\n"
+      "are the recorded ones (docs/baking.md: Solids).\n"
       "The loader's warnings are listed under 'warnings'. The GIL is released while "
       "measuring.");
   m.def(

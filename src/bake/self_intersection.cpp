@@ -152,7 +152,7 @@ bool intersect_beyond_shared(const std::array<Point, 3>& t, const std::array<int
 // Cost: the box search is sequential (CGAL runs it in parallel only with TBB, which
 // medspheres does not use) and takes most of the time; the exact tests are parallel, and
 // most candidates of a fan are settled by comparing the boxes of an edge and a triangle
-// before any exact predicate. Figures in the README.
+// before any exact predicate. Figures in docs/measuring.md.
 SelfIntersections find_self_intersections(const TriangleMesh& mesh, int threads) {
   const int nt = thread_count(threads);
   check_mesh(mesh);

@@ -5,7 +5,7 @@ namespace medspheres::cli {
 void add_solid_flags(CLI::App* sub, SolidFlags& flags) {
   sub->add_option("--solid", flags.solid,
                   "Solid: auto (bake: the winding number's, robust when it is ambiguous; eval: "
-                  "the one the sphere file records), winding, robust (README: Solids)")
+                  "the one the sphere file records), winding, robust (docs/baking.md: Solids)")
       ->capture_default_str();
   sub->add_option("--robust-resolution", flags.robust_resolution,
                   "Robust solid: grid cells along the longest side, in [8, 1024]; 0: the finest "

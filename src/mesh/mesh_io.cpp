@@ -183,7 +183,7 @@ bool import_memory_limit_enforced() noexcept {
 // child at the deadline and welds, checks and orients itself. A child that crashes, times
 // out or runs out of memory becomes an InputError saying so. The child is always reaped,
 // through a pidfd where the kernel has one (see isolated_call.cpp). The cost is a process
-// start and a copy of the mesh through the pipe (figures in the README).
+// start and a copy of the mesh through the pipe (figures in docs/baking.md, Meshes).
 //
 // Threads. The child is started with posix_spawn, which runs nothing of the caller's in
 // the new process before it executes the helper: no lock another thread of the caller

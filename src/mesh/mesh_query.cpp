@@ -6,7 +6,7 @@
 // rounded outward, and pruning allows a slack of 8 float ulps (see closest()); every
 // surviving triangle goes through the kernel in double precision, after the cheaper
 // plane bound (TrianglePlane). Far queries: once the float boxes no longer tell
-// triangles apart, the search visits most of the tree (README gives the distance), and
+// triangles apart, the search visits most of the tree (docs/benchmarks.md gives it), and
 // when |p - centre| + the mesh's size exceeds 2^200 it is a brute-force search in
 // coordinates scaled by a power of two (closest_far), so that every finite query point
 // gets a finite distance and a valid triangle.
@@ -15,7 +15,7 @@
 // r of their area-weighted centre c is replaced by its Taylor expansion to second order
 // when |p - c| > beta r; otherwise its triangles' solid angles (Van Oosterom and
 // Strackee) are summed directly. The error of one expanded subtree falls like beta^-5
-// and errors of different subtrees add up (README: measured totals).
+// and errors of different subtrees add up (docs/benchmarks.md: measured totals).
 //
 // Hole caps. An open mesh's solid is where its winding number exceeds 1/2; across a
 // planar hole the boundary of that solid is the hole itself, which a fan from the

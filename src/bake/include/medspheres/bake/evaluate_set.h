@@ -57,8 +57,8 @@ MeshEvaluation evaluate_mesh_set(const LoadedMesh& loaded, const std::string& me
                                  const SphereSet& set, const std::string& spheres_file,
                                  const FitOptions& options, const SolidFlags& solid = {});
 
-/// The evaluation as the JSON object `medspheres eval --json` prints (keys in README,
-/// "eval"): "solid" names the solid measured ("robust_resolution" and "robust_thickness"
+/// The evaluation as the JSON object `medspheres eval --json` prints (keys in
+/// docs/measuring.md): "solid" names the solid measured ("robust_resolution" and "robust_thickness"
 /// too for the robust one). Undefined numbers (NaN) are null. Indented by two spaces.
 std::string evaluation_json(const MeshEvaluation& evaluation);
 

@@ -23,7 +23,7 @@
 ///
 /// Determinism: pairs in increasing order, the same for every thread count. Memory is
 /// linear in the triangles plus the pairs found. Method and costs: self_intersection.cpp,
-/// README.
+/// docs/measuring.md.
 
 #include <array>
 #include <cstddef>

@@ -31,7 +31,7 @@
 ///
 /// Threads: load_mesh may run on several threads at once, isolated or not (the child is
 /// started with posix_spawn, not a fork of the caller). Reasons and costs: mesh_io.cpp,
-/// README.
+/// docs/baking.md (Meshes).
 
 #include <cstdint>
 #include <optional>
