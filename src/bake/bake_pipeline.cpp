@@ -174,7 +174,7 @@ void validate_cover(const BakeRequest& r) {
   const std::string problem = r.cover_start.empty() ? "" : cover_start_problem(r.cover_start);
   if (!problem.empty())
     throw request_error(ErrorKind::kOutOfRange, "cover_start",
-                        std::to_string(r.cover_start.size()) + " spheres", problem);
+                        count_text(r.cover_start.size(), "sphere"), problem);
   if (r.target_error)
     throw request_error(ErrorKind::kConflict, "target_error", number_text(*r.target_error),
                         "applies to inner sets, not to a covering set", {"method"});
@@ -211,7 +211,7 @@ void validate(const BakeRequest& r) {
   if (r.method == BakeMethod::kCover) validate_cover(r);
   if (r.method != BakeMethod::kCover && !r.cover_start.empty())
     throw request_error(ErrorKind::kConflict, "cover_start",
-                        std::to_string(r.cover_start.size()) + " spheres",
+                        count_text(r.cover_start.size(), "sphere"),
                         "applies to a covering set only", {"method"});
   if (r.max_spheres && r.target_error)
     throw request_error(ErrorKind::kConflict, "max_spheres", std::to_string(*r.max_spheres),
