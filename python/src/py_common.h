@@ -11,7 +11,7 @@
 #include <pybind11/pybind11.h>
 #include <Eigen/Geometry>
 
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_mesh.h"
