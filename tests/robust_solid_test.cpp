@@ -20,6 +20,7 @@
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/robust_solid.h"
+#include "medspheres/options/bake_flags.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
@@ -277,9 +278,20 @@ TEST_CASE("an open, self-intersecting elbow: its walls are thickened until they 
   const TriangleMesh recorded = solid_mesh(elbow, choice, "elbow.obj");
   CHECK(analyze_mesh(recorded).is_closed_outward());
   check_spheres_inside(out.spheres, MeshQuery(recorded));
-  // A thickness the caller gives is kept: none escalates.
-  request.robust_thickness = Length{0.0, true};
-  CHECK_THROWS_AS(bake_mesh(elbow, report, request, "elbow.obj"), InputError);
+  // The request the CLI and Python make from their flags (no thickness given) escalates
+  // the same way; a thickness the caller gives is kept: none escalates.
+  for (const SolidKind kind : {SolidKind::kAuto, SolidKind::kRobust}) {
+    INFO("solid " << to_string(kind));
+    BakeFlags flags;
+    flags.resolution = 16;
+    flags.solid.solid = to_string(kind);
+    const BakeOutcome o = bake_mesh(elbow, report, bake_request(flags), "elbow.obj");
+    CHECK(o.solid == SolidKind::kRobust);
+    CHECK(o.robust_thickness_escalated);
+    CHECK(o.robust_thickness == out.robust_thickness);
+    flags.solid.robust_thickness = "0";
+    CHECK_THROWS_AS(bake_mesh(elbow, report, bake_request(flags), "elbow.obj"), InputError);
+  }
 }
 
 TEST_CASE("robust solid options out of range name the option", "[robust_solid]") {
