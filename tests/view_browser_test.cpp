@@ -202,6 +202,9 @@ int main() {
               << " drawn, " << page.pixels.red << " red, " << page.pixels.blue << " blue of "
               << page.pixels.total << "\n";
     check(page.status.rfind("ok:", 0) == 0, "the page reports ok for the " + set + " set");
+    const std::string counts = ", 1 part, " + std::to_string(cube.num_triangles()) + " triangles,";
+    check(page.status.find(counts) != std::string::npos,
+          "the status counts the cube's one part and its triangles (" + page.status + ")");
     // Inside: every triangle uncovered, as a whole; around: none.
     check_geometry(page, cube, set == "inside" ? cube.num_triangles() : 0, "the " + set + " page");
     // The cube fills a good part of the window, but not all of it.

@@ -78,6 +78,11 @@ function geometrySummary(parts) {
     area, uncovered: { inner, outer } };
 }
 
+// "1 part", "2 parts": a count with its noun in the singular for one.
+function counted(n, noun) {
+  return `${n} ${noun}${n === 1 ? '' : 's'}`;
+}
+
 function setStatus(text) {
   document.body.dataset.status = text;
   document.getElementById('status').textContent = text;
@@ -195,7 +200,7 @@ function main() {
     w.textContent = 'warning: ' + data.warning;
     panel.appendChild(w);
   }
-  checkbox(panel, `mesh (${triangles} triangles)`, true, (v) => { show.mesh = v; update(); }, COLORS.mesh);
+  checkbox(panel, `mesh (${counted(triangles, 'triangle')})`, true, (v) => { show.mesh = v; update(); }, COLORS.mesh);
   checkbox(panel, 'uncovered surface', true, (v) => { show.uncovered = v; update(); }, COLORS.uncovered);
   checkbox(panel, `inner spheres (${count('inner')})`, true, (v) => { show.inner = v; update(); }, COLORS.inner);
   checkbox(panel, `outer spheres (${count('outer')})`, true, (v) => { show.outer = v; update(); }, COLORS.outer);
@@ -250,8 +255,9 @@ function main() {
     draw();
   });
   update();
-  setStatus(`ok: three.js r${THREE.REVISION}, ${parts.length} part(s), ${triangles} triangles, ` +
-            `${count('inner')} inner and ${count('outer')} outer spheres`);
+  setStatus(`ok: three.js r${THREE.REVISION}, ${counted(parts.length, 'part')}, ` +
+            `${counted(triangles, 'triangle')}, ${count('inner')} inner and ` +
+            `${count('outer')} outer spheres`);
 }
 
 try {
