@@ -35,6 +35,7 @@
 #include "medspheres/robot_model.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/sphere_tree.h"
+#include "medspheres/triangle_mesh.h"
 
 namespace medspheres::fcl {
 
@@ -53,6 +54,10 @@ struct BoundedGeometryOptions {
   bool surface_points = true;
   double surface_point_spacing = 0.0;
 };
+
+/// FCL's exact mesh of \p mesh (in its own frame), finished (endModel()), as BoundedGeometry
+/// takes it. \throws std::invalid_argument for a mesh without triangles.
+std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh);
 
 /// True when \p json (a sphere-set file's metadata, or a link's outer_certificate_json)
 /// records a certified cover: "certified": true at the top level or in "stats".
