@@ -51,6 +51,9 @@ RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, 
   }
   r.choice = formats::robot_output_choice(job.set, r.bake.model);
   r.spheres = planner_spheres(r.bake.model, r.choice);
+  PlannerRequest planner = job.planner;
+  planner.self_collision.threads = job.bake.jobs;
+  r.bake.model.planner = make_planner_setup(r.bake.model, solids, r.choice, planner, &r.planner);
   files = formats::robot_output_files(chosen_formats(job), r.bake.model, r.choice, robot.path);
   formats::write_output_folder(out, files);
   return r;
@@ -153,6 +156,8 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
   t += "\nset=" + std::string(!job.set                                    ? "auto"
                               : *job.set == formats::SphereChoice::kInner ? "inner"
                                                                           : "outer");
+  t += "\n" + planner_request_text(job.planner);
+  if (!job.planner.srdf.empty()) t += "srdf_sha256=" + file_sha256(job.planner.srdf) + "\n";
   return sha256_hex(t + "\noptions=" + job.options_json + "\n");
 }
 

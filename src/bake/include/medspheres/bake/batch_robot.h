@@ -10,9 +10,10 @@
 /// and of every mesh file it references as resolved, each with its SHA-256 (the files record
 /// these paths, so a copy of the library elsewhere is baked again), every field of the job
 /// that changes the files (request, budget, outer sets, from_visual, formats, set, the
-/// recorded options) and the tool's version. An entry is every output file in one
-/// MessagePack map {"links", "spheres", "files": {name: bytes}}, written atomically; an
-/// entry that does not read as one is a miss and is overwritten by the next store.
+/// planner request with its SRDF's SHA-256, the recorded options) and the tool's version. An entry
+/// is every output file in one MessagePack map {"links", "spheres", "files": {name: bytes}},
+/// written atomically; an entry that does not read as one is a miss and is overwritten by the next
+/// store.
 ///
 /// Determinism: a batch bakes with request.record_seconds false, so the files carry no
 /// times; a cached copy, a rerun and any split into shards give the same bytes.
@@ -24,6 +25,7 @@
 
 #include "medspheres/bake/batch.h"
 #include "medspheres/bake/robot_bake.h"
+#include "medspheres/bake/robot_planner_setup.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/robot/urdf_robot.h"
 
@@ -41,10 +43,13 @@ struct RobotJob {
   /// A JSON object recorded as the model's metadata "options" (how the run was asked
   /// for); empty: none.
   std::string options_json;
+  /// Tool frames, self-collision matrix and default configuration (robot_planner_setup.h).
+  PlannerRequest planner;
 };
 
 struct RobotFileResult {
-  RobotBakeResult bake;
+  RobotBakeResult bake;      ///< its model carries the planner setup
+  SelfCollisionRun planner;  ///< the matrix's run (empty with planner.sample false)
   formats::SphereChoice choice = formats::SphereChoice::kInner;  ///< the planner formats' set
   std::size_t spheres = 0;  ///< of that set, all links (robot_spheres)
 };
