@@ -80,7 +80,8 @@ TEST_CASE("tool frames: per branch the link that carries the gripper, else the b
   CHECK(from == "root");
 }
 
-TEST_CASE("the clamped zero pose and adjacency over links with geometry", "[planner]") {
+TEST_CASE("the clamped zero pose, rigid bodies and adjacency over links with geometry",
+          "[planner]") {
   const RobotModel m = gripper_arm();
   const auto zero = clamped_zero(m);
   CHECK(zero.size() == 4);  // j1, j2, fl, j3 (fr mimics)
@@ -93,6 +94,16 @@ TEST_CASE("the clamped zero pose and adjacency over links with geometry", "[plan
   const auto adjacent = adjacent_link_pairs(m, geometry);
   using P = std::pair<std::size_t, std::size_t>;
   CHECK(adjacent == std::vector<P>{{0, 2}, {2, 5}, {2, 6}});
+  // lower, wrist and tcp are one rigid body (fixed joints): wrist and tcp ride on lower,
+  // which alone is the joint j2's; a finger's is the wrist, its parent.
+  CHECK(rigid_bodies(m) == std::vector<std::size_t>{0, 1, 2, 2, 2, 5, 6, 7});
+  const std::vector<bool> rigid_geometry{true, false, true, true, true, true, false, false};
+  CHECK(adjacent_link_pairs(m, rigid_geometry) == std::vector<P>{{0, 2}, {3, 5}});
+  CHECK(rigid_link_pairs(m, rigid_geometry) == std::vector<P>{{2, 3}, {2, 4}, {3, 4}});
+  // A link without geometry whose rigid body has some stands for it: with geometry on tcp
+  // alone in that body, the finger's parent (wrist) is represented by tcp.
+  const std::vector<bool> tcp_only{true, false, false, false, true, true, false, false};
+  CHECK(adjacent_link_pairs(m, tcp_only) == std::vector<P>{{0, 4}, {4, 5}});
 }
 
 TEST_CASE("listed tool frames: every actuated joint ends up in cuRobo's tree", "[planner]") {
@@ -199,5 +210,6 @@ TEST_CASE("the robot file keeps the planner setup and checks its names", "[plann
   CHECK(def.default_from == "zero_unchecked");
   REQUIRE(def.self_collision);
   CHECK(def.self_collision->pairs.size() == 8 * 7 / 2);
-  CHECK(ignored_pairs(*def.self_collision).size() == 7);  // the tree's 7 joints
+  // The 5 moving joints' pairs, and the 3 pairs of the rigid body lower-wrist-tcp.
+  CHECK(ignored_pairs(*def.self_collision).size() == 8);
 }

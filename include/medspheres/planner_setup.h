@@ -33,8 +33,8 @@ struct RobotModel;
 /// How the self-collision matrix classified a pair of links. The meshes are the links' exact
 /// solids; the spheres are the set the planner files carry.
 enum class PairClass {
-  /// Joined by a joint (links without spheres between them skipped), or rigidly joined
-  /// (fixed joints only) with their meshes touching: skipped.
+  /// Joined by a joint (adjacent_link_pairs), or rigidly joined (fixed joints only) with
+  /// their meshes within the margin: skipped.
   kAdjacent,
   /// The meshes collide in at least `threshold` of the samples: skipped.
   kAlways,
@@ -96,9 +96,10 @@ struct PlannerSetup {
   /// Every actuated joint's default position (KinematicTree::joint_names).
   std::map<std::string, double> default_positions;
   /// "zero" (the zero pose clamped into the limits, free), "sample" (the free configuration
-  /// nearest to it among the matrix's samples and points on the way to them), "zero_not_free" (no
-  /// free configuration was found; the zero pose clamped), "zero_unchecked" (the zero pose clamped,
-  /// freedom not checked: no matrix computed).
+  /// nearest to it among the matrix's samples and points on the way to them), "zero_buffered"
+  /// (the zero pose clamped, free with the matrix's self-collision buffers), "zero_not_free"
+  /// (no free configuration was found; the zero pose clamped), "zero_unchecked" (the zero
+  /// pose clamped, freedom not checked: no matrix computed).
   std::string default_from;
   std::optional<SelfCollisionMatrix> self_collision;
 };
@@ -120,15 +121,29 @@ std::vector<std::string> finger_joints(const RobotModel& model,
 /// Each actuated joint at 0, clamped into its limits when it has some (lower < upper).
 std::map<std::string, double> clamped_zero(const RobotModel& model);
 
-/// Pairs of links with geometry (has_geometry[i] for model.links[i]) joined by a joint,
-/// links without geometry between them skipped: each link with the nearest link above it
-/// that has geometry. As (upper, lower) indices into model.links.
+/// Each link's rigid body, as the index of the body's first link in model order: links
+/// joined by fixed joints move as one.
+std::vector<std::size_t> rigid_bodies(const RobotModel& model);
+
+/// Pairs of links with geometry (has_geometry[i] for model.links[i]) joined by a joint, links
+/// without geometry between them skipped (as MoveIt's setup assistant skips them): from each
+/// link with geometry that no link with geometry carries rigidly (through fixed joints
+/// above it), across the moving joint above its rigid body, up to the nearest link with
+/// geometry; or to a link without geometry whose rigid body has some, whose links with
+/// geometry then stand for it (a robot's pelvis frame and the pelvis shell fixed to it).
+/// As (a, b) indices into model.links, a < b, sorted.
 std::vector<std::pair<std::size_t, std::size_t>> adjacent_link_pairs(
+    const RobotModel& model, const std::vector<bool>& has_geometry);
+
+/// Pairs of links with geometry in one rigid body (their relative pose never changes: a
+/// planner has nothing to check), as (a, b), a < b, sorted.
+std::vector<std::pair<std::size_t, std::size_t>> rigid_link_pairs(
     const RobotModel& model, const std::vector<bool>& has_geometry);
 
 /// The model's setup, or when it has none the default: default_tool_frames, their finger
 /// joints locked, clamped_zero, and a matrix (samples 0) over the links with spheres
-/// (has_spheres[i] for model.links[i]) that skips the adjacent pairs.
+/// (has_spheres[i] for model.links[i]) that skips the adjacent and the rigid pairs (both as
+/// class adjacent).
 PlannerSetup planner_setup_or_default(const RobotModel& model,
                                       const std::vector<bool>& has_spheres);
 

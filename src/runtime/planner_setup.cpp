@@ -4,6 +4,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <set>
 #include <string>
 
@@ -155,25 +156,70 @@ std::map<std::string, double> clamped_zero(const RobotModel& model) {
   return out;
 }
 
+std::vector<std::size_t> rigid_bodies(const RobotModel& model) {
+  const Tree t(model);
+  std::vector<std::size_t> body(model.links.size());
+  // Up through fixed joints to the body's top link, then the body's first link.
+  std::vector<std::size_t> top(model.links.size());
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    std::size_t r = l;
+    while (t.parent[r] != nullptr && t.parent[r]->type == JointType::kFixed)
+      r = Tree::index(model, t.parent[r]->parent);
+    top[l] = r;
+  }
+  std::map<std::size_t, std::size_t> first;  // top -> first link in model order
+  for (std::size_t l = 0; l < model.links.size(); ++l) first.emplace(top[l], l);
+  for (std::size_t l = 0; l < model.links.size(); ++l) body[l] = first.at(top[l]);
+  return body;
+}
+
 std::vector<std::pair<std::size_t, std::size_t>> adjacent_link_pairs(
     const RobotModel& model, const std::vector<bool>& has_geometry) {
   if (has_geometry.size() != model.links.size())
     throw std::invalid_argument("adjacent_link_pairs: has_geometry is not one flag per link");
   const Tree t(model);
-  std::vector<std::pair<std::size_t, std::size_t>> out;
+  const std::vector<std::size_t> body = rigid_bodies(model);
+  const auto parent = [&](std::size_t l) { return Tree::index(model, t.parent[l]->parent); };
+  std::set<std::pair<std::size_t, std::size_t>> out;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     if (!has_geometry[l]) continue;
-    // Up the tree to the nearest link with geometry (a tree: the walk ends at the root).
-    for (const Joint* j = t.parent[l]; j != nullptr;) {
-      const std::size_t p = Tree::index(model, j->parent);
-      if (has_geometry[p]) {
-        out.emplace_back(p, l);
+    // Up through fixed joints: a link with geometry there carries l rigidly (a rigid pair,
+    // not a joint's), and the body's moving joint is that link's.
+    std::size_t w = l;
+    bool carried = false;
+    while (!carried && t.parent[w] != nullptr && t.parent[w]->type == JointType::kFixed) {
+      w = parent(w);
+      carried = has_geometry[w];
+    }
+    if (carried || t.parent[w] == nullptr) continue;
+    // Across the moving joint, up to the nearest link with geometry, or to a link without
+    // it whose rigid body has some (those links stand for it).
+    for (std::size_t a = parent(w);; a = parent(a)) {
+      if (has_geometry[a]) {
+        out.insert(std::minmax(a, l));
         break;
       }
-      j = t.parent[p];
+      bool found = false;
+      for (std::size_t x = 0; x < model.links.size(); ++x)
+        if (body[x] == body[a] && has_geometry[x]) {
+          out.insert(std::minmax(x, l));
+          found = true;
+        }
+      if (found || t.parent[a] == nullptr) break;
     }
   }
-  std::sort(out.begin(), out.end());
+  return {out.begin(), out.end()};
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> rigid_link_pairs(
+    const RobotModel& model, const std::vector<bool>& has_geometry) {
+  if (has_geometry.size() != model.links.size())
+    throw std::invalid_argument("rigid_link_pairs: has_geometry is not one flag per link");
+  const std::vector<std::size_t> body = rigid_bodies(model);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (std::size_t a = 0; a < model.links.size(); ++a)
+    for (std::size_t b = a + 1; b < model.links.size(); ++b)
+      if (has_geometry[a] && has_geometry[b] && body[a] == body[b]) out.emplace_back(a, b);
   return out;
 }
 
@@ -190,10 +236,12 @@ PlannerSetup planner_setup_or_default(const RobotModel& model,
   const std::vector<bool>& geometry = has_spheres;
   SelfCollisionMatrix m;
   const auto adjacent = adjacent_link_pairs(model, geometry);
+  const auto rigid = rigid_link_pairs(model, geometry);
   for (std::size_t a = 0; a < model.links.size(); ++a)
     for (std::size_t b = a + 1; b < model.links.size(); ++b) {
       if (!geometry[a] || !geometry[b]) continue;
-      const bool adj = std::binary_search(adjacent.begin(), adjacent.end(), std::pair{a, b});
+      const bool adj = std::binary_search(adjacent.begin(), adjacent.end(), std::pair{a, b}) ||
+                       std::binary_search(rigid.begin(), rigid.end(), std::pair{a, b});
       m.pairs.push_back({model.links[a].name, model.links[b].name,
                          adj ? PairClass::kAdjacent : PairClass::kChecked, adj, ""});
     }
@@ -258,6 +306,9 @@ std::string default_from_text(const std::string& from) {
   static const std::map<std::string, std::string> text = {
       {"zero", "the zero pose clamped into the limits, free"},
       {"sample", "the free configuration nearest to the zero pose (the zero pose is not free)"},
+      {"zero_buffered",
+       "the zero pose clamped into the limits, free once self-collision buffers shrink the "
+       "spheres of the links that touch there (no free configuration was found)"},
       {"zero_not_free", "the zero pose clamped into the limits, NOT free: no free one was found"},
       {"zero_unchecked", "the zero pose clamped into the limits (not checked)"}};
   const auto it = text.find(from);
