@@ -41,6 +41,7 @@ std::size_t planner_spheres(const RobotModel& model, formats::SphereChoice choic
 // A robot read and baked into \p out; its files are kept in \p files.
 RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, const RobotJob& job,
                                 std::map<std::string, std::string>& files) {
+  check_planner_request(robot.model, job.planner);
   const std::vector<LinkSolid> solids = load_link_solids(robot);
   RobotFileResult r;
   r.bake = bake_robot(robot, solids, job.bake);

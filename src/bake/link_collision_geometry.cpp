@@ -118,37 +118,50 @@ bool LinkSolids::within(const std::vector<Eigen::Isometry3d>& X, std::size_t a, 
 
 PlannerSpheres::PlannerSpheres(const RobotModel& model, const formats::RobotSpheres& spheres,
                                const std::map<std::string, double>& buffer)
-    : trees_(model.links.size()), balls_(model.links.size()) {
+    : trees_(model.links.size()), balls_(model.links.size()), buffer_(model.links.size(), 0.0) {
+  for (const Link& l : model.links) names_.push_back(l.name);
   for (const formats::LinkSphereList& l : spheres) {
-    std::size_t i = 0;
-    while (i < model.links.size() && model.links[i].name != l.link) ++i;
-    if (i == model.links.size())
+    const std::size_t i = std::find(names_.begin(), names_.end(), l.link) - names_.begin();
+    if (i == names_.size())
       throw InputError(l.link, "the planner's spheres name a link the robot does not have");
-    const auto it = buffer.find(l.link);
-    const double grow = it == buffer.end() ? 0.0 : it->second;
+    if (l.spheres.empty()) continue;
     SphereSet set;
-    for (const Sphere& s : l.spheres)
-      if (s.radius + grow > 0.0) set.spheres.push_back({s.center, s.radius + grow});
-    if (set.empty()) continue;
+    set.spheres = l.spheres;
     trees_[i] = SphereTree(set);
     balls_[i] = trees_[i].bounding_ball(0);
   }
+  *this = with_buffer(buffer);
+}
+
+PlannerSpheres PlannerSpheres::with_buffer(const std::map<std::string, double>& buffer) const {
+  PlannerSpheres out = *this;
+  for (std::size_t i = 0; i < names_.size(); ++i) {
+    const auto it = buffer.find(names_[i]);
+    out.buffer_[i] = it == buffer.end() ? 0.0 : it->second;
+  }
+  return out;
 }
 
 bool PlannerSpheres::collide(const std::vector<Eigen::Isometry3d>& X, std::size_t a,
                              std::size_t b) const {
-  const Sphere& ba = balls_.at(a);
-  const Sphere& bb = balls_.at(b);
-  if (trees_.at(a).empty() || trees_.at(b).empty() ||
-      fcl::balls_apart({X[a] * ba.center, ba.radius}, {X[b] * bb.center, bb.radius}, 0.0))
+  if (trees_.at(a).empty() || trees_.at(b).empty()) return false;
+  const double grow = buffer_[a] + buffer_[b];
+  const Sphere& ba = balls_[a];
+  const Sphere& bb = balls_[b];
+  if (fcl::balls_apart({X[a] * ba.center, ba.radius}, {X[b] * bb.center, bb.radius},
+                       std::max(grow, 0.0)))
     return false;
-  return medspheres::collide(trees_[a], X[a], trees_[b], X[b]);
+  if (grow == 0.0) return medspheres::collide(trees_[a], X[a], trees_[b], X[b]);
+  if (grow < 0.0) return signed_distance(trees_[a], X[a], trees_[b], X[b]).distance <= grow;
+  DistanceOptions o;
+  o.upper_bound = std::nextafter(grow, std::numeric_limits<double>::infinity());
+  return medspheres::distance(trees_[a], X[a], trees_[b], X[b], o).distance <= grow;
 }
 
 double PlannerSpheres::penetration(const std::vector<Eigen::Isometry3d>& X, std::size_t a,
                                    std::size_t b) const {
   if (trees_.at(a).empty() || trees_.at(b).empty()) return -std::numeric_limits<double>::infinity();
-  return -signed_distance(trees_[a], X[a], trees_[b], X[b]).distance;
+  return buffer_[a] + buffer_[b] - signed_distance(trees_[a], X[a], trees_[b], X[b]).distance;
 }
 
 }  // namespace medspheres

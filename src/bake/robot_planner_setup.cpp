@@ -16,7 +16,7 @@ std::vector<std::string> tool_frames(const RobotModel& model, const PlannerReque
   for (const std::string& t : r.tool_frames)
     if (!model.find_link(t))
       throw InputError::option(ErrorKind::kOutOfRange, "tool_frame", t,
-                               "is no link of the robot \"" + model.name + "\"");
+                               "\"" + t + "\" is no link of the robot \"" + model.name + "\"");
   if (!r.tool_frames.empty()) {
     from = "option";
     return r.tool_frames;
@@ -38,6 +38,16 @@ std::vector<std::string> tool_frames(const RobotModel& model, const PlannerReque
 
 }  // namespace
 
+// The SRDF's text ("" without one), its unreadable file named by the option.
+std::string srdf_text_of(const PlannerRequest& r) {
+  if (r.srdf.empty()) return "";
+  try {
+    return read_text_file(r.srdf);
+  } catch (const InputError& e) {
+    throw e.with_field("srdf");
+  }
+}
+
 std::string planner_request_text(const PlannerRequest& r) {
   std::string t = "planner tool_frames=";
   for (const std::string& f : r.tool_frames) t += f + ",";
@@ -49,18 +59,20 @@ std::string planner_request_text(const PlannerRequest& r) {
   return t;
 }
 
+void check_planner_request(const RobotModel& model, const PlannerRequest& r) {
+  validate(r.self_collision);
+  const std::string srdf_text = srdf_text_of(r);
+  std::string from;
+  tool_frames(model, r, srdf_text, from);
+  if (!srdf_text.empty())
+    check_disabled_pairs(model, formats::parse_srdf_disabled_collisions(srdf_text, r.srdf));
+}
+
 PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkSolid>& solids,
                                 formats::SphereChoice carried, const PlannerRequest& r,
                                 SelfCollisionRun* run_out) {
   validate(r.self_collision);
-  std::string srdf_text;
-  if (!r.srdf.empty()) {
-    try {
-      srdf_text = read_text_file(r.srdf);
-    } catch (const InputError& e) {
-      throw e.with_field("srdf");
-    }
-  }
+  const std::string srdf_text = srdf_text_of(r);
   PlannerSetup s;
   s.tool_frames = tool_frames(model, r, srdf_text, s.tool_frames_from);
   s.locked_joints = finger_joints(model, s.tool_frames);

@@ -20,25 +20,6 @@ namespace {
 
 using Poses = std::vector<Eigen::Isometry3d>;
 
-// Each link's rigid body: links joined by fixed joints share one (union-find by index).
-std::vector<std::size_t> rigid_bodies(const RobotModel& model) {
-  std::vector<std::size_t> up(model.links.size());
-  std::iota(up.begin(), up.end(), 0);
-  const auto find = [&](std::size_t i) {
-    while (up[i] != i) i = up[i] = up[up[i]];
-    return i;
-  };
-  const auto index = [&](const std::string& name) {
-    for (std::size_t i = 0; i < model.links.size(); ++i)
-      if (model.links[i].name == name) return i;
-    return model.links.size();
-  };
-  for (const Joint& j : model.joints)
-    if (j.type == JointType::kFixed) up[find(index(j.parent))] = find(index(j.child));
-  for (std::size_t i = 0; i < up.size(); ++i) up[i] = find(i);
-  return up;
-}
-
 // The configuration vector (KinematicTree order) of \p positions; joints it lacks at 0.
 Eigen::VectorXd configuration(const KinematicTree& tree,
                               const std::map<std::string, double>& positions) {
@@ -125,14 +106,9 @@ std::vector<std::pair<std::size_t, std::size_t>> list_pairs(const RobotModel& mo
 // The given pairs' reasons, by (link1, link2) in name order.
 std::map<std::pair<std::string, std::string>, std::string> given_pairs(
     const RobotModel& model, const std::vector<formats::DisabledCollision>& given) {
+  check_disabled_pairs(model, given);
   std::map<std::pair<std::string, std::string>, std::string> out;
-  for (const formats::DisabledCollision& g : given) {
-    for (const std::string* l : {&g.link1, &g.link2})
-      if (!model.find_link(*l))
-        throw InputError::option(ErrorKind::kOutOfRange, "srdf", *l,
-                                 "a disabled pair names a link the robot does not have");
-    out[std::minmax(g.link1, g.link2)] = g.reason;
-  }
+  for (const formats::DisabledCollision& g : given) out[std::minmax(g.link1, g.link2)] = g.reason;
   return out;
 }
 
@@ -146,7 +122,7 @@ std::vector<Eigen::VectorXd> locked_samples(const RobotModel& model, const Kinem
     const auto it = std::find(names.begin(), names.end(), joint);
     if (it == names.end())
       throw InputError::option(ErrorKind::kOutOfRange, "locked_joints", joint,
-                               "is no actuated joint of the robot");
+                               "\"" + joint + "\" is no actuated joint of the robot");
     for (Eigen::VectorXd& s : qs) s[it - names.begin()] = q;
   }
   return qs;
@@ -240,8 +216,17 @@ void choose_default(const RobotModel& model, const KinematicTree& tree, const Li
     run.default_from = "sample";
     return;
   }
-  run.default_from = "zero_not_free";
-  for (std::size_t k : at_zero) run.default_pairs.emplace_back(pairs[k].link1, pairs[k].link2);
+  // No free configuration found: shrink the spheres of each link of a pair touching at the
+  // zero pose, for self-collision only, by half that pair's deepest overlap and 0.1 mm.
+  std::map<std::string, double>& buffer = run.matrix.buffer;
+  for (std::size_t k : at_zero) {
+    const double shrink = carried.penetration(X0, index[k].first, index[k].second) / 2 + 1e-4;
+    for (const std::string* link : {&pairs[k].link1, &pairs[k].link2})
+      buffer[*link] = std::min(buffer[*link], -shrink);
+  }
+  const std::vector<std::size_t> left = touching(pairs, index, carried.with_buffer(buffer), X0);
+  run.default_from = left.empty() ? "zero_buffered" : "zero_not_free";
+  for (std::size_t k : left) run.default_pairs.emplace_back(pairs[k].link1, pairs[k].link2);
 }
 
 [[noreturn]] void bad_option(const char* field, const std::string& value, const std::string& why) {
@@ -249,6 +234,16 @@ void choose_default(const RobotModel& model, const KinematicTree& tree, const Li
 }
 
 }  // namespace
+
+void check_disabled_pairs(const RobotModel& model,
+                          const std::vector<formats::DisabledCollision>& given) {
+  for (const formats::DisabledCollision& g : given)
+    for (const std::string* l : {&g.link1, &g.link2})
+      if (!model.find_link(*l))
+        throw InputError::option(ErrorKind::kOutOfRange, "srdf", *l,
+                                 "the disabled pair (\"" + g.link1 + "\", \"" + g.link2 +
+                                     "\") names \"" + *l + "\", no link of the robot");
+}
 
 void validate(const SelfCollisionOptions& o) {
   if (o.samples < 1) bad_option("self_collision_samples", "0", "must be at least 1");

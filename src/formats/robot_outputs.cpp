@@ -198,7 +198,9 @@ std::map<std::string, std::string> robot_output_files(const std::vector<SphereFo
       files[format_file(f, stem)] = sphere_document_text(doc, f, options);
     }
   }
-  if (model.planner && model.planner->self_collision)
+  const bool robot_file =
+      std::find(chosen.begin(), chosen.end(), SphereFormat::kRobot) != chosen.end();
+  if (robot_file && model.planner && model.planner->self_collision)
     files[stem + ".self_collision.txt"] = self_collision_report(model, doc.links);
   return files;
 }

@@ -9,9 +9,9 @@
 ///   ball around its mesh's vertices (which holds the mesh's convex hull, and so its
 ///   surface) as one; a link without an inner set gets its sphere primitives or, failing
 ///   those, the mesh's vertices as points.
-/// - PlannerSpheres: the spheres a planner file carries, each radius grown by its link's
-///   self-collision buffer (a negative buffer shrinks; a sphere shrunk to nothing drops out),
-///   as cuRobo checks them.
+/// - PlannerSpheres: the spheres a planner file carries with each link's self-collision
+///   buffer, as cuRobo checks them: spheres i of link a and j of link b collide when
+///   |c_i - c_j| <= r_i + r_j + buffer_a + buffer_b (a negative buffer shrinks).
 ///
 /// Touching: two solids within distance m "are within m" (m = 0: touching collides); two
 /// sphere sets collide when two of their spheres touch or overlap (SphereTree's collide()).
@@ -71,23 +71,29 @@ class LinkSolids {
 
 class PlannerSpheres {
  public:
-  /// \p spheres by link name (links of the model), each radius grown by \p buffer[link]
-  /// (metres; missing links 0).
+  /// \p spheres by link name (links of the model), with \p buffer[link] (metres; missing
+  /// links 0).
   /// \throws InputError naming a link that \p model lacks.
   PlannerSpheres(const RobotModel& model, const formats::RobotSpheres& spheres,
                  const std::map<std::string, double>& buffer = {});
 
   /// Whether link \p i (model order) has spheres.
   bool has(std::size_t i) const { return !trees_.at(i).empty(); }
-  /// Whether two spheres of links \p a and \p b touch or overlap at the poses \p X.
+  /// Whether two spheres of links \p a and \p b collide (touch or overlap, the buffers
+  /// applied) at the poses \p X.
   bool collide(const std::vector<Eigen::Isometry3d>& X, std::size_t a, std::size_t b) const;
-  /// The deepest overlap of two spheres of links \p a and \p b (metres, > 0 when they
-  /// overlap; <= 0: the gap), at the poses \p X.
+  /// The deepest overlap of two spheres of links \p a and \p b, the buffers applied:
+  /// max (r_i + r_j + buffer_a + buffer_b - |c_i - c_j|), metres (> 0: they overlap), at the
+  /// poses \p X; -infinity when a link has no spheres.
   double penetration(const std::vector<Eigen::Isometry3d>& X, std::size_t a, std::size_t b) const;
+  /// The same spheres with other buffers.
+  PlannerSpheres with_buffer(const std::map<std::string, double>& buffer) const;
 
  private:
+  std::vector<std::string> names_;
   std::vector<SphereTree> trees_;
-  std::vector<Sphere> balls_;  // each link's root ball, link frame
+  std::vector<Sphere> balls_;   // each link's root ball, link frame
+  std::vector<double> buffer_;  // by link
 };
 
 }  // namespace medspheres

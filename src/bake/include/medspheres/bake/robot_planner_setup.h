@@ -31,6 +31,12 @@ struct PlannerRequest {
 /// The request as text, one field per line: what changes the files (a cache key's part).
 std::string planner_request_text(const PlannerRequest& request);
 
+/// Checks \p request against \p model (its links and joints; no spheres needed) before any
+/// work: the options' ranges, the tool frames, the SRDF (readable; its end effectors and
+/// disabled pairs name links of the robot).
+/// \throws InputError as make_planner_setup.
+void check_planner_request(const RobotModel& model, const PlannerRequest& request);
+
 /// The setup of \p model (baked, with its spheres) whose solids are \p solids, for the planner
 /// files' set \p carried.
 /// \throws InputError naming the option: a tool frame that is no link of the robot, an SRDF

@@ -9,8 +9,9 @@
 /// files carry spheres for is classified (planner_setup.h's PairClass), first class that
 /// applies:
 /// 1. given: disabled by a given SRDF: skipped, not sampled;
-/// 2. adjacent: joined by a joint (links without spheres between skipped), or rigidly joined
-///    (fixed joints only) with their solids within `margin`: skipped;
+/// 2. adjacent: their rigid bodies joined by a joint (adjacent_link_pairs: bodies without
+///    spheres between them skipped), or one rigid body (fixed joints only) with their solids
+///    within `margin`: skipped;
 /// 3. always: the solids collide (touch) in at least `threshold` of the samples: skipped;
 /// 4. never: the solids never came within `margin` in any sample (a rigid pair apart):
 ///    skipped;
@@ -19,16 +20,18 @@
 /// 7. checked: the rest (the solids collide in some samples, or come within the margin
 ///    while the planner's spheres never collide): checked.
 /// A pair whose solids collide in a sample is never skipped unless it is adjacent, given or
-/// always colliding. The self-collision buffers stay 0: a negative buffer would shrink the
-/// covering sets for self-collision, and a pair that touches could then go unseen (the
-/// trade-off is stated in docs/self-collision.md).
+/// always colliding.
 ///
 /// Default configuration: the zero pose clamped into the limits when no checked pair's
 /// spheres touch there ("zero"); else the nearest configuration (Euclidean in joint values)
 /// where none does among the samples and the points 1/16, 1/8, 1/4 and 1/2 of the way from
 /// the zero pose to each ("sample": within the limits, the locked joints held); else the
-/// zero pose ("zero_not_free", and SelfCollisionRun::default_pairs names the pairs that
-/// touch).
+/// zero pose with self-collision buffers ("zero_buffered"): each link of a checked pair whose
+/// spheres touch there gets a buffer of minus half that pair's deepest overlap and 0.1 mm
+/// (the least of them over its pairs), which shrinks its spheres for self-collision only.
+/// The buffers are 0 otherwise: a negative buffer shrinks a covering set, and a pair that
+/// touches could then go unseen (the trade-off is stated in docs/self-collision.md). Should
+/// pairs still touch ("zero_not_free"), SelfCollisionRun::default_pairs names them.
 ///
 /// Exactness: the solids' verdicts are certified (LinkSolids: sphere bounds, then FCL's
 /// exact mesh distance); only the samples are random. A pair is evaluated only as long as a
@@ -61,12 +64,16 @@ struct SelfCollisionOptions {
 /// \throws InputError naming the option (samples, threshold, margin, threads) out of range.
 void validate(const SelfCollisionOptions& options);
 
+/// \throws InputError (option "srdf") naming a disabled pair's link that \p model lacks.
+void check_disabled_pairs(const RobotModel& model,
+                          const std::vector<formats::DisabledCollision>& given);
+
 struct SelfCollisionRun {
   SelfCollisionMatrix matrix;                       ///< every pair, buffers 0
   std::map<std::string, double> default_positions;  ///< every actuated joint
   std::string default_from;                         ///< "zero", "sample" or "zero_not_free"
-  /// Checked pairs whose spheres touch at the default configuration (empty unless
-  /// default_from is "zero_not_free").
+  /// Checked pairs whose spheres touch at the default configuration, the buffers applied
+  /// (empty unless default_from is "zero_not_free").
   std::vector<std::pair<std::string, std::string>> default_pairs;
   double seconds = 0.0;          ///< wall clock
   SolidQueryCounts solids;       ///< the exact side's work
