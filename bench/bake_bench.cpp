@@ -17,7 +17,7 @@
 #include "bench_args.h"
 #include "bench_timing.h"
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "support/shared_meshes.h"

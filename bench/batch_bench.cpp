@@ -21,7 +21,7 @@
 
 #include "bench_args.h"
 #include "bench_timing.h"
-#include "medspheres/bake/batch.h"
+#include "medspheres/batch/batch.h"
 #include "medspheres/mesh/threads.h"
 #include "support/mesh_library.h"
 

@@ -43,11 +43,11 @@
 #include <CLI/CLI.hpp>
 
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/cover.h"
-#include "medspheres/bake/cover_lower_bound.h"
 #include "medspheres/bake/dilate.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/cover/cover.h"
+#include "medspheres/cover/cover_lower_bound.h"
 #include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"

@@ -21,7 +21,7 @@
 #include "bench_timing.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
 

@@ -12,7 +12,7 @@
 
 #include "bench_args.h"
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
 

@@ -25,9 +25,9 @@
 #include "bench_args.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/bake_pipeline.h"
-#include "medspheres/bake/fit_metrics.h"
-#include "medspheres/bake/self_intersection.h"
 #include "medspheres/io.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/measure/self_intersection.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
 

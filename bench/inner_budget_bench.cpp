@@ -25,9 +25,9 @@
 #include <CLI/CLI.hpp>
 
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/bake/inner_budget.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "support/shared_meshes.h"
 

@@ -18,9 +18,9 @@
 
 #include <CLI/CLI.hpp>
 
-#include "medspheres/bake/robot_bake.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_bake/robot_bake.h"
 
 namespace {
 

@@ -42,7 +42,19 @@
 // library's version, not the commit: after a change to the bake between releases, pass
 // --cache ''); or --robot-file from `medspheres robot`.
 //
-// Usage: bench_robot [URDF] [--configs N] [--seed S] [--margin M] [--robot-file F]
+// Then the robot checker's table (robot_bench_check.h; --no-checker leaves it out): the
+// planner level baked with --planner-spheres K per link (cached as above), the sets above as
+// its fine level; spheres only, the bounds alone, and certified (with the meshes' fallback),
+// per configuration and per edge (--edge-length, --resolution), on one thread (its CPU
+// time) and on every core (wall clock), each the best of three runs; and a loop of FCL calls
+// on the same spheres. Missed and alarms against the same reference.
+//
+// The robot: a URDF (the G1 of ../shared by default), or with --robot coarse-arm the
+// generated 7-joint arm of coarse meshes (tests/support/coarse_arm.h: 11 links of 32 to 256
+// triangles), written into the cache folder (a temporary one with --cache '').
+//
+// Usage: bench_robot [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
+// [--robot-file F]
 //                    [--cache DIR] [--spheres-per-link K] [--srdf F] [--meshes DIR] ...
 #include <algorithm>
 #include <cmath>
@@ -55,6 +67,8 @@
 #include <string>
 #include <vector>
 
+#include <unistd.h>
+
 #include <fcl/fcl.h>
 
 #include "bench_args.h"
@@ -63,9 +77,11 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/formats/srdf_disabled_collisions.h"
+#include "robot_bench_check.h"
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
+#include "support/coarse_arm.h"
 
 namespace {
 
@@ -76,6 +92,7 @@ using mb::Clock;
 
 struct Options {
   mb::RobotSource robot;
+  std::string generated;  // a generated robot's name ("coarse-arm"); empty: the URDF
   std::size_t configs = 10000;
   unsigned seed = 1;
   double margin = 0.01;
@@ -86,6 +103,10 @@ struct Options {
   std::size_t distance_every = 10;
   bool explain = false;
   std::size_t order_samples = 4000;
+  std::size_t planner_spheres = 8;  // the checker's planner level (the bake's sets: its fine level)
+  double edge_length = 0.5;
+  double resolution = 0.02;
+  bool checker = true;
 };
 
 Options parse(int argc, char** argv) {
@@ -100,7 +121,12 @@ Options parse(int argc, char** argv) {
   o.robot.spheres_per_link = 32;
   mb::Args args("bench_robot", "Certified robot queries against exact meshes");
   CLI::App& app = args.app();
-  app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
+  CLI::Option* urdf =
+      app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
+  app.add_option("--robot", o.generated,
+                 "A generated robot instead of a URDF: coarse-arm (7 joints, 11 coarse links)")
+      ->check(CLI::IsMember({"coarse-arm"}))
+      ->excludes(urdf);
   args.add("--configs", o.configs, "Seeded joint configurations");
   args.add("--seed", o.seed, "Seed of the configurations and the scene");
   args.add("--margin", o.margin, "Collision threshold (m): colliding means distance <= it");
@@ -118,6 +144,11 @@ Options parse(int argc, char** argv) {
            "Seeded configurations that order the self pairs and pick witnesses (SelfPairOrder; 0: "
            "geometry order, none)");
   app.add_flag("--explain", o.explain, "Print the pairs of configurations whose bounds fail");
+  args.add("--planner-spheres", o.planner_spheres,
+           "The checker's planner level: spheres per link (the sets above are its fine level)");
+  args.add("--edge-length", o.edge_length, "The checker's edges: joint-space length");
+  args.add("--resolution", o.resolution, "The checker's edges: resolution");
+  app.add_flag("!--no-checker", o.checker, "Leave out the robot checker's rows");
   args.parse(argc, argv);
   return o;
 }
@@ -493,6 +524,27 @@ int run(const Options& o) {
       "over %zu configurations (every %zu-th)\n",
       truth, configs.size(), o.margin, ref_seconds, disagree, disagree_plus, ref.sampled.size(),
       o.distance_every);
+  if (o.checker) {
+    mb::RobotSource planner_source = o.robot;
+    planner_source.spheres_per_link = o.planner_spheres;
+    const mb::BenchRobot planner = o.planner_spheres == o.robot.spheres_per_link
+                                       ? robot
+                                       : mb::load_bench_robot(planner_source);
+    mb::CheckerBenchInput in;
+    in.planner = &planner;
+    in.fine = &robot;
+    in.scene = objects;
+    in.disabled = disabled;
+    in.configs = configs;
+    in.reference = ref.colliding;
+    in.margin = o.margin;
+    in.self = o.self;
+    in.exact_micros = runs[0].micros;
+    in.edge_length = o.edge_length;
+    in.resolution = o.resolution;
+    std::printf("\nplanner sets: %s\n", planner.spheres_from.c_str());
+    mb::print_checker_rows(in);
+  }
   for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
     if (ref.colliding[i] && !runs[4].colliding[i]) {
       const mf::RobotCollideResult c =
@@ -512,8 +564,44 @@ int run(const Options& o) {
 
 }  // namespace
 
+namespace {
+
+// A generated robot's files: in the cache folder (the same bytes each time, so the bake's
+// cache key holds), or in a temporary folder removed at exit when there is no cache.
+class GeneratedRobot {
+ public:
+  explicit GeneratedRobot(Options& o) {
+    if (o.generated.empty()) return;
+    namespace fs = std::filesystem;
+    fs::path dir = fs::path(o.robot.cache_dir) / "coarse_arm";
+    if (o.robot.cache_dir.empty())
+      dir = temp_ =
+          fs::temp_directory_path() / ("medspheres-bench-coarse-arm-" + std::to_string(::getpid()));
+    o.robot.urdf = medspheres::test::write_coarse_arm(dir);
+  }
+  ~GeneratedRobot() {
+    std::error_code ec;
+    if (!temp_.empty()) std::filesystem::remove_all(temp_, ec);
+  }
+  GeneratedRobot(const GeneratedRobot&) = delete;
+  GeneratedRobot& operator=(const GeneratedRobot&) = delete;
+
+ private:
+  std::filesystem::path temp_;
+};
+
+}  // namespace
+
 int main(int argc, char** argv) {
-  const Options o = parse(argc, argv);
+  // The checker's rows on every core: OpenMP's threads sleep rather than spin while they
+  // wait, which on a machine shared with other work would take the cores the others need.
+  // The runtime reads the setting when it loads, so the program starts again with it.
+  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
+    setenv("OMP_WAIT_POLICY", "passive", 1);
+    execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
+  }
+  Options o = parse(argc, argv);
+  const GeneratedRobot generated(o);
   if (!std::filesystem::exists(o.robot.urdf)) {
     std::fprintf(stderr, "bench_robot: no robot at %s (give a URDF)\n", o.robot.urdf.c_str());
     return 2;

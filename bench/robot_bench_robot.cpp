@@ -7,12 +7,12 @@
 #include <filesystem>
 
 #include "bench_util.h"
-#include "medspheres/bake/batch_robot.h"
-#include "medspheres/bake/robot_bake.h"
+#include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_file.h"
 
 namespace medspheres::bench {

@@ -44,8 +44,7 @@
 #include <yaml-cpp/yaml.h>
 
 #include "bench_args.h"
-#include "medspheres/bake/batch_robot.h"
-#include "medspheres/bake/robot_planner_setup.h"
+#include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/formats/curobo_yaml.h"
@@ -53,6 +52,7 @@
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
 #include "support/generated_arms.h"
 

@@ -27,7 +27,7 @@
 #include "bench_args.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
-#include "medspheres/bake/union_volume.h"
+#include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "support/shared_meshes.h"

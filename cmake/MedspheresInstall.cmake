@@ -1,5 +1,7 @@
 # Installs the libraries, headers and CLI, and a package config so that
-# find_package(medspheres) gives medspheres::runtime, ::mesh, ::bake and ::fcl_adapter.
+# find_package(medspheres) gives medspheres::runtime, ::formats, ::mesh, ::robot, ::render,
+# ::measure, ::cover, ::bake, ::robot_bake, ::batch, ::options and ::fcl_adapter
+# (medspheres_add_library registers each; medspheres_export_headers installs its headers).
 include(GNUInstallDirs)
 include(CMakePackageConfigHelpers)
 

@@ -18,7 +18,7 @@
 #include <fuzzer/FuzzedDataProvider.h>
 
 #include "fuzz_support.h"
-#include "medspheres/bake/union_volume.h"
+#include "medspheres/measure/union_volume.h"
 #include "support/ball_formulas.h"
 
 namespace {

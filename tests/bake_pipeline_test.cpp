@@ -133,23 +133,6 @@ TEST_CASE("bake_mesh without measuring writes no volume statistics", "[bake_pipe
   CHECK(nlohmann::json::parse(bare.spheres.metadata_json)["source"]["mesh"] == "capsule");
 }
 
-TEST_CASE("parse_length reads absolute and relative lengths", "[bake_pipeline]") {
-  CHECK(parse_length("0.25").value == 0.25);
-  CHECK_FALSE(parse_length("0.25").relative);
-  CHECK(parse_length("0.003L").relative);
-  CHECK(parse_length("0.003l").value == 0.003);
-  CHECK(parse_length("0.5L").in(4.0) == 2.0);
-  CHECK(parse_length("0.5").in(4.0) == 0.5);
-  for (const std::string bad : {"", "L", "abc", "0.1LL", "1e", "0.1 L"}) {
-    INFO(bad);
-    const InputError e = error_of([&] { parse_length(bad); });
-    CHECK(e.kind() == ErrorKind::kOutOfRange);
-    CHECK(e.field() == "length");
-    CHECK(e.value() == bad);
-    CHECK_THAT(e.what(), Catch::Matchers::Contains("'" + bad + "'"));
-  }
-}
-
 TEST_CASE("every request problem is out of range or a conflict, named by its field",
           "[bake_pipeline]") {
   struct Case {

@@ -8,7 +8,7 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "medspheres/bake/batch_robot.h"
+#include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"

@@ -11,8 +11,8 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "medspheres/bake/batch.h"
-#include "medspheres/bake/batch_cache.h"
+#include "medspheres/batch/batch.h"
+#include "medspheres/batch/batch_cache.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_generators.h"

@@ -17,7 +17,7 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/cover.h"
+#include "medspheres/cover/cover.h"
 #include "medspheres/error.h"
 #include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/fcl/robot_bounds.h"

@@ -14,11 +14,16 @@ message(STATUS "${step_output}")
 if(NOT step_output MATCHES "634 triangles, [0-9]+ spheres")
   message(FATAL_ERROR "unexpected bake_example output: ${step_output}")
 endif()
+step(library "${WORK_DIR}/build/library_example" "${SOURCE_DIR}/examples/data/eight.off")
+message(STATUS "${step_output}")
+if(NOT step_output MATCHES "^16 spheres, nerr 0\\.[0-9]+; cover of [1-4] certified; 1 batch input; 32 per link")
+  message(FATAL_ERROR "unexpected library_example output: ${step_output}")
+endif()
 step(fcl "${WORK_DIR}/build/fcl_example" "${WORK_DIR}/eight.spheres.json")
 message(STATUS "${step_output}")
 
 # Without CGAL: the run-time targets still configure, build and run; asking for the
-# bake component fails at find_package, naming CGAL.
+# components that need CGAL fails at find_package, naming them and CGAL.
 step(configure-without-cgal ${CMAKE_COMMAND} -S "${SOURCE_DIR}/examples/consumer"
      -B "${WORK_DIR}/build-nocgal" -DCMAKE_BUILD_TYPE=Release
      "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix" -DCMAKE_DISABLE_FIND_PACKAGE_CGAL=ON
@@ -30,7 +35,8 @@ execute_process(
           -DCMAKE_BUILD_TYPE=Release "-DCMAKE_PREFIX_PATH=${WORK_DIR}/prefix"
           -DCMAKE_DISABLE_FIND_PACKAGE_CGAL=ON -DCONSUMER_WITH_BAKE=ON
   RESULT_VARIABLE rc OUTPUT_VARIABLE out ERROR_VARIABLE err)
-if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES "bake component needs CGAL")
+if(rc EQUAL 0 OR NOT "${out}${err}" MATCHES
+   "the bake, measure, cover, robot_bake, batch, options components need CGAL")
   message(FATAL_ERROR "COMPONENTS bake without CGAL should fail naming CGAL (${rc}):\n${out}\n${err}")
 endif()
 message(STATUS "bake-without-cgal: fails as it should")

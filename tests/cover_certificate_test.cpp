@@ -5,9 +5,11 @@
 #include <stdexcept>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/cover_certificate.h"
+#include "medspheres/mesh/cover_certificate_json.h"
 #include "medspheres/mesh/mesh_generators.h"
 
 using namespace medspheres;
@@ -87,6 +89,32 @@ TEST_CASE("a triangle poking out fails, and the worst point found is the true wo
   CHECK(c.worst_bound >= truth - 1e-12);
   CHECK(std::abs(c.worst_point.x()) < 2e-3);
   CHECK(outside_union(balls, c.worst_point) == Approx(c.worst_distance).margin(1e-12));
+}
+
+TEST_CASE("the certificate's JSON: every count, and the worst point when not certified",
+          "[cover]") {
+  const TriangleMesh m = one_triangle({-1, 0, 0}, {1, 0, 0}, {1, 1e-3, 0});
+  const std::vector<Sphere> two = {{Eigen::Vector3d(-1, 0, 0), 0.5},
+                                   {Eigen::Vector3d(1, 0, 0), 0.5}};
+  for (const std::vector<Sphere>& balls :
+       {two, std::vector<Sphere>{{Eigen::Vector3d(0, 0, 0), 2}}}) {
+    const CoverCertificate c = certify_cover(m, balls);
+    INFO(c.certified);
+    const nlohmann::json j = nlohmann::json::parse(cover_certificate_json(c));
+    CHECK(j["certified"] == c.certified);
+    CHECK(j["triangles"] == c.triangles);
+    CHECK(j["uncertified_triangles"] == c.uncertified_triangles);
+    CHECK(j["proven_uncovered_triangles"] == c.proven_uncovered_triangles);
+    CHECK(j["pieces_tested"] == c.pieces_tested);
+    CHECK(j["max_depth"] == c.max_depth_reached);
+    CHECK(j.contains("worst_uncovered_distance") == !c.certified);
+    if (c.certified) continue;
+    // doubles exactly, as nlohmann writes and reads them
+    CHECK(j["worst_uncovered_distance"].get<double>() == c.worst_distance);
+    CHECK(j["worst_uncovered_bound"].get<double>() == c.worst_bound);
+    for (int k = 0; k < 3; ++k)
+      CHECK(j["worst_uncovered_point"][k].get<double>() == c.worst_point[k]);
+  }
 }
 
 TEST_CASE("random configurations: certified means no dense sample lies outside", "[cover]") {

@@ -8,10 +8,10 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake/cover.h"
-#include "medspheres/bake/cover_lower_bound.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/cover/cover.h"
+#include "medspheres/cover/cover_lower_bound.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"

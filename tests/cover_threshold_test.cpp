@@ -6,7 +6,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "../src/bake/cover_threshold.h"
+#include "../src/cover/cover_threshold.h"
 
 using namespace medspheres;
 

@@ -12,9 +12,10 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "medspheres/bake/cover.h"
-#include "medspheres/bake/fit_metrics.h"
-#include "medspheres/bake/union_volume.h"
+#include "medspheres/bake/cover_record.h"
+#include "medspheres/cover/cover.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "support/cover_solids.h"

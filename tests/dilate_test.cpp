@@ -8,8 +8,8 @@
 
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
-#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"

@@ -1,5 +1,6 @@
-// eval's library calls (evaluate_set.h, evaluate_set_robot.h, solid_choice.h): the solid
-// chosen, figures against closed forms, robot rows from a file and from a map.
+// eval's library calls (evaluate_set.h, evaluate_set_robot.h, solid_choice.h; the options
+// layer's solid_request): the solid chosen, figures against closed forms, robot rows from a
+// file and from a map.
 #include <algorithm>
 #include <cmath>
 #include <map>
@@ -8,17 +9,18 @@
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
-#include "medspheres/bake/evaluate_set.h"
-#include "medspheres/bake/evaluate_set_robot.h"
-#include "medspheres/bake/solid_choice.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
+#include "medspheres/measure/evaluate_set.h"
+#include "medspheres/measure/solid_choice.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/robust_solid.h"
+#include "medspheres/options/bake_flags.h"
 #include "medspheres/robot/package_path.h"
+#include "medspheres/robot_bake/evaluate_set_robot.h"
 #include "support/temp_dir.h"
 #include "support/urdf_fixtures.h"
 
@@ -67,36 +69,45 @@ FitOptions fast_fit() {
 
 TEST_CASE("eval's solid: the recorded one under auto, the named one otherwise", "[eval]") {
   const std::string robust32 = robust_metadata(32, 0.002);
-  SolidChoice c = eval_solid(flags("auto"), 2.0, robust32);
+  SolidChoice c = eval_solid(solid_request(flags("auto")), 2.0, robust32);
   CHECK(c.kind == SolidKind::kRobust);
   CHECK(c.robust.resolution == 32);
   CHECK(c.robust.thickness == 0.002);
-  CHECK(eval_solid(flags("winding"), 2.0, robust32).kind == SolidKind::kWinding);
+  CHECK(eval_solid(solid_request(flags("winding")), 2.0, robust32).kind == SolidKind::kWinding);
   // robust without options of its own takes the recorded ones, or the defaults
-  c = eval_solid(flags("robust"), 2.0, robust32);
+  c = eval_solid(solid_request(flags("robust")), 2.0, robust32);
   CHECK((c.kind == SolidKind::kRobust && c.robust.resolution == 32 && c.robust.thickness == 0.002));
-  c = eval_solid(flags("robust"), 2.0, "");
+  c = eval_solid(solid_request(flags("robust")), 2.0, "");
   CHECK((c.kind == SolidKind::kRobust && c.robust.resolution == RobustSolidOptions{}.resolution &&
          c.robust.thickness == 0.0));
   // options given are the user's, all of them; a thickness in L is of the mesh's L
-  c = eval_solid(flags("robust", 48), 2.0, robust32);
+  c = eval_solid(solid_request(flags("robust", 48)), 2.0, robust32);
   CHECK((c.robust.resolution == 48 && c.robust.thickness == 0.0));
-  c = eval_solid(flags("robust", RobustSolidOptions{}.resolution, "0.01L"), 2.0, robust32);
+  c = eval_solid(solid_request(flags("robust", RobustSolidOptions{}.resolution, "0.01L")), 2.0,
+                 robust32);
   CHECK((c.robust.resolution == RobustSolidOptions{}.resolution && c.robust.thickness == 0.02));
-  c = eval_solid(flags("robust", 20, "0.5"), 2.0, "");
+  c = eval_solid(solid_request(flags("robust", 20, "0.5")), 2.0, "");
   CHECK((c.robust.resolution == 20 && c.robust.thickness == 0.5));
   // files of other tools, winding bakes and text that is no JSON name no robust solid
   for (const std::string& meta :
        {std::string(), std::string("not json"), std::string(R"({"generator": {"name": "foam"}})"),
         std::string(R"({"stats": {"solid": "winding"}})"), std::string(R"({"stats": 3})")})
-    CHECK(eval_solid(flags("auto"), 2.0, meta).kind == SolidKind::kWinding);
-  // nonsense names its option, from check_solid_flags as from eval_solid
-  CHECK(error_field([] { check_solid_flags(flags("robst")); }) == "solid");
-  CHECK(error_field([] { check_solid_flags(flags("robust", 96, "-1")); }) == "robust_thickness");
-  CHECK(error_field([] { check_solid_flags(flags("auto", 96, "thin")); }) == "robust_thickness");
-  CHECK(error_field([&] { eval_solid(flags("robust", 96, "nan"), 2.0, robust32); }) ==
-        "robust_thickness");
-  CHECK(error_field([] { check_solid_flags(flags("robust", 24, "0.01L")); }).empty());
+    CHECK(eval_solid(solid_request(flags("auto")), 2.0, meta).kind == SolidKind::kWinding);
+  // nonsense names its option, from the options layer (solid_request) as from the library
+  // (eval_solid)
+  CHECK(error_field([] { solid_request(flags("robst")); }) == "solid");
+  CHECK(error_field([] { solid_request(flags("robust", 96, "-1")); }) == "robust_thickness");
+  CHECK(error_field([] { solid_request(flags("auto", 96, "thin")); }) == "robust_thickness");
+  CHECK(error_field([&] {
+          eval_solid(solid_request(flags("robust", 96, "nan")), 2.0, robust32);
+        }) == "robust_thickness");
+  CHECK(error_field([] { solid_request(flags("robust", 24, "0.01L")); }).empty());
+  // the library checks a typed request itself, whoever made it
+  SolidRequest nan_thickness{SolidKind::kRobust, {}, Length{std::nan(""), false}};
+  CHECK(error_field([&] { eval_solid(nan_thickness, 2.0, robust32); }) == "robust_thickness");
+  CHECK(error_field([&] { check_solid_request(nan_thickness); }) == "robust_thickness");
+  SolidRequest negative{SolidKind::kAuto, {}, Length{-0.5, true}};
+  CHECK(error_field([&] { eval_solid(negative, 2.0, ""); }) == "robust_thickness");
 }
 
 TEST_CASE("eval of a mesh measures the solid it chose: one ball in a box, closed forms", "[eval]") {
@@ -150,12 +161,13 @@ TEST_CASE("eval of a mesh measures the solid it chose: one ball in a box, closed
   CHECK(j["mesh_volume"].get<double>() == v);
 
   // --solid winding overrides what the file records
-  const MeshEvaluation back =
-      evaluate_mesh_set(box, "box.off", set, "ball.json", fast_fit(), flags("winding"));
+  const MeshEvaluation back = evaluate_mesh_set(box, "box.off", set, "ball.json", fast_fit(),
+                                                solid_request(flags("winding")));
   CHECK(*back.evaluation.fit.volume.mesh_volume == Approx(8.0).epsilon(1e-12));
   // a bad option is reported, named
   CHECK(error_field([&] {
-          evaluate_mesh_set(box, "box.off", set, "ball.json", fast_fit(), flags("robust", 3));
+          evaluate_mesh_set(box, "box.off", set, "ball.json", fast_fit(),
+                            solid_request(flags("robust", 3)));
         }) == "robust_resolution");
 }
 

@@ -9,8 +9,8 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "support/ball_formulas.h"

@@ -11,12 +11,12 @@
 
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake/union_volume.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/sph_file.h"
 #include "medspheres/formats/spherized_urdf.h"
 #include "medspheres/formats/xrdf.h"
+#include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/point_triangle.h"
 #include "support/ball_formulas.h"

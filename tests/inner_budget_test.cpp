@@ -7,10 +7,10 @@
 
 #include "../src/bake/ball_coverage.h"
 #include "medspheres/bake/bake.h"
-#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/bake/inner_budget.h"
-#include "medspheres/bake/union_volume.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "support/point_triangle_oracle.h"

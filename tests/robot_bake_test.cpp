@@ -6,11 +6,13 @@
 #include <string>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
-#include "medspheres/bake/robot_bake.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_fit.h"
 #include "support/urdf_fixtures.h"
 
 using namespace medspheres;
@@ -363,6 +365,13 @@ TEST_CASE("robot bake: the outer set covers a cylinder's true surface, not only 
     REQUIRE(!link.spheres.outer.empty());
     CHECK(link.spheres.outer_certificate_json.find("\"primitive_surface_gap\":") !=
           std::string::npos);
+    // the certificate's own keys (cover_certificate_json), then what the robot file adds
+    const nlohmann::json cert = nlohmann::json::parse(link.spheres.outer_certificate_json);
+    for (const char* key : {"certified", "triangles", "uncertified_triangles",
+                            "proven_uncovered_triangles", "pieces_tested", "max_depth",
+                            "surface_covered", "interior_certified", "moved_to_link_frame"})
+      CHECK(cert.contains(key));
+    CHECK(cert["surface_covered"] == cert["certified"]);
     std::size_t outside = 0;
     for (const Eigen::Vector3d& p : cylinder_surface_points(0.03, 0.06)) {
       const Eigen::Vector3d q = origin * p;

@@ -9,10 +9,11 @@
 #include <nlohmann/json.hpp>
 
 #include "medspheres/bake/bake_pipeline.h"
-#include "medspheres/bake/cover_input.h"
-#include "medspheres/bake/solid_choice.h"
-#include "medspheres/bake/union_volume.h"
+#include "medspheres/bake/cover_record.h"
+#include "medspheres/cover/cover_input.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/solid_choice.h"
+#include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
@@ -175,8 +176,6 @@ TEST_CASE("robust solid options out of range name the option", "[robust_solid]")
       CHECK(e.field().rfind("robust_", 0) == 0);
     }
   }
-  CHECK(parse_solid_kind("robust") == SolidKind::kRobust);
-  CHECK_THROWS_AS(parse_solid_kind("voxel"), InputError);
 }
 
 TEST_CASE("the robust solid does not depend on the order of triangles and vertices",

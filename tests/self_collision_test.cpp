@@ -15,12 +15,12 @@
 #include <fcl/narrowphase/distance.h>
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake/robot_bake.h"
-#include "medspheres/bake/robot_planner_setup.h"
 #include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_planner_setup.h"
 #include "support/generated_arms.h"
 #include "support/temp_dir.h"
 

@@ -1,7 +1,7 @@
 // Self-intersecting triangle pairs: each case of the definition on two triangles, meshes
 // whose pairs are known by construction, brute force over all pairs, and the manifest of
 // the shared meshes.
-#include "medspheres/bake/self_intersection.h"
+#include "medspheres/measure/self_intersection.h"
 
 #include <algorithm>
 #include <array>

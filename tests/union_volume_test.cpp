@@ -12,8 +12,8 @@
 #include <Eigen/Geometry>
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake/union_volume.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/union_volume.h"
 #include "support/ball_formulas.h"
 
 using Catch::Matchers::Contains;

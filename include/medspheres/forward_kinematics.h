@@ -55,17 +55,23 @@ class KinematicTree {
       const std::map<std::string, double>& q,
       const Eigen::Isometry3d& X_WB = Eigen::Isometry3d::Identity()) const;
 
- private:
-  // One step of the walk: the child link's pose from its parent's.
+  /// One step of the walk: the child link's pose from its parent's, X_WC = X_WP * origin *
+  /// motion(multiplier * q[source] + offset), as the file comment says.
   struct Step {
-    std::size_t parent = 0, child = 0;  // link indices
+    std::size_t parent = 0, child = 0;  ///< link indices (link_names() order)
     JointType type = JointType::kFixed;
-    Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  // X_PJ
-    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();           // unit
-    long source = -1;  // index into q of the actuated joint driving it (-1: fixed)
-    double multiplier = 1.0, offset = 0.0;  // q_joint = multiplier * q[source] + offset
+    Eigen::Isometry3d origin = Eigen::Isometry3d::Identity();  ///< X_PJ
+    Eigen::Vector3d axis = Eigen::Vector3d::UnitX();           ///< unit
+    long source = -1;  ///< index into q of the actuated joint driving it (-1: fixed)
+    double multiplier = 1.0, offset = 0.0;  ///< q_joint = multiplier * q[source] + offset
   };
+  /// The walk: parents before children, one step per joint (mimic chains resolved to their
+  /// actuated source), for callers that pose many configurations their own way.
+  const std::vector<Step>& steps() const noexcept { return steps_; }
+  /// The root link's index in link_names().
+  std::size_t root() const noexcept { return root_; }
 
+ private:
   std::vector<std::string> link_names_;
   std::vector<std::string> actuated_names_;
   std::map<std::string, long> joint_kind_;  // every joint: its index in q, -1 fixed, -2 mimic

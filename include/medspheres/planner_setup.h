@@ -12,7 +12,7 @@
 ///   (cuRobo's self_collision_buffer, XRDF's self_collision: buffer_distance; metres, added
 ///   to every sphere radius of the link in self-collision checks only).
 ///
-/// The robot bake computes it (medspheres/bake/self_collision_matrix.h); a model without one
+/// The robot bake computes it (medspheres/robot_bake/self_collision_matrix.h); a model without one
 /// gets planner_setup_or_default(): the tool frames by default_tool_frames, the zero pose
 /// clamped into the limits, and only adjacent pairs skipped.
 ///

@@ -11,9 +11,11 @@ bound with pybind11; arrays are numpy float64 with the shapes the docstrings giv
 
 from ._medspheres import (  # noqa: F401
     BoundedGeometry,
+    CheckScene,
     InputError,
     RobotBake,
     RobotBounds,
+    RobotChecker,
     SphereDocument,
     SphereSet,
     SphereTree,
@@ -32,9 +34,11 @@ from ._medspheres import (  # noqa: F401
 
 __all__ = [
     "BoundedGeometry",
+    "CheckScene",
     "InputError",
     "RobotBake",
     "RobotBounds",
+    "RobotChecker",
     "SphereDocument",
     "SphereSet",
     "SphereTree",

@@ -11,4 +11,5 @@ PYBIND11_MODULE(_medspheres, m) {
   python::register_bake(m);
   python::register_robot(m);
   python::register_queries(m);
+  python::register_check(m);
 }

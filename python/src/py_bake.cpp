@@ -5,13 +5,13 @@
 
 #include <pybind11/stl.h>
 
-#include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
-#include "medspheres/bake/evaluate_set.h"
-#include "medspheres/bake/solid_choice.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
+#include "medspheres/measure/evaluate_set.h"
+#include "medspheres/measure/solid_choice.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/options/bake_flags.h"
 #include "py_common.h"
 
 namespace medspheres::python {
@@ -79,9 +79,10 @@ py::object evaluate_py(const py::handle& mesh, const py::handle& spheres, long l
                        const std::string& solid, int robust_resolution,
                        const py::object& robust_thickness) {
   const FitOptions options = fit_options(samples, surface_samples, seed, threads);
-  const SolidFlags solid_flags{solid, robust_resolution,
-                               length_text(robust_thickness, "robust_thickness")};
-  check_solid_flags(solid_flags);
+  // The solid is chosen by the library (eval_solid), from the request the options layer
+  // reads, as the CLI's eval does.
+  const SolidRequest asked =
+      solid_request({solid, robust_resolution, length_text(robust_thickness, "robust_thickness")});
   std::string mesh_name;
   const LoadedMesh loaded = mesh_arg(mesh, mesh_name);
   std::string spheres_name = "spheres";
@@ -95,8 +96,7 @@ py::object evaluate_py(const py::handle& mesh, const py::handle& spheres, long l
   std::string json;
   {
     py::gil_scoped_release release;
-    json = evaluation_json(
-        evaluate_mesh_set(loaded, mesh_name, set, spheres_name, options, solid_flags));
+    json = evaluation_json(evaluate_mesh_set(loaded, mesh_name, set, spheres_name, options, asked));
   }
   return json_loads(json);
 }

@@ -9,8 +9,6 @@
 
 namespace medspheres::python {
 
-namespace {
-
 py::array_t<double, py::array::c_style | py::array::forcecast> float_rows(const py::handle& a,
                                                                           py::ssize_t columns,
                                                                           const std::string& what) {
@@ -20,8 +18,6 @@ py::array_t<double, py::array::c_style | py::array::forcecast> float_rows(const 
                           " array of numbers");
   return rows;
 }
-
-}  // namespace
 
 SphereSet sphere_set_of_array(const py::handle& array, const std::string& what) {
   const auto rows = float_rows(array, 4, what);

@@ -11,7 +11,7 @@
 #include <pybind11/pybind11.h>
 #include <Eigen/Geometry>
 
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_mesh.h"
@@ -26,6 +26,12 @@ void register_bake(py::module_& m);
 void register_robot(py::module_& m);
 void register_queries(py::module_& m);
 void register_robot_bounds(py::module_& m);
+void register_check(py::module_& m);
+
+/// \p a as an n x \p columns float64 C-contiguous array; ValueError naming \p what otherwise.
+py::array_t<double, py::array::c_style | py::array::forcecast> float_rows(const py::handle& a,
+                                                                          py::ssize_t columns,
+                                                                          const std::string& what);
 
 /// An n x 4 float64 array (x, y, z, r) as balls; ValueError naming \p what for another shape.
 SphereSet sphere_set_of_array(const py::handle& array, const std::string& what);

@@ -7,15 +7,15 @@
 
 #include <pybind11/stl.h>
 
-#include "medspheres/bake/bake_flags.h"
-#include "medspheres/bake/evaluate_set.h"
-#include "medspheres/bake/evaluate_set_robot.h"
-#include "medspheres/bake/robot_bake.h"
-#include "medspheres/bake/robot_planner_setup.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/sphere_document.h"
+#include "medspheres/measure/evaluate_set.h"
+#include "medspheres/options/bake_flags.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_bake/evaluate_set_robot.h"
+#include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
 #include "py_common.h"
 

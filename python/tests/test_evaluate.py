@@ -43,6 +43,8 @@ def test_evaluate_measures_the_recorded_solid_as_the_cli_does(cli, eight, robust
     "kwargs, flags",
     [
         ({"solid": "winding"}, ["--solid", "winding"]),
+        # robust without options of its own: the options the file records (resolution 24)
+        ({"solid": "robust"}, ["--solid", "robust"]),
         ({"solid": "robust", "robust_resolution": 28}, ["--solid", "robust",
                                                         "--robust-resolution", "28"]),
         ({"solid": "robust", "robust_resolution": 28, "robust_thickness": "0.01L"},
@@ -54,6 +56,8 @@ def test_evaluate_solid_options_equal_cli(cli, eight, robust_set, kwargs, flags)
     ours = medspheres.evaluate(eight, robust_set, **FAST, **kwargs)
     assert without_clocks(ours) == without_clocks(theirs)
     assert ours["solid"] == kwargs["solid"]
+    if kwargs["solid"] == "robust":
+        assert ours["robust_resolution"] == kwargs.get("robust_resolution", 24)
 
 
 def test_evaluate_robust_thickness_as_a_number(eight, robust_set):

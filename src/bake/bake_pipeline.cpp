@@ -6,9 +6,10 @@
 #include <map>
 #include <utility>
 
-#include "medspheres/bake/cover_input.h"
+#include "medspheres/bake/cover_record.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/bake/inner_budget.h"
+#include "medspheres/cover/cover_input.h"
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/number_text.h"
@@ -21,20 +22,6 @@ InputError request_error(ErrorKind kind, std::string field, std::string value, s
                          std::vector<std::string> related = {}) {
   return InputError::option(kind, std::move(field), std::move(value), std::move(problem), {},
                             std::move(related));
-}
-
-std::string length_text(const Length& l) {
-  return number_text(l.value) + (l.relative ? "L" : "");
-}
-
-// A dilation length against its range: > 0, or >= 0 when zero is allowed.
-void check_length(const std::optional<Length>& l, const char* field, bool zero_allowed) {
-  if (!l) return;
-  const bool ok = std::isfinite(l->value) && (zero_allowed ? l->value >= 0.0 : l->value > 0.0);
-  if (!ok)
-    throw request_error(ErrorKind::kOutOfRange, field, length_text(*l),
-                        std::string("must be a finite length ") + (zero_allowed ? ">= 0" : "> 0") +
-                            ", got " + length_text(*l));
 }
 
 bool dilating(const BakeRequest& r) {
@@ -134,31 +121,6 @@ void measure_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& 
     record.extra_strings["nerr_internal_kind"] = to_string(out.internal->kind);
   }
 }
-
-}  // namespace
-
-Length parse_length(const std::string& text) {
-  Length l;
-  std::string number = text;
-  if (!number.empty() && (number.back() == 'L' || number.back() == 'l')) {
-    l.relative = true;
-    number.pop_back();
-  }
-  std::size_t used = 0;
-  try {
-    l.value = std::stod(number, &used);
-  } catch (const std::exception&) {
-    used = 0;
-  }
-  if (number.empty() || used != number.size())
-    throw request_error(ErrorKind::kOutOfRange, "length", text,
-                        "'" + text +
-                            "' is not a length: a number in the mesh's units, or a multiple of "
-                            "the bounding box's largest side written with an L (0.003L)");
-  return l;
-}
-
-namespace {
 
 // A cover to a budget: the budget is max_spheres, or the count of cover_start; nothing of
 // S_D's options applies.

@@ -1,9 +1,9 @@
-// The provenance of a covering set (cover.h): a BakeRecord and its JSON.
+// The provenance of a covering set (cover_record.h): a BakeRecord and its JSON.
+#include "medspheres/bake/cover_record.h"
+
 #include <algorithm>
 
 #include <nlohmann/json.hpp>
-
-#include "medspheres/bake/cover.h"
 
 namespace medspheres {
 
@@ -57,6 +57,16 @@ std::string cover_metadata_json(const BakeRecord& record) {
   // A cover of a robust solid: the input's own triangles certified too (cover_input.h).
   if (st.contains("input_certified")) st["input_certified"] = st["input_certified"] == 1.0;
   return meta.dump();
+}
+
+void record_input_cover(const InputCoverCheck& check, BakeRecord& record) {
+  const CoverCertificate& c = check.certificate;
+  auto& x = record.extra_stats;
+  x["input_certified"] = c.certified ? 1.0 : 0.0;
+  x["input_certificate_triangles"] = static_cast<double>(c.triangles);
+  x["input_uncertified_triangles"] = static_cast<double>(c.uncertified_triangles);
+  x["input_repaired"] = static_cast<double>(check.repaired);
+  if (!c.certified) x["input_uncovered_max"] = c.worst_distance;
 }
 
 }  // namespace medspheres

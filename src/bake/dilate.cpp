@@ -10,9 +10,9 @@
 #include <stdexcept>
 #include <string>
 
-#include "medspheres/bake/fit_metrics.h"
-#include "medspheres/bake/union_volume.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/threads.h"
 
 // The steps (dilate.h states the contract).

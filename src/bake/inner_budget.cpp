@@ -13,8 +13,8 @@
 #include <vector>
 
 #include "ball_coverage.h"
-#include "medspheres/bake/fit_metrics.h"
 #include "medspheres/error.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/number_text.h"
 
 namespace medspheres {

@@ -9,11 +9,11 @@
 
 #include "cli_common.h"
 #include "cmd_batch.h"
-#include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
+#include "medspheres/options/bake_flags.h"
 #include "solid_flags.h"
 
 namespace medspheres::cli {

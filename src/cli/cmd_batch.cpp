@@ -8,7 +8,7 @@
 #include <iostream>
 
 #include "cli_common.h"
-#include "medspheres/bake/batch.h"
+#include "medspheres/batch/batch.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/threads.h"
 

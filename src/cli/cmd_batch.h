@@ -7,7 +7,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "medspheres/bake/batch.h"
+#include "medspheres/batch/batch.h"
 
 namespace medspheres::cli {
 

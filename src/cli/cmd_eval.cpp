@@ -6,14 +6,14 @@
 
 #include "cli_common.h"
 #include "cmd_eval_robot.h"
-#include "medspheres/bake/bake_flags.h"
-#include "medspheres/bake/evaluate_set.h"
-#include "medspheres/bake/fit_metrics.h"
-#include "medspheres/bake/solid_choice.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
+#include "medspheres/measure/evaluate_set.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/measure/solid_choice.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/options/bake_flags.h"
 #include "solid_flags.h"
 
 namespace medspheres::cli {
@@ -135,11 +135,10 @@ int run_eval(const EvalArgs& args) {
     check_no_solid_flags(args.solid);
     return run_eval_robot({args.mesh, args.spheres, args.packages, args.json, options});
   }
-  check_solid_flags(args.solid);
+  const SolidRequest solid = solid_request(args.solid);
   const LoadedMesh loaded = load_mesh(args.mesh);
   const SphereSet set = load_sphere_set(args.spheres);
-  const MeshEvaluation e =
-      evaluate_mesh_set(loaded, args.mesh, set, args.spheres, options, args.solid);
+  const MeshEvaluation e = evaluate_mesh_set(loaded, args.mesh, set, args.spheres, options, solid);
   if (args.json)
     std::cout << evaluation_json(e) << "\n";
   else

@@ -6,9 +6,9 @@
 #include <iostream>
 
 #include "cli_common.h"
-#include "medspheres/bake/robot_bake.h"
 #include "medspheres/robot/package_path.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_bake/robot_bake.h"
 
 namespace medspheres::cli {
 

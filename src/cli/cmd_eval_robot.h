@@ -4,8 +4,8 @@
 #include <string>
 #include <vector>
 
-#include "medspheres/bake/evaluate_set_robot.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/robot_bake/evaluate_set_robot.h"
 
 namespace medspheres::cli {
 

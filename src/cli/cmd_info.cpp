@@ -5,7 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "cli_common.h"
-#include "medspheres/bake/self_intersection.h"
+#include "medspheres/measure/self_intersection.h"
 #include "medspheres/mesh/mesh_io.h"
 
 namespace medspheres::cli {

@@ -12,10 +12,8 @@
 
 #include "cli_common.h"
 #include "cmd_batch.h"
-#include "medspheres/bake/bake_flags.h"
 #include "medspheres/bake/bake_pipeline.h"
-#include "medspheres/bake/batch_robot.h"
-#include "medspheres/bake/robot_bake.h"
+#include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
@@ -23,7 +21,9 @@
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
 #include "medspheres/number_text.h"
+#include "medspheres/options/bake_flags.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_file.h"
 #include "solid_flags.h"
 

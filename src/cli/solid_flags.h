@@ -3,7 +3,7 @@
 
 #include <CLI/CLI.hpp>
 
-#include "medspheres/bake/bake_flags.h"
+#include "medspheres/options/bake_flags.h"
 
 namespace medspheres::cli {
 

@@ -274,13 +274,6 @@ const char* to_string(SolidKind kind) {
   return "?";
 }
 
-SolidKind parse_solid_kind(const std::string& text) {
-  for (SolidKind k : {SolidKind::kAuto, SolidKind::kWinding, SolidKind::kRobust})
-    if (text == to_string(k)) return k;
-  throw InputError::option(ErrorKind::kOutOfRange, "solid", text,
-                           "must be auto, winding or robust, got '" + text + "'");
-}
-
 namespace {
 
 void check_options(const RobustSolidOptions& options) {

@@ -1,5 +1,5 @@
 // thread_count (threads.h): here, in medspheres::mesh (and so available to
-// medspheres::bake), because this component brings OpenMP; threads.h stays free of
+// the targets above it), because this component brings OpenMP; threads.h stays free of
 // <omp.h>, and check_threads is header-only.
 //
 // kMaxThreads: the cap keeps a typo such as 100000 from asking the OpenMP runtime for more

@@ -7,7 +7,7 @@
 #include <Eigen/Core>
 #include <catch2/catch.hpp>
 
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_generators.h"
 
 namespace medspheres::test {

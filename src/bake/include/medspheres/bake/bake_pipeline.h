@@ -19,26 +19,15 @@
 
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/bake_metadata.h"
-#include "medspheres/bake/cover.h"
-#include "medspheres/bake/fit_metrics.h"
+#include "medspheres/cover/cover.h"
+#include "medspheres/measure/fit_metrics.h"
+#include "medspheres/mesh/length.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/robust_solid.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/triangle_mesh.h"
 
 namespace medspheres {
-
-/// A length in the mesh's units, or (relative) a multiple of L, the largest side of the
-/// mesh's bounding box.
-struct Length {
-  double value = 0;
-  bool relative = false;
-  double in(double largest_side) const { return relative ? value * largest_side : value; }
-};
-
-/// "0.01" (absolute) or "0.003L" (relative; "l" too). Ranges are checked by validate().
-/// \throws InputError (kOutOfRange, field "length", value \p text) for anything else.
-Length parse_length(const std::string& text);
 
 /// How the spheres are made: kMedial, the inner medial set S_D (to a budget: the best
 /// max_spheres inner spheres, inner_budget.h), optionally dilated to S+; kCover, at most

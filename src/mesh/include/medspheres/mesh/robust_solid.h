@@ -43,12 +43,8 @@ namespace medspheres {
 /// - kRobust: the robust solid, always.
 enum class SolidKind { kAuto, kWinding, kRobust };
 
-/// "auto", "winding", "robust".
+/// "auto", "winding", "robust" (read back by medspheres/options/option_text.h).
 const char* to_string(SolidKind kind);
-
-/// The kind named \p text ("auto", "winding", "robust").
-/// \throws InputError (kOutOfRange, field "solid", value \p text) for any other text.
-SolidKind parse_solid_kind(const std::string& text);
 
 /// The boundary triangles the chosen resolution (resolution 0) allows.
 inline constexpr std::size_t kRobustTriangleBudget = 24000;

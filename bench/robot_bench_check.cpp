@@ -1,0 +1,292 @@
+// bench_robot's checker rows (robot_bench_check.h).
+
+#include "robot_bench_check.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdio>
+#include <functional>
+#include <limits>
+
+#include <fcl/fcl.h>
+#include <omp.h>
+
+#include "bench_timing.h"
+#include "medspheres/fcl/certified_checker.h"
+#include "medspheres/forward_kinematics.h"
+
+namespace medspheres::bench {
+namespace {
+
+using check::Verdict;
+
+// The best of `repeats` runs of f: CPU time of the thread (one thread) or wall time.
+double best_micros(int repeats, bool wall, const std::function<void()>& f) {
+  double best = std::numeric_limits<double>::infinity();
+  for (int r = 0; r < repeats; ++r) {
+    const double t0 = thread_cpu_micros();
+    const auto w0 = Clock::now();
+    f();
+    best = std::min(best, wall ? micros_since(w0) : thread_cpu_micros() - t0);
+  }
+  return best;
+}
+
+struct Row {
+  Row(std::string n, int t) : name(std::move(n)), threads(t) {}
+  std::string name;
+  int threads = 1;
+  double micros = 0.0;  // per configuration
+  std::vector<char> colliding;
+  std::string note;
+};
+
+void print_row(const Row& r, const CheckerBenchInput& in) {
+  std::size_t colliding = 0, missed = 0, alarms = 0;
+  for (std::size_t i = 0; i < r.colliding.size(); ++i) {
+    colliding += r.colliding[i];
+    missed += in.reference[i] && !r.colliding[i];
+    alarms += !in.reference[i] && r.colliding[i];
+  }
+  std::printf("%-10s %7s %10.3f %10.0f %9.0fx %10zu %7zu %7zu  %s\n", r.name.c_str(),
+              r.threads == 1 ? "1" : "all", r.micros, 1e3 * r.micros, in.exact_micros / r.micros,
+              colliding, missed, alarms, r.note.c_str());
+}
+
+std::vector<double> rows_of(const std::vector<Eigen::VectorXd>& configs) {
+  std::vector<double> q;
+  for (const Eigen::VectorXd& c : configs) q.insert(q.end(), c.data(), c.data() + c.size());
+  return q;
+}
+
+// The same checks as the spheres mode, written as a user without the checker would: every
+// covering sphere an fcl::Sphere grown by the margin (half of it for a self pair, so that
+// two touch exactly when within the margin), posed by forward kinematics, fcl::collide
+// against every scene object, then every sphere pair of every self pair; the first
+// collision ends the configuration.
+class FclSphereLoop {
+ public:
+  FclSphereLoop(const RobotModel& model, const check::RobotChecker& checker,
+                const std::vector<const ::fcl::CollisionObjectd*>& scene, double margin, bool self)
+      : tree_(model), scene_(scene), self_(self), pairs_(checker.self_pairs()) {
+    for (const std::string& name : checker.links()) {
+      link_.push_back(tree_.link_index(name));
+      std::vector<Part> parts;
+      for (const Sphere& s : model.find_link(name)->spheres.outer.spheres)
+        parts.push_back({s.center,
+                         std::make_unique<::fcl::CollisionObjectd>(
+                             std::make_shared<::fcl::Sphered>(s.radius + margin)),
+                         std::make_unique<::fcl::CollisionObjectd>(
+                             std::make_shared<::fcl::Sphered>(s.radius + margin / 2))});
+      parts_.push_back(std::move(parts));
+    }
+  }
+
+  bool collide(const Eigen::VectorXd& q) {
+    const std::vector<Eigen::Isometry3d> X = tree_.link_poses(q);
+    ::fcl::CollisionRequestd request;
+    ::fcl::CollisionResultd result;
+    for (std::size_t l = 0; l < parts_.size(); ++l)
+      for (Part& p : parts_[l]) {
+        const Eigen::Vector3d c = X[link_[l]] * p.center;
+        p.scene->setTranslation(c);
+        p.self->setTranslation(c);
+        p.scene->computeAABB();
+        p.self->computeAABB();
+        for (const ::fcl::CollisionObjectd* o : scene_) {
+          result.clear();
+          if (::fcl::collide(p.scene.get(), o, request, result) > 0) return true;
+        }
+      }
+    if (!self_) return false;
+    for (const auto& [a, b] : pairs_)
+      for (const Part& p : parts_[a])
+        for (const Part& r : parts_[b]) {
+          result.clear();
+          if (::fcl::collide(p.self.get(), r.self.get(), request, result) > 0) return true;
+        }
+    return false;
+  }
+
+ private:
+  struct Part {
+    Eigen::Vector3d center;
+    std::unique_ptr<::fcl::CollisionObjectd> scene, self;
+  };
+  KinematicTree tree_;
+  std::vector<const ::fcl::CollisionObjectd*> scene_;
+  bool self_;
+  std::vector<std::pair<std::size_t, std::size_t>> pairs_;
+  std::vector<std::size_t> link_;
+  std::vector<std::vector<Part>> parts_;
+};
+
+// Edges: from each configuration towards the next, cut to edge_length.
+void make_edges(const CheckerBenchInput& in, std::vector<double>& q0, std::vector<double>& q1) {
+  for (std::size_t i = 0; i + 1 < in.configs.size(); ++i) {
+    const Eigen::VectorXd d = in.configs[i + 1] - in.configs[i];
+    const Eigen::VectorXd end = in.configs[i] + std::min(1.0, in.edge_length / d.norm()) * d;
+    q0.insert(q0.end(), in.configs[i].data(), in.configs[i].data() + d.size());
+    q1.insert(q1.end(), end.data(), end.data() + d.size());
+  }
+}
+
+std::vector<char> colliding_of(const std::vector<Verdict>& v) {
+  std::vector<char> out;
+  for (Verdict x : v) out.push_back(x != Verdict::free);  // undecided as colliding
+  return out;
+}
+
+std::size_t spheres_of(const RobotModel& m, bool outer) {
+  std::size_t n = 0;
+  for (const Link& l : m.links) n += outer ? l.spheres.outer.size() : l.spheres.inner.size();
+  return n;
+}
+
+// Per edge: spheres only and certified, one thread and every core; and the edges'
+// verdicts against every sample checked as a configuration (spheres only).
+void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certified) {
+  const check::RobotChecker& spheres = certified.spheres();
+  std::vector<double> q0, q1;
+  make_edges(in, q0, q1);
+  const std::size_t edges = q0.size() / spheres.num_positions();
+  std::vector<Verdict> v(edges);
+  std::printf("\n%-10s %7s %12s %14s %16s %10s  %s\n", "edges", "threads", "us/edge",
+              "configs/edge", "configs/s/core", "colliding", "note");
+  for (int certified_mode : {0, 1})
+    for (int threads : {1, 0}) {
+      std::size_t checked = 0;
+      fcl::FallbackStats stats;
+      const double micros = best_micros(in.repeats, threads != 1, [&] {
+        stats = {};
+        checked = certified_mode ? certified.check_edges(q0.data(), q1.data(), edges, in.resolution,
+                                                         v.data(), threads, &stats)
+                                 : spheres.check_edges(q0.data(), q1.data(), edges, in.resolution,
+                                                       check::Mode::spheres, v.data(), threads);
+      });
+      const int cores = threads == 1 ? 1 : omp_get_max_threads();
+      std::size_t colliding = 0;
+      for (Verdict x : v) colliding += x != Verdict::free;
+      char note[96] = "";
+      if (certified_mode)
+        std::snprintf(note, sizeof note, "fallback in %zu samples, %zu pairs to the meshes",
+                      stats.configurations, stats.meshes);
+      std::printf("%-10s %7s %12.3f %14.1f %16.3g %10zu  %s\n",
+                  certified_mode ? "check/c" : "check/s", threads == 1 ? "1" : "all",
+                  micros / double(edges), double(checked) / double(edges),
+                  double(checked) / (micros * 1e-6) / cores, colliding, note);
+    }
+  // Every sample of every edge as a configuration.
+  std::vector<double> samples;
+  std::vector<std::size_t> first{0};
+  const std::size_t dof = spheres.num_positions();
+  for (std::size_t e = 0; e < edges; ++e) {
+    const std::size_t n = spheres.edge_steps(&q0[e * dof], &q1[e * dof], in.resolution);
+    for (std::size_t k = 0; k <= n; ++k)
+      for (std::size_t j = 0; j < dof; ++j)
+        samples.push_back(q0[e * dof + j] +
+                          double(k) / double(n) * (q1[e * dof + j] - q0[e * dof + j]));
+    first.push_back(first.back() + n + 1);
+  }
+  std::vector<Verdict> each(first.back());
+  spheres.check(samples.data(), each.size(), check::Mode::spheres, each.data(), 0);
+  spheres.check_edges(q0.data(), q1.data(), edges, in.resolution, check::Mode::spheres, v.data(),
+                      0);
+  std::size_t agree = 0;
+  for (std::size_t e = 0; e < edges; ++e) {
+    bool any = false;
+    for (std::size_t k = first[e]; k < first[e + 1]; ++k)
+      any = any || each[k] == Verdict::colliding;
+    agree += any == (v[e] == Verdict::colliding);
+  }
+  std::printf(
+      "edges: %zu of length <= %.3g at resolution %.3g (%zu samples in all); spheres only: %zu of "
+      "%zu verdicts as every sample checked alone\n",
+      edges, in.edge_length, in.resolution, each.size(), agree, edges);
+}
+
+}  // namespace
+
+void print_checker_rows(const CheckerBenchInput& in) {
+  check::CheckerOptions o;
+  o.margin = in.margin;
+  o.disabled = in.disabled;
+  o.self = in.self;
+  const auto t0 = Clock::now();
+  const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
+  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o);
+  const double build = seconds_since(t0);
+  const check::RobotChecker& spheres = certified.spheres();
+  const check::GridStats g = spheres.grid();
+  std::printf(
+      "\nrobot checker: planner sets %zu covering + %zu inner spheres, fine sets %zu + %zu; %s "
+      "kernel; scene grid of %zu cells of %.3f m, %zu element entries, %zu elements; built in "
+      "%.2f s; rounding allowance %.2g m\n",
+      spheres_of(in.planner->model, true), spheres_of(in.planner->model, false),
+      fine ? spheres_of(*fine, true) : 0, fine ? spheres_of(*fine, false) : 0,
+      spheres.uses_avx2() ? "AVX2" : "scalar", g.cells, g.cell_side, g.entries, g.elements, build,
+      spheres.allowance());
+  const std::vector<double> q = rows_of(in.configs);
+  const std::size_t n = in.configs.size();
+  std::vector<Verdict> v(n);
+  std::vector<Row> rows;
+  for (int threads : {1, 0}) {
+    Row r{"check/s", threads};
+    r.micros =
+        best_micros(in.repeats, threads != 1,
+                    [&] { spheres.check(q.data(), n, check::Mode::spheres, v.data(), threads); }) /
+        double(n);
+    r.colliding = colliding_of(v);
+    r.note = "planner covering sets only";
+    rows.push_back(r);
+  }
+  {
+    Row r{"bounds", 1};
+    r.micros = best_micros(in.repeats, false,
+                           [&] { spheres.check(q.data(), n, check::Mode::bounds, v.data(), 1); }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    const auto undecided = std::count(v.begin(), v.end(), Verdict::undecided);
+    r.note = "no fallback: " + std::to_string(undecided) + " undecided, counted as colliding";
+    rows.push_back(r);
+  }
+  for (int threads : {1, 0}) {
+    Row r{"check/c", threads};
+    fcl::FallbackStats stats;
+    r.micros = best_micros(in.repeats, threads != 1,
+                           [&] {
+                             stats = {};
+                             certified.check(q.data(), n, v.data(), threads, &stats);
+                           }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "certified: %zu configurations (%.2f%%) to the fallback, %zu pairs, %zu to the "
+                  "meshes; %zu undecided",
+                  stats.configurations, 100.0 * double(stats.configurations) / double(n),
+                  stats.pairs, stats.meshes,
+                  static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
+    r.note = note;
+    rows.push_back(r);
+  }
+  {
+    FclSphereLoop loop(in.planner->model, spheres, in.scene, in.margin, in.self);
+    Row r{"fcl loop", 1};
+    std::vector<char> c(n);
+    r.micros = best_micros(1, false,
+                           [&] {
+                             for (std::size_t i = 0; i < n; ++i) c[i] = loop.collide(in.configs[i]);
+                           }) /
+               double(n);
+    r.colliding = c;
+    r.note = "the planner covering sets as fcl::Sphere, a loop of fcl::collide";
+    rows.push_back(r);
+  }
+  std::printf("%-10s %7s %10s %10s %10s %10s %7s %7s  %s\n", "checker", "threads", "us/config",
+              "ns/config", "vs exact", "colliding", "missed", "alarms", "note");
+  for (const Row& r : rows) print_row(r, in);
+  print_edges(in, certified);
+}
+
+}  // namespace medspheres::bench

@@ -1,0 +1,37 @@
+#pragma once
+// bench_robot's rows for the batched robot checker (medspheres/check/robot_checker.h and
+// medspheres/fcl/certified_checker.h): spheres only and certified, per configuration and
+// per edge, on one thread and on every core, and the same sphere checks written as a loop
+// of FCL calls, each with the reference's missed collisions and false alarms.
+
+#include <cstddef>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <fcl/narrowphase/collision_object.h>
+#include <Eigen/Core>
+
+#include "robot_bench_robot.h"
+
+namespace medspheres::bench {
+
+struct CheckerBenchInput {
+  const BenchRobot* planner = nullptr;  ///< the planner's sets (K per link)
+  const BenchRobot* fine = nullptr;     ///< the fine sets, with the meshes (may equal planner)
+  std::vector<const ::fcl::CollisionObjectd*> scene;
+  std::vector<std::pair<std::string, std::string>> disabled;
+  std::vector<Eigen::VectorXd> configs;
+  std::vector<char> reference;  ///< per configuration: colliding by the exact meshes
+  double margin = 0.0;
+  bool self = true;
+  double exact_micros = 0.0;  ///< the exact method's time per configuration, for ratios
+  double edge_length = 0.5;   ///< joint-space length of the edges (rad, m)
+  double resolution = 0.02;   ///< of the edges
+  int repeats = 3;            ///< each timing the best of this many runs
+};
+
+/// Prints the checker's table.
+void print_checker_rows(const CheckerBenchInput& in);
+
+}  // namespace medspheres::bench

@@ -1,0 +1,97 @@
+#pragma once
+/// \file
+/// CertifiedChecker: the robot checker's certified mode (medspheres/check/robot_checker.h,
+/// Mode::bounds) with RobotBounds' mesh fallback, for whole batches of configurations and
+/// edges. The levels, cheapest first: each link's bounding sphere, the planner's K spheres
+/// (covering and inner sets), the fine sets (a larger cover and inner set per link, baked
+/// once), and only for the pairs these leave undecided, decide() of bounded_geometry.h on
+/// the links' BoundedGeometry (their sphere trees, with the meshes' surface points), then,
+/// when no pair is certainly colliding, settle() by the exact meshes (as robot_collide).
+///
+/// Verdicts: colliding when some link pair is within the margin, free when none is, each
+/// certified (never a missed collision): by the certified covers and the inner sets, and
+/// by exact mesh distance where those cannot tell. Undecided only where a pair has no mesh
+/// to settle it (a link without one). Assumed, as in bounded_geometry.h: no solid lies
+/// wholly inside another without surface contact.
+///
+/// Inputs: the planner's model and optionally the fine one (same robot; their covering
+/// sets must carry a certificate unless BoundedGeometryOptions::allow_uncertified), the
+/// exact meshes by link name (link frame), and the scene as FCL objects in W (converted by
+/// scene_from_fcl for the spheres; kept as they are for the fallback). Self pairs: as
+/// RobotChecker's, with options.disabled.
+/// Errors: InputError naming the link for an uncertified cover, and those of RobotChecker,
+/// RobotBounds and scene_from_fcl. Threads: immutable after construction; const members
+/// may run from many threads at once.
+
+#include <cstddef>
+#include <map>
+#include <memory>
+#include <string>
+#include <vector>
+
+#include <fcl/narrowphase/collision_object.h>
+
+#include "medspheres/check/robot_checker.h"
+#include "medspheres/fcl/robot_bounds.h"
+#include "medspheres/fcl/scene_from_fcl.h"
+
+namespace medspheres::fcl {
+
+/// What a batch needed besides the spheres.
+struct FallbackStats {
+  std::size_t configurations = 0;  ///< configurations that reached the fallback
+  std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
+  std::size_t meshes = 0;          ///< pairs that the exact meshes settled
+
+  FallbackStats& operator+=(const FallbackStats& o) {
+    configurations += o.configurations;
+    pairs += o.pairs;
+    meshes += o.meshes;
+    return *this;
+  }
+};
+
+class CertifiedChecker {
+ public:
+  CertifiedChecker(const RobotModel& planner, const RobotModel* fine,
+                   const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                   const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                   const check::CheckerOptions& options = {},
+                   const BoundedGeometryOptions& bounds = {});
+
+  /// The spheres-only and bounds modes without a fallback.
+  const check::RobotChecker& spheres() const noexcept { return checker_; }
+  /// The fallback's geometries (the fine sets when given, else the planner's, with meshes).
+  const RobotBounds& fallback() const noexcept { return bounds_; }
+
+  /// Verdicts of \p n configurations (rows of spheres().num_positions()), \p threads as
+  /// RobotChecker::check. \p stats, when given, is added to.
+  void check(const double* q, std::size_t n, check::Verdict* out, int threads = 1,
+             FallbackStats* stats = nullptr) const;
+  check::Verdict check(const double* q, FallbackStats* stats = nullptr) const;
+
+  /// One edge (RobotChecker::check_edge's samples and order); the samples the bounds leave
+  /// undecided are settled in the order checked. Returns the verdict; \p checked receives
+  /// the configurations checked by the spheres.
+  check::Verdict check_edge(const double* q0, const double* q1, double resolution,
+                            std::size_t* checked = nullptr, FallbackStats* stats = nullptr) const;
+  /// \p n edges; returns the configurations checked by the spheres.
+  std::size_t check_edges(const double* q0, const double* q1, std::size_t n, double resolution,
+                          check::Verdict* out, int threads = 1,
+                          FallbackStats* stats = nullptr) const;
+
+ private:
+  CertifiedChecker(const RobotModel& planner, const RobotModel* fine,
+                   const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                   const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
+                   const check::CheckerOptions& options, const BoundedGeometryOptions& bounds);
+  check::Verdict settle(const double* q, FallbackStats& stats) const;
+
+  check::RobotChecker checker_;
+  RobotBounds bounds_;
+  std::vector<const ::fcl::CollisionObjectd*> scene_;
+  std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
+  std::vector<std::size_t> geometry_of_;   // checker link -> index in bounds_.geometries()
+};
+
+}  // namespace medspheres::fcl

@@ -1,0 +1,179 @@
+#include "medspheres/fcl/certified_checker.h"
+
+#include <stdexcept>
+
+#include <omp.h>
+
+#include "medspheres/error.h"
+#include "medspheres/fcl/scene_from_fcl.h"
+
+namespace medspheres::fcl {
+namespace {
+
+// Every covering set the certified mode decides "free" on must be a certified cover.
+const RobotModel& certified(const RobotModel& model, const BoundedGeometryOptions& bounds) {
+  if (bounds.allow_uncertified) return model;
+  for (const Link& l : model.links)
+    if (!l.spheres.outer.empty() && !records_certified_cover(l.spheres.outer_certificate_json))
+      throw InputError(l.name,
+                       "its covering set carries no certificate (the certified checker "
+                       "decides on covers only)");
+  return model;
+}
+
+check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fine,
+                                 const FclScene& scene, const check::CheckerOptions& options,
+                                 const BoundedGeometryOptions& bounds) {
+  certified(planner, bounds);
+  if (fine) certified(*fine, bounds);
+  return check::RobotChecker(planner, scene.scene, options, fine);
+}
+
+int thread_count(int threads) {
+  return threads > 0 ? threads : omp_get_max_threads();
+}
+
+// bounded_geometry.h's settle(), by a name the member settle() does not hide.
+template <class... Args>
+CollideResult settle_pair(Args&&... args) {
+  return medspheres::fcl::settle(std::forward<Args>(args)...);
+}
+
+}  // namespace
+
+CertifiedChecker::CertifiedChecker(
+    const RobotModel& planner, const RobotModel* fine,
+    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+    const std::vector<const ::fcl::CollisionObjectd*>& scene, const check::CheckerOptions& options,
+    const BoundedGeometryOptions& bounds)
+    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, bounds) {}
+
+CertifiedChecker::CertifiedChecker(
+    const RobotModel& planner, const RobotModel* fine,
+    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
+    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds)
+    : checker_(make_checker(planner, fine, converted, options, bounds)),
+      bounds_(fine ? *fine : planner, meshes, options.disabled, bounds),
+      scene_(scene),
+      scene_source_(std::move(converted.source)) {
+  for (const std::string& link : checker_.links()) {
+    std::size_t g = 0;
+    while (g < bounds_.geometries().size() && bounds_.geometries()[g].link() != link) ++g;
+    if (g == bounds_.geometries().size())
+      throw InputError(link, "the fallback's model has no sets for this link");
+    geometry_of_.push_back(g);
+  }
+}
+
+// One configuration: the bounds, then, as robot_collide does, decide() on every pair they
+// left undecided (the links' sphere trees, surface points included), stopping at the first
+// certainly colliding one; only when none is do the meshes settle() the pairs still open.
+check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
+  std::vector<check::UndecidedPair> pairs;
+  const check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
+  if (v != check::Verdict::undecided) return v;
+  ++stats.configurations;
+  const Eigen::Map<const Eigen::VectorXd> qv(q,
+                                             static_cast<Eigen::Index>(checker_.num_positions()));
+  const std::vector<::fcl::Transform3d> X = bounds_.poses(qv, checker_.options().X_WB);
+  const double margin = checker_.options().margin;
+  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+  auto object = [&](const check::UndecidedPair& p) { return scene_[scene_source_[p.other]]; };
+  std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
+  for (const check::UndecidedPair& p : pairs) {
+    ++stats.pairs;
+    const std::size_t a = geometry_of_[p.link];
+    const CollideResult r =
+        p.self ? decide(g[a], X[a], g[geometry_of_[p.other]], X[geometry_of_[p.other]], margin)
+               : decide(g[a], X[a], *object(p)->collisionGeometry(), object(p)->getTransform(),
+                        margin);
+    if (r.verdict == BoundsVerdict::colliding) return check::Verdict::colliding;
+    if (r.verdict == BoundsVerdict::undecided) open.emplace_back(&p, r);
+  }
+  bool undecided = false;
+  for (const auto& [p, decided] : open) {
+    ++stats.meshes;
+    const std::size_t a = geometry_of_[p->link];
+    const CollideResult r = p->self
+                                ? settle_pair(decided, g[a], X[a], g[geometry_of_[p->other]],
+                                              X[geometry_of_[p->other]], margin)
+                                : settle_pair(decided, g[a], X[a], *object(*p)->collisionGeometry(),
+                                              object(*p)->getTransform(), margin);
+    if (r.verdict == BoundsVerdict::colliding) return check::Verdict::colliding;
+    undecided = undecided || r.verdict == BoundsVerdict::undecided;
+  }
+  return undecided ? check::Verdict::undecided : check::Verdict::free;
+}
+
+check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) const {
+  FallbackStats s;
+  const check::Verdict v = settle(q, s);
+  if (stats) *stats += s;
+  return v;
+}
+
+void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
+                             FallbackStats* stats) const {
+  checker_.check(q, n, check::Mode::bounds, out, threads);
+  std::vector<std::size_t> open;
+  for (std::size_t i = 0; i < n; ++i)
+    if (out[i] == check::Verdict::undecided) open.push_back(i);
+  const std::size_t dof = checker_.num_positions();
+  std::vector<FallbackStats> each(open.size());
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
+  for (long k = 0; k < static_cast<long>(open.size()); ++k) {
+    const std::size_t i = open[std::size_t(k)];
+    out[i] = settle(q + i * dof, each[std::size_t(k)]);
+  }
+  if (stats)
+    for (const FallbackStats& s : each) *stats += s;
+}
+
+check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, double resolution,
+                                            std::size_t* checked, FallbackStats* stats) const {
+  std::vector<double> open_t;
+  const check::Verdict v =
+      checker_.check_edge(q0, q1, resolution, check::Mode::bounds, &open_t, checked);
+  if (v != check::Verdict::undecided) return v;
+  const std::size_t dof = checker_.num_positions();
+  std::vector<double> q(dof);
+  FallbackStats s;
+  bool undecided = false;
+  check::Verdict out = check::Verdict::free;
+  for (double t : open_t) {
+    for (std::size_t j = 0; j < dof; ++j) q[j] = q0[j] + t * (q1[j] - q0[j]);
+    const check::Verdict w = settle(q.data(), s);
+    if (w == check::Verdict::colliding) {
+      out = w;
+      break;
+    }
+    undecided = undecided || w == check::Verdict::undecided;
+  }
+  if (out != check::Verdict::colliding && undecided) out = check::Verdict::undecided;
+  if (stats) *stats += s;
+  return out;
+}
+
+std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, std::size_t n,
+                                          double resolution, check::Verdict* out, int threads,
+                                          FallbackStats* stats) const {
+  const std::size_t dof = checker_.num_positions();
+  checker_.validate(q0, n);  // no exception may leave the parallel loop
+  checker_.validate(q1, n);
+  checker_.edge_steps(q0, q0, resolution);
+  std::vector<FallbackStats> each(n);
+  std::vector<std::size_t> checked(n, 0);
+#pragma omp parallel for schedule(dynamic, 4) num_threads(thread_count(threads))
+  for (long i = 0; i < static_cast<long>(n); ++i) {
+    const std::size_t e = std::size_t(i);
+    out[e] = check_edge(q0 + e * dof, q1 + e * dof, resolution, &checked[e], &each[e]);
+  }
+  if (stats)
+    for (const FallbackStats& s : each) *stats += s;
+  std::size_t total = 0;
+  for (std::size_t c : checked) total += c;
+  return total;
+}
+
+}  // namespace medspheres::fcl

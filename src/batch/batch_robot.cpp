@@ -1,0 +1,175 @@
+// Baking robots from URDF files: one into its folder, many on the batch driver, cached.
+#include "medspheres/batch/batch_robot.h"
+
+#include <filesystem>
+#include <map>
+#include <set>
+#include <utility>
+
+#include <nlohmann/json.hpp>
+
+#include "batch_driver.h"
+#include "medspheres/batch/batch_cache.h"
+#include "medspheres/error.h"
+#include "medspheres/formats/robot_spheres.h"
+#include "medspheres/formats/sphere_document.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/number_text.h"
+#include "medspheres/robot/link_solid.h"
+#include "medspheres/version.h"
+
+namespace medspheres {
+
+namespace fs = std::filesystem;
+
+namespace {
+
+// The cache entry's file suffix.
+const char* const kEntrySuffix = ".robot.msgpack";
+
+const std::vector<formats::SphereFormat>& chosen_formats(const RobotJob& job) {
+  return job.formats.empty() ? formats::robot_formats() : job.formats;
+}
+
+std::size_t planner_spheres(const RobotModel& model, formats::SphereChoice choice) {
+  std::size_t n = 0;
+  for (const formats::LinkSphereList& l : formats::robot_spheres(model, choice))
+    n += l.spheres.size();
+  return n;
+}
+
+// A robot read and baked into \p out; its files are kept in \p files.
+RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, const RobotJob& job,
+                                std::map<std::string, std::string>& files) {
+  check_planner_request(robot.model, job.planner);
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  RobotFileResult r;
+  r.bake = bake_robot(robot, solids, job.bake);
+  if (!job.options_json.empty()) {
+    nlohmann::ordered_json meta = nlohmann::ordered_json::parse(r.bake.model.metadata_json);
+    meta["options"] = nlohmann::ordered_json::parse(job.options_json);
+    r.bake.model.metadata_json = meta.dump();
+  }
+  r.choice = formats::robot_output_choice(job.set, r.bake.model);
+  r.spheres = planner_spheres(r.bake.model, r.choice);
+  PlannerRequest planner = job.planner;
+  planner.self_collision.threads = job.bake.jobs;
+  r.bake.model.planner = make_planner_setup(r.bake.model, solids, r.choice, planner, &r.planner);
+  files = formats::robot_output_files(chosen_formats(job), r.bake.model, r.choice, robot.path);
+  formats::write_output_folder(out, files);
+  return r;
+}
+
+std::string budget_text(const RobotBudget& b) {
+  std::string t = "per_link=" + (b.per_link ? std::to_string(*b.per_link) : "none") +
+                  "\ntotal=" + (b.total ? std::to_string(*b.total) : "none") + "\n";
+  for (const auto& [link, k] : b.links) t += "link " + link + "=" + std::to_string(k) + "\n";
+  return t;
+}
+
+// The entry's files written into \p out, and the row's counts; false when the entry does
+// not read as one (it is then baked again).
+bool copy_entry(const std::string& bytes, const std::string& out, BatchRow& row) {
+  std::map<std::string, std::string> files;
+  std::size_t links = 0, spheres = 0;
+  try {
+    const nlohmann::json entry = nlohmann::json::from_msgpack(bytes);
+    links = entry.at("links").get<std::size_t>();
+    spheres = entry.at("spheres").get<std::size_t>();
+    for (const auto& [name, data] : entry.at("files").items()) {
+      const std::vector<std::uint8_t>& b = data.get_binary();
+      files[name] = std::string(b.begin(), b.end());
+    }
+  } catch (const nlohmann::json::exception&) {
+    return false;
+  }
+  formats::write_output_folder(out, files);
+  row.links = links;
+  row.spheres = spheres;
+  return true;
+}
+
+std::string entry_bytes(const std::map<std::string, std::string>& files, const BatchRow& row) {
+  nlohmann::json entry = {{"links", row.links}, {"spheres", row.spheres}};
+  nlohmann::json all = nlohmann::json::object();
+  for (const auto& [name, text] : files)
+    all[name] = nlohmann::json::binary(std::vector<std::uint8_t>(text.begin(), text.end()));
+  entry["files"] = std::move(all);
+  const std::vector<std::uint8_t> bytes = nlohmann::json::to_msgpack(entry);
+  return std::string(bytes.begin(), bytes.end());
+}
+
+// One URDF: from the cache, or read, baked, written and stored. Throws on failure.
+void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row) {
+  const std::string urdf_sha = file_sha256(row.input.path);
+  const UrdfRobot robot = read_urdf(row.input.path, job.read);
+  std::string key;
+  if (cache) {
+    key = robot_cache_key(robot, urdf_sha, job);
+    const std::optional<std::string> hit = cache->find_bytes(key, kEntrySuffix);
+    if (hit && copy_entry(*hit, row.output, row)) {
+      row.outcome = BatchOutcome::kCached;
+      return;
+    }
+  }
+  std::map<std::string, std::string> files;
+  const RobotFileResult r = bake_read_robot(robot, row.output, job, files);
+  row.links = r.bake.links.size();
+  row.spheres = r.spheres;
+  if (cache) cache->store_bytes(key, kEntrySuffix, entry_bytes(files, row));
+  row.outcome = BatchOutcome::kBaked;
+}
+
+}  // namespace
+
+RobotFileResult bake_robot_file(const std::string& urdf, const std::string& out,
+                                const RobotJob& job) {
+  std::map<std::string, std::string> files;
+  return bake_read_robot(read_urdf(urdf, job.read), out, job, files);
+}
+
+std::string robot_output_relative(const std::string& relative) {
+  const fs::path p(relative);
+  return (p.parent_path() / p.stem()).generic_string();
+}
+
+std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha256,
+                            const RobotJob& job) {
+  std::string t = std::string("medspheres robot cache 1\nversion=") + MEDSPHERES_VERSION_STRING +
+                  "\nurdf=" + robot.path + " " + urdf_sha256 + "\n";
+  std::set<std::string> hashed;
+  for (const UrdfLink& link : robot.links)
+    for (const LinkPart& part : link.parts) {
+      if (part.shape != PartShape::kMesh || !hashed.insert(part.path).second) continue;
+      try {
+        t += "mesh=" + part.path + " " + file_sha256(part.path) + "\n";
+      } catch (const InputError& e) {
+        throw InputError(robot.path, "link '" + link.name + "': " + e.what());
+      }
+    }
+  t += bake_request_text(job.bake.request) + budget_text(job.bake.budget);
+  for (const auto& [link, spheres] : job.bake.outer_start)
+    t += "outer_start=" + link + " " + spheres_text(spheres) + "\n";
+  t += std::string("outer=") + (job.bake.outer ? "1" : "0") +
+       "\nfrom_visual=" + (job.read.from_visual ? "1" : "0") + "\nformats=";
+  for (formats::SphereFormat f : chosen_formats(job))
+    t += std::string(formats::sphere_format_name(f)) + ",";
+  t += "\nset=" + std::string(!job.set                                    ? "auto"
+                              : *job.set == formats::SphereChoice::kInner ? "inner"
+                                                                          : "outer");
+  t += "\n" + planner_request_text(job.planner);
+  if (!job.planner.srdf.empty()) t += "srdf_sha256=" + file_sha256(job.planner.srdf) + "\n";
+  return sha256_hex(t + "\noptions=" + job.options_json + "\n");
+}
+
+BatchResult bake_robot_batch(const std::vector<BatchInput>& inputs,
+                             const RobotBatchOptions& options) {
+  RobotJob job = options.robot;
+  job.bake.request = batch_request(job.bake.request, options.jobs);
+  job.bake.jobs = batch_threads_each(options.jobs);
+  job.bake.progress = nullptr;
+  auto run = [&job](BatchRow& row, const BakeCache* cache) { bake_robot_input(job, cache, row); };
+  return run_batch(inputs, options, {BatchItems::kRobots, robot_output_relative, run});
+}
+
+}  // namespace medspheres

@@ -1,0 +1,140 @@
+#pragma once
+/// \file
+/// RobotChecker: collision checks of a robot's sphere sets at planner speed. Many joint
+/// configurations at once, four to a block, one per SIMD lane (AVX2 where the processor
+/// has it, a scalar path with the same arithmetic elsewhere); every answer is the same bit
+/// for bit on either path and for any number of threads.
+///
+/// Input: a robot file's model (robot_model.h; the planner's K spheres per link: the
+/// covering set "outer" and the inner set), optionally a second model of the same robot
+/// with larger sets baked once (the fine level), and a Scene (scene.h). The robot is posed
+/// by its own forward kinematics (forward_kinematics.h conventions: q in
+/// KinematicTree::joint_names() order, radians and metres, base pose X_WB).
+///
+/// Colliding means within the margin: distance <= margin, so touching (distance 0)
+/// collides at margin 0. Two modes:
+/// - Mode::spheres: a configuration collides when a sphere of a link's covering set (its
+///   inner set for a link without one) is within the margin of a scene element or of such
+///   a sphere of a link it is paired with for self-collision; the test is
+///   |c - x|^2 <= (r + margin)^2 in doubles for the element's nearest point x (its core's,
+///   for a sphere or a capsule, with the radius added), |c1 - c2|^2 <= (r1 + r2 + margin)^2
+///   for two spheres: the same answers as those tests run over every sphere and element.
+/// - Mode::bounds: certified three-valued verdicts, the links' solids standing between
+///   their sets (bounded_geometry.h in fcl_adapter argues it): free when every pair is
+///   free, a pair free when its covering spheres are all farther than margin + allowance()
+///   from the other side; colliding when some pair's inner spheres come within margin -
+///   allowance(); else undecided. The planner's sets first, then the fine sets. Certified
+///   only when the covering sets are certified covers (the fcl_adapter's
+///   CertifiedChecker checks their certificates and settles undecided pairs with meshes).
+///   allowance() exceeds the rounding of these computations (forward kinematics
+///   included) by orders of magnitude; see docs/checker.md.
+/// Both modes first test each link's bounding sphere (holding all its sets) against a
+/// lower bound of the distance to the scene, and to the other link's: a shortcut that
+/// changes no answer.
+///
+/// Self-collision pairs: every two links with spheres except the two links of a joint and
+/// the pairs CheckerOptions::disabled (an SRDF's <disable_collisions>, or the ignored
+/// pairs of a self-collision matrix).
+///
+/// Edges: the configurations q(t_k) = q0 + t_k (q1 - q0), t_k = k / n, k = 0 ... n, with
+/// n = max(1, ceil(|q1 - q0| / resolution)) (Euclidean norm over the joints), are checked
+/// in VAMP's rake order: the k split into kLanes runs of consecutive samples, one run per
+/// lane, all runs stepped together, stopping at the first colliding one.
+///
+/// Errors: InputError (source "robot checker") for a fine model that is not the planner's
+/// robot or a disabled pair naming an unknown link; std::invalid_argument for a margin or
+/// resolution that is negative or not finite, a configuration with a non-finite entry or
+/// one beyond +-1e6 (the reduction of angles is exact below 2^26), or Simd::avx2 on a
+/// processor without it. Threads: immutable after construction; every const member may run
+/// from many threads at once.
+
+#include <cstddef>
+#include <cstdint>
+#include <memory>
+#include <string>
+#include <utility>
+#include <vector>
+
+#include <Eigen/Geometry>
+
+#include "medspheres/check/scene.h"
+#include "medspheres/robot_model.h"
+
+namespace medspheres::check {
+
+enum class Mode { spheres, bounds };
+enum class Verdict : std::uint8_t { free = 0, colliding = 1, undecided = 2 };
+enum class Simd { automatic, scalar, avx2 };
+
+struct CheckerOptions {
+  double margin = 0.0;  ///< m, finite, >= 0: colliding means distance <= margin
+  Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  ///< the root link's pose in W
+  /// Link pairs left out of self-collision, in either order.
+  std::vector<std::pair<std::string, std::string>> disabled;
+  bool self = true;                  ///< check self-collision pairs
+  Simd simd = Simd::automatic;       ///< AVX2 when the processor has it
+  double cell = 0.0;                 ///< m: the scene grid's cell side (0: half the reach)
+  std::size_t max_cells = 1u << 22;  ///< the grid's cells at most (the side grows to fit)
+};
+
+/// A pair left undecided by the bounds: `link` indexes links(); `other` is a link index
+/// (self) or a scene object index.
+struct UndecidedPair {
+  std::size_t link = 0, other = 0;
+  bool self = false;
+};
+
+/// The scene grid's size, for reports.
+struct GridStats {
+  double cell_side = 0.0;
+  std::size_t cells = 0, entries = 0, elements = 0;
+};
+
+class RobotChecker {
+ public:
+  /// \p fine may be null (no fine level). The scene is copied into the checker's grid.
+  RobotChecker(const RobotModel& planner, const Scene& scene, const CheckerOptions& options = {},
+               const RobotModel* fine = nullptr);
+  ~RobotChecker();
+  RobotChecker(RobotChecker&&) noexcept;
+  RobotChecker& operator=(RobotChecker&&) noexcept;
+
+  std::size_t num_positions() const noexcept;
+  const std::vector<std::string>& joint_names() const noexcept;
+  /// The links with spheres, as UndecidedPair::link indexes them.
+  const std::vector<std::string>& links() const noexcept;
+  /// The self-collision pairs, indices into links().
+  std::vector<std::pair<std::size_t, std::size_t>> self_pairs() const;
+  const CheckerOptions& options() const noexcept;
+  bool uses_avx2() const noexcept;
+  double allowance() const noexcept;  ///< m (see the file comment)
+  GridStats grid() const noexcept;
+
+  /// Throws std::invalid_argument (file comment) unless each of the \p n configurations
+  /// (rows as below) is finite and within +-1e6.
+  void validate(const double* q, std::size_t n) const;
+
+  /// \p n configurations, row-major (n x num_positions()), verdicts into out[0 .. n).
+  /// \p threads: 0 for every core.
+  void check(const double* q, std::size_t n, Mode mode, Verdict* out, int threads = 1) const;
+  /// One configuration; in Mode::bounds, the pairs left undecided when it is undecided.
+  Verdict check(const double* q, Mode mode, std::vector<UndecidedPair>* undecided = nullptr) const;
+
+  /// \p n edges from q0[i] to q1[i] (rows as above); returns the configurations checked.
+  std::size_t check_edges(const double* q0, const double* q1, std::size_t n, double resolution,
+                          Mode mode, Verdict* out, int threads = 1) const;
+  /// One edge: colliding at the first colliding sample; in Mode::bounds undecided when no
+  /// sample collides and some is undecided (their t_k appended to \p undecided_t, in the
+  /// order checked). \p checked, when given, receives the configurations checked.
+  Verdict check_edge(const double* q0, const double* q1, double resolution, Mode mode,
+                     std::vector<double>* undecided_t = nullptr,
+                     std::size_t* checked = nullptr) const;
+  /// The n of an edge (file comment).
+  std::size_t edge_steps(const double* q0, const double* q1, double resolution) const;
+
+ private:
+  struct Impl;
+  std::unique_ptr<Impl> impl_;
+};
+
+}  // namespace medspheres::check

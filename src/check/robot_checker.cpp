@@ -1,0 +1,402 @@
+#include "medspheres/check/robot_checker.h"
+
+#include <algorithm>
+#include <cmath>
+#include <stdexcept>
+
+#include <omp.h>
+
+#include "block.h"
+#include "robot_layout.h"
+#include "scene_grid.h"
+
+namespace medspheres::check {
+namespace detail {
+namespace {
+
+bool cpu_has_avx2() {
+#if defined(MEDSPHERES_CHECK_AVX2)
+  return __builtin_cpu_supports("avx2");
+#else
+  return false;
+#endif
+}
+
+KernelFn choose_kernel(Simd simd) {
+  const bool avx2 = cpu_has_avx2();
+  if (simd == Simd::avx2 && !avx2)
+    throw std::invalid_argument(
+        "robot checker: AVX2 asked for, but this processor or build has none");
+#if defined(MEDSPHERES_CHECK_AVX2)
+  if (simd != Simd::scalar && avx2) return run_block_avx2;
+#endif
+  return run_block_scalar;
+}
+
+// One thread's buffers for the kernel.
+struct Workspace {
+  std::vector<double> frames, posed, q;
+  std::vector<unsigned char> flags, pending;
+  std::vector<UndecidedPair>* pairs[kLanes] = {};
+};
+
+}  // namespace
+}  // namespace detail
+
+struct RobotChecker::Impl {
+  CheckerOptions options;
+  detail::RobotLayout layout;
+  std::unique_ptr<detail::SceneGrid> grid;
+  detail::KernelRobot kernel_robot;
+  detail::KernelFn kernel = nullptr;
+  double allowance = 0.0;
+  std::size_t scene_objects = 0;
+
+  detail::Workspace workspace() const {
+    detail::Workspace w;
+    w.frames.assign(static_cast<std::size_t>(layout.frames) * 12 * detail::kLanes, 0.0);
+    for (int e : {0, 4, 8})
+      for (int l = 0; l < detail::kLanes; ++l) w.frames[e * detail::kLanes + l] = 1.0;  // frame 0
+    w.posed.assign((layout.x.size() + layout.links.size()) * 3 * detail::kLanes, 0.0);
+    w.flags.assign(layout.links.size() * detail::kSlots, 0);
+    w.pending.assign(layout.links.size() + layout.pair_a.size(), 0);
+    w.q.assign(layout.dof * detail::kLanes, 0.0);
+    return w;
+  }
+
+  void validate(const double* q, std::size_t index) const {
+    for (std::size_t j = 0; j < layout.dof; ++j)
+      if (!std::isfinite(q[j]) || std::abs(q[j]) > 1e6)
+        throw std::invalid_argument("robot checker: configuration " + std::to_string(index) +
+                                    ": the position of joint \"" + layout.joint_names[j] +
+                                    "\" is not finite or beyond 1e6");
+  }
+
+  // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real).
+  detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs) const;
+  // One edge in rake order (robot_checker.h); `checked` counts the samples run.
+  Verdict edge(detail::Workspace& w, const double* q0, const double* q1, double resolution,
+               Mode mode, std::vector<double>* undecided_t, std::size_t& checked) const;
+};
+
+namespace {
+
+// The objects near a lane's posed covering spheres (the last level's), or every object
+// when the link has no covering set.
+void scene_objects(const detail::RobotLayout& layout, const detail::SceneGrid& grid,
+                   const detail::Block& b, int lane, int link, std::vector<std::uint32_t>& out) {
+  const detail::LinkLayout& l = layout.links[static_cast<std::size_t>(link)];
+  const int slot =
+      layout.fine && l.count[detail::kFineOuter] > 0 ? detail::kFineOuter : detail::kOuter;
+  if (l.count[slot] == 0) {
+    out.push_back(UINT32_MAX);
+    return;
+  }
+  for (std::uint32_t i = l.begin[slot]; i < l.begin[slot] + l.count[slot]; ++i) {
+    double p[3];
+    for (int k = 0; k < 3; ++k) p[k] = b.posed[(3 * i + k) * detail::kLanes + lane];
+    grid.objects_within(p, layout.r[i] + b.margin + b.allowance, out);
+  }
+}
+
+struct SinkContext {
+  const detail::RobotLayout* layout;
+  const detail::SceneGrid* grid;
+  std::size_t scene_objects;
+  detail::Workspace* w;
+};
+
+void record_pair(detail::Block& b, int lane, int link, int other) {
+  const auto* c = static_cast<const SinkContext*>(b.context);
+  std::vector<UndecidedPair>* pairs = c->w->pairs[lane];
+  if (pairs == nullptr) return;
+  if (other >= 0) {
+    pairs->push_back({std::size_t(link), std::size_t(other), true});
+    return;
+  }
+  std::vector<std::uint32_t> objects;
+  scene_objects(*c->layout, *c->grid, b, lane, link, objects);
+  std::sort(objects.begin(), objects.end());
+  objects.erase(std::unique(objects.begin(), objects.end()), objects.end());
+  if (!objects.empty() && objects.back() == UINT32_MAX) {  // every object
+    objects.clear();
+    for (std::size_t o = 0; o < c->scene_objects; ++o)
+      objects.push_back(static_cast<std::uint32_t>(o));
+  }
+  for (std::uint32_t o : objects) pairs->push_back({std::size_t(link), std::size_t(o), false});
+}
+
+}  // namespace
+
+detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode mode,
+                                      bool want_pairs) const {
+  detail::Block b;
+  b.q = w.q.data();
+  b.lanes = lanes;
+  b.bounds = mode == Mode::bounds;
+  b.self = options.self;
+  b.margin = options.margin;
+  b.allowance = allowance;
+  b.frames = w.frames.data();
+  b.posed = w.posed.data();
+  b.posed_flag = w.flags.data();
+  b.pending = w.pending.data();
+  SinkContext context{&layout, grid.get(), scene_objects, &w};
+  if (want_pairs) {
+    b.sink = record_pair;
+    b.context = &context;
+  }
+  kernel(kernel_robot, *grid, b);
+  b.sink = nullptr;
+  b.context = nullptr;
+  return b;
+}
+
+Verdict RobotChecker::Impl::edge(detail::Workspace& w, const double* q0, const double* q1,
+                                 double resolution, Mode mode, std::vector<double>* undecided_t,
+                                 std::size_t& checked) const {
+  double s = 0.0;
+  for (std::size_t j = 0; j < layout.dof; ++j) s += (q1[j] - q0[j]) * (q1[j] - q0[j]);
+  const auto n =
+      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(s) / resolution)));
+  const std::size_t run = (n + 1 + detail::kLanes - 1) / detail::kLanes;  // samples per lane
+  bool undecided = false;
+  for (std::size_t step = 0; step < run; ++step) {
+    unsigned lanes = 0;
+    std::size_t k[detail::kLanes];
+    for (int l = 0; l < detail::kLanes; ++l) {
+      k[l] = std::size_t(l) * run + step;
+      if (k[l] <= n) lanes |= 1u << l;
+      if (k[l] > n) k[l] = n;  // an idle lane repeats the last sample
+      const double t = double(k[l]) / double(n);
+      for (std::size_t j = 0; j < layout.dof; ++j)
+        w.q[j * detail::kLanes + std::size_t(l)] = q0[j] + t * (q1[j] - q0[j]);
+    }
+    const detail::Block b = this->run(w, lanes, mode, false);
+    for (int l = 0; l < detail::kLanes; ++l) checked += lanes >> l & 1;
+    if (b.colliding & lanes) return Verdict::colliding;
+    for (int l = 0; l < detail::kLanes; ++l)
+      if (b.undecided >> l & lanes >> l & 1) {
+        undecided = true;
+        if (undecided_t) undecided_t->push_back(double(k[l]) / double(n));
+      }
+  }
+  return undecided ? Verdict::undecided : Verdict::free;
+}
+
+namespace {
+
+// Rounding allowance: the distances compared are sums and products of coordinates of at
+// most `extent` metres over chains of at most `depth` joints; their rounding is below
+// 64 (depth + 8) eps extent, which 1e-9 (1 + extent) exceeds by over 10^4 for any robot of
+// fewer than 100 joints.
+double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene) {
+  double extent = layout.extent;
+  for (const detail::FrameStep& s : layout.steps)
+    extent += std::sqrt(s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2]) +
+              std::sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]);
+  for (const SceneObject& o : scene.objects()) {
+    extent = std::max(
+        extent, o.X_WO.translation().cwiseAbs().maxCoeff() + o.size.norm() + o.radius + o.length);
+    for (const Eigen::Vector3d& p : o.points) extent = std::max(extent, p.cwiseAbs().maxCoeff());
+    for (const Eigen::Vector3d& v : o.mesh.vertices)
+      extent = std::max(extent, (o.X_WO * v).cwiseAbs().maxCoeff());
+  }
+  return 1e-9 * (1.0 + extent);
+}
+
+int thread_count(int threads) {
+  return threads > 0 ? threads : omp_get_max_threads();
+}
+
+}  // namespace
+
+RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
+                           const CheckerOptions& options, const RobotModel* fine)
+    : impl_(std::make_unique<Impl>()) {
+  if (!std::isfinite(options.margin) || options.margin < 0.0)
+    throw std::invalid_argument("robot checker: the margin must be finite and >= 0");
+  if (!options.X_WB.matrix().allFinite())
+    throw std::invalid_argument("robot checker: the base pose is not finite");
+  Impl& m = *impl_;
+  m.options = options;
+  m.kernel = detail::choose_kernel(options.simd);
+  m.layout = detail::make_layout(planner, fine, options.X_WB, options.disabled);
+  m.allowance = rounding_allowance(m.layout, scene);
+  m.scene_objects = scene.size();
+  // One cell's list answers balls up to the radius of three in four spheres; larger ones
+  // read a few cells (scene_grid.h): short lists for the many, no miss for the few.
+  std::vector<double> radii = m.layout.r;
+  std::sort(radii.begin(), radii.end());
+  const double typical = radii.empty() ? 0.0 : radii[radii.size() * 3 / 4];
+  const double reach = typical + options.margin + 2 * m.allowance;
+  m.grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
+                                               options.max_cells, m.allowance);
+  detail::KernelRobot& k = m.kernel_robot;
+  const detail::RobotLayout& l = m.layout;
+  k.frames = l.frames;
+  k.steps = static_cast<int>(l.steps.size());
+  k.step = l.steps.data();
+  k.links = static_cast<int>(l.links.size());
+  k.link = l.links.data();
+  k.spheres = static_cast<int>(l.x.size());
+  k.x = l.x.data();
+  k.y = l.y.data();
+  k.z = l.z.data();
+  k.r = l.r.data();
+  k.pairs = static_cast<int>(l.pair_a.size());
+  k.pair_a = l.pair_a.data();
+  k.pair_b = l.pair_b.data();
+  k.fine = l.fine;
+  const detail::SceneGrid& g = *m.grid;
+  if (g.lower_bounds() != nullptr) {
+    for (int d = 0; d < 3; ++d) {
+      k.grid.origin[d] = g.origin()[d];
+      k.grid.n[d] = g.dims()[d];
+    }
+    k.grid.inverse_side = 1.0 / g.cell_side();
+    k.grid.lower = g.lower_bounds();
+    k.grid.unit = g.lower_unit();
+  }
+}
+
+RobotChecker::~RobotChecker() = default;
+RobotChecker::RobotChecker(RobotChecker&&) noexcept = default;
+RobotChecker& RobotChecker::operator=(RobotChecker&&) noexcept = default;
+
+std::size_t RobotChecker::num_positions() const noexcept {
+  return impl_->layout.dof;
+}
+const std::vector<std::string>& RobotChecker::joint_names() const noexcept {
+  return impl_->layout.joint_names;
+}
+const std::vector<std::string>& RobotChecker::links() const noexcept {
+  return impl_->layout.link_names;
+}
+std::vector<std::pair<std::size_t, std::size_t>> RobotChecker::self_pairs() const {
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (std::size_t k = 0; k < impl_->layout.pair_a.size(); ++k)
+    out.emplace_back(impl_->layout.pair_a[k], impl_->layout.pair_b[k]);
+  return out;
+}
+const CheckerOptions& RobotChecker::options() const noexcept {
+  return impl_->options;
+}
+bool RobotChecker::uses_avx2() const noexcept {
+  return impl_->kernel != detail::run_block_scalar;
+}
+double RobotChecker::allowance() const noexcept {
+  return impl_->allowance;
+}
+GridStats RobotChecker::grid() const noexcept {
+  const detail::SceneGrid& g = *impl_->grid;
+  return {g.cell_side(), g.num_cells(), g.num_entries(), g.num_elements()};
+}
+
+namespace {
+
+Verdict verdict_of(const detail::Block& b, int lane) {
+  if (b.colliding >> lane & 1) return Verdict::colliding;
+  return (b.undecided >> lane & 1) ? Verdict::undecided : Verdict::free;
+}
+
+// Lane l of the block takes configuration rows[l] (the last real one repeated beyond n).
+void fill_block(std::vector<double>& q, const double* rows, std::size_t first, std::size_t n,
+                std::size_t dof) {
+  for (int l = 0; l < detail::kLanes; ++l) {
+    const std::size_t i = std::min(first + std::size_t(l), n - 1);
+    for (std::size_t j = 0; j < dof; ++j)
+      q[j * detail::kLanes + std::size_t(l)] = rows[i * dof + j];
+  }
+}
+
+}  // namespace
+
+void RobotChecker::validate(const double* q, std::size_t n) const {
+  for (std::size_t i = 0; i < n; ++i) impl_->validate(q + i * impl_->layout.dof, i);
+}
+
+void RobotChecker::check(const double* q, std::size_t n, Mode mode, Verdict* out,
+                         int threads) const {
+  if (n == 0) return;
+  const Impl& m = *impl_;
+  const std::size_t dof = m.layout.dof;
+  for (std::size_t i = 0; i < n; ++i) m.validate(q + i * dof, i);
+  const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
+#pragma omp parallel num_threads(thread_count(threads))
+  {
+    detail::Workspace w = m.workspace();
+#pragma omp for schedule(dynamic, 16)
+    for (long k = 0; k < blocks; ++k) {
+      const std::size_t first = std::size_t(k) * detail::kLanes;
+      fill_block(w.q, q, first, n, dof);
+      const unsigned lanes = n - first >= detail::kLanes ? 0xFu : (1u << (n - first)) - 1;
+      const detail::Block b = m.run(w, lanes, mode, false);
+      for (int l = 0; l < detail::kLanes && first + std::size_t(l) < n; ++l)
+        out[first + std::size_t(l)] = verdict_of(b, l);
+    }
+  }
+}
+
+Verdict RobotChecker::check(const double* q, Mode mode,
+                            std::vector<UndecidedPair>* undecided) const {
+  const Impl& m = *impl_;
+  m.validate(q, 0);
+  detail::Workspace w = m.workspace();
+  fill_block(w.q, q, 0, 1, m.layout.dof);
+  std::vector<UndecidedPair> pairs;
+  w.pairs[0] = &pairs;
+  const detail::Block b = m.run(w, 1u, mode, undecided != nullptr && mode == Mode::bounds);
+  const Verdict v = verdict_of(b, 0);
+  if (undecided && v == Verdict::undecided)
+    undecided->insert(undecided->end(), pairs.begin(), pairs.end());
+  return v;
+}
+
+std::size_t RobotChecker::edge_steps(const double* q0, const double* q1, double resolution) const {
+  if (!std::isfinite(resolution) || resolution <= 0.0)
+    throw std::invalid_argument("robot checker: the edge resolution must be finite and > 0");
+  double s = 0.0;
+  for (std::size_t j = 0; j < impl_->layout.dof; ++j) s += (q1[j] - q0[j]) * (q1[j] - q0[j]);
+  return std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(s) / resolution)));
+}
+
+Verdict RobotChecker::check_edge(const double* q0, const double* q1, double resolution, Mode mode,
+                                 std::vector<double>* undecided_t, std::size_t* checked) const {
+  const Impl& m = *impl_;
+  m.validate(q0, 0);
+  m.validate(q1, 1);
+  edge_steps(q0, q1, resolution);  // validates the resolution
+  detail::Workspace w = m.workspace();
+  std::size_t count = 0;
+  const Verdict v = m.edge(w, q0, q1, resolution, mode, undecided_t, count);
+  if (checked) *checked = count;
+  return v;
+}
+
+std::size_t RobotChecker::check_edges(const double* q0, const double* q1, std::size_t n,
+                                      double resolution, Mode mode, Verdict* out,
+                                      int threads) const {
+  const Impl& m = *impl_;
+  const std::size_t dof = m.layout.dof;
+  for (std::size_t i = 0; i < n; ++i) {
+    m.validate(q0 + i * dof, i);
+    m.validate(q1 + i * dof, i);
+  }
+  edge_steps(q0, q1, resolution);  // validates the resolution
+  std::size_t total = 0;
+#pragma omp parallel num_threads(thread_count(threads)) reduction(+ : total)
+  {
+    detail::Workspace w = m.workspace();
+#pragma omp for schedule(dynamic, 4)
+    for (long i = 0; i < static_cast<long>(n); ++i) {
+      std::size_t count = 0;
+      out[i] = m.edge(w, q0 + std::size_t(i) * dof, q1 + std::size_t(i) * dof, resolution, mode,
+                      nullptr, count);
+      total += count;
+    }
+  }
+  return total;
+}
+
+}  // namespace medspheres::check

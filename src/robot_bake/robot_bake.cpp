@@ -1,0 +1,384 @@
+// Baking a robot: one bake per distinct link geometry and budget, run on a pool of
+// threads, gathered in link order.
+#include "medspheres/robot_bake/robot_bake.h"
+
+#include <algorithm>
+#include <atomic>
+#include <chrono>
+#include <cmath>
+#include <cstdio>
+#include <exception>
+#include <limits>
+#include <map>
+#include <mutex>
+#include <stdexcept>
+#include <thread>
+
+#include <nlohmann/json.hpp>
+
+#include "medspheres/error.h"
+#include "medspheres/mesh/cover_certificate_json.h"
+#include "medspheres/mesh/mesh_report.h"
+#include "medspheres/mesh/threads.h"
+#include "medspheres/number_text.h"
+#include "medspheres/version.h"
+
+namespace medspheres {
+
+namespace {
+
+using Clock = std::chrono::steady_clock;
+
+double seconds_since(Clock::time_point start) {
+  return std::chrono::duration<double>(Clock::now() - start).count();
+}
+
+// One bake: a mesh, in a part's frame (one part) or the link frame (several), to a budget.
+struct BakeJob {
+  std::size_t link = 0;  ///< the first link that needs it
+  std::optional<std::size_t> budget;
+  BakeOutcome outcome;
+  std::optional<BakeOutcome> outer;  ///< the cover, when outer sets are baked
+  std::vector<Sphere> outer_start;   ///< what the cover starts from, in the bake's frame
+  double seconds = 0.0;
+  double outer_seconds = 0.0;  ///< of seconds, the cover's
+  std::exception_ptr error;
+};
+
+// Identifies what a link's bake computes: the geometry (origin-free for a single part)
+// and the budget.
+std::string job_key(const LinkSolid& solid, const std::optional<std::size_t>& budget) {
+  std::string key;
+  if (solid.parts.size() == 1) {
+    key = solid.parts[0].key;
+  } else {
+    for (const LinkSolidPart& part : solid.parts) {
+      key += part.key + " at";
+      for (int r = 0; r < 3; ++r)
+        for (int c = 0; c < 4; ++c) key += " " + exact_number_text(part.origin.matrix()(r, c));
+      key += "; ";
+    }
+  }
+  return key + " budget " + (budget ? std::to_string(*budget) : std::string("none"));
+}
+
+// The spheres of a part's bake moved to the link frame, each radius shrunk to cover the
+// rounding of the move (file comment of robot_bake.h). The derivation: fl(R c + t) differs
+// from the exact image of c by at most about 3 eps (|R| |c| + |t|) per coordinate, and the
+// rotation built from the URDF's rpy or quaternion is orthogonal to a few eps, which moves
+// a point at distance r from c by a few eps r relative to the placed mesh (whose vertices
+// went through the same matrix); 16 eps (3 |c| + |t| + r) bounds both with room to spare.
+// A sphere too small to survive the shrink is dropped. A covering set's spheres are grown
+// by the same bound instead (\p grow), so that they still hold the placed surface.
+std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isometry3d& x,
+                           bool grow = false) {
+  const double eps = std::numeric_limits<double>::epsilon();
+  const double t = x.translation().norm();
+  std::vector<Sphere> out;
+  out.reserve(spheres.size());
+  for (const Sphere& s : spheres) {
+    const double slack = 16.0 * eps * (3.0 * s.center.norm() + t + s.radius);
+    const double r = grow ? s.radius + slack : s.radius - slack;
+    if (r > 0.0) out.push_back({x * s.center, r});
+  }
+  return out;
+}
+
+// The cover of a job's mesh to the job's budget (the request's, or the default).
+BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& inner,
+                       const BakeJob& job, const std::string& name, const std::string& sha256) {
+  BakeRequest request;
+  request.method = BakeMethod::kCover;
+  request.medial.threads = inner.medial.threads;
+  request.seed = inner.seed;
+  request.solid = inner.solid;
+  request.robust = inner.robust;
+  request.robust_thickness = inner.robust_thickness;
+  request.record_seconds = inner.record_seconds;
+  request.max_spheres = job.budget ? job.budget : inner.max_spheres;
+  if (!request.max_spheres) request.max_spheres = kDefaultSpheresPerLink;
+  if (!job.outer_start.empty()) {  // the link's own spheres are its budget
+    request.max_spheres.reset();
+    request.cover_start = job.outer_start;
+  }
+  return bake_mesh(fit, report, request, name, sha256);
+}
+
+// What the robot file records of an outer set's certificate: the certificate's own keys
+// (cover_certificate_json), what it says of the link's sets, and
+// `gap`: how much every radius grew past the certified cover of the link's mesh so that it
+// also covers the true surface of primitives meshed inside it (LinkSolid::surface_gap).
+std::string outer_certificate_json(const CoverResult& cover, bool moved, double gap) {
+  nlohmann::ordered_json j =
+      nlohmann::ordered_json::parse(cover_certificate_json(cover.certificate));
+  j["surface_covered"] = cover.certificate.certified;
+  j["interior_certified"] = false;
+  j["moved_to_link_frame"] = moved;
+  j["primitive_surface_gap"] = gap;
+  return j.dump();
+}
+
+void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads,
+             bool outer) {
+  const Clock::time_point start = Clock::now();
+  try {
+    BakeRequest request = base;
+    if (job.budget) request.max_spheres = job.budget;
+    request.medial.threads = threads;
+    request.medial.progress = nullptr;
+    const bool one = solid.parts.size() == 1;
+    const TriangleMesh mesh = one ? solid.parts[0].mesh : solid.placed_mesh();
+    const std::string name = one ? solid.parts[0].source : "link '" + solid.link + "'";
+    const std::string sha = one ? solid.parts[0].sha256 : "";
+    const MeshReport report = analyze_mesh(mesh);
+    // One query (and volume, and self-intersections) for both sets; the request is
+    // checked before it is built, as bake_mesh(mesh, ...) would.
+    validate(request);
+    const FitEvaluator fit(mesh, threads);
+    job.outcome = bake_mesh(fit, report, request, name, sha);
+    if (outer) {
+      const Clock::time_point cover_start = Clock::now();
+      job.outer = bake_outer(fit, report, request, job, name, sha);
+      job.outer_seconds = seconds_since(cover_start);
+    }
+  } catch (...) {
+    job.error = std::current_exception();
+  }
+  job.seconds = seconds_since(start);
+}
+
+// Runs every job on `workers` threads, the largest (most triangles; ties: lower index)
+// first, so that the last to finish is a small one; `done(j)` is called after job j, one
+// call at a time. After a failure only jobs of a lower index than the lowest failure so far
+// still run, so the lowest failing job is always known, whatever the order of completion.
+void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
+              const BakeRequest& request, bool outer, int workers,
+              const std::function<void(std::size_t)>& done) {
+  const int per_bake = std::max(1, thread_count(request.medial.threads) / workers);
+  std::vector<std::size_t> order(jobs.size());
+  for (std::size_t j = 0; j < order.size(); ++j) order[j] = j;
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    return solids[jobs[a].link].triangles() > solids[jobs[b].link].triangles();
+  });
+  std::atomic<std::size_t> next{0};
+  std::atomic<std::size_t> lowest_failed{jobs.size()};
+  std::mutex report;
+  auto work = [&] {
+    for (std::size_t k = next++; k < order.size(); k = next++) {
+      const std::size_t j = order[k];
+      if (j > lowest_failed) continue;
+      run_job(jobs[j], solids[jobs[j].link], request,
+              workers == 1 ? request.medial.threads : per_bake, outer);
+      std::lock_guard<std::mutex> lock(report);
+      if (jobs[j].error) lowest_failed = std::min<std::size_t>(lowest_failed, j);
+      done(j);
+    }
+  };
+  std::vector<std::thread> pool;
+  for (int w = 1; w < workers; ++w) pool.emplace_back(work);
+  work();
+  for (std::thread& t : pool) t.join();
+}
+
+LinkBakeStats link_stats(const UrdfLink& link, const LinkSolid& solid) {
+  LinkBakeStats stats;
+  stats.link = solid.link;
+  stats.parts = solid.parts.size();
+  stats.primitive_spheres = solid.spheres.size();
+  stats.triangles = solid.triangles();
+  stats.spheres = solid.spheres.size();
+  if (solid.empty()) {
+    stats.note = "no collision geometry";
+  } else if (solid.parts.empty()) {
+    stats.nerr = 0.0;  // the spheres are the solid
+    stats.nerr_kind = "exact";
+  }
+  if (link.from_visual) stats.note = "visual geometry";
+  return stats;
+}
+
+void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& solid,
+                   const BakeJob& job, bool own) {
+  const SphereSet& baked = job.outcome.spheres;
+  spheres.inner.spheres =
+      solid.parts.size() == 1 ? placed(baked.spheres, solid.parts[0].origin) : baked.spheres;
+  spheres.inner.spheres.insert(spheres.inner.spheres.end(), solid.spheres.begin(),
+                               solid.spheres.end());
+  spheres.inner.metadata_json = baked.metadata_json;
+  stats.budget = job.budget;
+  stats.spheres = spheres.inner.size();
+  if (job.outcome.volume) {
+    stats.nerr = job.outcome.volume->nerr;
+    stats.nerr_kind = to_string(job.outcome.volume->kind);
+  }
+  stats.seconds = own ? job.seconds : 0.0;
+  stats.outer_seconds = own ? job.outer_seconds : 0.0;
+  if (job.outcome.solid == SolidKind::kRobust)
+    stats.note += std::string(stats.note.empty() ? "" : "; ") + "robust solid";
+  if (!job.outer) return;
+  const bool one = solid.parts.size() == 1;
+  const CoverResult& cover = *job.outer->cover;
+  spheres.outer.spheres =
+      one ? placed(cover.spheres.spheres, solid.parts[0].origin, true) : cover.spheres.spheres;
+  const double gap = solid.surface_gap();
+  for (Sphere& s : spheres.outer.spheres) s.radius += gap;
+  spheres.outer.spheres.insert(spheres.outer.spheres.end(), solid.spheres.begin(),
+                               solid.spheres.end());
+  spheres.outer.metadata_json = job.outer->spheres.metadata_json;
+  spheres.outer_certificate_json = outer_certificate_json(cover, one, gap);
+  stats.outer_spheres = spheres.outer.size();
+  stats.outer_certified = cover.certificate.certified;
+  stats.outer_protrusion = cover.stats.max_protrusion + gap;
+  stats.outer_start = cover.stats.start_spheres;
+}
+
+nlohmann::ordered_json number(double v) {
+  return std::isfinite(v) ? nlohmann::ordered_json(v) : nlohmann::ordered_json(nullptr);
+}
+
+std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
+                           const std::vector<LinkBakeStats>& stats, bool record_seconds) {
+  nlohmann::ordered_json j;
+  j["urdf"] = robot.path;
+  j["generator"] = {
+      {"name", "medspheres"}, {"version", MEDSPHERES_VERSION_STRING}, {"method", "medial"}};
+  nlohmann::ordered_json links = nlohmann::ordered_json::object();
+  for (std::size_t i = 0; i < stats.size(); ++i) {
+    const LinkBakeStats& s = stats[i];
+    nlohmann::ordered_json meshes = nlohmann::ordered_json::array();
+    for (const LinkSolidPart& part : solids[i].parts)
+      meshes.push_back({{"source", part.source}, {"sha256", part.sha256}});
+    links[s.link] = {{"parts", meshes},
+                     {"sphere_primitives", s.primitive_spheres},
+                     {"triangles", s.triangles},
+                     {"budget", s.budget ? nlohmann::ordered_json(*s.budget) : nullptr},
+                     {"spheres", s.spheres},
+                     {"outer_spheres", s.outer_spheres},
+                     {"outer_certified", s.outer_certified},
+                     {"outer_max_protrusion", number(s.outer_protrusion)},
+                     {"outer_start_spheres", s.outer_start},
+                     {"nerr", number(s.nerr)},
+                     {"nerr_kind", s.nerr_kind},
+                     {"bake_seconds", s.seconds},
+                     {"baked_as", s.baked_as},
+                     {"note", s.note}};
+    if (!record_seconds) links[s.link].erase("bake_seconds");
+  }
+  j["links"] = links;
+  return j.dump();
+}
+
+// The spheres link \p solid's cover starts from (options.outer_start), or nullptr; they are
+// checked as tighten_cover would.
+const std::vector<Sphere>* outer_start_of(const RobotBakeOptions& options, const LinkSolid& solid,
+                                          const std::string& source) {
+  const auto it = options.outer_start.find(solid.link);
+  if (it == options.outer_start.end() || solid.parts.empty()) return nullptr;
+  if (!options.outer)
+    throw InputError(source, "link '" + solid.link +
+                                 "': an outer set's start is given, but no outer sets are baked");
+  const std::string problem = cover_start_problem(it->second);
+  if (!problem.empty())
+    throw InputError(source, "link '" + solid.link + "': outer set's start: " + problem);
+  return &it->second;
+}
+
+// Link-frame spheres in the frame the link is baked in (run_job): its one part's, or the
+// link's own for several parts; each radius grown by the rounding of the move (placed).
+std::vector<Sphere> start_in_bake_frame(const std::vector<Sphere>& start, const LinkSolid& solid) {
+  if (solid.parts.size() != 1) return start;
+  return placed(start, solid.parts[0].origin.inverse(), true);
+}
+
+std::vector<std::string> unused_outer_start(const RobotBakeOptions& options,
+                                            const std::vector<LinkSolid>& solids) {
+  std::vector<std::string> unused;
+  for (const auto& entry : options.outer_start)
+    if (std::none_of(solids.begin(), solids.end(),
+                     [&](const LinkSolid& s) { return s.link == entry.first && !s.parts.empty(); }))
+      unused.push_back(entry.first);
+  return unused;
+}
+
+}  // namespace
+
+RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
+                           const RobotBakeOptions& options) {
+  const Clock::time_point start = Clock::now();
+  if (solids.size() != robot.links.size() || robot.model.links.size() != robot.links.size())
+    throw std::invalid_argument("bake_robot: one solid and one model link per link are needed");
+  check_threads(options.jobs);
+  validate(options.request);
+  const std::vector<std::optional<std::size_t>> budgets =
+      link_bake_budgets(solids, options.budget, robot.path);
+
+  RobotBakeResult result;
+  result.model = robot.model;
+  result.unused_outer_start = unused_outer_start(options, solids);
+  std::vector<BakeJob> jobs;
+  std::vector<std::size_t> job_of(solids.size(), std::numeric_limits<std::size_t>::max());
+  std::map<std::string, std::size_t> job_by_key;
+  for (std::size_t i = 0; i < solids.size(); ++i) {
+    result.links.push_back(link_stats(robot.links[i], solids[i]));
+    result.model.links[i].note = result.links[i].note;
+    if (solids[i].parts.empty()) {
+      result.model.links[i].spheres.inner.spheres = solids[i].spheres;
+      if (options.outer && !solids[i].spheres.empty()) {
+        // Sphere primitives are their own exact cover.
+        result.model.links[i].spheres.outer.spheres = solids[i].spheres;
+        result.model.links[i].spheres.outer_certificate_json =
+            R"({"certified":true,"surface_covered":true,"interior_certified":true,)"
+            R"("sphere_primitives":true})";
+        result.links[i].outer_spheres = solids[i].spheres.size();
+        result.links[i].outer_certified = true;
+        result.links[i].outer_protrusion = 0.0;
+      }
+      if (options.progress) options.progress(result.links[i]);
+      continue;
+    }
+    const std::vector<Sphere>* given = outer_start_of(options, solids[i], robot.path);
+    // A link whose cover starts from its own spheres shares no bake.
+    const std::string key =
+        job_key(solids[i], budgets[i]) + (given ? " start of " + solids[i].link : "");
+    const auto [it, fresh] = job_by_key.emplace(key, jobs.size());
+    if (fresh) {
+      jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, {}, 0.0, 0.0, nullptr});
+      if (given) jobs.back().outer_start = start_in_bake_frame(*given, solids[i]);
+    }
+    job_of[i] = it->second;
+  }
+
+  auto finish_links = [&](std::size_t j) {
+    if (jobs[j].error) return;
+    for (std::size_t i = jobs[j].link; i < solids.size(); ++i) {
+      if (job_of[i] != j) continue;
+      const bool own = i == jobs[j].link;
+      fill_from_job(result.links[i], result.model.links[i].spheres, solids[i], jobs[j], own);
+      if (!own) result.links[i].baked_as = solids[jobs[j].link].link;
+      if (options.progress) options.progress(result.links[i]);
+    }
+  };
+  const int workers = static_cast<int>(
+      std::min<std::size_t>(jobs.size(), static_cast<std::size_t>(thread_count(options.jobs))));
+  run_jobs(jobs, solids, options.request, options.outer, std::max(1, workers), finish_links);
+
+  for (const BakeJob& job : jobs) {  // in link order: the first failing link is reported
+    if (!job.error) continue;
+    const std::string link = "link '" + solids[job.link].link + "': ";
+    try {
+      std::rethrow_exception(job.error);
+    } catch (const InputError& e) {
+      throw InputError(robot.path, link + e.what());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(robot.path, link + e.what());
+    } catch (const std::exception& e) {
+      throw Error(robot.path + ": " + link + e.what());
+    }
+  }
+  result.model.metadata_json =
+      robot_metadata(robot, solids, result.links, options.request.record_seconds);
+  result.seconds = seconds_since(start);
+  return result;
+}
+
+}  // namespace medspheres

@@ -1,0 +1,183 @@
+// CertifiedChecker (medspheres/fcl/certified_checker.h) against the exact answer: FCL's
+// distance between every link mesh and every scene object, and between the meshes of
+// every self pair, over seeded configurations of the capsule arm (check_fixtures.h), with
+// a planner level of 4 and a fine level of 10 balls per link.
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <random>
+
+#include <fcl/fcl.h>
+#include <octomap/octomap.h>
+#include <catch2/catch.hpp>
+
+#include "medspheres/fcl/certified_checker.h"
+#include "medspheres/forward_kinematics.h"
+#include "support/check_fixtures.h"
+#include "support/fcl_fixtures.h"
+
+using namespace medspheres;
+namespace mf = medspheres::fcl;
+using check::Verdict;
+using test::pose_of;
+
+namespace {
+
+// FCL's GJK, which answers a mesh against a primitive, stops at a tolerance of 1e-6:
+// configurations whose exact distance lies that close to the margin are not judged.
+constexpr double kGjkTolerance = 1e-6;
+
+struct FclWorld {
+  std::vector<std::shared_ptr<::fcl::CollisionObjectd>> objects;  // as the checker takes them
+  std::vector<std::shared_ptr<::fcl::CollisionObjectd>> oracle;   // the octree as boxes
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+
+  FclWorld() {
+    auto add = [&](std::shared_ptr<::fcl::CollisionGeometryd> g, const Eigen::Isometry3d& X) {
+      objects.push_back(std::make_shared<::fcl::CollisionObjectd>(g, X));
+      oracle.push_back(objects.back());
+    };
+    add(std::make_shared<::fcl::Boxd>(2, 2, 0.05), pose_of({0, 0, -0.125}));
+    add(std::make_shared<::fcl::Boxd>(0.3, 0.2, 0.4), pose_of({0.5, 0.2, 0.3}, 0.2, 0.0, 0.5));
+    add(std::make_shared<::fcl::Sphered>(0.12), pose_of({-0.4, 0.4, 0.6}));
+    add(std::make_shared<::fcl::Capsuled>(0.06, 0.5), pose_of({0.1, -0.5, 0.5}, 0.7));
+    add(std::make_shared<::fcl::Cylinderd>(0.08, 0.4), pose_of({-0.5, -0.3, 0.3}, 0.0, 0.9));
+    add(test::make_bvh<::fcl::OBBRSSd>(make_icosphere(0.15, 2)), pose_of({0.3, 0.5, 0.9}));
+    auto tree = std::make_shared<octomap::OcTree>(0.04);
+    std::mt19937 rng(8);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 200; ++i)
+      tree->updateNode(octomap::point3d(float(0.6 + 0.2 * u(rng)), float(-0.4 + 0.8 * u(rng)),
+                                        float(0.8 + 0.4 * u(rng))),
+                       true);
+    tree->updateInnerOccupancy();
+    auto octree = std::make_shared<::fcl::OcTreed>(tree);
+    objects.push_back(std::make_shared<::fcl::CollisionObjectd>(octree));
+    for (const auto& b : octree->toBoxes())
+      oracle.push_back(std::make_shared<::fcl::CollisionObjectd>(
+          std::make_shared<::fcl::Boxd>(b[3], b[3], b[3]), pose_of({b[0], b[1], b[2]})));
+    for (auto& o : objects) o->computeAABB();
+    for (auto& o : oracle) o->computeAABB();
+    for (const test::CapsuleLink& l : test::capsule_arm_links())
+      meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
+  }
+
+  std::vector<const ::fcl::CollisionObjectd*> scene() const {
+    std::vector<const ::fcl::CollisionObjectd*> out;
+    for (const auto& o : objects) out.push_back(o.get());
+    return out;
+  }
+};
+
+const FclWorld& world() {
+  static const FclWorld w;
+  return w;
+}
+
+double fcl_distance(const ::fcl::CollisionObjectd& a, const ::fcl::CollisionObjectd& b) {
+  ::fcl::DistanceRequestd request;
+  ::fcl::DistanceResultd result;
+  return std::max(0.0, ::fcl::distance(&a, &b, request, result));
+}
+
+// The smallest exact distance over the checker's pairs at q, or infinity when every pair's
+// AABBs are more than `beyond` apart.
+double exact_distance(const mf::CertifiedChecker& c, const RobotModel& arm, const double* q,
+                      double beyond) {
+  const KinematicTree tree(arm);
+  const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q, 8));
+  const std::vector<std::string>& links = c.spheres().links();
+  std::vector<::fcl::CollisionObjectd> posed;
+  for (const std::string& l : links)
+    posed.emplace_back(std::const_pointer_cast<mf::MeshModel>(world().meshes.at(l)),
+                       X[tree.link_index(l)]);
+  double best = std::numeric_limits<double>::infinity();
+  auto pair = [&](const ::fcl::CollisionObjectd& a, const ::fcl::CollisionObjectd& b) {
+    if (a.getAABB().distance(b.getAABB()) <= beyond) best = std::min(best, fcl_distance(a, b));
+  };
+  for (auto& p : posed) {
+    p.computeAABB();
+    for (const auto& o : world().oracle) pair(p, *o);
+  }
+  for (const auto& [a, b] : c.spheres().self_pairs()) pair(posed[a], posed[b]);
+  return best;
+}
+
+check::CheckerOptions options(double margin) {
+  check::CheckerOptions o;
+  o.margin = margin;
+  o.disabled = {{"tool", "l7"}};
+  return o;
+}
+
+}  // namespace
+
+TEST_CASE("certified checker: no missed collision, no false alarm, against FCL's exact meshes",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const double margin = 0.01;
+  const mf::CertifiedChecker checker(arm, &fine, world().meshes, world().scene(), options(margin));
+  const std::vector<double> q = test::capsule_arm_configs(300, 21);
+  std::vector<Verdict> v(300);
+  mf::FallbackStats stats;
+  checker.check(q.data(), v.size(), v.data(), 1, &stats);
+  std::size_t missed = 0, alarms = 0, undecided = 0, colliding = 0, near = 0;
+  for (std::size_t i = 0; i < v.size(); ++i) {
+    const double d = exact_distance(checker, arm, q.data() + 8 * i, margin + 1e-3);
+    undecided += v[i] == Verdict::undecided;
+    if (std::abs(d - margin) < kGjkTolerance) {
+      ++near;
+      continue;
+    }
+    colliding += d <= margin;
+    missed += d <= margin && v[i] == Verdict::free;
+    alarms += d > margin && v[i] == Verdict::colliding;
+  }
+  CHECK(missed == 0);
+  CHECK(alarms == 0);
+  CHECK(undecided == 0);
+  CHECK(near <= 3);
+  CHECK(colliding > 30);
+  CHECK(colliding < 270);
+  // The meshes were needed somewhere, so the fallback was exercised.
+  CHECK(stats.configurations > 0);
+  CHECK(stats.pairs >= stats.configurations);
+}
+
+TEST_CASE("certified checker: thread counts and edges agree with one configuration at a time",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const mf::CertifiedChecker checker(arm, &fine, world().meshes, world().scene(), options(0.0));
+  const std::vector<double> q = test::capsule_arm_configs(81, 22);
+  std::vector<Verdict> one(81), two(81);
+  checker.check(q.data(), 81, one.data(), 1);
+  checker.check(q.data(), 81, two.data(), 2);
+  CHECK(one == two);
+  for (std::size_t i = 0; i < 81; ++i) CHECK(checker.check(q.data() + 8 * i) == one[i]);
+  std::vector<Verdict> edges(80);
+  checker.check_edges(q.data(), q.data() + 8, 80, 0.1, edges.data(), 2);
+  std::size_t free = 0;
+  std::vector<double> at(8);
+  for (std::size_t e = 0; e < 80; ++e) {
+    const double* q0 = q.data() + 8 * e;
+    const double* q1 = q0 + 8;
+    const std::size_t n = checker.spheres().edge_steps(q0, q1, 0.1);
+    Verdict truth = Verdict::free;
+    for (std::size_t k = 0; k <= n && truth != Verdict::colliding; ++k) {
+      for (int j = 0; j < 8; ++j) at[j] = q0[j] + double(k) / double(n) * (q1[j] - q0[j]);
+      const Verdict s = checker.check(at.data());
+      if (s != Verdict::free) truth = s;
+    }
+    CHECK(edges[e] == truth);
+    free += truth == Verdict::free;
+  }
+  CHECK(free > 0);
+}
+
+TEST_CASE("certified checker: a covering set without a certificate is refused", "[check][fcl]") {
+  RobotModel arm = test::capsule_arm(4);
+  arm.links[3].spheres.outer_certificate_json.clear();
+  CHECK_THROWS_WITH(mf::CertifiedChecker(arm, nullptr, world().meshes, world().scene()),
+                    Catch::Contains("l3"));
+}

@@ -1,0 +1,326 @@
+// RobotChecker (medspheres/check/robot_checker.h) against oracles: the spheres-only mode
+// against every sphere tested against every scene object and every self pair by brute
+// force, with the link poses of KinematicTree and distances written out here; the AVX2
+// path against the scalar one at configurations bisected to within 1e-12 of a contact;
+// thread counts; edges against each of their samples checked alone.
+
+#include <algorithm>
+#include <cmath>
+#include <random>
+#include <set>
+#include <stdexcept>
+
+#include <catch2/catch.hpp>
+
+#include "medspheres/check/robot_checker.h"
+#include "medspheres/error.h"
+#include "medspheres/forward_kinematics.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/point_triangle.h"
+#include "support/check_fixtures.h"
+
+using namespace medspheres;
+using check::Mode;
+using check::Verdict;
+using test::pose_of;
+
+namespace {
+
+// The test scene around the arm: one object of each kind.
+struct TestScene {
+  check::Scene scene;
+  TriangleMesh ball = make_icosphere(0.15, 2);
+  Eigen::Isometry3d X_ball = pose_of({0.3, 0.5, 0.9});
+  std::vector<Eigen::Vector3d> points, cells;
+  TestScene() {
+    scene.add_box({2, 2, 0.05}, pose_of({0, 0, -0.125}), "floor");
+    scene.add_box({0.3, 0.2, 0.4}, pose_of({0.5, 0.2, 0.3}, 0.2, 0.0, 0.5), "box");
+    scene.add_sphere({-0.4, 0.4, 0.6}, 0.12, "sphere");
+    scene.add_capsule(0.06, 0.5, pose_of({0.1, -0.5, 0.5}, 0.7), "capsule");
+    scene.add_cylinder(0.08, 0.4, pose_of({-0.5, -0.3, 0.3}, 0.0, 0.9), "cylinder");
+    scene.add_mesh(ball, X_ball, "mesh");
+    std::mt19937 rng(7);
+    std::uniform_real_distribution<double> u(0, 1);
+    for (int i = 0; i < 300; ++i)
+      points.emplace_back(0.6 + 0.2 * u(rng), -0.4 + 0.8 * u(rng), 0.8 + 0.4 * u(rng));
+    scene.add_points(points, "cloud");
+    for (int i = 0; i < 8; ++i)
+      for (int j = 0; j < 8; ++j) cells.emplace_back(-0.7, -0.3 + 0.04 * i, 0.4 + 0.04 * j);
+    scene.add_cells(cells, 0.04, "cells");
+  }
+
+  // The exact distance from p to the scene (0 inside a solid; the mesh a surface).
+  double distance(const Eigen::Vector3d& p) const {
+    double best = std::numeric_limits<double>::infinity();
+    for (const check::SceneObject& o : scene.objects()) {
+      const Eigen::Vector3d l = o.X_WO.inverse() * p;
+      switch (o.kind) {
+        case check::ShapeKind::box:
+          best = std::min(best, (l - l.cwiseMax(-o.size / 2).cwiseMin(o.size / 2)).norm());
+          break;
+        case check::ShapeKind::sphere:
+          best = std::min(best, std::max(0.0, l.norm() - o.radius));
+          break;
+        case check::ShapeKind::capsule: {
+          const double z = std::clamp(l.z(), -o.length / 2, o.length / 2);
+          best = std::min(best, std::max(0.0, (l - Eigen::Vector3d(0, 0, z)).norm() - o.radius));
+          break;
+        }
+        case check::ShapeKind::cylinder: {
+          const double dr = std::max(0.0, std::hypot(l.x(), l.y()) - o.radius);
+          const double dz = std::max(0.0, std::abs(l.z()) - o.length / 2);
+          best = std::min(best, std::hypot(dr, dz));
+          break;
+        }
+        case check::ShapeKind::mesh:
+          for (const auto& t : o.mesh.triangles) {
+            const Eigen::Vector3d q = closest_point_on_triangle(
+                l, o.mesh.vertices[t[0]], o.mesh.vertices[t[1]], o.mesh.vertices[t[2]]);
+            best = std::min(best, (l - q).norm());
+          }
+          break;
+        case check::ShapeKind::points:
+          for (const Eigen::Vector3d& x : o.points) best = std::min(best, (p - x).norm());
+          break;
+        case check::ShapeKind::cells:
+          for (const Eigen::Vector3d& c : o.points) {
+            const Eigen::Vector3d h = Eigen::Vector3d::Constant(o.cell_side / 2);
+            const Eigen::Vector3d d = p - c;
+            best = std::min(best, (d - d.cwiseMax(-h).cwiseMin(h)).norm());
+          }
+          break;
+      }
+    }
+    return best;
+  }
+};
+
+const TestScene& test_scene() {
+  static const TestScene s;
+  return s;
+}
+
+check::CheckerOptions options(double margin) {
+  check::CheckerOptions o;
+  o.margin = margin;
+  o.disabled = {{"tool", "l7"}};  // joined across the flange by fixed joints
+  return o;
+}
+
+// Brute force: every covering sphere against the scene and every self pair.
+bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin) {
+  const KinematicTree tree(model);
+  const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
+  std::vector<std::vector<Sphere>> posed(model.links.size());
+  for (std::size_t l = 0; l < model.links.size(); ++l)
+    for (const Sphere& s : model.links[l].spheres.outer.spheres)
+      posed[l].push_back({X[l] * s.center, s.radius});
+  for (const auto& set : posed)
+    for (const Sphere& s : set)
+      if (test_scene().distance(s.center) - s.radius <= margin) return true;
+  std::set<std::pair<std::string, std::string>> skip = {{"l7", "tool"}, {"tool", "l7"}};
+  for (const Joint& j : model.joints) {
+    skip.insert({j.parent, j.child});
+    skip.insert({j.child, j.parent});
+  }
+  for (std::size_t a = 0; a < posed.size(); ++a)
+    for (std::size_t b = a + 1; b < posed.size(); ++b) {
+      if (skip.count({model.links[a].name, model.links[b].name})) continue;
+      for (const Sphere& s : posed[a])
+        for (const Sphere& t : posed[b])
+          if ((s.center - t.center).norm() - s.radius - t.radius <= margin) return true;
+    }
+  return false;
+}
+
+std::vector<Verdict> run(const check::RobotChecker& c, const std::vector<double>& q, Mode mode,
+                         int threads = 1) {
+  std::vector<Verdict> out(q.size() / c.num_positions());
+  c.check(q.data(), out.size(), mode, out.data(), threads);
+  return out;
+}
+
+}  // namespace
+
+TEST_CASE("spheres mode: the verdict of every sphere and self pair checked by brute force",
+          "[check]") {
+  const RobotModel arm = test::capsule_arm(5);
+  for (double margin : {0.0, 0.01}) {
+    const check::RobotChecker checker(arm, test_scene().scene, options(margin));
+    REQUIRE(checker.num_positions() == 8);
+    const std::vector<double> q = test::capsule_arm_configs(600, 11);
+    const std::vector<Verdict> v = run(checker, q, Mode::spheres);
+    std::size_t colliding = 0, disagree = 0;
+    for (std::size_t i = 0; i < v.size(); ++i) {
+      const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
+      const bool truth = brute_force(arm, qi, margin);
+      colliding += truth;
+      disagree += truth != (v[i] == Verdict::colliding);
+      CHECK(v[i] != Verdict::undecided);
+    }
+    CHECK(disagree == 0);
+    // Both answers occur often enough for the comparison to mean something.
+    CHECK(colliding > v.size() / 10);
+    CHECK(colliding < v.size() * 9 / 10);
+  }
+}
+
+TEST_CASE("bounds mode: colliding only where the inner sets are, free only where the covers are",
+          "[check]") {
+  // Without a fine level the bounds' verdicts are the sets' own: colliding implies the
+  // covers (which hold the inner balls' links) collide, free implies they do not.
+  const RobotModel arm = test::capsule_arm(5);
+  const check::RobotChecker checker(arm, test_scene().scene, options(0.01));
+  const std::vector<double> q = test::capsule_arm_configs(400, 12);
+  const std::vector<Verdict> b = run(checker, q, Mode::bounds);
+  const std::vector<Verdict> s = run(checker, q, Mode::spheres);
+  std::size_t counts[3] = {0, 0, 0};
+  for (std::size_t i = 0; i < b.size(); ++i) {
+    ++counts[static_cast<int>(b[i])];
+    if (b[i] == Verdict::colliding) CHECK(s[i] == Verdict::colliding);
+    if (b[i] == Verdict::free) CHECK(s[i] == Verdict::free);
+  }
+  CHECK(counts[0] > 0);
+  CHECK(counts[1] > 0);
+  CHECK(counts[2] > 0);
+}
+
+TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contact", "[check]") {
+  const RobotModel arm = test::capsule_arm(5);
+  const RobotModel fine = test::capsule_arm(9);
+  check::CheckerOptions scalar_options = options(0.01), avx2_options = options(0.01);
+  scalar_options.simd = check::Simd::scalar;
+  avx2_options.simd = check::Simd::avx2;
+  const check::RobotChecker scalar(arm, test_scene().scene, scalar_options, &fine);
+  CHECK_FALSE(scalar.uses_avx2());
+  if (!__builtin_cpu_supports("avx2")) {
+    CHECK_THROWS_AS(check::RobotChecker(arm, test_scene().scene, avx2_options),
+                    std::invalid_argument);
+    WARN("no AVX2 on this processor: the AVX2 path is not compared");
+    return;
+  }
+  const check::RobotChecker avx2(arm, test_scene().scene, avx2_options, &fine);
+  REQUIRE(avx2.uses_avx2());
+  std::vector<double> q = test::capsule_arm_configs(2000, 13);
+  const std::vector<Verdict> first = run(scalar, q, Mode::spheres);
+  // Bisect between a free and a colliding configuration until 1e-12 apart (in t), and
+  // check both ends: where the two paths rounded differently, some end would flip.
+  std::vector<double> edges;
+  std::size_t a = 0;
+  for (std::size_t i = 1; i < first.size() && edges.size() < 8 * 2 * 120; ++i)
+    if (first[i] != first[a]) {
+      double lo = 0.0, hi = 1.0;
+      std::vector<double> at(8);
+      auto point = [&](double t) {
+        for (int j = 0; j < 8; ++j) at[j] = q[8 * a + j] + t * (q[8 * i + j] - q[8 * a + j]);
+        return at;
+      };
+      const Verdict v0 = scalar.check(point(0.0).data(), Mode::spheres);
+      while (hi - lo > 1e-12) {
+        const double mid = (lo + hi) / 2;
+        (scalar.check(point(mid).data(), Mode::spheres) == v0 ? lo : hi) = mid;
+      }
+      for (double t : {lo, hi})
+        for (double x : point(t)) edges.push_back(x);
+      a = i;
+    }
+  q.insert(q.end(), edges.begin(), edges.end());
+  for (Mode mode : {Mode::spheres, Mode::bounds}) CHECK(run(scalar, q, mode) == run(avx2, q, mode));
+  CHECK(edges.size() >= 8 * 2 * 100);
+}
+
+TEST_CASE("thread counts: the same verdicts with 1, 2 and 3 threads", "[check]") {
+  const RobotModel arm = test::capsule_arm(5);
+  const check::RobotChecker checker(arm, test_scene().scene, options(0.01));
+  const std::vector<double> q = test::capsule_arm_configs(301, 14);
+  for (Mode mode : {Mode::spheres, Mode::bounds}) {
+    const std::vector<Verdict> one = run(checker, q, mode, 1);
+    CHECK(run(checker, q, mode, 2) == one);
+    CHECK(run(checker, q, mode, 3) == one);
+  }
+}
+
+TEST_CASE("edges: the verdict of every interpolated configuration checked alone", "[check]") {
+  const RobotModel arm = test::capsule_arm(5);
+  const check::RobotChecker checker(arm, test_scene().scene, options(0.0));
+  const std::vector<double> q = test::capsule_arm_configs(121, 15);
+  const double resolution = 0.05;
+  std::size_t colliding = 0, free = 0;
+  for (Mode mode : {Mode::spheres, Mode::bounds})
+    for (std::size_t e = 0; e + 1 < 121; ++e) {
+      const double* q0 = q.data() + 8 * e;
+      const double* q1 = q0 + 8;
+      // Short edges too: a tenth of the way.
+      std::vector<double> end(q0, q0 + 8);
+      for (int j = 0; j < 8; ++j) end[j] += (e % 2 ? 0.1 : 1.0) * (q1[j] - q0[j]);
+      const std::size_t n = checker.edge_steps(q0, end.data(), resolution);
+      bool any_colliding = false, any_undecided = false;
+      std::vector<double> at(8);
+      for (std::size_t k = 0; k <= n; ++k) {
+        const double t = double(k) / double(n);
+        for (int j = 0; j < 8; ++j) at[j] = q0[j] + t * (end[j] - q0[j]);
+        const Verdict v = checker.check(at.data(), mode);
+        any_colliding |= v == Verdict::colliding;
+        any_undecided |= v == Verdict::undecided;
+      }
+      std::vector<double> open;
+      std::size_t checked = 0;
+      const Verdict v = checker.check_edge(q0, end.data(), resolution, mode, &open, &checked);
+      const Verdict truth = any_colliding   ? Verdict::colliding
+                            : any_undecided ? Verdict::undecided
+                                            : Verdict::free;
+      CHECK(v == truth);
+      CHECK(checked <= n + 1);
+      if (v != Verdict::colliding) CHECK(checked == n + 1);
+      if (v != Verdict::colliding) CHECK(open.empty() == (v == Verdict::free));
+      colliding += v == Verdict::colliding;
+      free += v == Verdict::free;
+    }
+  CHECK(colliding > 20);
+  CHECK(free > 20);
+  // The batch agrees with the edges one at a time, with two threads.
+  std::vector<Verdict> batch(120);
+  const std::size_t checked =
+      checker.check_edges(q.data(), q.data() + 8, 120, resolution, Mode::spheres, batch.data(), 2);
+  CHECK(checked > 120);
+  for (std::size_t e = 0; e < 120; ++e)
+    CHECK(batch[e] ==
+          checker.check_edge(q.data() + 8 * e, q.data() + 8 * e + 8, resolution, Mode::spheres));
+}
+
+TEST_CASE("robot checker: an empty scene and no self pairs leave everything free", "[check]") {
+  check::CheckerOptions o;
+  o.self = false;
+  const check::RobotChecker checker(test::capsule_arm(3), check::Scene(), o);
+  const std::vector<double> q = test::capsule_arm_configs(50, 16);
+  for (Mode mode : {Mode::spheres, Mode::bounds})
+    for (Verdict v : run(checker, q, mode)) CHECK(v == Verdict::free);
+}
+
+TEST_CASE("robot checker: bad input is refused with a message naming it", "[check]") {
+  const RobotModel arm = test::capsule_arm(3);
+  const check::Scene& scene = test_scene().scene;
+  check::CheckerOptions o;
+  o.margin = -1;
+  CHECK_THROWS_AS(check::RobotChecker(arm, scene, o), std::invalid_argument);
+  o.margin = 0;
+  o.disabled = {{"l1", "nope"}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, scene, o), Catch::Contains("nope"));
+  o.disabled.clear();
+  RobotModel other = test::capsule_arm(3);
+  other.joints[2].origin.translation().x() += 0.1;
+  CHECK_THROWS_WITH(check::RobotChecker(arm, scene, o, &other), Catch::Contains("j3"));
+  const check::RobotChecker checker(arm, scene, o);
+  std::vector<double> q = test::capsule_arm_configs(3, 17);
+  q[8 + 2] = std::nan("");
+  std::vector<Verdict> out(3);
+  CHECK_THROWS_WITH(checker.check(q.data(), 3, Mode::spheres, out.data()),
+                    Catch::Contains("configuration 1") && Catch::Contains("j3"));
+  CHECK_THROWS_AS(checker.check_edge(q.data(), q.data() + 16, 0.0, Mode::spheres),
+                  std::invalid_argument);
+  check::Scene bad;
+  CHECK_THROWS_WITH(bad.add_box({1, -1, 1}, Eigen::Isometry3d::Identity(), "crate"),
+                    Catch::Contains("crate"));
+  CHECK_THROWS_WITH(bad.add_mesh(TriangleMesh{{}, {{0, 1, 2}}}, Eigen::Isometry3d::Identity(), "m"),
+                    Catch::Contains("out of range"));
+}
