@@ -1,6 +1,7 @@
 // The self-collision matrix of the robot command (docs/self-collision.md), one table per
-// robot: the Unitree G1 of ../shared (when present), generated arms (tests/support/
-// generated_arms.h) and any --urdf given.
+// robot: the Unitree G1 of ../shared (when present), the coarse arm (tests/support/
+// coarse_arm.h: a Panda-like chain of coarse meshes with a mimic gripper), generated arms
+// (tests/support/generated_arms.h) and any --urdf given.
 //
 // Rows: "medspheres", the robot command's defaults (covering sets of --spheres-per-link
 // spheres, the matrix from --samples seeded configurations, its tool frames and default
@@ -24,6 +25,9 @@
 //   skipped hits      (configuration, pair) cases where the solids of a pair the row skips
 //                     collide (adjacent and always-colliding pairs of the medspheres
 //                     matrix excepted): what skipping costs.
+// The evaluation's configurations hold the medspheres row's locked joints (the gripper's) at
+// their default, as a planner given its files holds them; the other joints are uniform
+// within their limits.
 // The solids: each link's exact geometry (LinkSolids: certified sphere bounds, FCL's exact
 // mesh distance where they leave it open); "collide" means touching. Pairs judged: every
 // two links with geometry in both rows' sets, except the medspheres matrix's adjacent and
@@ -31,6 +35,7 @@
 //
 // Usage: bench_self_collision [--urdf FILE]... [--samples N] [--eval N] [--seed S]
 //          [--spheres-per-link K] [--arms N] [--threads T] [--cache DIR] [--no-g1]
+//          [--no-coarse-arm]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -54,6 +59,7 @@
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
+#include "support/coarse_arm.h"
 #include "support/generated_arms.h"
 
 namespace {
@@ -72,6 +78,7 @@ struct Options {
   int threads = 2;
   std::string cache;
   bool g1 = true;
+  bool coarse_arm = true;
   std::size_t top = 0;  // pairs named per row
 };
 
@@ -111,6 +118,7 @@ struct Planner {
   PlannerSpheres spheres;
   std::set<std::pair<std::size_t, std::size_t>> checked;  // link indices, a < b
   std::map<std::string, double> default_positions;
+  std::vector<std::string> locked_joints;  // held at their default while planning
   std::map<PairClass, std::size_t> classes;
   std::size_t samples = 0;
   double seconds = 0.0;
@@ -145,6 +153,7 @@ Planner medspheres_planner(const Baked& b, const Options& o,
             PlannerSpheres(b.model, formats::robot_spheres(b.model), s.self_collision->buffer),
             {},
             s.default_positions,
+            s.locked_joints,
             {},
             o.samples,
             run.seconds};
@@ -170,7 +179,7 @@ Planner curobo_planner(const Baked& b, const std::string& yml) {
   std::map<std::string, double> buffer;
   for (const auto& kv : k["self_collision_buffer"])
     buffer[kv.first.as<std::string>()] = kv.second.as<double>();
-  Planner p{"curobo", PlannerSpheres(b.model, spheres, buffer), {}, {}, {}, 0, 0.0};
+  Planner p{"curobo", PlannerSpheres(b.model, spheres, buffer), {}, {}, {}, {}, 0, 0.0};
   std::set<std::pair<std::string, std::string>> skip;
   for (const auto& kv : k["self_collision_ignore"])
     for (const auto& other : kv.second)
@@ -194,7 +203,8 @@ struct Tally {
   std::size_t pen_pairs = 0;
   double pen_max = 0.0;
   std::size_t fp_cfg = 0, fp_pairs = 0, fn_cfg = 0, fn_pairs = 0, skipped_hits = 0;
-  std::map<LinkPair, std::size_t> fp_by_pair;  // the configurations where only it is FP
+  std::map<LinkPair, std::size_t> fp_by_pair;       // the configurations where only it is FP
+  std::map<LinkPair, std::size_t> skipped_by_pair;  // the configurations where it is a hit
 };
 
 Tally judge(const Baked& b, const LinkSolids& solids, const Planner& p,
@@ -221,6 +231,7 @@ Tally judge(const Baked& b, const LinkSolids& solids, const Planner& p,
       any_solid = any_solid || solid;
       if (!p.checked.count(pairs[k])) {
         t.skipped_hits += solid;
+        if (solid) ++t.skipped_by_pair[pairs[k]];
         continue;
       }
       const bool sphere = p.spheres.collide(eval[s], pairs[k].first, pairs[k].second);
@@ -269,8 +280,14 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
   // The evaluation's configurations and, per pair judged, whether the solids collide.
   const LinkSolids solids(b.model, b.solids);
   const KinematicTree tree(b.model);
-  const std::vector<Eigen::VectorXd> qs =
+  // The locked joints (the gripper's) held at their default, as the planner holds them.
+  std::vector<Eigen::VectorXd> qs =
       medspheres::fcl::sample_configurations(b.model, tree, o.eval, o.seed + 7919);
+  const std::vector<std::string>& names = tree.joint_names();
+  for (const std::string& j : rows[0].locked_joints) {
+    const std::size_t k = std::find(names.begin(), names.end(), j) - names.begin();
+    for (Eigen::VectorXd& q : qs) q[k] = rows[0].default_positions.at(j);
+  }
   std::vector<Poses> eval(qs.size());
   std::vector<std::vector<char>> truth(qs.size());
   const std::vector<std::pair<std::size_t, std::size_t>> pairs(judged.begin(), judged.end());
@@ -289,16 +306,21 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
     print_row(p, tallies.back(), o.eval);
   }
   if (o.top == 0) return;
-  for (std::size_t r = 0; r < rows.size(); ++r) {
+  const auto print_top = [&](const std::map<LinkPair, std::size_t>& counts, const char* what,
+                             const std::string& row) {
     std::vector<std::pair<std::size_t, LinkPair>> top;
-    for (const auto& [pair, n] : tallies[r].fp_by_pair) top.emplace_back(n, pair);
+    for (const auto& [pair, n] : counts) top.emplace_back(n, pair);
     std::sort(top.rbegin(), top.rend());
-    std::printf("  %s: false-positive configurations with one pair's spheres alone:",
-                rows[r].row.c_str());
+    std::printf("  %s: %s:", row.c_str(), what);
     for (std::size_t k = 0; k < top.size() && k < o.top; ++k)
       std::printf(" %s-%s %zu;", b.model.links[top[k].second.first].name.c_str(),
                   b.model.links[top[k].second.second].name.c_str(), top[k].first);
     std::printf("\n");
+  };
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    print_top(tallies[r].fp_by_pair, "false-positive configurations with one pair's spheres alone",
+              rows[r].row);
+    print_top(tallies[r].skipped_by_pair, "skipped pairs whose solids collide", rows[r].row);
   }
 }
 
@@ -325,6 +347,8 @@ int main(int argc, char** argv) {
   args.add("--top", o.top, "Name the pairs that alone make the most false-positive configurations");
   args.app().add_flag(
       "--no-g1", [&](std::int64_t) { o.g1 = false; }, "Leave out the G1");
+  args.app().add_flag(
+      "--no-coarse-arm", [&](std::int64_t) { o.coarse_arm = false; }, "Leave out the coarse arm");
   args.parse(argc, argv);
   try {
     const fs::path g1 = fs::path(MEDSPHERES_SOURCE_DIR) / "../shared/robots/unitree_g1";
@@ -333,6 +357,7 @@ int main(int argc, char** argv) {
                 o);
     const fs::path dir = fs::temp_directory_path() / "medspheres_bench_self_collision";
     fs::create_directories(dir);
+    if (o.coarse_arm) run_robot(medspheres::test::write_coarse_arm(dir / "coarse_arm"), "", o);
     for (int seed = 1; seed <= o.arms; ++seed) {
       const fs::path urdf = dir / ("generated_arm_" + std::to_string(seed) + ".urdf");
       medspheres::write_file_atomically(
