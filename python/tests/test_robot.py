@@ -216,3 +216,32 @@ def test_bake_robot_planner_setup_equals_cli(cli, arm, tmp_path):
     plain = medspheres.bake_robot(arm, spheres_per_link=6, self_collision=False)
     assert plain.planner["default_from"] == "zero_unchecked"
     assert plain.planner["self_collision"]["samples"] == 0
+
+
+def test_bake_robot_srdf_pairs_and_end_effectors(cli, arm, tmp_path):
+    """srdf=: its disabled pairs skipped as given (their reasons kept), its end effectors the
+    tool frames; the same files as the robot command's --srdf; a pair naming no link refused."""
+    srdf = tmp_path / "arm_given.srdf"
+    srdf.write_text('<robot name="arm">\n'
+                    '  <end_effector name="tool" parent_link="upper" group="g"/>\n'
+                    '  <disable_collisions link1="base" link2="hand" reason="User"/>\n'
+                    '</robot>\n')
+    ours_dir, theirs_dir = tmp_path / "py", tmp_path / "cli"
+    baked = medspheres.bake_robot(arm, ours_dir, spheres_per_link=6, srdf=srdf,
+                                  self_collision_samples=200)
+    cli("robot", arm, "-o", theirs_dir, "--spheres-per-link", "6", "-q", "--srdf", srdf,
+        "--self-collision-samples", "200")
+    for name in ["arm.curobo.yml", "arm.xrdf", "arm.srdf", "arm.self_collision.txt"]:
+        assert (ours_dir / name).read_bytes() == (theirs_dir / name).read_bytes(), name
+    planner = baked.planner
+    assert planner["tool_frames"] == ["upper"] and planner["tool_frames_from"] == "srdf"
+    given = [p for p in planner["self_collision"]["pairs"] if p[2] == "given"]
+    assert [sorted(p[:2]) for p in given] == [["base", "hand"]]
+    assert given[0][3] is True and given[0][4] == "User"
+    written = (ours_dir / "arm.srdf").read_text()
+    assert 'reason="User"' in written and "base" in written
+
+    bad = tmp_path / "bad.srdf"
+    bad.write_text('<robot name="arm"><disable_collisions link1="base" link2="nope"/></robot>')
+    with pytest.raises(medspheres.InputError, match="nope"):
+        medspheres.bake_robot(arm, spheres_per_link=6, srdf=bad)
