@@ -130,14 +130,7 @@ CollideResult from_decision(const BoundsDecision& d, bool certified) {
 std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh) {
   if (mesh.triangles.empty())
     throw std::invalid_argument("make_mesh_model: the mesh has no triangles");
-  auto model = std::make_shared<MeshModel>();
-  std::vector<::fcl::Triangle> tris;
-  tris.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
-  model->beginModel(static_cast<int>(tris.size()), static_cast<int>(mesh.vertices.size()));
-  model->addSubModel(mesh.vertices, tris);
-  model->endModel();
-  return model;
+  return make_bvh_model<::fcl::OBBRSSd>(mesh);
 }
 
 bool records_certified_cover(const std::string& json) {

@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -54,6 +55,20 @@ struct BoundedGeometryOptions {
   bool surface_points = true;
   double surface_point_spacing = 0.0;
 };
+
+/// FCL's exact mesh of \p mesh (in its own frame) with bounding volumes BV, finished
+/// (endModel()). A mesh without triangles gives an empty model.
+template <class BV>
+std::shared_ptr<::fcl::BVHModel<BV>> make_bvh_model(const TriangleMesh& mesh) {
+  auto model = std::make_shared<::fcl::BVHModel<BV>>();
+  std::vector<::fcl::Triangle> tris;
+  tris.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
+  model->beginModel(static_cast<int>(tris.size()), static_cast<int>(mesh.vertices.size()));
+  model->addSubModel(mesh.vertices, tris);
+  model->endModel();
+  return model;
+}
 
 /// FCL's exact mesh of \p mesh (in its own frame), finished (endModel()), as BoundedGeometry
 /// takes it. \throws std::invalid_argument for a mesh without triangles.
