@@ -98,8 +98,9 @@ Baked bake(const std::string& urdf, const Options& o) {
   job.bake.budget.per_link = o.spheres_per_link;
   job.bake.jobs = o.threads;
   job.bake.request.measure = false;
-  const fs::path cached =
-      fs::path(o.cache) / (robot_cache_key(robot, file_sha256(urdf), job) + ".robot.json");
+  const fs::path cached = fs::path(o.cache) / (robot_cache_key(robot, file_sha256(urdf), job,
+                                                               fs::path(urdf).filename().string()) +
+                                               ".robot.json");
   if (!o.cache.empty() && fs::exists(cached)) {
     b.model = load_robot(cached.string());
     return b;

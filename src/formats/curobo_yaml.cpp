@@ -121,6 +121,30 @@ RobotSpheres load_curobo_yaml(const std::string& path) {
   return parse_curobo_yaml(read_text_file(path), path);
 }
 
+std::string curobo_yaml_with_urdf_path(const std::string& text,
+                                       const std::map<std::string, std::string>& names,
+                                       const std::string& source) {
+  return read_yaml(text, source, [&](const YAML::Node& doc) {
+    const YAML::Node cfg = doc.IsMap() ? doc["robot_cfg"] : YAML::Node();
+    const YAML::Node kinematics = cfg && cfg.IsMap() ? cfg["kinematics"] : YAML::Node();
+    const YAML::Node path =
+        kinematics && kinematics.IsMap() ? kinematics["urdf_path"] : YAML::Node();
+    if (!path || !path.IsScalar()) return text;
+    const auto it = names.find(path.as<std::string>());
+    if (it == names.end()) return text;
+    // The scalar as curobo_yaml_text's emitter writes it.
+    const auto emitted = [](const std::string& value) {
+      YAML::Emitter e;
+      e << value;
+      return std::string("urdf_path: ") + e.c_str() + "\n";
+    };
+    const std::string from = emitted(it->first);
+    const std::size_t at = text.find(from);
+    if (at == std::string::npos) return text;
+    return text.substr(0, at) + emitted(it->second) + text.substr(at + from.size());
+  });
+}
+
 void save_curobo_yaml(const std::string& path, const RobotSpheres& spheres,
                       const CuroboOptions& options) {
   validate_robot_spheres(spheres, path);

@@ -49,6 +49,7 @@
 /// separate sphere files). Every other key is ignored. Read back, every sphere is
 /// bit-identical.
 
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -91,6 +92,14 @@ std::string curobo_yaml_text(const RobotSpheres& spheres, const CuroboOptions& o
 RobotSpheres parse_curobo_yaml(const std::string& text, const std::string& source);
 
 RobotSpheres load_curobo_yaml(const std::string& path);
+
+/// \p text, a configuration curobo_yaml_text wrote, with its `robot_cfg: kinematics:
+/// urdf_path` renamed by \p names (path -> path); the text unchanged, byte for byte, when
+/// it has no urdf_path or names does not hold it. Every other byte is kept.
+/// \throws InputError naming \p source when the text is not YAML.
+std::string curobo_yaml_with_urdf_path(const std::string& text,
+                                       const std::map<std::string, std::string>& names,
+                                       const std::string& source);
 
 /// Writes curobo_yaml_text atomically.
 void save_curobo_yaml(const std::string& path, const RobotSpheres& spheres,
