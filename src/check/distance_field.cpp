@@ -3,7 +3,7 @@
 #include <algorithm>
 #include <cmath>
 
-#include "distance_transform.h"
+#include "boxes_distance_transform.h"
 
 namespace medspheres::check::detail {
 namespace {

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "distance_transform.h"
+#include "boxes_distance_transform.h"
 
 namespace medspheres::check::detail {
 namespace {
