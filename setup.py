@@ -18,10 +18,32 @@ from setuptools.command.build_ext import build_ext
 ROOT = pathlib.Path(__file__).resolve().parent
 
 
+def cmake_generated(build):
+    """True when CMake finished generating a build system in `build`: the reply of the file API
+    query that cmake_build places there exists. A configure that fails (three.js missing, say)
+    leaves a CMakeCache.txt behind but no reply, and no Makefile to build with."""
+    return any((build / ".cmake" / "api" / "v1" / "reply").glob("index-*.json"))
+
+
+def cmake_build(build, configure, jobs):
+    """Configures `build` when it has no CMake cache (with `configure`) or when its last
+    configure did not finish (again, keeping the settings in its cache); then builds the
+    medspheres_python target. A finished build folder keeps its settings."""
+    query = build / ".cmake" / "api" / "v1" / "query" / "client-medspheres-setup" / "cache-v2"
+    query.parent.mkdir(parents=True, exist_ok=True)
+    query.touch()
+    if not (build / "CMakeCache.txt").exists():
+        subprocess.check_call(configure)
+    elif not cmake_generated(build):
+        subprocess.check_call(["cmake", "-S", str(ROOT), "-B", str(build)])
+    subprocess.check_call(["cmake", "--build", str(build), "-j", jobs,
+                           "--target", "medspheres_python"])
+
+
 class CMakeBuild(build_ext):
-    """Configures (unless already configured) and builds the medspheres_python target in
-    build/pip, or in MEDSPHERES_PIP_BUILD_DIR (an existing build folder, for instance
-    build); copies the package it makes."""
+    """Configures (see cmake_build) and builds the medspheres_python target in build/pip, or in
+    MEDSPHERES_PIP_BUILD_DIR (an existing build folder, for instance build); copies the package
+    it makes."""
 
     def build_extension(self, ext):
         build = pathlib.Path(os.environ.get("MEDSPHERES_PIP_BUILD_DIR", ROOT / "build" / "pip"))
@@ -32,10 +54,7 @@ class CMakeBuild(build_ext):
             f"-DPython3_EXECUTABLE={sys.executable}",
         ]
         jobs = os.environ.get("CMAKE_BUILD_PARALLEL_LEVEL", str(os.cpu_count() or 1))
-        if not (build / "CMakeCache.txt").exists():  # an existing build keeps its settings
-            subprocess.check_call(configure)
-        subprocess.check_call(["cmake", "--build", str(build), "-j", jobs,
-                               "--target", "medspheres_python"])
+        cmake_build(build, configure, jobs)
         target = pathlib.Path(self.get_ext_fullpath(ext.name)).parent
         target.mkdir(parents=True, exist_ok=True)
         for f in (build / "python" / "medspheres").iterdir():
@@ -47,15 +66,16 @@ def version():
     return text.split("project(medspheres VERSION ", 1)[1].split()[0]
 
 
-setup(
-    name="medspheres",
-    version=version(),
-    description="Medial sphere sets of meshes and robots, their fit, and fast queries",
-    license="GPL-3.0-or-later",
-    packages=[],
-    ext_modules=[Extension("medspheres._medspheres", sources=[])],
-    cmdclass={"build_ext": CMakeBuild},
-    install_requires=["numpy"],
-    python_requires=">=3.9",
-    zip_safe=False,
-)
+if __name__ == "__main__":  # pip runs this file as __main__; tests import it
+    setup(
+        name="medspheres",
+        version=version(),
+        description="Medial sphere sets of meshes and robots, their fit, and fast queries",
+        license="GPL-3.0-or-later",
+        packages=[],
+        ext_modules=[Extension("medspheres._medspheres", sources=[])],
+        cmdclass={"build_ext": CMakeBuild},
+        install_requires=["numpy"],
+        python_requires=">=3.9",
+        zip_safe=False,
+    )

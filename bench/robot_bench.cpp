@@ -53,9 +53,13 @@
 // generated 7-joint arm of coarse meshes (tests/support/coarse_arm.h: 11 links of 32 to 256
 // triangles), written into the cache folder (a temporary one with --cache '').
 //
+// --breakdown N: after the table, where the time goes per kind of pair (boxes, meshes,
+// octomap, self) over the first N configurations, every pair with no stop
+// (robot_bench_breakdown.h).
+//
 // Usage: bench_robot [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
-// [--robot-file F]
-//                    [--cache DIR] [--spheres-per-link K] [--srdf F] [--meshes DIR] ...
+//                    [--robot-file F] [--cache DIR] [--spheres-per-link K] [--srdf F]
+//                    [--meshes DIR] [--breakdown N] [--planner-spheres K] [--no-checker] ...
 #include <algorithm>
 #include <cmath>
 #include <cstdio>
@@ -77,10 +81,12 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/formats/srdf_disabled_collisions.h"
+#include "robot_bench_breakdown.h"
 #include "robot_bench_check.h"
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
+#include "robot_bench_spheres.h"
 #include "support/coarse_arm.h"
 
 namespace {
@@ -102,6 +108,7 @@ struct Options {
   bool self = true;
   std::size_t distance_every = 10;
   bool explain = false;
+  std::size_t breakdown = 0;
   std::size_t order_samples = 4000;
   std::size_t planner_spheres = 8;  // the checker's planner level (the bake's sets: its fine level)
   double edge_length = 0.5;
@@ -144,6 +151,9 @@ Options parse(int argc, char** argv) {
            "Seeded configurations that order the self pairs and pick witnesses (SelfPairOrder; 0: "
            "geometry order, none)");
   app.add_flag("--explain", o.explain, "Print the pairs of configurations whose bounds fail");
+  args.add("--breakdown", o.breakdown,
+           "Time per kind of pair (boxes, meshes, octomap, self) over the first N "
+           "configurations, no stop (0: none)");
   args.add("--planner-spheres", o.planner_spheres,
            "The checker's planner level: spheres per link (the sets above are its fine level)");
   args.add("--edge-length", o.edge_length, "The checker's edges: joint-space length");
@@ -164,43 +174,6 @@ Eigen::VectorXd default_config(const medspheres::RobotModel& model,
   }
   return q;
 }
-
-// One sphere set per link (inner or outer) as an FCL geometry, checked pair by pair within
-// the margin by medspheres::fcl::distance with the margin preset as min_distance.
-class SphereRobot {
- public:
-  SphereRobot(const mf::RobotBounds& robot, const medspheres::RobotModel& model, bool inner)
-      : robot_(robot) {
-    for (const mf::BoundedGeometry& g : robot.geometries()) {
-      const medspheres::LinkSpheres& s = model.find_link(g.link())->spheres;
-      sets_.push_back(std::make_shared<mf::SphereSetGeometry>(inner ? s.inner : s.outer));
-    }
-  }
-
-  bool collide(const Poses& X, const std::vector<const ::fcl::CollisionObjectd*>& scene, bool self,
-               double margin) const {
-    const double above = std::nextafter(margin, std::numeric_limits<double>::infinity());
-    auto within = [&](const ::fcl::CollisionGeometryd* a, const ::fcl::Transform3d& Xa,
-                      const ::fcl::CollisionGeometryd* b, const ::fcl::Transform3d& Xb) {
-      ::fcl::DistanceRequestd request;
-      ::fcl::DistanceResultd result;
-      result.min_distance = above;  // only a pair within the margin replaces it
-      return mf::distance(a, Xa, b, Xb, request, result) < above;
-    };
-    for (std::size_t l = 0; l < sets_.size(); ++l)
-      for (const ::fcl::CollisionObjectd* o : scene)
-        if (within(sets_[l].get(), X[l], o->collisionGeometry().get(), o->getTransform()))
-          return true;
-    if (self)
-      for (const auto& [a, b] : robot_.self_pairs())
-        if (within(sets_[a].get(), X[a], sets_[b].get(), X[b])) return true;
-    return false;
-  }
-
- private:
-  const mf::RobotBounds& robot_;
-  std::vector<std::shared_ptr<mf::SphereSetGeometry>> sets_;
-};
 
 // CPU time of the thread per configuration for the link poses alone, the same calls every
 // method makes.
@@ -453,7 +426,7 @@ int run(const Options& o) {
   const auto configs =
       mf::sample_configurations(robot.model, bounds.kinematics(), o.configs, o.seed);
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
-  const SphereRobot outer(bounds, robot.model, false), inner(bounds, robot.model, true);
+  const mb::SphereRobot outer(bounds, robot.model, false), inner(bounds, robot.model, true);
   std::vector<std::pair<std::string, Method>> methods;
   methods.emplace_back("exact", [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
@@ -499,7 +472,12 @@ int run(const Options& o) {
   const MethodRun& b = runs[4];
   const double n = static_cast<double>(configs.size());
   const double with_mesh = n - static_cast<double>(b.mesh_free + b.undecided);
-  std::printf("\nbounds: %.1fx faster than exact+ (the same pair order and scene skip)\n",
+  std::printf(
+      "\nsets alone through FCL (medspheres::fcl::distance): outer %.1fx, inner %.1fx faster "
+      "than exact, %.1fx and %.1fx than exact+\n",
+      runs[0].micros / runs[2].micros, runs[0].micros / runs[3].micros,
+      runs[1].micros / runs[2].micros, runs[1].micros / runs[3].micros);
+  std::printf("bounds: %.1fx faster than exact+ (the same pair order and scene skip)\n",
               runs[1].micros / b.micros);
   std::printf("bounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
   std::printf(
@@ -524,6 +502,13 @@ int run(const Options& o) {
       "over %zu configurations (every %zu-th)\n",
       truth, configs.size(), o.margin, ref_seconds, disagree, disagree_plus, ref.sampled.size(),
       o.distance_every);
+  if (o.breakdown > 0) {
+    std::vector<Poses> poses;
+    for (std::size_t i = 0; i < std::min(o.breakdown, configs.size()); ++i)
+      poses.push_back(bounds.poses(configs[i], I));
+    mb::print_breakdown(poses, scene, bounds.geometries().size(), bounds.self_pairs().size(), exact,
+                        outer, inner, o.self, o.margin);
+  }
   if (o.checker) {
     mb::RobotSource planner_source = o.robot;
     planner_source.spheres_per_link = o.planner_spheres;

@@ -127,6 +127,21 @@ bool ExactRobot::collide(const std::vector<::fcl::Transform3d>& X, bool include_
   return false;
 }
 
+std::size_t ExactRobot::pairs_within(const std::vector<::fcl::Transform3d>& X,
+                                     const std::vector<char>& use, bool include_self,
+                                     double margin) {
+  pose(X);
+  const double above = successor(margin);
+  std::size_t found = 0;
+  if (std::find(use.begin(), use.end(), 1) != use.end())
+    for (const Candidate& c : candidates(true, 0, 0, margin))
+      if (use[c.other] && pair_distance(c.a, c.b, above) <= margin) ++found;
+  if (include_self)
+    for (const Candidate& c : candidates(false, 0, robot_.self_pairs().size(), margin))
+      if (pair_distance(c.a, c.b, above) <= margin) ++found;
+  return found;
+}
+
 double ExactRobot::distance(const std::vector<::fcl::Transform3d>& X, bool include_self) {
   pose(X);
   std::vector<Candidate> c = candidates(true, 0, include_self ? robot_.self_pairs().size() : 0,

@@ -47,6 +47,12 @@ class ExactRobot {
   /// RobotBounds' pair order, stopping at the first pair within it.
   bool collide(const std::vector<::fcl::Transform3d>& X, bool include_self, double margin);
 
+  /// How many pairs are within \p margin at the poses \p X, each by FCL's distance with the
+  /// margin preset (AABBs farther apart skipped), with no stop: every link against the scene
+  /// objects whose entry of \p use is set, then the self pairs when \p include_self.
+  std::size_t pairs_within(const std::vector<::fcl::Transform3d>& X, const std::vector<char>& use,
+                           bool include_self, double margin);
+
   /// The smallest exact distance over all pairs (0 when some pair touches or overlaps:
   /// FCL's negative answers are clamped), pairs visited by increasing AABB distance.
   double distance(const std::vector<::fcl::Transform3d>& X, bool include_self);

@@ -50,7 +50,8 @@ RobotModel robot_sets(const UrdfRobot& robot, const std::vector<LinkSolid>& soli
   const RobotJob job = bake_job(source);
   // The batch cache's key (batch_robot.h): the URDF, its meshes' bytes, the bake and the
   // library's version.
-  const std::string key = robot_cache_key(robot, file_sha256(robot.path), job);
+  const std::string key = robot_cache_key(robot, file_sha256(robot.path), job,
+                                          fs::path(robot.path).filename().string());
   const fs::path cached = fs::path(source.cache_dir) / (key + ".robot.json");
   if (!source.cache_dir.empty() && fs::exists(cached)) {
     from = "cached bake " + cached.string();

@@ -179,7 +179,7 @@ TEST_CASE("every request problem is out of range or a conflict, named by its fie
       {[](BakeRequest& r) {
          r.cover_start = {{Eigen::Vector3d::Zero(), 1.0}};
        },
-       ErrorKind::kConflict, "cover_start", "1 spheres"},
+       ErrorKind::kConflict, "cover_start", "1 sphere"},
       {[](BakeRequest& r) {
          r.method = BakeMethod::kCover;
          r.max_spheres = 4;

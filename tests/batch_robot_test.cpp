@@ -197,6 +197,57 @@ TEST_CASE(
   CHECK(bake_robot_batch(inputs, other).count(BatchOutcome::kCached) == 0);
 }
 
+TEST_CASE("robot batch: a copy of the library elsewhere is found in the cache", "[batch][robot]") {
+  TempDir dir;
+  write_robots(dir);
+  RobotBatchOptions o = small_options(dir.file("out"));
+  o.cache_dir = dir.file("cache");
+  const BatchResult first = bake_robot_batch(collect_inputs({dir.file("lib")}, {{"urdf"}, ""}), o);
+  REQUIRE(first.count(BatchOutcome::kBaked) == 4);
+  // The library copied to another folder (another depth too), baked with the same cache.
+  fs::create_directories(dir.path() / "elsewhere/deeper");
+  fs::copy(dir.path() / "lib", dir.path() / "elsewhere/deeper/lib", fs::copy_options::recursive);
+  const std::vector<BatchInput> copied =
+      collect_inputs({dir.file("elsewhere/deeper/lib")}, {{"urdf"}, ""});
+  RobotBatchOptions from_copy = small_options(dir.file("out_copy"));
+  from_copy.cache_dir = dir.file("cache");
+  const BatchResult hit = bake_robot_batch(copied, from_copy);
+  CHECK(hit.count(BatchOutcome::kCached) == 4);
+  CHECK(hit.count(BatchOutcome::kFailed) == 1);
+  // The oracle: the copy baked without a cache. The files are the same bytes.
+  const BatchResult fresh = bake_robot_batch(copied, small_options(dir.file("out_fresh")));
+  CHECK(fresh.count(BatchOutcome::kBaked) == 4);
+  const auto cached_files = file_tree(dir.file("out_copy"));
+  CHECK(cached_files == file_tree(dir.file("out_fresh")));
+  // They differ from the first run's only where the robot file names what it read.
+  const auto original = file_tree(dir.file("out"));
+  REQUIRE(cached_files.size() == original.size());
+  for (const auto& [name, text] : original) {
+    INFO(name);
+    REQUIRE(cached_files.count(name));
+    if (name.find(".robot.json") == std::string::npos) {
+      CHECK(cached_files.at(name) == text);
+      continue;
+    }
+    const auto meta = nlohmann::json::parse(cached_files.at(name))["metadata"];
+    CHECK(meta["urdf"].get<std::string>().find("elsewhere/deeper/lib") != std::string::npos);
+    std::string moved = text;
+    const std::string from = dir.file("lib"), to = dir.file("elsewhere/deeper/lib");
+    for (std::size_t at = moved.find(from); at != std::string::npos; at = moved.find(from, at))
+      moved.replace(at, from.size(), to), at += to.size();
+    CHECK(cached_files.at(name) == moved);
+  }
+  // A mesh changed in the copy is another key: that robot is baked again.
+  dir.write("elsewhere/deeper/lib/meshes/palm.stl", to_stl_binary(make_box({0.05, 0.03, 0.01}, 2)));
+  from_copy.output_dir = dir.file("out_changed");
+  for (const BatchRow& row : bake_robot_batch(copied, from_copy).rows) {
+    INFO(row.input.relative);
+    if (kGood.count(row.input.relative))
+      CHECK(row.outcome ==
+            (row.input.relative == "gripper.urdf" ? BatchOutcome::kBaked : BatchOutcome::kCached));
+  }
+}
+
 TEST_CASE("robot_cache_key: the URDF, its meshes and every result-changing option",
           "[batch][robot]") {
   TempDir dir;
@@ -205,9 +256,9 @@ TEST_CASE("robot_cache_key: the URDF, its meshes and every result-changing optio
   const UrdfRobot r = read_urdf(urdf);
   const std::string sha = file_sha256(urdf);
   const RobotJob base;
-  const std::string key = robot_cache_key(r, sha, base);
+  const std::string key = robot_cache_key(r, sha, base, "gripper.urdf");
   CHECK(key.size() == 64);
-  CHECK(robot_cache_key(r, sha, base) == key);
+  CHECK(robot_cache_key(r, sha, base, "gripper.urdf") == key);
   std::vector<RobotJob> changed(6, base);
   changed[0].bake.request.medial.resolution = 20;
   changed[1].bake.budget.per_link = 3;
@@ -216,17 +267,17 @@ TEST_CASE("robot_cache_key: the URDF, its meshes and every result-changing optio
   changed[4].set = formats::SphereChoice::kInner;
   changed[5].options_json = "{}";
   std::set<std::string> keys = {key};
-  for (const RobotJob& j : changed) keys.insert(robot_cache_key(r, sha, j));
+  for (const RobotJob& j : changed) keys.insert(robot_cache_key(r, sha, j, "gripper.urdf"));
   CHECK(keys.size() == 7);
   RobotJob threads = base;
   threads.bake.request.medial.threads = 3;
   threads.bake.jobs = 2;
-  CHECK(robot_cache_key(r, sha, threads) == key);
+  CHECK(robot_cache_key(r, sha, threads, "gripper.urdf") == key);
   // A mesh's bytes change the key; a mesh that cannot be read names the link.
   dir.write("lib/meshes/palm.stl", to_stl_binary(make_box({0.04, 0.03, 0.02}, 2)));
-  CHECK(robot_cache_key(r, sha, base) != key);
+  CHECK(robot_cache_key(r, sha, base, "gripper.urdf") != key);
   fs::remove(dir.file("lib/meshes/palm.stl"));
-  CHECK_THROWS_WITH(robot_cache_key(r, sha, base), Catch::Contains("link 'palm'"));
+  CHECK_THROWS_WITH(robot_cache_key(r, sha, base, "gripper.urdf"), Catch::Contains("link 'palm'"));
 }
 
 TEST_CASE("robot batch: an output folder that would hold another's is refused before work",

@@ -162,7 +162,10 @@ TEST_CASE(
                           " --jobs 2 --report " + shell_quote(dir.file("r.csv"));
   const CommandResult first = run_cli(cmd, 600);
   CHECK(first.exit_code == 2);
-  CHECK_THAT(first.err, Contains("[3/3]") && Contains("broken.urdf") && Contains("links, "));
+  CHECK_THAT(first.err, Contains("[3/3]") && Contains("broken.urdf") && Contains("(2 links, "));
+  // The progress line counts in the singular for one: the pole has one link.
+  CHECK_THAT(first.err, Contains("pole.urdf") && Contains("(1 link, "));
+  CHECK(first.err.find("(1 links") == std::string::npos);
   CHECK(fs::exists(dir.file("out/arm/arm/arm.robot.json")));
   CHECK(fs::exists(dir.file("out/arm/arm/arm.curobo.yml")));
   CHECK(fs::exists(dir.file("out/pole/pole.robot.json")));

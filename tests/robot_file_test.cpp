@@ -2,6 +2,7 @@
 #include <random>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "medspheres/error.h"
 #include "medspheres/robot_file.h"
@@ -101,6 +102,19 @@ TEST_CASE("robot files round-trip: spheres, joints and metadata bit-exact", "[ro
       CHECK((a.mimic->joint == b.mimic->joint && a.mimic->multiplier == b.mimic->multiplier &&
              a.mimic->offset == b.mimic->offset));
   }
+}
+
+TEST_CASE("a robot file's metadata replaced in its text: the bytes robot_to_json writes",
+          "[robot_file]") {
+  RobotModel m = decorated_arm();
+  const std::string text = medspheres::robot_to_json(m);
+  CHECK(nlohmann::json::parse(medspheres::robot_json_metadata(text, "arm")) ==
+        nlohmann::json::parse(m.metadata_json));
+  m.metadata_json = R"({"urdf":"elsewhere/arm.urdf","n":[0.1,-0.0,1e-300,3]})";
+  CHECK(medspheres::robot_json_with_metadata(text, m.metadata_json, "arm") ==
+        medspheres::robot_to_json(m));
+  CHECK_THROWS_AS(medspheres::robot_json_with_metadata("[1]", "{}", "arm"), InputError);
+  CHECK_THROWS_AS(medspheres::robot_json_with_metadata(text, "[]", "arm"), std::invalid_argument);
 }
 
 TEST_CASE("a robot file accepts rpy origins as URDF defines them", "[robot_file]") {

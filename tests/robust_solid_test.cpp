@@ -1,5 +1,6 @@
 // The robust solid (robust_solid.h) on generated shapes of known volume, and the bake
 // that falls back to it.
+#include <algorithm>
 #include <cmath>
 #include <random>
 #include <string>
@@ -19,6 +20,7 @@
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/robust_solid.h"
+#include "medspheres/options/bake_flags.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
@@ -64,6 +66,58 @@ TriangleMesh box_with_hole(double lo, double hi) {
     if (!hole) out.triangles.push_back(box.triangles[t]);
   }
   return out;
+}
+
+// A flat square of side 2 split into 8 x 8 quads, tilted about two axes (no grid axis
+// lies in its plane), so that no thickness lines up with the cells.
+TriangleMesh tilted_sheet() {
+  const Eigen::Matrix3d turn = (Eigen::AngleAxisd(0.4, Eigen::Vector3d::UnitX()) *
+                                Eigen::AngleAxisd(0.7, Eigen::Vector3d::UnitY()))
+                                   .toRotationMatrix();
+  TriangleMesh sheet;
+  for (int j = 0; j <= 8; ++j)
+    for (int i = 0; i <= 8; ++i)
+      sheet.vertices.push_back(turn * Eigen::Vector3d(-1.0 + i / 4.0, -1.0 + j / 4.0, 0.0));
+  for (int j = 0; j < 8; ++j)
+    for (int i = 0; i < 8; ++i) {
+      const int a = j * 9 + i;
+      sheet.triangles.push_back({a, a + 1, a + 10});
+      sheet.triangles.push_back({a, a + 10, a + 9});
+    }
+  return sheet;
+}
+
+// Appends the side of the cylinder of \p radius about the axis through \p base along
+// \p axis (unit), of \p length, without caps: an open tube of 2 * 24 triangles.
+void add_open_tube(TriangleMesh& m, const Eigen::Vector3d& base, const Eigen::Vector3d& axis,
+                   double radius, double length) {
+  const Eigen::Vector3d u = axis.unitOrthogonal(), v = axis.cross(u);
+  const int b = static_cast<int>(m.vertices.size());
+  constexpr int kSlices = 24;
+  for (int k = 0; k < kSlices; ++k) {
+    const double a = 2.0 * kPi * k / kSlices;
+    const Eigen::Vector3d rim = radius * (std::cos(a) * u + std::sin(a) * v);
+    m.vertices.push_back(base + rim);
+    m.vertices.push_back(base + length * axis + rim);
+  }
+  for (int k = 0; k < kSlices; ++k) {
+    const int i = b + 2 * k, j = b + 2 * ((k + 1) % kSlices);
+    m.triangles.push_back({i, j, j + 1});
+    m.triangles.push_back({i, j + 1, i + 1});
+  }
+}
+
+// Like the visual mesh of a robot's wrist: two open tubes (no end caps: openings as wide
+// as the part) that run into each other (self-intersecting), single surfaces (walls of no
+// thickness), the second wound inward, so that no winding number is confident inside.
+TriangleMesh open_elbow() {
+  TriangleMesh m;
+  add_open_tube(m, {0.0, 0.0, -1.0}, Eigen::Vector3d::UnitZ(), 0.5, 2.0);
+  const std::size_t first = m.triangles.size();
+  add_open_tube(m, {-0.2, 0.0, 0.3}, Eigen::Vector3d::UnitX(), 0.4, 1.4);
+  for (std::size_t t = first; t < m.triangles.size(); ++t)
+    std::swap(m.triangles[t][1], m.triangles[t][2]);
+  return m;
 }
 
 void check_closed_solid(const RobustSolid& s) {
@@ -160,6 +214,83 @@ TEST_CASE("a flat sheet has no robust solid: a clear error", "[robust_solid]") {
   for (const SolidKind kind : {SolidKind::kAuto, SolidKind::kRobust}) {
     request.solid = kind;
     CHECK_THROWS_AS(bake_mesh(sheet, analyze_mesh(sheet), request, "sheet.obj"), InputError);
+  }
+}
+
+TEST_CASE("a sheet encloses nothing however thick its walls", "[robust_solid]") {
+  const TriangleMesh sheet = tilted_sheet();
+  const double longest = analyze_mesh(sheet).largest_side();
+  for (int n : {32, 48})
+    for (double t : {0.001, 0.02, 0.1, 0.5}) {
+      INFO("resolution " << n << ", thickness " << t << " L");
+      try {
+        const RobustSolid s = make_robust_solid(sheet, {n, t * longest}, "sheet.obj");
+        FAIL("a sheet enclosed " << s.enclosed_cells << " cells");
+      } catch (const InputError& e) {
+        CHECK(e.kind() == ErrorKind::kNoInterior);
+      }
+    }
+  // Escalating, every thickness of the schedule is tried, and the error says so.
+  try {
+    make_robust_solid(sheet, {0, 0.0, true}, "sheet.obj");
+    FAIL("an escalated sheet enclosed a volume");
+  } catch (const InputError& e) {
+    CHECK(e.kind() == ErrorKind::kNoInterior);
+    CHECK_THAT(e.what(),
+               Catch::Matchers::Contains("sheet.obj") && Catch::Matchers::Contains("up to 0.5L"));
+  }
+}
+
+TEST_CASE("an open, self-intersecting elbow: its walls are thickened until they enclose a volume",
+          "[robust_solid][bake_pipeline]") {
+  const TriangleMesh elbow = open_elbow();
+  const MeshReport report = analyze_mesh(elbow);
+  REQUIRE_FALSE(report.closed);
+  // Without thickness its walls enclose nothing at any resolution the search tries.
+  CHECK_THROWS_AS(make_robust_solid(elbow, {}, "elbow.obj"), InputError);
+  BakeRequest request;
+  request.medial.resolution = 16;
+  const BakeOutcome out = bake_mesh(elbow, report, request, "elbow.obj");
+  CHECK(out.solid == SolidKind::kRobust);
+  CHECK(out.robust_thickness_escalated);
+  CHECK(out.robust_thickness > 0.0);
+  const auto meta = nlohmann::json::parse(out.spheres.metadata_json);
+  CHECK(meta["stats"]["robust_thickness"].get<double>() == out.robust_thickness);
+  CHECK(meta["stats"]["robust_thickness_requested"].get<double>() == 0.0);
+  const bool says_so = std::any_of(out.warnings.begin(), out.warnings.end(), [](const auto& w) {
+    return w.find("thickened to") != std::string::npos;
+  });
+  CHECK(says_so);
+  // The thickness is a step of the schedule, and the steps below it enclose nothing.
+  const double longest = report.largest_side();
+  bool on_schedule = false;
+  for (double step : kRobustThicknessSteps) {
+    if (std::abs(step * longest - out.robust_thickness) <= 1e-12 * longest) on_schedule = true;
+    if (step * longest < out.robust_thickness)
+      CHECK_THROWS_AS(make_robust_solid(elbow, {0, step * longest}, "elbow.obj"), InputError);
+  }
+  CHECK(on_schedule);
+  // Every inner sphere lies inside the solid the file records, which eval rebuilds.
+  REQUIRE(out.spheres.size() > 0);
+  const SolidChoice choice = choose_solid(SolidKind::kAuto, {}, false, out.spheres.metadata_json);
+  REQUIRE(choice.kind == SolidKind::kRobust);
+  CHECK(choice.robust.thickness == out.robust_thickness);
+  const TriangleMesh recorded = solid_mesh(elbow, choice, "elbow.obj");
+  CHECK(analyze_mesh(recorded).is_closed_outward());
+  check_spheres_inside(out.spheres, MeshQuery(recorded));
+  // The request the CLI and Python make from their flags (no thickness given) escalates
+  // the same way; a thickness the caller gives is kept: none escalates.
+  for (const SolidKind kind : {SolidKind::kAuto, SolidKind::kRobust}) {
+    INFO("solid " << to_string(kind));
+    BakeFlags flags;
+    flags.resolution = 16;
+    flags.solid.solid = to_string(kind);
+    const BakeOutcome o = bake_mesh(elbow, report, bake_request(flags), "elbow.obj");
+    CHECK(o.solid == SolidKind::kRobust);
+    CHECK(o.robust_thickness_escalated);
+    CHECK(o.robust_thickness == out.robust_thickness);
+    flags.solid.robust_thickness = "0";
+    CHECK_THROWS_AS(bake_mesh(elbow, report, bake_request(flags), "elbow.obj"), InputError);
   }
 }
 

@@ -17,13 +17,18 @@
 #include <vector>
 
 #include <png.h>
+#include <nlohmann/json.hpp>
 
 #include "medspheres/io.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "support/chromium.h"
 #include "support/mesh_writers.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
 
 using namespace medspheres;
+using medspheres::test::chromium_command;
+using medspheres::test::find_chromium;
 using medspheres::test::run_command;
 using medspheres::test::shell_quote;
 
@@ -34,24 +39,6 @@ int failures = 0;
 void check(bool ok, const std::string& what) {
   std::cout << (ok ? "ok:   " : "FAIL: ") << what << "\n";
   failures += ok ? 0 : 1;
-}
-
-std::string find_chromium() {
-  for (const char* name : {"chromium", "chromium-browser", "google-chrome"}) {
-    const test::CommandResult r = run_command(std::string("command -v ") + name);
-    if (r.exit_code == 0 && !r.out.empty()) return r.out.substr(0, r.out.find('\n'));
-  }
-  return {};
-}
-
-std::string chromium_command(const std::string& chromium, const std::string& args) {
-  // Headless with software WebGL (SwiftShader through ANGLE); --no-sandbox because CI runs
-  // as root; a virtual time budget lets the page's module scripts run before the dump.
-  return "timeout 120 " + shell_quote(chromium) +
-         " --headless --no-sandbox --disable-dev-shm-usage --use-angle=swiftshader"
-         " --enable-unsafe-swiftshader --use-gl=angle --no-first-run --disable-extensions"
-         " --hide-scrollbars --virtual-time-budget=20000 " +
-         args;
 }
 
 struct Pixels {
@@ -95,9 +82,25 @@ Counts count(const Pixels& p) {
 }
 
 struct PageResult {
-  std::string status;  // the body's data-status
+  std::string status;       // the body's data-status
+  nlohmann::json geometry;  // the body's data-geometry: what the page decoded
   Counts pixels;
 };
+
+// The value of the attribute \p name in the dumped DOM, its entities replaced.
+std::string attribute(const std::string& dom, const std::string& name) {
+  const std::size_t at = dom.find(name + "=\"");
+  if (at == std::string::npos) return {};
+  const std::size_t from = at + name.size() + 2;
+  std::string v = dom.substr(from, dom.find('"', from) - from);
+  for (const auto& [entity, c] : {std::pair<std::string, std::string>{"&quot;", "\""},
+                                  {"&lt;", "<"},
+                                  {"&gt;", ">"},
+                                  {"&amp;", "&"}})
+    for (std::size_t k = v.find(entity); k != std::string::npos; k = v.find(entity, k + 1))
+      v.replace(k, entity.size(), c);
+  return v;
+}
 
 // One Chromium run: the DOM after the page ran, and a 640 x 480 screenshot.
 PageResult load_page(const std::string& chromium, const std::string& html, const std::string& dir) {
@@ -107,11 +110,9 @@ PageResult load_page(const std::string& chromium, const std::string& html, const
   const test::CommandResult dom = run_command(
       chromium_command(chromium, "--window-size=640,480 --screenshot=" + shell_quote(shot) +
                                      " --dump-dom " + shell_quote("file://" + html)));
-  const std::size_t at = dom.out.find("data-status=\"");
-  if (at != std::string::npos) {
-    const std::size_t from = at + 13;
-    out.status = dom.out.substr(from, dom.out.find('"', from) - from);
-  } else {
+  out.status = attribute(dom.out, "data-status");
+  out.geometry = nlohmann::json::parse(attribute(dom.out, "data-geometry"), nullptr, false);
+  if (out.status.empty()) {
     out.status = "(no status; chromium exit " + std::to_string(dom.exit_code) + ": " +
                  dom.err.substr(0, 400) + ")";
   }
@@ -119,6 +120,52 @@ PageResult load_page(const std::string& chromium, const std::string& html, const
   check(p.width == 640 && p.height == 480, "the screenshot is a 640x480 PNG");
   out.pixels = count(p);
   return out;
+}
+
+// The page decoded \p mesh: its vertex and triangle counts; the box and the mean of its
+// vertices within the quantization's half step (the box's side / 65535 / 2, view_data.h)
+// plus the float32 rounding of a decoded coordinate; its area within what moving every
+// vertex by that much can change (|dA| <= d * perimeter per triangle, d the longest move);
+// \p uncovered_inner pieces of the inner set.
+void check_geometry(const PageResult& page, const TriangleMesh& mesh, std::size_t uncovered_inner,
+                    const std::string& what) {
+  const nlohmann::json& g = page.geometry;
+  if (!g.is_object() || !g.contains("box"))
+    return check(false, what + ": the page says what it decoded");
+  check(g["vertices"] == mesh.vertices.size() && g["triangles"] == mesh.num_triangles(),
+        what + ": " + g["vertices"].dump() + " vertices and " + g["triangles"].dump() +
+            " triangles decoded, as written");
+  Eigen::AlignedBox3d box;
+  Eigen::Vector3d mean = Eigen::Vector3d::Zero();
+  for (const Eigen::Vector3d& v : mesh.vertices) box.extend(v), mean += v;
+  mean /= static_cast<double>(mesh.vertices.size());
+  Eigen::Vector3d half_step;
+  double worst = 0.0;  // in half steps
+  for (int k = 0; k < 3; ++k) {
+    const double round = 1.2e-7 * std::max(std::abs(box.min()[k]), std::abs(box.max()[k]));
+    half_step[k] = (box.max()[k] - box.min()[k]) / 65535 / 2 + round;
+    for (const auto& [decoded, exact] :
+         {std::pair{g["box"][k], box.min()[k]}, std::pair{g["box"][k + 3], box.max()[k]},
+          std::pair{g["mean"][k], mean[k]}}) {
+      worst = std::max(worst, std::abs(decoded.get<double>() - exact) / half_step[k]);
+    }
+  }
+  check(worst <= 1.0, what +
+                          ": the decoded box and mean are the mesh's within half a "
+                          "quantization step (off by " +
+                          std::to_string(worst) + " of it)");
+  double area = 0.0, bound = 0.0;
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+    const Eigen::Vector3d a = mesh.corner(t, 0), b = mesh.corner(t, 1), c = mesh.corner(t, 2);
+    area += 0.5 * (b - a).cross(c - a).norm();
+    bound += half_step.norm() * ((b - a).norm() + (c - b).norm() + (a - c).norm());
+  }
+  check(std::abs(g["area"].get<double>() - area) <= bound,
+        what + ": the decoded area " + g["area"].dump() + " is the mesh's " + std::to_string(area) +
+            " within " + std::to_string(bound));
+  check(
+      g["uncovered"]["inner"] == uncovered_inner,
+      what + ": " + g["uncovered"]["inner"].dump() + " uncovered pieces of the inner set decoded");
 }
 
 void write_set(const std::string& path, const Eigen::Vector3d& c, double r) {
@@ -137,7 +184,8 @@ int main() {
   }
   test::TempDir tmp;
   const std::string dir = tmp.path().string();
-  { std::ofstream(dir + "/cube.off") << test::to_off(test::cube_mesh(-0.5, 0.5)); }
+  const TriangleMesh cube = test::cube_mesh(-0.5, 0.5);
+  { std::ofstream(dir + "/cube.off") << test::to_off(cube); }
   write_set(dir + "/inside.json", {0.0, 0.0, 0.0}, 0.4);  // in the cube: nothing covered
   write_set(dir + "/around.json", {0.0, 0.0, 0.0}, 0.9);  // > sqrt(3) / 2: all covered
   write_set(dir + "/far.json", {40.0, 0.0, 0.0}, 0.4);    // a set in another frame
@@ -154,6 +202,11 @@ int main() {
               << " drawn, " << page.pixels.red << " red, " << page.pixels.blue << " blue of "
               << page.pixels.total << "\n";
     check(page.status.rfind("ok:", 0) == 0, "the page reports ok for the " + set + " set");
+    const std::string counts = ", 1 part, " + std::to_string(cube.num_triangles()) + " triangles,";
+    check(page.status.find(counts) != std::string::npos,
+          "the status counts the cube's one part and its triangles (" + page.status + ")");
+    // Inside: every triangle uncovered, as a whole; around: none.
+    check_geometry(page, cube, set == "inside" ? cube.num_triangles() : 0, "the " + set + " page");
     // The cube fills a good part of the window, but not all of it.
     check(
         page.pixels.drawn > page.pixels.total / 20 && page.pixels.drawn < page.pixels.total * 3 / 4,
@@ -174,6 +227,25 @@ int main() {
     const PageResult page = load_page(chromium, html, dir);
     check(page.status.rfind("ok:", 0) == 0 && page.pixels.drawn > page.pixels.total / 200,
           "the mismatched page still draws both (" + page.status + ")");
+  }
+  {
+    // More vertices than 16-bit indices hold, none on the quantization's lattice: an
+    // icosphere of 163842 vertices, turned, inside a ball that covers it.
+    TriangleMesh ball = make_icosphere(1.0, 7);
+    const Eigen::Matrix3d turn =
+        Eigen::AngleAxisd(0.3, Eigen::Vector3d(1, 2, 3).normalized()).toRotationMatrix();
+    for (Eigen::Vector3d& v : ball.vertices) v = turn * v + Eigen::Vector3d(0.1, -2.0, 30.0);
+    { std::ofstream(dir + "/ball.off") << test::to_off(ball); }
+    write_set(dir + "/ball.json", {0.1, -2.0, 30.0}, 1.01);
+    const std::string html = dir + "/ball.html";
+    const test::CommandResult r =
+        run_command(cli + " view " + shell_quote(dir + "/ball.off") + " " +
+                    shell_quote(dir + "/ball.json") + " -o " + shell_quote(html));
+    check(r.exit_code == 0, "view exits 0 for the large ball (" + r.err + ")");
+    const PageResult page = load_page(chromium, html, dir);
+    std::cout << "      status: " << page.status << "\n";
+    check(page.status.rfind("ok:", 0) == 0, "the large ball's page reports ok");
+    check_geometry(page, ball, 0, "the large ball's page");
   }
   std::cout << (failures == 0 ? "all passed\n" : std::to_string(failures) + " failed\n");
   return failures == 0 ? 0 : 1;

@@ -11,6 +11,78 @@ function unpack(text, Type) {
   return new Type(bytes.buffer);
 }
 
+// 16-bit coordinates over the part's box back to floats (src/render/view_data.h): each
+// within half a step, (box side) / 65535, of the point written.
+function dequantize(text, box) {
+  const q = unpack(text, Uint16Array);
+  const out = new Float32Array(q.length);
+  const step = [0, 1, 2].map((k) => (box[k + 3] - box[k]) / 65535);
+  for (let i = 0; i < q.length; ++i) out[i] = box[i % 3] + q[i] * step[i % 3];
+  return out;
+}
+
+// A part's arrays, decoded: positions and indices of its mesh, its spheres as [x, y, z, r]
+// rows, and per set the corners of its uncovered pieces (whole triangles and smaller ones).
+function decodePart(p) {
+  const positions = dequantize(p.positions, p.box);
+  const index = unpack(p.triangles, p.index_bytes === 2 ? Uint16Array : Uint32Array);
+  const rows = (text) => {
+    const f = unpack(text, Float32Array);
+    return Array.from({ length: f.length / 4 }, (_, i) => Array.from(f.subarray(4 * i, 4 * i + 4)));
+  };
+  const uncovered = (u) => {
+    const bits = unpack(u.whole, Uint8Array);
+    const pieces = dequantize(u.pieces, p.box);
+    let whole = 0;
+    for (let t = 0; t < p.triangle_count; ++t) whole += (bits[t >> 3] >> (t & 7)) & 1;
+    const corners = new Float32Array(9 * whole + pieces.length);
+    let at = 0;
+    for (let t = 0; t < p.triangle_count; ++t) {
+      if (!((bits[t >> 3] >> (t & 7)) & 1)) continue;
+      for (let k = 0; k < 3; ++k) corners.set(positions.subarray(3 * index[3 * t + k], 3 * index[3 * t + k] + 3), at + 3 * k);
+      at += 9;
+    }
+    corners.set(pieces, at);
+    return corners;
+  };
+  return { name: p.name, triangle_count: p.triangle_count, positions, index,
+    inner: rows(p.inner), outer: rows(p.outer),
+    uncovered_inner: uncovered(p.uncovered_inner), uncovered_outer: uncovered(p.uncovered_outer) };
+}
+
+// What the page decoded, for a test to compare with the mesh it wrote: vertices,
+// triangles, the box and the mean of every vertex, the area of the triangles, uncovered
+// triangle pieces per set.
+function geometrySummary(parts) {
+  const lo = [Infinity, Infinity, Infinity], hi = [-Infinity, -Infinity, -Infinity];
+  const sum = [0, 0, 0];
+  let vertices = 0, triangles = 0, area = 0, inner = 0, outer = 0;
+  for (const p of parts) {
+    vertices += p.positions.length / 3;
+    triangles += p.index.length / 3;
+    inner += p.uncovered_inner.length / 9;
+    outer += p.uncovered_outer.length / 9;
+    const x = p.positions;
+    for (let i = 0; i < x.length; ++i) {
+      lo[i % 3] = Math.min(lo[i % 3], x[i]);
+      hi[i % 3] = Math.max(hi[i % 3], x[i]);
+      sum[i % 3] += x[i];
+    }
+    for (let t = 0; t < p.index.length; t += 3) {
+      const [a, b, c] = [3 * p.index[t], 3 * p.index[t + 1], 3 * p.index[t + 2]];
+      const u = [0, 1, 2].map((k) => x[b + k] - x[a + k]), v = [0, 1, 2].map((k) => x[c + k] - x[a + k]);
+      area += 0.5 * Math.hypot(u[1] * v[2] - u[2] * v[1], u[2] * v[0] - u[0] * v[2], u[0] * v[1] - u[1] * v[0]);
+    }
+  }
+  return { vertices, triangles, box: [...lo, ...hi], mean: sum.map((s) => s / Math.max(vertices, 1)),
+    area, uncovered: { inner, outer } };
+}
+
+// "1 part", "2 parts": a count with its noun in the singular for one.
+function counted(n, noun) {
+  return `${n} ${noun}${n === 1 ? '' : 's'}`;
+}
+
 function setStatus(text) {
   document.body.dataset.status = text;
   document.getElementById('status').textContent = text;
@@ -18,8 +90,8 @@ function setStatus(text) {
 
 function meshObject(part) {
   const g = new THREE.BufferGeometry();
-  g.setAttribute('position', new THREE.BufferAttribute(unpack(part.positions, Float32Array), 3));
-  g.setIndex(new THREE.BufferAttribute(unpack(part.triangles, Uint32Array), 1));
+  g.setAttribute('position', new THREE.BufferAttribute(part.positions, 3));
+  g.setIndex(new THREE.BufferAttribute(part.index, 1));
   g.computeVertexNormals();
   const m = new THREE.MeshLambertMaterial({ color: COLORS.mesh, transparent: true, opacity: 0.45,
     depthWrite: false, side: THREE.DoubleSide });
@@ -70,6 +142,8 @@ function checkbox(parent, text, checked, onChange, color) {
 
 function main() {
   const data = JSON.parse(document.getElementById('medspheres-data').textContent);
+  data.parts = data.parts.map(decodePart);
+  document.body.dataset.geometry = JSON.stringify(geometrySummary(data.parts));
   const host = document.getElementById('view');
   const renderer = new THREE.WebGLRenderer({ antialias: true, preserveDrawingBuffer: true });
   renderer.setPixelRatio(window.devicePixelRatio);
@@ -92,7 +166,7 @@ function main() {
     const o = { group, name: p.name, inner: null, outer: null, mesh: null, red: {} };
     if (p.triangle_count > 0) group.add(o.mesh = meshObject(p));
     for (const kind of ['inner', 'outer']) {
-      const red = unpack(p['uncovered_' + kind], Float32Array);
+      const red = p['uncovered_' + kind];
       if (red.length > 0) group.add(o.red[kind] = piecesObject(red));
       if (p[kind].length > 0)
         group.add(o[kind] = spheresObject(p[kind], COLORS[kind], kind === 'inner' ? 0.6 : 0.3, p.name, kind));
@@ -126,7 +200,7 @@ function main() {
     w.textContent = 'warning: ' + data.warning;
     panel.appendChild(w);
   }
-  checkbox(panel, `mesh (${triangles} triangles)`, true, (v) => { show.mesh = v; update(); }, COLORS.mesh);
+  checkbox(panel, `mesh (${counted(triangles, 'triangle')})`, true, (v) => { show.mesh = v; update(); }, COLORS.mesh);
   checkbox(panel, 'uncovered surface', true, (v) => { show.uncovered = v; update(); }, COLORS.uncovered);
   checkbox(panel, `inner spheres (${count('inner')})`, true, (v) => { show.inner = v; update(); }, COLORS.inner);
   checkbox(panel, `outer spheres (${count('outer')})`, true, (v) => { show.outer = v; update(); }, COLORS.outer);
@@ -181,8 +255,9 @@ function main() {
     draw();
   });
   update();
-  setStatus(`ok: three.js r${THREE.REVISION}, ${parts.length} part(s), ${triangles} triangles, ` +
-            `${count('inner')} inner and ${count('outer')} outer spheres`);
+  setStatus(`ok: three.js r${THREE.REVISION}, ${counted(parts.length, 'part')}, ` +
+            `${counted(triangles, 'triangle')}, ${count('inner')} inner and ` +
+            `${count('outer')} outer spheres`);
 }
 
 try {

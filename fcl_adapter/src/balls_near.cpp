@@ -28,20 +28,16 @@
 #include <stdexcept>
 #include <utility>
 
+#include "fcl_bv_rss.h"
 #include "fcl_dispatch.h"
+#include "gap_allowance.h"
 
 namespace medspheres::fcl {
 namespace {
 
-constexpr int kNodeBudget = 4096;
+using detail::rectangle_distance2;
 
-// The squared distance from p to the rectangle of the RSS b, both in one frame.
-double rectangle_distance2(const Rss& b, const Eigen::Vector3d& p) {
-  const Eigen::Vector3d t = b.axis.transpose() * (p - b.corner);
-  const Eigen::Vector3d off(t.x() - std::clamp(t.x(), 0.0, b.length[0]),
-                            t.y() - std::clamp(t.y(), 0.0, b.length[1]), t.z());
-  return off.squaredNorm();
-}
+constexpr int kNodeBudget = 4096;
 
 // Whether the RSS b comes within reach (>= 0) of p: its rectangle within reach + radius.
 bool rss_within(const Rss& b, const Eigen::Vector3d& p, double reach) {
@@ -112,24 +108,22 @@ class NearSearch {
   int budget_ = kNodeBudget;
 };
 
-// The gap between the balls, computed in doubles, and the allowance for its rounding:
-// 1e-12 of the magnitudes involved, far above the few ulps of error of the gap.
-std::pair<double, double> gap_and_allowance(const Sphere& a, const Sphere& b, double margin) {
+// The gap between the balls, computed in doubles, and the magnitudes it is computed from.
+std::pair<double, double> gap_and_scale(const Sphere& a, const Sphere& b) {
   const double gap = (a.center - b.center).norm() - a.radius - b.radius;
-  const double scale = a.center.norm() + b.center.norm() + a.radius + b.radius + margin;
-  return {gap, 1e-12 * scale};
+  return {gap, a.center.norm() + b.center.norm() + a.radius + b.radius};
 }
 
 }  // namespace
 
 bool balls_apart(const Sphere& a, const Sphere& b, double margin) {
-  const auto [gap, allowance] = gap_and_allowance(a, b, margin);
-  return std::isfinite(gap) && gap - allowance > margin;
+  const auto [gap, scale] = gap_and_scale(a, b);
+  return detail::gap_beyond(gap, scale, margin);
 }
 
 bool balls_within(const Sphere& a, const Sphere& b, double margin) {
-  const auto [gap, allowance] = gap_and_allowance(a, b, margin);
-  return gap + allowance <= margin;
+  const auto [gap, scale] = gap_and_scale(a, b);
+  return gap + detail::gap_allowance(scale, margin) <= margin;
 }
 
 std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
@@ -164,7 +158,7 @@ std::vector<char> balls_near(const ::fcl::CollisionObjectd& object,
       if (!near[i]) continue;  // beyond the bounding ball
       p[i] = X_BW * balls[i].center;
       reach[i] = balls[i].radius + margin +
-                 1e-12 * (balls[i].center.norm() + balls[i].radius + scale + margin);
+                 detail::gap_allowance(balls[i].center.norm() + balls[i].radius + scale, margin);
       const double d2 = rss ? rectangle_distance2(root->bounds, p[i])
                             : (lo - p[i]).cwiseMax(p[i] - hi).cwiseMax(0.0).squaredNorm();
       const double r = reach[i] + (rss ? root->bounds.radius : 0.0);

@@ -38,16 +38,22 @@
 #include <fcl/geometry/octree/octree.h>
 #endif
 
+#include "fcl_bv_rss.h"
 #include "fcl_dispatch.h"
+#include "fcl_geometry_visit.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
 #include "medspheres/proximity_target.h"
 #include "medspheres/sphere_tree.h"
 #include "medspheres/triangle_tree.h"
+#include "pair_beyond.h"
 
 namespace medspheres::fcl {
 namespace {
 
-constexpr double kEps = std::numeric_limits<double>::epsilon();
+using detail::rss_of;
+using detail::Shape;
+using detail::Unsupported;
+using detail::visit_geometry;
 
 // The narrowphase settings of the caller's request, passed on to FCL's sphere tests.
 struct Narrowphase {
@@ -55,67 +61,6 @@ struct Narrowphase {
   double distance_tolerance = 1e-6;
   double gjk_tolerance = 1e-6;
 };
-
-// --- bounds of FCL's bounding volumes, as RSS in the model's frame ----------------------
-
-Rss rss_of_box(const Eigen::Vector3d& center, const Eigen::Matrix3d& axes,
-               const Eigen::Vector3d& half) {
-  // The rectangle spans the two largest extents; the smallest becomes the radius. The
-  // box lies inside: each of its points is within the smallest half extent of it.
-  std::array<int, 3> order = {0, 1, 2};
-  std::sort(order.begin(), order.end(), [&](int i, int j) { return half[i] > half[j]; });
-  Rss rss;
-  rss.axis.col(0) = axes.col(order[0]);
-  rss.axis.col(1) = axes.col(order[1]);
-  rss.axis.col(2) = rss.axis.col(0).cross(rss.axis.col(1));
-  rss.length = Eigen::Vector2d(2 * half[order[0]], 2 * half[order[1]]);
-  rss.corner = center - rss.axis.col(0) * half[order[0]] - rss.axis.col(1) * half[order[1]];
-  rss.radius = half[order[2]] + 16 * kEps * (center.norm() + half.sum());
-  return rss;
-}
-
-Rss rss_of(const ::fcl::AABBd& bv) {
-  return rss_of_box(bv.center(), Eigen::Matrix3d::Identity(), 0.5 * (bv.max_ - bv.min_));
-}
-
-Rss rss_of(const ::fcl::OBBd& bv) {
-  return rss_of_box(bv.To, bv.axis, bv.extent);
-}
-
-Rss rss_of(const ::fcl::RSSd& bv) {
-  Rss rss;
-  rss.corner = bv.To;
-  rss.radius = bv.r;
-  if (bv.l[0] >= bv.l[1]) {
-    rss.axis = bv.axis;
-    rss.length = Eigen::Vector2d(bv.l[0], bv.l[1]);
-  } else {
-    rss.axis.col(0) = bv.axis.col(1);
-    rss.axis.col(1) = bv.axis.col(0);
-    rss.axis.col(2) = -bv.axis.col(2);
-    rss.length = Eigen::Vector2d(bv.l[1], bv.l[0]);
-  }
-  return rss;
-}
-
-Rss rss_of(const ::fcl::OBBRSSd& bv) {
-  return rss_of(bv.rss);
-}
-
-Rss rss_of(const ::fcl::kIOSd& bv) {
-  return rss_of(bv.obb);
-}
-
-template <std::size_t N>
-Rss rss_of(const ::fcl::KDOP<double, N>& bv) {
-  // The first three slab pairs are the axis-aligned ones.
-  ::fcl::AABBd box;
-  for (int i = 0; i < 3; ++i) {
-    box.min_[i] = bv.dist(static_cast<std::size_t>(i));
-    box.max_[i] = bv.dist(N / 2 + static_cast<std::size_t>(i));
-  }
-  return rss_of(box);
-}
 
 // --- targets ----------------------------------------------------------------------------
 
@@ -263,73 +208,134 @@ class ShapeTarget final : public ProximityTarget {
 
 #if FCL_HAVE_OCTOMAP
 // An fcl::OcTree: its occupied cells as boxes, with FCL's rules (internal cells must be
-// occupied to be opened, leaf cells must be occupied to count). A node's bounds are the
-// cube's RSS: rectangle through the cube's middle, radius half its side, from which the
-// cube is recovered exactly.
+// occupied to be opened, leaf cells must be occupied to count). A node's bounds are its
+// cube (TargetNode::box_half), and also the cube's RSS (rectangle through the cube's
+// middle, radius half its side), from which the cube is recovered exactly. A child's cube
+// is computed as fcl::computeChildBV computes it, so cubes and cell ids are FCL's.
+//
+// Chains: a cell with one occupied child holds only that child's cells. An octomap's root
+// lies 16 levels above its leaves, and a cloud that straddles a coordinate plane through
+// the octree's origin leaves a chain of ten or more single cells below each of the root's
+// children; so a cell's children are those of the first cell down its chain that has
+// several (or is a leaf), and every cell of the chain is walked once, when it is opened.
 class OctreeTarget final : public ProximityTarget {
  public:
+  using Cell = ::fcl::OcTreed::OcTreeNode;
+
   OctreeTarget(const ::fcl::OcTreed& tree, const Narrowphase& np) : tree_(tree), np_(np) {}
 
   std::optional<TargetNode> root() const override {
-    const ::fcl::OcTreed::OcTreeNode* root = tree_.getRoot();
+    const Cell* root = tree_.getRoot();
     if (root == nullptr || !tree_.isNodeOccupied(root)) return std::nullopt;
-    // A cell with one occupied child holds only that child's cells: start below such
-    // chains (an octomap's root lies 16 levels above its leaves, most of them chains).
-    TargetNode n = node(root, tree_.getRootBV());
-    TargetNode kids[kMaxChildren];
-    while (!n.is_leaf && children(n, kids) == 1) n = kids[0];
+    // The root's bounds: the smallest cell that holds every occupied cell.
+    const ::fcl::AABBd bv = tree_.getRootBV();
+    Fork forks[2];
+    const Fork& f = fork_below(root, Cube{bv.min_, bv.max_}, forks);
+    TargetNode n;
+    set_node(n, f.cell, f.cube);
     return n;
   }
 
   int children(const TargetNode& n, TargetNode* out) const override {
-    const auto* cell = reinterpret_cast<const ::fcl::OcTreed::OcTreeNode*>(n.handle);
-    const ::fcl::AABBd box = box_of(n.bounds);
-    int count = 0;
-    for (unsigned int i = 0; i < 8; ++i) {
-      if (!tree_.nodeChildExists(cell, i)) continue;
-      const ::fcl::OcTreed::OcTreeNode* child = tree_.getNodeChild(cell, i);
-      if (!tree_.isNodeOccupied(child)) continue;
-      ::fcl::AABBd child_box;
-      ::fcl::computeChildBV(box, i, child_box);
-      out[count++] = node(child, child_box);
-    }
-    return count;
+    Fork forks[2];
+    const Fork& f = fork_below(reinterpret_cast<const Cell*>(n.handle), cube_of(n.bounds), forks);
+    for (int k = 0; k < f.count; ++k) set_node(out[k], f.kids[k], child_cube(f.cube, f.which[k]));
+    return f.count;
   }
 
   BallProximity ball_proximity(const TargetNode& leaf, const Eigen::Vector3d& p_BC,
                                double radius) const override {
-    const ::fcl::AABBd box = box_of(leaf.bounds);
-    if (const auto apart = ball_apart_from_box(box.min_, box.max_, p_BC, radius)) return *apart;
-    const ::fcl::Boxd shape(box.max_ - box.min_);
+    const Cube c = cube_of(leaf.bounds);
+    if (const auto apart = ball_apart_from_box(c.lo, c.hi, p_BC, radius)) return *apart;
+    const ::fcl::Boxd shape(c.hi - c.lo);
     ::fcl::Transform3d X_BS = ::fcl::Transform3d::Identity();
-    X_BS.translation() = box.center();
+    X_BS.translation() = 0.5 * (c.lo + c.hi);
     return ball_vs_shape(shape, X_BS, p_BC, radius, np_);
   }
 
  private:
-  TargetNode node(const ::fcl::OcTreed::OcTreeNode* cell, const ::fcl::AABBd& box) const {
-    TargetNode n;
-    n.handle = reinterpret_cast<std::intptr_t>(cell);
-    n.is_leaf = !tree_.nodeHasChildren(cell);
-    const double h = 0.5 * (box.max_.x() - box.min_.x());
-    n.bounds.axis.setIdentity();
-    n.bounds.corner =
-        Eigen::Vector3d(box.min_.x(), box.min_.y(), 0.5 * (box.min_.z() + box.max_.z()));
-    n.bounds.length = Eigen::Vector2d(box.max_.x() - box.min_.x(), box.max_.y() - box.min_.y());
-    n.bounds.radius = h;
-    // FCL's query cell id (see fcl::OcTree::getNodeByQueryCellId).
-    n.primitive = n.is_leaf ? static_cast<std::intptr_t>(cell - tree_.getRoot()) : -1;
-    return n;
+  // A cell's cube [lo, hi] (fcl::AABB's min_ and max_).
+  struct Cube {
+    Eigen::Vector3d lo, hi;
+  };
+
+  // A cell, its cube and its occupied children (child index `which`; the first `count`
+  // entries are set); `any`: whether it has children at all, occupied or not.
+  struct Fork {
+    const Cell* cell;
+    Cube cube;
+    int count;
+    bool any;
+    const Cell* kids[8];
+    unsigned int which[8];
+  };
+
+  void enumerate(Fork& f) const {
+    f.count = 0;
+    f.any = false;
+    for (unsigned int i = 0; i < 8; ++i) {
+      if (!tree_.nodeChildExists(f.cell, i)) continue;
+      f.any = true;
+      const Cell* child = tree_.getNodeChild(f.cell, i);
+      if (!tree_.isNodeOccupied(child)) continue;
+      f.kids[f.count] = child;
+      f.which[f.count++] = i;
+    }
   }
 
-  static ::fcl::AABBd box_of(const Rss& bounds) {
-    ::fcl::AABBd box;
-    box.min_ =
-        Eigen::Vector3d(bounds.corner.x(), bounds.corner.y(), bounds.corner.z() - bounds.radius);
-    box.max_ =
+  // The first cell down the chain from `cell` (itself included) that is a leaf or has other
+  // than one occupied child, or the last cell of the chain whose one child is a leaf; in one
+  // of the two forks given.
+  const Fork& fork_below(const Cell* cell, const Cube& cube, Fork (&forks)[2]) const {
+    Fork* f = &forks[0];
+    Fork* next = &forks[1];
+    f->cell = cell;
+    f->cube = cube;
+    enumerate(*f);
+    while (f->count == 1) {
+      next->cell = f->kids[0];
+      next->cube = child_cube(f->cube, f->which[0]);
+      enumerate(*next);
+      if (!next->any) break;  // the one child is a leaf
+      std::swap(f, next);
+    }
+    return *f;
+  }
+
+  // Child i's cube, with fcl::computeChildBV's arithmetic (bit k of i: the upper half
+  // along axis k).
+  static Cube child_cube(const Cube& c, unsigned int i) {
+    Cube child;
+    for (int axis = 0; axis < 3; ++axis) {
+      const double mid = (c.lo[axis] + c.hi[axis]) * 0.5;
+      const bool upper = (i >> axis) & 1u;
+      child.lo[axis] = upper ? mid : c.lo[axis];
+      child.hi[axis] = upper ? c.hi[axis] : mid;
+    }
+    return child;
+  }
+
+  // Assigns every field of n: the cell's handle, leaf flag, bounds and id.
+  void set_node(TargetNode& n, const Cell* cell, const Cube& c) const {
+    n.handle = reinterpret_cast<std::intptr_t>(cell);
+    n.is_leaf = !tree_.nodeHasChildren(cell);
+    n.bounds.axis.setIdentity();
+    n.bounds.corner = Eigen::Vector3d(c.lo.x(), c.lo.y(), 0.5 * (c.lo.z() + c.hi.z()));
+    n.bounds.length = Eigen::Vector2d(c.hi.x() - c.lo.x(), c.hi.y() - c.lo.y());
+    n.bounds.radius = 0.5 * (c.hi.x() - c.lo.x());
+    if (n.is_leaf)
+      n.box_half.reset();
+    else
+      n.box_half = 0.5 * (c.hi - c.lo);
+    // FCL's query cell id (see fcl::OcTree::getNodeByQueryCellId).
+    n.primitive = n.is_leaf ? static_cast<std::intptr_t>(cell - tree_.getRoot()) : -1;
+  }
+
+  static Cube cube_of(const Rss& bounds) {
+    return Cube{
+        Eigen::Vector3d(bounds.corner.x(), bounds.corner.y(), bounds.corner.z() - bounds.radius),
         Eigen::Vector3d(bounds.corner.x() + bounds.length[0], bounds.corner.y() + bounds.length[1],
-                        bounds.corner.z() + bounds.radius);
-    return box;
+                        bounds.corner.z() + bounds.radius)};
   }
 
   const ::fcl::OcTreed& tree_;
@@ -339,70 +345,6 @@ class OctreeTarget final : public ProximityTarget {
 
 std::string node_type_name(::fcl::NODE_TYPE type) {
   return "FCL node type " + std::to_string(static_cast<int>(type));
-}
-
-// What visit_geometry passes for a primitive the dispatch supports, and for a geometry it
-// does not support.
-struct Shape {
-  const ::fcl::CollisionGeometryd& geometry;
-};
-struct Unsupported {
-  ::fcl::NODE_TYPE type;
-};
-
-// The one list of the geometries a sphere set is answered against: calls v with the
-// fcl::BVHModel<BV> of a BVH of a supported BV type, Shape for a supported primitive, the
-// fcl::OcTree of an octree, or Unsupported.
-template <class V>
-auto visit_geometry(const ::fcl::CollisionGeometryd& g, V&& v) {
-  const ::fcl::NODE_TYPE type = g.getNodeType();
-  switch (g.getObjectType()) {
-    case ::fcl::OT_BVH:
-      switch (type) {
-        case ::fcl::BV_AABB:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::AABBd>&>(g));
-        case ::fcl::BV_OBB:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::OBBd>&>(g));
-        case ::fcl::BV_RSS:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::RSSd>&>(g));
-        case ::fcl::BV_kIOS:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::kIOSd>&>(g));
-        case ::fcl::BV_OBBRSS:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::OBBRSSd>&>(g));
-        case ::fcl::BV_KDOP16:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 16>>&>(g));
-        case ::fcl::BV_KDOP18:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 18>>&>(g));
-        case ::fcl::BV_KDOP24:
-          return v(static_cast<const ::fcl::BVHModel<::fcl::KDOP<double, 24>>&>(g));
-        default:
-          break;
-      }
-      break;
-    case ::fcl::OT_GEOM:
-      switch (type) {
-        case ::fcl::GEOM_BOX:
-        case ::fcl::GEOM_SPHERE:
-        case ::fcl::GEOM_ELLIPSOID:
-        case ::fcl::GEOM_CAPSULE:
-        case ::fcl::GEOM_CONE:
-        case ::fcl::GEOM_CYLINDER:
-        case ::fcl::GEOM_CONVEX:
-        case ::fcl::GEOM_PLANE:
-        case ::fcl::GEOM_HALFSPACE:
-          return v(Shape{g});
-        default:
-          break;
-      }
-      break;
-#if FCL_HAVE_OCTOMAP
-    case ::fcl::OT_OCTREE:
-      return v(static_cast<const ::fcl::OcTreed&>(g));
-#endif
-    default:
-      break;
-  }
-  return v(Unsupported{type});
 }
 
 // Why a BVHModel cannot be a target (a model of points, or one not finished), or an empty
@@ -475,6 +417,13 @@ bool finite_pose(const ::fcl::Transform3d& X) {
   return X.matrix().allFinite();
 }
 
+// Both poses finite: a finite sum of all their entries shows it at once (a non-finite
+// entry makes the sum infinite or NaN); only a sum that overflows needs the entries.
+bool finite_poses(const ::fcl::Transform3d& X1, const ::fcl::Transform3d& X2) {
+  return std::isfinite(X1.matrix().sum() + X2.matrix().sum()) ||
+         (finite_pose(X1) && finite_pose(X2));
+}
+
 // --- distance ----------------------------------------------------------------------------
 
 // The sphere set s at X_WS against geometry g at X_WG; the result's a side is s.
@@ -541,8 +490,12 @@ double distance(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3d& t
   const SphereSetGeometry* s2 = as_sphere_set(o2);
   if (s1 == nullptr && s2 == nullptr)
     return ::fcl::distance<double>(o1, tf1, o2, tf2, request, result);
-  if (!finite_pose(tf1) || !finite_pose(tf2))
+  if (!finite_poses(tf1, tf2))
     throw std::invalid_argument("medspheres::fcl::distance: a transform has a non-finite entry");
+  // Nothing closer than a preset min_distance can be found when the bounds are farther.
+  if (s1 != nullptr ? detail::pair_beyond(*s1, tf1, *o2, s2, tf2, result.min_distance)
+                    : detail::pair_beyond(*s2, tf2, *o1, s1, tf1, result.min_distance))
+    return result.min_distance;
 
   DistanceOptions options;
   options.abs_err = request.abs_err;
@@ -586,7 +539,7 @@ std::size_t collide(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3
   const SphereSetGeometry* s2 = as_sphere_set(o2);
   if (s1 == nullptr && s2 == nullptr)
     return ::fcl::collide<double>(o1, tf1, o2, tf2, request, result);
-  if (!finite_pose(tf1) || !finite_pose(tf2))
+  if (!finite_poses(tf1, tf2))
     throw std::invalid_argument("medspheres::fcl::collide: a transform has a non-finite entry");
   if (request.num_max_contacts == 0) return 0;
   if (request.isSatisfied(result)) return result.numContacts();
@@ -595,6 +548,10 @@ std::size_t collide(const ::fcl::CollisionGeometryd* o1, const ::fcl::Transform3
                                ? request.num_max_contacts - result.numContacts()
                                : 0;
   if (room == 0) return result.numContacts();
+  // Touching is a contact: bounds farther apart than 0 hold none.
+  if (s1 != nullptr ? detail::pair_beyond(*s1, tf1, *o2, s2, tf2, 0.0)
+                    : detail::pair_beyond(*s2, tf2, *o1, s1, tf1, 0.0))
+    return result.numContacts();
 
   Narrowphase np;
   np.solver = request.gjk_solver_type;

@@ -29,6 +29,7 @@
 #include <cmath>
 #include <limits>
 #include <stdexcept>
+#include <typeinfo>
 #include <vector>
 
 namespace medspheres::fcl {
@@ -60,7 +61,10 @@ const SphereSet& checked(const SphereSet& set) {
 }  // namespace
 
 SphereSetGeometry::SphereSetGeometry(const SphereSet& set, const SphereTreeOptions& options)
-    : ::fcl::Box<double>(guard_box_sides(checked(set))), set_(set), tree_(set, options) {}
+    : ::fcl::Box<double>(guard_box_sides(checked(set))),
+      set_(set),
+      tree_(set, options),
+      bound_(tree_.bounding_ball(0)) {}
 
 void SphereSetGeometry::computeLocalAABB() {
   ::fcl::AABBd box;
@@ -88,8 +92,11 @@ double SphereSetGeometry::computeVolume() const {
       "SphereSetGeometry: the moment of inertia of a union of balls is not provided");
 }
 
+// SphereSetGeometry is final: its exact type identifies it, which costs a comparison of
+// type names where dynamic_cast walks the class hierarchy (every query asks, twice).
 const SphereSetGeometry* as_sphere_set(const ::fcl::CollisionGeometryd* geometry) noexcept {
-  return dynamic_cast<const SphereSetGeometry*>(geometry);
+  if (geometry == nullptr || typeid(*geometry) != typeid(SphereSetGeometry)) return nullptr;
+  return static_cast<const SphereSetGeometry*>(geometry);
 }
 
 }  // namespace medspheres::fcl

@@ -45,6 +45,12 @@ struct TargetNode {
   /// Internal nodes only: an RSS, in frame B, that contains every primitive below the
   /// node. Leaves leave it unset (half-spaces and planes are unbounded).
   Rss bounds;
+  /// Internal nodes only, optional: when set, every primitive below the node also lies in
+  /// the axis-aligned box of B centred at bounds.center() with these half extents (>= 0),
+  /// and the traversal bounds the node by that box instead of the RSS. For a cube (an
+  /// octree's cell) the box is exact, where the smallest RSS reaches twice as far along
+  /// two of its axes.
+  std::optional<Eigen::Vector3d> box_half;
   /// Leaves only: the id reported for the primitive in results (a triangle index, an
   /// octree cell id, or -1 for a lone primitive, as FCL does).
   std::intptr_t primitive = -1;
@@ -61,7 +67,9 @@ class ProximityTarget {
   virtual std::optional<TargetNode> root() const = 0;
 
   /// Writes the children of an internal node to out[0 .. n) and returns n, at most
-  /// kMaxChildren. Children that hold no primitive may be left out.
+  /// kMaxChildren. Children that hold no primitive may be left out. Each out[k] must be
+  /// assigned whole (out[k] = node): its previous content is unspecified (the traversal
+  /// reuses the array).
   virtual int children(const TargetNode& node, TargetNode* out) const = 0;
 
   /// The answer of the primitive at \p leaf to the ball of centre p_BC (in frame B)

@@ -55,6 +55,18 @@ RobotModel parse_robot(const std::string& json_text, const std::string& source);
 /// certificate is not a JSON object.
 std::string robot_to_json(const RobotModel& model);
 
+/// The robot-file text \p robot_json (as robot_to_json wrote it) with its "metadata"
+/// replaced by the JSON object \p metadata_json: byte for byte the text robot_to_json
+/// writes for the same model with that metadata (the other values are copied as read).
+/// \throws InputError naming \p source when \p robot_json is not a JSON object;
+///   std::invalid_argument when \p metadata_json is not one.
+std::string robot_json_with_metadata(const std::string& robot_json,
+                                     const std::string& metadata_json, const std::string& source);
+
+/// The "metadata" object of the robot-file text \p robot_json, as JSON text ("{}" when it
+/// has none). \throws InputError naming \p source when \p robot_json is not a JSON object.
+std::string robot_json_metadata(const std::string& robot_json, const std::string& source);
+
 /// Validates \p model (naming \p path) and writes it atomically (write_file_atomically).
 void save_robot(const RobotModel& model, const std::string& path);
 

@@ -10,6 +10,7 @@
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/measure/evaluate_set.h"
+#include "medspheres/number_text.h"
 #include "medspheres/options/bake_flags.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
@@ -112,8 +113,8 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   if (!out.result.unused_outer_start.empty()) {
     std::string links;
     for (const std::string& l : out.result.unused_outer_start) links += " " + l;
-    warn_all({std::to_string(out.result.unused_outer_start.size()) +
-              " link(s) of cover_start with no meshed part in the robot, not used:" + links},
+    warn_all({count_text(out.result.unused_outer_start.size(), "link") +
+              " of cover_start with no meshed part in the robot, not used:" + links},
              urdf);
   }
   if (a.output) write_outputs(out, *a.output, a.formats, a.set);

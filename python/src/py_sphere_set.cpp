@@ -7,6 +7,7 @@
 #include "medspheres/error.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
+#include "medspheres/number_text.h"
 #include "py_common.h"
 
 namespace medspheres::python {
@@ -111,7 +112,7 @@ void register_sphere_set_class(py::module_& m) {
       .def("__len__", &SphereSet::size)
       .def("__repr__",
            [](const SphereSet& s) {
-             return "<medspheres.SphereSet of " + std::to_string(s.size()) + " spheres>";
+             return "<medspheres.SphereSet of " + count_text(s.size(), "sphere") + ">";
            })
       .def("to_json", &sphere_set_to_json,
            "The sphere-set file's JSON text (numbers that read back bit-identical).")

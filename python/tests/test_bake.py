@@ -82,6 +82,8 @@ def test_sphere_set_from_array_round_trips(tmp_path):
     assert same_bits(back.spheres, balls)
     assert back.metadata == {"note": "random"}
     assert json.loads(s.to_json())["spheres"][7] == balls[7].tolist()
+    assert repr(s) == "<medspheres.SphereSet of 50 spheres>"
+    assert repr(medspheres.SphereSet(balls[:1])) == "<medspheres.SphereSet of 1 sphere>"
 
 
 def test_evaluate_equals_cli(cli, eight, tmp_path):

@@ -136,7 +136,7 @@ void validate_cover(const BakeRequest& r) {
   const std::string problem = r.cover_start.empty() ? "" : cover_start_problem(r.cover_start);
   if (!problem.empty())
     throw request_error(ErrorKind::kOutOfRange, "cover_start",
-                        std::to_string(r.cover_start.size()) + " spheres", problem);
+                        count_text(r.cover_start.size(), "sphere"), problem);
   if (r.target_error)
     throw request_error(ErrorKind::kConflict, "target_error", number_text(*r.target_error),
                         "applies to inner sets, not to a covering set", {"method"});
@@ -173,7 +173,7 @@ void validate(const BakeRequest& r) {
   if (r.method == BakeMethod::kCover) validate_cover(r);
   if (r.method != BakeMethod::kCover && !r.cover_start.empty())
     throw request_error(ErrorKind::kConflict, "cover_start",
-                        std::to_string(r.cover_start.size()) + " spheres",
+                        count_text(r.cover_start.size(), "sphere"),
                         "applies to a covering set only", {"method"});
   if (r.max_spheres && r.target_error)
     throw request_error(ErrorKind::kConflict, "max_spheres", std::to_string(*r.max_spheres),
@@ -253,14 +253,30 @@ void certify_input(const TriangleMesh& input, const FitEvaluator& fit, const Bak
                            " of the input's own triangles (input_certified false)");
 }
 
+// What an escalated thickness says: from which to which, and why.
+std::string escalation_warning(const RobustSolid& solid, const RobustSolidOptions& options,
+                               const MeshProvenance& source) {
+  const double longest = source.report.largest_side();
+  std::string steps;
+  for (double step : kRobustThicknessSteps)
+    steps += (steps.empty() ? "" : ", ") + number_text(step);
+  return "the robust solid's walls enclosed nothing with robust_thickness " +
+         number_text(options.thickness) + ", so they were thickened to " +
+         number_text(solid.thickness / longest, 3) + "L = " + number_text(solid.thickness, 4) +
+         " (the first of " + steps +
+         "L that encloses a volume; recorded as robust_thickness, give one to choose)";
+}
+
 // The bake of the robust solid of \p mesh, recorded as such; with a \p fallback reason,
 // a warning that says what was done.
 BakeOutcome bake_robust(const TriangleMesh& mesh, const MeshProvenance& source,
                         const BakeRequest& request, const std::string& name,
                         const std::string& fallback = "") {
   RobustSolidOptions options = request.robust;
-  if (request.robust_thickness)
+  if (request.robust_thickness) {
     options.thickness = request.robust_thickness->in(source.report.largest_side());
+    options.escalate = false;
+  }
   const RobustSolid solid = make_robust_solid(mesh, options, name);
   const FitEvaluator fit(solid.mesh, request.medial.threads);
   BakeOutcome out = bake_solid(fit, analyze_mesh(solid.mesh), source, request, name);
@@ -271,7 +287,13 @@ BakeOutcome bake_robust(const TriangleMesh& mesh, const MeshProvenance& source,
   out.record.extra_stats["robust_wall_radius"] = solid.wall_radius;
   out.record.extra_stats["robust_resolution"] = solid.resolution;
   out.record.extra_stats["robust_triangles"] = static_cast<double>(solid.mesh.num_triangles());
-  out.record.extra_stats["robust_thickness"] = options.thickness;
+  out.record.extra_stats["robust_thickness"] = solid.thickness;
+  out.robust_thickness = solid.thickness;
+  out.robust_thickness_escalated = solid.thickness > options.thickness;
+  if (out.robust_thickness_escalated) {
+    out.record.extra_stats["robust_thickness_requested"] = options.thickness;
+    out.warnings.insert(out.warnings.begin(), escalation_warning(solid, options, source));
+  }
   out.spheres.metadata_json =
       out.cover ? cover_metadata_json(out.record) : bake_metadata_json(out.record);
   if (!fallback.empty())

@@ -16,6 +16,7 @@
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/number_text.h"
 #include "medspheres/robot/link_solid.h"
+#include "medspheres/robot_file.h"
 #include "medspheres/version.h"
 
 namespace medspheres {
@@ -56,6 +57,60 @@ RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, 
   return r;
 }
 
+// The cache's name of \p path (a file \p robot reads: a mesh) when the URDF's relative path
+// is \p relative: its path relative to the URDF's folder, below \p relative's folder. A copy
+// of the folders keeps it.
+std::string layout_path(const UrdfRobot& robot, const std::string& relative,
+                        const std::string& path) {
+  const fs::path urdf_dir = fs::absolute(robot.path).lexically_normal().parent_path();
+  const fs::path from_urdf = fs::absolute(path).lexically_normal().lexically_relative(urdf_dir);
+  return (fs::path(relative).parent_path() / from_urdf).lexically_normal().generic_string();
+}
+
+// The path as read -> the cache's name, of the URDF and each mesh file of \p robot.
+std::map<std::string, std::string> cache_names(const UrdfRobot& robot,
+                                               const std::string& relative) {
+  std::map<std::string, std::string> names = {{robot.path, relative}};
+  for (const UrdfLink& link : robot.links)
+    for (const LinkPart& part : link.parts)
+      if (part.shape == PartShape::kMesh)
+        names[part.path] = layout_path(robot, relative, part.path);
+  return names;
+}
+
+std::map<std::string, std::string> inverse(const std::map<std::string, std::string>& names) {
+  std::map<std::string, std::string> out;
+  for (const auto& [from, to] : names) out[to] = from;
+  return out;
+}
+
+// \p files with the paths their robot file records (metadata "urdf" and each part's
+// "source", robot_bake.h) renamed by \p names; what names does not hold is kept. The other
+// files record no path.
+std::map<std::string, std::string> renamed(std::map<std::string, std::string> files,
+                                           const std::map<std::string, std::string>& names) {
+  auto rename = [&names](nlohmann::ordered_json& value) {
+    if (!value.is_string()) return;
+    const auto it = names.find(value.get<std::string>());
+    if (it != names.end()) value = it->second;
+  };
+  for (auto& [name, text] : files) {
+    const std::string suffix = ".robot.json";
+    if (name.size() < suffix.size() ||
+        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
+      continue;
+    nlohmann::ordered_json meta = nlohmann::ordered_json::parse(robot_json_metadata(text, name));
+    if (meta.contains("urdf")) rename(meta["urdf"]);
+    if (meta.contains("links") && meta["links"].is_object())
+      for (auto& [link, entry] : meta["links"].items())
+        if (entry.contains("parts") && entry["parts"].is_array())
+          for (auto& part : entry["parts"])
+            if (part.is_object() && part.contains("source")) rename(part["source"]);
+    text = robot_json_with_metadata(text, meta.dump(), name);
+  }
+  return files;
+}
+
 std::string budget_text(const RobotBudget& b) {
   std::string t = "per_link=" + (b.per_link ? std::to_string(*b.per_link) : "none") +
                   "\ntotal=" + (b.total ? std::to_string(*b.total) : "none") + "\n";
@@ -63,9 +118,11 @@ std::string budget_text(const RobotBudget& b) {
   return t;
 }
 
-// The entry's files written into \p out, and the row's counts; false when the entry does
-// not read as one (it is then baked again).
-bool copy_entry(const std::string& bytes, const std::string& out, BatchRow& row) {
+// The entry's files, their paths named as read (\p names: cache name -> path), written
+// into \p out, and the row's counts; false when the entry does not read as one (it is then
+// baked again).
+bool copy_entry(const std::string& bytes, const std::map<std::string, std::string>& names,
+                const std::string& out, BatchRow& row) {
   std::map<std::string, std::string> files;
   std::size_t links = 0, spheres = 0;
   try {
@@ -76,7 +133,10 @@ bool copy_entry(const std::string& bytes, const std::string& out, BatchRow& row)
       const std::vector<std::uint8_t>& b = data.get_binary();
       files[name] = std::string(b.begin(), b.end());
     }
+    files = renamed(std::move(files), names);
   } catch (const nlohmann::json::exception&) {
+    return false;
+  } catch (const InputError&) {
     return false;
   }
   formats::write_output_folder(out, files);
@@ -95,15 +155,17 @@ std::string entry_bytes(const std::map<std::string, std::string>& files, const B
   return std::string(bytes.begin(), bytes.end());
 }
 
-// One URDF: from the cache, or read, baked, written and stored. Throws on failure.
+// One URDF: from the cache, or read, baked, written and stored. Throws on failure. The
+// entry names the files the robot reads by their relative layout (cache_names), so that a
+// copy of the folders elsewhere finds it; its files get their paths as read again.
 void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row) {
   const std::string urdf_sha = file_sha256(row.input.path);
   const UrdfRobot robot = read_urdf(row.input.path, job.read);
   std::string key;
   if (cache) {
-    key = robot_cache_key(robot, urdf_sha, job);
+    key = robot_cache_key(robot, urdf_sha, job, row.input.relative);
     const std::optional<std::string> hit = cache->find_bytes(key, kEntrySuffix);
-    if (hit && copy_entry(*hit, row.output, row)) {
+    if (hit && copy_entry(*hit, inverse(cache_names(robot, row.input.relative)), row.output, row)) {
       row.outcome = BatchOutcome::kCached;
       return;
     }
@@ -112,7 +174,9 @@ void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row
   const RobotFileResult r = bake_read_robot(robot, row.output, job, files);
   row.links = r.bake.links.size();
   row.spheres = r.spheres;
-  if (cache) cache->store_bytes(key, kEntrySuffix, entry_bytes(files, row));
+  if (cache)
+    cache->store_bytes(key, kEntrySuffix,
+                       entry_bytes(renamed(files, cache_names(robot, row.input.relative)), row));
   row.outcome = BatchOutcome::kBaked;
 }
 
@@ -130,15 +194,16 @@ std::string robot_output_relative(const std::string& relative) {
 }
 
 std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha256,
-                            const RobotJob& job) {
-  std::string t = std::string("medspheres robot cache 1\nversion=") + MEDSPHERES_VERSION_STRING +
-                  "\nurdf=" + robot.path + " " + urdf_sha256 + "\n";
+                            const RobotJob& job, const std::string& relative) {
+  std::string t = std::string("medspheres robot cache 2\nversion=") + MEDSPHERES_VERSION_STRING +
+                  "\nurdf=" + relative + " " + urdf_sha256 + "\n";
   std::set<std::string> hashed;
   for (const UrdfLink& link : robot.links)
     for (const LinkPart& part : link.parts) {
       if (part.shape != PartShape::kMesh || !hashed.insert(part.path).second) continue;
       try {
-        t += "mesh=" + part.path + " " + file_sha256(part.path) + "\n";
+        t +=
+            "mesh=" + layout_path(robot, relative, part.path) + " " + file_sha256(part.path) + "\n";
       } catch (const InputError& e) {
         throw InputError(robot.path, "link '" + link.name + "': " + e.what());
       }

@@ -50,18 +50,26 @@ const char* nerr_note(NerrKind kind) {
 }
 
 // The mesh line of the summary: closed, or what makes the winding number define the solid.
-std::string mesh_description(const MeshReport& report, std::size_t self_intersecting_pairs,
-                             SolidKind solid) {
+std::string mesh_description(const BakeOutcome& o) {
+  const MeshReport& report = o.record.source.report;
+  const std::size_t self_intersecting_pairs = o.self_intersecting_pairs;
+  const SolidKind solid = o.solid;
   std::vector<std::string> flaws;
   if (report.boundary_edges > 0)
-    flaws.push_back("open (" + std::to_string(report.boundary_edges) +
-                    " boundary edges; radii also respect the holes, capped)");
+    flaws.push_back("open (" + count_text(report.boundary_edges, "boundary edge") +
+                    "; radii also respect the holes, capped)");
   if (report.nonmanifold_edges > 0)
-    flaws.push_back("non-manifold (" + std::to_string(report.nonmanifold_edges) + " edges)");
+    flaws.push_back("non-manifold (" + count_text(report.nonmanifold_edges, "edge") + ")");
   if (self_intersecting_pairs > 0 && solid != SolidKind::kRobust)
-    flaws.push_back("self-intersecting (" + std::to_string(self_intersecting_pairs) +
-                    " triangle pairs)");
-  if (solid == SolidKind::kRobust) flaws.push_back("baked against its robust solid");
+    flaws.push_back("self-intersecting (" + count_text(self_intersecting_pairs, "triangle pair") +
+                    ")");
+  if (solid == SolidKind::kRobust)
+    flaws.push_back("baked against its robust solid" +
+                    (o.robust_thickness_escalated
+                         ? " (walls thickened to " +
+                               number_text(o.robust_thickness / report.largest_side(), 3) +
+                               "L: thinner ones enclosed nothing)"
+                         : std::string()));
   if (flaws.empty()) return "closed";
   std::string out;
   for (const std::string& f : flaws) out += (out.empty() ? "" : ", ") + f;
@@ -71,11 +79,12 @@ std::string mesh_description(const MeshReport& report, std::size_t self_intersec
 // The dilation line of the summary, and the protrusion of S+.
 void print_dilation(const BakeOutcome& o) {
   const DilateStats& d = *o.record.dilation_stats;
-  std::cout << "  dilated       " << o.spheres.size() << " spheres: " << d.grown
+  std::cout << "  dilated       " << count_text(o.spheres.size(), "sphere") << ": " << d.grown
             << " grown (by up to " << number_text(d.max_growth, 4) << "), " << d.added_vertex
             << " added at vertices";
   if (o.record.dilation_options->cover_tolerance >= 0.0)
-    std::cout << ", " << d.added_cover << " added in " << d.cover_rounds << " cover round(s); "
+    std::cout << ", " << d.added_cover << " added in " << count_text(d.cover_rounds, "cover round")
+              << "; "
               << "uncovered " << number_text(d.uncovered_max, 4)
               << (d.cover_reached ? " (within --cover)" : " (caps reached before --cover)");
   std::cout << ", " << number_text(d.seconds, 3) << " s\n";
@@ -88,14 +97,14 @@ void print_dilation(const BakeOutcome& o) {
 void print_cover_summary(const BakeArgs& args, const std::string& out, const BakeOutcome& o) {
   const CoverResult& r = *o.cover;
   std::cout << "baked " << args.mesh << " -> " << out << "\n"
-            << "  mesh          " << o.record.source.report.triangles << " triangles, "
-            << mesh_description(o.record.source.report, o.self_intersecting_pairs, o.solid) << "\n"
-            << "  cover         " << o.spheres.size() << " spheres ("
+            << "  mesh          " << count_text(o.record.source.report.triangles, "triangle")
+            << ", " << mesh_description(o) << "\n"
+            << "  cover         " << count_text(o.spheres.size(), "sphere") << " ("
             << (r.stats.start_spheres > 0 ? "from " : "budget ") << r.stats.budget
             << (r.stats.start_spheres > 0 ? " given" : "") << "), surface "
             << (r.stats.certified ? "certified covered" : "NOT certified") << " ("
-            << r.certificate.pieces_tested << " pieces, depth " << r.certificate.max_depth_reached
-            << ")\n"
+            << count_text(r.certificate.pieces_tested, "piece") << ", depth "
+            << r.certificate.max_depth_reached << ")\n"
             << "  fit           excess volume " << number_text(r.stats.excess_volume, 4)
             << " of the solid's, max protrusion " << number_text(r.stats.max_protrusion, 4) << ", "
             << number_text(r.stats.seconds, 3) << " s\n";
@@ -108,13 +117,13 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
   const std::string& mode = record.mode;
   const double target = record.mode_target;
   std::cout << "baked " << args.mesh << " -> " << out << "\n"
-            << "  mesh          " << record.source.report.triangles << " triangles, "
-            << mesh_description(record.source.report, o.self_intersecting_pairs, o.solid) << "\n"
+            << "  mesh          " << count_text(record.source.report.triangles, "triangle") << ", "
+            << mesh_description(o) << "\n"
             << "  resolution    " << s.resolution << " (grid " << s.grid[0] << " x " << s.grid[1]
             << " x " << s.grid[2] << ", cell " << number_text(s.cell_size, 4) << ")";
   if (mode != "resolution")
     std::cout << ", chosen for " << mode << " " << number_text(target) << " among "
-              << s.search.size() << " resolutions baked";
+              << count_text(s.search.size(), "resolution") << " baked";
   // The set the error target was measured on: S_D when dilated, else the one written.
   const std::optional<VolumeError>& measured = o.internal ? o.internal : o.volume;
   if (mode == "target_error" && measured && measured->kind == NerrKind::kApproximate)

@@ -60,8 +60,8 @@ std::string row_line(const BatchRow& r) {
   if (r.outcome == BatchOutcome::kFailed)
     return "failed " + (r.input_error ? message_of(*r.input_error) : r.input.path + ": " + r.error);
   return std::string(to_string(r.outcome)) + " " + r.input.path + " -> " + r.output + " (" +
-         (r.links > 0 ? std::to_string(r.links) + " links, " : std::string()) +
-         std::to_string(r.spheres) + " spheres, " + number_text(r.seconds, 3) + " s)";
+         (r.links > 0 ? count_text(r.links, "link") + ", " : std::string()) +
+         count_text(r.spheres, "sphere") + ", " + number_text(r.seconds, 3) + " s)";
 }
 
 // A bar with counts and time left on a terminal; one plain line per input otherwise.

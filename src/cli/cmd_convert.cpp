@@ -45,8 +45,8 @@ int run_convert(const ConvertArgs& a) {
   }
   formats::write_sphere_document(a.out, doc, to, write);
   std::cout << "converted " << a.in << " ("
-            << (doc.set ? std::string("one set") : std::to_string(doc.links.size()) + " links")
-            << ", " << sphere_count(doc) << " spheres) -> " << a.out << " ("
+            << (doc.set ? std::string("one set") : count_text(doc.links.size(), "link")) << ", "
+            << count_text(sphere_count(doc), "sphere") << ") -> " << a.out << " ("
             << formats::sphere_format_name(to) << ")\n";
   return kExitOk;
 }

@@ -44,7 +44,7 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const MeshEvalua
   const MonteCarloError& mc = r.monte_carlo;
   const CoverageStats& c = r.coverage;
   std::cout << "eval " << args.spheres << " against " << args.mesh << "\n";
-  std::cout << "  mesh          " << loaded.report.triangles << " triangles, ";
+  std::cout << "  mesh          " << count_text(loaded.report.triangles, "triangle") << ", ";
   if (v.mesh_volume)
     std::cout << "closed, volume " << number_text(*v.mesh_volume) << "\n";
   else
@@ -55,7 +55,7 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const MeshEvalua
             << number_text(v.union_measures.area) << "\n";
   std::cout << "  protrusion    max " << number_text(v.max_protrusion, 4) << " (sphere "
             << v.max_protrusion_ball << ", " << percent_of(v.max_protrusion, longest) << "); "
-            << v.protruding << " sphere(s) beyond the tolerance "
+            << count_text(v.protruding, "sphere") << " beyond the tolerance "
             << number_text(v.protrusion_tolerance, 3) << "\n";
   std::cout << "  nerr          ";
   switch (v.kind) {
@@ -78,19 +78,21 @@ void print_text(const EvalArgs& args, const LoadedMesh& loaded, const MeshEvalua
                     ? "Wilson, of vol(mesh)"
                     : "delta method, of the winding-number solid's estimated volume " +
                           number_text(mc.solid_volume.estimate, 5))
-            << "; " << mc.samples << " points, seed " << mc.seed << ")\n"
+            << "; " << count_text(mc.samples, "point") << ", seed " << mc.seed << ")\n"
             << "                volume of the spheres outside the mesh "
             << number_text(mc.outside_volume, 4) << ", of the mesh outside the spheres "
             << number_text(mc.uncovered_volume, 4) << "\n";
   std::cout << "  uncovered     surface outside the spheres by max " << number_text(c.max, 4)
             << " (" << percent_of(c.max, longest) << "), mean " << number_text(c.mean, 4)
             << ", p95 " << number_text(c.p95, 4) << " (" << percent_of(c.p95, longest) << ")\n"
-            << "                over " << c.area_samples << " area-weighted points and "
-            << c.vertices << " vertices (L = " << number_text(longest, 4) << ")\n";
+            << "                over " << count_text(c.area_samples, "area-weighted point")
+            << " and " << count_text(c.vertices, "vertex", "vertices")
+            << " (L = " << number_text(longest, 4) << ")\n";
   std::cout << "  certificate   surface "
             << (cert.certified ? "certified covered" : "NOT certified covered") << ": "
-            << cert.pieces_tested << " pieces tested, depth " << cert.max_depth_reached << ", "
-            << cert.uncertified_triangles << " of " << cert.triangles << " triangles uncertified";
+            << count_text(cert.pieces_tested, "piece") << " tested, depth "
+            << cert.max_depth_reached << ", " << cert.uncertified_triangles << " of "
+            << count_text(cert.triangles, "triangle") << " uncertified";
   if (!cert.certified)
     std::cout << "; worst point found " << number_text(cert.worst_distance, 4) << " outside ("
               << percent_of(cert.worst_distance, longest) << ") at ("

@@ -41,7 +41,7 @@ void print_text(const RobotEvalArgs& args, const std::vector<LinkFit>& fits) {
     }
     std::string note = f.note;
     if (f.primitives > 0)
-      note += (note.empty() ? "" : "; ") + std::to_string(f.primitives) + " exact primitive(s)";
+      note += (note.empty() ? "" : "; ") + count_text(f.primitives, "exact primitive");
     std::cout << note << "\n";
   }
 }
@@ -61,8 +61,9 @@ int run_eval_robot(const RobotEvalArgs& args) {
   for (const std::string& p : args.packages) add_package_dir(read.packages, p);
   const RobotEvaluation e = evaluate_robot_file(args.urdf, read, args.spheres, args.fit);
   if (!e.unknown_links.empty()) {
-    std::cerr << "medspheres: warning: " << args.spheres << ": " << e.unknown_links.size()
-              << " link(s) not in " << args.urdf << ", not measured:";
+    std::cerr << "medspheres: warning: " << args.spheres << ": "
+              << count_text(e.unknown_links.size(), "link") << " not in " << args.urdf
+              << ", not measured:";
     for (const std::string& link : e.unknown_links) std::cerr << " " << link;
     std::cerr << "\n";
   }

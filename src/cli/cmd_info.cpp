@@ -72,8 +72,9 @@ int run_info(const InfoArgs& args) {
             << "  non-manifold edges  " << r.nonmanifold_edges << "\n"
             << "  degenerate          " << r.degenerate_triangles << "\n"
             << "  self-intersecting   "
-            << (self.any() ? std::to_string(self.count()) +
-                                 " triangle pair(s) meet other than at a shared vertex or edge"
+            << (self.any() ? count_text(self.count(), "triangle pair") +
+                                 (self.count() == 1 ? " meets" : " meet") +
+                                 " other than at a shared vertex or edge"
                            : std::string("no"))
             << "\n"
             << "  closed              " << (r.closed ? "yes" : "no") << "\n"

@@ -94,8 +94,9 @@ std::string nerr_text(const LinkBakeStats& s) {
 }
 
 void print_progress(const LinkBakeStats& s) {
-  std::cerr << "  " << s.link << ": " << s.triangles << " triangles, " << s.spheres
-            << " spheres, nerr " << nerr_text(s) << ", " << number_text(s.seconds, 3) << " s"
+  std::cerr << "  " << s.link << ": " << count_text(s.triangles, "triangle") << ", "
+            << count_text(s.spheres, "sphere") << ", nerr " << nerr_text(s) << ", "
+            << number_text(s.seconds, 3) << " s"
             << (s.baked_as.empty() ? "" : " (same bake as " + s.baked_as + ")")
             << (s.note.empty() ? "" : " (" + s.note + ")") << "\n";
 }
@@ -212,8 +213,8 @@ int run_robot(const RobotArgs& a) {
   const RobotFileResult r = bake_robot_file(urdf, a.out, job);
   if (!a.quiet && !r.bake.unused_outer_start.empty()) {
     std::cerr << "medspheres: warning: " << a.cover_start << ": "
-              << r.bake.unused_outer_start.size() << " link(s) with no meshed part in " << urdf
-              << ", not used:";
+              << count_text(r.bake.unused_outer_start.size(), "link") << " with no meshed part in "
+              << urdf << ", not used:";
     for (const std::string& link : r.bake.unused_outer_start) std::cerr << " " << link;
     std::cerr << "\n";
   }

@@ -42,9 +42,10 @@ int run_view(const ViewArgs& args) {
   std::size_t triangles = 0, inner = 0, outer = 0;
   for (const render::ScenePart& p : in.scene.parts)
     triangles += p.mesh.num_triangles(), inner += p.inner.size(), outer += p.outer.size();
-  std::cout << "wrote " << args.output << ": " << in.scene.parts.size() << " part(s), " << triangles
-            << " triangles, " << inner << " inner and " << outer << " outer spheres ("
-            << page.size() << " bytes)\n";
+  std::cout << "wrote " << args.output << ": " << count_text(in.scene.parts.size(), "part") << ", "
+            << count_text(triangles, "triangle") << ", " << inner << " inner and "
+            << count_text(outer, "outer sphere") << " (" << count_text(page.size(), "byte")
+            << ")\n";
   return kExitOk;
 }
 

@@ -569,8 +569,9 @@ FitReport FitEvaluator::evaluate(const std::vector<Sphere>& balls,
   } else {
     if (r.volume.kind == NerrKind::kApproximate)
       r.warnings.push_back(
-          "the mesh self-intersects: " + std::to_string(self_intersections_.count()) +
-          " pair(s) of triangles meet other than at a shared vertex or edge, so the mesh "
+          "the mesh self-intersects: " + count_text(self_intersections_.count(), "pair") +
+          " of triangles " + (self_intersections_.count() == 1 ? "meets" : "meet") +
+          " other than at a shared vertex or edge, so the mesh "
           "volume may count the regions where its parts overlap more than once, and nerr is "
           "approximate");
     if (r.monte_carlo.multiple_volume > 0.0) {

@@ -294,23 +294,26 @@ LoadedMesh prepare_mesh(TriangleMesh mesh, const std::string& source, bool fix_o
   if (fix_orientation) {
     out.orientation_fix = orient_mesh(out.mesh);
     if (out.orientation_fix.triangles_flipped_for_consistency > 0)
-      out.warnings.push_back("flipped " +
-                             std::to_string(out.orientation_fix.triangles_flipped_for_consistency) +
-                             " triangle(s) to make the winding of their component consistent");
+      out.warnings.push_back(
+          "flipped " +
+          count_text(out.orientation_fix.triangles_flipped_for_consistency, "triangle") +
+          " to make the winding of their component consistent");
     if (out.orientation_fix.components_flipped_outward > 0)
       out.warnings.push_back("flipped " +
-                             std::to_string(out.orientation_fix.components_flipped_outward) +
-                             " inward-wound closed component(s) to face outward");
+                             count_text(out.orientation_fix.components_flipped_outward,
+                                        "inward-wound closed component") +
+                             " to face outward");
   }
   out.report = analyze_mesh(out.mesh);
   if (!out.report.closed)
-    out.warnings.push_back("the mesh is not closed (" + std::to_string(out.report.boundary_edges) +
-                           " boundary edges, " + std::to_string(out.report.nonmanifold_edges) +
-                           " non-manifold edges); its inside is defined by the generalized "
+    out.warnings.push_back("the mesh is not closed (" +
+                           count_text(out.report.boundary_edges, "boundary edge") + ", " +
+                           count_text(out.report.nonmanifold_edges, "non-manifold edge") +
+                           "); its inside is defined by the generalized "
                            "winding number");
   if (out.report.degenerate_triangles > 0)
-    out.warnings.push_back(std::to_string(out.report.degenerate_triangles) +
-                           " degenerate (zero-area) triangle(s)");
+    out.warnings.push_back(
+        count_text(out.report.degenerate_triangles, "degenerate (zero-area) triangle"));
   return out;
 }
 

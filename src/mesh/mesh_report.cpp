@@ -485,7 +485,9 @@ void check_mesh_usable(const TriangleMesh& mesh, const std::string& source) {
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) degenerate += is_degenerate(mesh, t);
   if (degenerate == mesh.triangles.size())
     throw InputError(source,
-                     "all " + std::to_string(degenerate) + " triangles are degenerate (zero area)");
+                     (degenerate == 1 ? std::string("its one triangle is")
+                                      : "all " + std::to_string(degenerate) + " triangles are") +
+                         " degenerate (zero area)");
 }
 
 }  // namespace medspheres

@@ -10,6 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
+#include "distance_transform.h"
 #include "medspheres/error.h"
 #include "medspheres/number_text.h"
 #include "medspheres/point_triangle.h"
@@ -23,13 +24,18 @@ constexpr int kMaxResolution = 1024;
 // The resolution of the triangle budget: probed at (the next when the walls enclose
 // nothing), and chosen within.
 constexpr int kProbeResolutions[] = {32, 48, 96};
+// The probes of an escalated thickness: walls thickened by t >= 0.02 L are no thinner on a
+// finer grid, and what the finest probe still encloses then are crevices of a few cells
+// (the ur5e wrist meshes of the README: 3 and 5 cells at resolution 96, a solid of 10^5
+// triangles whose bake fills half of it).
+constexpr int kEscalatedProbeResolutions[] = {32, 48};
 constexpr int kMinAutoResolution = 16;
 constexpr int kMaxAutoResolution = 96;
 constexpr int kAutoSteps = 5;
 
 // kWall: within the base radius (1 + sqrt(3)/2) h of a triangle; kThick: within the
-// wall radius only (the thickness t).
-enum : std::uint8_t { kFree = 0, kWall = 1, kOutside = 2, kAdded = 3, kThick = 4 };
+// thickness t of a kWall cell; kEroded: a kThick cell the closing may take back.
+enum : std::uint8_t { kFree = 0, kWall = 1, kOutside = 2, kAdded = 3, kThick = 4, kEroded = 5 };
 
 // Cells of the padded grid: cell (i, j, k) spans origin + h [i, i+1] x [j, j+1] x [k, k+1].
 struct CellGrid {
@@ -64,27 +70,26 @@ CellGrid make_cell_grid(const Eigen::AlignedBox3d& box, int resolution, double w
   return g;
 }
 
-// Step 2: cells whose centre is within wall_radius of a triangle: kWall within
-// base_radius, kThick beyond. A cell is tested only inside the triangle's box grown by
-// wall_radius, which holds every such centre, and skipped when its centre is farther than
-// wall_radius from the triangle's plane (by a margin far above the rounding of either
-// distance: the walls are those the closest-point test alone marks).
-void mark_walls(const TriangleMesh& mesh, double base_radius, double wall_radius, CellGrid& g) {
+// Step 2: cells whose centre is within base_radius of a triangle are kWall. A cell is
+// tested only inside the triangle's box grown by base_radius, which holds every such
+// centre, and skipped when its centre is farther than base_radius from the triangle's
+// plane (by a margin far above the rounding of either distance: the walls are those the
+// closest-point test alone marks).
+void mark_walls(const TriangleMesh& mesh, double base_radius, CellGrid& g) {
   const double base2 = base_radius * base_radius * (1.0 + 1e-9);
-  const double r2 = wall_radius * wall_radius * (1.0 + 1e-9);
   for (const auto& t : mesh.triangles) {
     const Eigen::Vector3d& a = mesh.vertices[static_cast<std::size_t>(t[0])];
     const Eigen::Vector3d& b = mesh.vertices[static_cast<std::size_t>(t[1])];
     const Eigen::Vector3d& c = mesh.vertices[static_cast<std::size_t>(t[2])];
-    const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - wall_radius;
-    const Eigen::Vector3d hi = a.cwiseMax(b).cwiseMax(c).array() + wall_radius;
+    const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c).array() - base_radius;
+    const Eigen::Vector3d hi = a.cwiseMax(b).cwiseMax(c).array() + base_radius;
     // The plane test only for a triangle whose angle at a has a sine of at least 1e-6, so
     // that the computed normal is within about 1e-9 rad of the true one.
     Eigen::Vector3d normal = (b - a).cross(c - a);
     const double area2 = normal.norm();
     const bool planar = area2 >= 1e-6 * (b - a).norm() * (c - a).norm() && area2 > 0.0;
     normal = planar ? Eigen::Vector3d(normal / area2) : Eigen::Vector3d::Zero();
-    const double slab = planar ? wall_radius * (1.0 + 1e-6) + 1e-8 * (hi - lo).norm()
+    const double slab = planar ? base_radius * (1.0 + 1e-6) + 1e-8 * (hi - lo).norm()
                                : std::numeric_limits<double>::infinity();
     std::array<std::int64_t, 3> from{}, to{};
     for (int x = 0; x < 3; ++x) {
@@ -100,13 +105,37 @@ void mark_walls(const TriangleMesh& mesh, double base_radius, double wall_radius
           if (s == kWall) continue;
           const Eigen::Vector3d centre = g.lattice(i, j, k) + Eigen::Vector3d::Constant(0.5 * g.h);
           if (std::abs(normal.dot(centre - a)) > slab) continue;
-          const double d2 = (closest_point_on_triangle(centre, a, b, c) - centre).squaredNorm();
-          if (d2 <= base2)
+          if ((closest_point_on_triangle(centre, a, b, c) - centre).squaredNorm() <= base2)
             s = kWall;
-          else if (d2 <= r2)
-            s = kThick;
         }
   }
+}
+
+// The squared distance, in cells, from each cell's centre to the nearest centre of a cell
+// in state \p seed (distance_transform.h).
+std::vector<std::int64_t> squared_distances_to(const CellGrid& g, std::uint8_t seed) {
+  std::vector<bool> is_seed(g.state.size());
+  for (std::size_t v = 0; v < g.state.size(); ++v) is_seed[v] = g.state[v] == seed;
+  return detail::squared_distance_transform(g.n, is_seed);
+}
+
+// (t / h)^2, the squared thickness in cells, with a relative margin far above the rounding
+// of the division (squared distances between cell centres are integers).
+double squared_cells(double thickness, double h) {
+  const double cells = thickness / h;
+  return cells * cells * (1.0 + 1e-12);
+}
+
+// Step 2b: free cells whose centre is within the thickness t of a kWall cell's centre
+// become kThick. Returns the squared distances (in cells) to the walls, or nothing for
+// t = 0.
+std::vector<std::int64_t> thicken(CellGrid& g, double thickness) {
+  if (!(thickness > 0.0)) return {};
+  std::vector<std::int64_t> to_wall = squared_distances_to(g, kWall);
+  const double t2 = squared_cells(thickness, g.h);
+  for (std::size_t v = 0; v < g.state.size(); ++v)
+    if (g.state[v] == kFree && static_cast<double>(to_wall[v]) <= t2) g.state[v] = kThick;
+  return to_wall;
 }
 
 // A 6-connected breadth-first spread from the cells of \p queue (marked outside) into
@@ -133,22 +162,39 @@ void spread_outside(CellGrid& g, std::vector<std::int64_t> queue, std::uint8_t i
   }
 }
 
-// Step 3: the flood fill from cell (0, 0, 0) over free cells; then, for a thickness t,
-// the outside grows back into the kThick cells by floor(t / h) 6-connected steps (a
-// closing: what the thickness added on the outside is taken away again, what it plugged
-// stays). Returns the cells of the solid beyond the base walls.
-std::size_t flood_outside(CellGrid& g, double thickness) {
+// Step 3: the flood fill from cell (0, 0, 0) over free cells: what it reaches is outside.
+void flood_outside(CellGrid& g) {
   g.state[0] = kOutside;
   spread_outside(g, {0}, kFree, std::numeric_limits<std::int64_t>::max());
-  const auto back = static_cast<std::int64_t>(std::floor(thickness / g.h));
-  if (back > 0) {
-    std::vector<std::int64_t> seeds;
-    for (std::size_t v = 0; v < g.state.size(); ++v)
-      if (g.state[v] == kOutside) seeds.push_back(static_cast<std::int64_t>(v));
-    spread_outside(g, std::move(seeds), kThick, back);
+}
+
+// Step 3b, for a thickness t: the closing. kThick cells whose centre is within t of an
+// outside cell's centre become outside again (what the thickness added on the outside is
+// taken away, what it plugged stays), those of them that the outside reaches through
+// each other; the others stay kThick (the closing makes no cavity).
+void close_outside(CellGrid& g, double thickness) {
+  if (!(thickness > 0.0)) return;
+  const std::vector<std::int64_t> to_outside = squared_distances_to(g, kOutside);
+  const double t2 = squared_cells(thickness, g.h);
+  std::vector<std::int64_t> seeds;
+  for (std::size_t v = 0; v < g.state.size(); ++v) {
+    if (g.state[v] == kOutside) seeds.push_back(static_cast<std::int64_t>(v));
+    if (g.state[v] == kThick && static_cast<double>(to_outside[v]) <= t2) g.state[v] = kEroded;
   }
-  return static_cast<std::size_t>(std::count_if(
-      g.state.begin(), g.state.end(), [](std::uint8_t s) { return s == kFree || s == kThick; }));
+  spread_outside(g, std::move(seeds), kEroded, std::numeric_limits<std::int64_t>::max());
+  for (std::uint8_t& s : g.state)
+    if (s == kEroded) s = kThick;
+}
+
+// The cells the walls enclose: free cells the flood fill did not reach, and kThick cells
+// the closing kept that are more than sqrt(3) cells from every kWall centre (\p to_wall).
+// The closing's residue on the outside of a wall lies within sqrt(3) h of it, so a sheet,
+// however thick its walls, encloses nothing.
+std::size_t enclosed_cells(const CellGrid& g, const std::vector<std::int64_t>& to_wall) {
+  std::size_t n = 0;
+  for (std::size_t v = 0; v < g.state.size(); ++v)
+    n += g.state[v] == kFree || (g.state[v] == kThick && to_wall[v] > 3);
+  return n;
 }
 
 // Step 4: around each grid edge, two diagonal solid cells and two non-solid ones make
@@ -312,11 +358,15 @@ RobustSolid solid_at(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, i
   out.cell = box.sizes().maxCoeff() / n;
   const double base_radius = (1.0 + std::sqrt(3.0) / 2.0) * out.cell;
   out.wall_radius = base_radius + thickness;
+  out.thickness = thickness;
   CellGrid g = make_cell_grid(box, n, out.wall_radius);
-  mark_walls(mesh, base_radius, out.wall_radius, g);
+  mark_walls(mesh, base_radius, g);
+  const std::vector<std::int64_t> to_wall = thicken(g, thickness);
   out.wall_cells = static_cast<std::size_t>(std::count_if(
       g.state.begin(), g.state.end(), [](std::uint8_t s) { return s == kWall || s == kThick; }));
-  out.enclosed_cells = flood_outside(g, thickness);
+  flood_outside(g);
+  close_outside(g, thickness);
+  out.enclosed_cells = enclosed_cells(g, to_wall);
   if (out.enclosed_cells == 0)
     throw InputError(ErrorKind::kNoInterior, name,
                      "the mesh bounds no volume at robust resolution " + std::to_string(n) +
@@ -335,10 +385,11 @@ RobustSolid solid_at(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, i
 
 // The first solid of resolutions kProbeResolutions whose walls enclose a cell (thinner
 // walls enclose smaller parts); the last error when none does.
+template <std::size_t N>
 RobustSolid probe_solid(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box, double thickness,
-                        const std::string& name) {
+                        const std::string& name, const int (&probes)[N]) {
   std::optional<InputError> failure;
-  for (int n : kProbeResolutions) {
+  for (int n : probes) {
     try {
       return solid_at(mesh, box, n, thickness, name);
     } catch (const InputError& e) {
@@ -355,10 +406,11 @@ RobustSolid probe_solid(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box
 // budget (and, while over it, below every coarser one whose walls enclosed nothing: the
 // enclosed cells depend on how the grid falls); from the probe, kAutoSteps more solids at
 // most. The solid kept is the finest one within the budget, or, when none is, the coarsest
-// built.
+// built. An \p escalated thickness is probed at kEscalatedProbeResolutions.
 RobustSolid solid_of_budget(const TriangleMesh& mesh, const Eigen::AlignedBox3d& box,
-                            double thickness, const std::string& name) {
-  RobustSolid best = probe_solid(mesh, box, thickness, name);
+                            double thickness, const std::string& name, bool escalated) {
+  RobustSolid best = escalated ? probe_solid(mesh, box, thickness, name, kEscalatedProbeResolutions)
+                               : probe_solid(mesh, box, thickness, name, kProbeResolutions);
   int too_fine = kMaxAutoResolution + 1;  // the coarsest resolution found over the budget
   int coarse_limit = kMaxAutoResolution;  // below the coarser grids that enclosed nothing
   for (int step = 0; step < kAutoSteps; ++step) {
@@ -395,16 +447,42 @@ RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions
                               const std::string& name) {
   check_options(options);
   const Eigen::AlignedBox3d box = checked_box(mesh, name);
-  if (options.resolution == 0) return solid_of_budget(mesh, box, options.thickness, name);
-  return solid_at(mesh, box, options.resolution, options.thickness, name);
+  auto solid = [&](double thickness, bool escalated = false) {
+    if (options.resolution == 0) return solid_of_budget(mesh, box, thickness, name, escalated);
+    return solid_at(mesh, box, options.resolution, thickness, name);
+  };
+  if (!options.escalate) return solid(options.thickness);
+  // The given thickness, then each step of the schedule above it, until the walls enclose a
+  // cell; the error of the last one tried when none does.
+  const double longest = box.sizes().maxCoeff();
+  try {
+    return solid(options.thickness);
+  } catch (const InputError& e) {
+    if (e.kind() != ErrorKind::kNoInterior) throw;
+    std::optional<InputError> failure = e;
+    for (double step : kRobustThicknessSteps) {
+      if (step * longest <= options.thickness) continue;
+      try {
+        return solid(step * longest, true);
+      } catch (const InputError& thicker) {
+        if (thicker.kind() != ErrorKind::kNoInterior) throw;
+        failure = InputError(ErrorKind::kNoInterior, name,
+                             thicker.problem() + " (walls thickened by robust_thickness up to " +
+                                 number_text(step) + "L = " + number_text(step * longest) +
+                                 " enclose nothing either)");
+      }
+    }
+    throw *failure;
+  }
 }
 
 std::string describe(const RobustSolid& s) {
   return "the robust solid at resolution " + std::to_string(s.resolution) + " (" +
-         std::to_string(s.mesh.triangles.size()) + " triangles): cells of " + number_text(s.cell) +
+         count_text(s.mesh.triangles.size(), "triangle") + "): cells of " + number_text(s.cell) +
          " within " + number_text(s.wall_radius) + " of the surface made walls, and the " +
-         std::to_string(s.enclosed_cells) +
-         " cells they enclose were added, the boundary smoothed (an outward offset of at most " +
+         count_text(s.enclosed_cells, "cell") + " they enclose " +
+         (s.enclosed_cells == 1 ? "was" : "were") +
+         " added, the boundary smoothed (an outward offset of at most " +
          number_text(s.wall_radius + std::sqrt(3.0) * s.cell) + ")";
 }
 

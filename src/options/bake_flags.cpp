@@ -38,7 +38,7 @@ SolidRequest parse_solid(const SolidFlags& flags) {
 void set_solid(const SolidFlags& flags, BakeRequest& request) {
   const SolidRequest s = parse_solid(flags);
   request.solid = s.kind;
-  request.robust = s.robust;
+  request.robust.resolution = s.robust.resolution;  // the request keeps its escalation
   request.robust_thickness = s.robust_thickness;
 }
 

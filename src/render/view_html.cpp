@@ -1,12 +1,10 @@
 #include "medspheres/render/view_html.h"
 
-#include <cstdint>
-#include <cstring>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
 
-#include "medspheres/mesh/cover_certificate.h"
+#include "view_data.h"
 
 namespace medspheres::render {
 
@@ -20,98 +18,7 @@ extern const char* const kViewerJs;
 namespace {
 
 using Json = nlohmann::json;
-
-// RFC 4648 base64, for the data: URLs of the import map.
-std::string base64(const std::string& bytes) {
-  static const char* const kAlphabet =
-      "ABCDEFGHIJKLMNOPQRSTUVWXYZabcdefghijklmnopqrstuvwxyz0123456789+/";
-  std::string out;
-  out.reserve((bytes.size() + 2) / 3 * 4);
-  for (std::size_t i = 0; i < bytes.size(); i += 3) {
-    const std::size_t n = std::min<std::size_t>(3, bytes.size() - i);
-    unsigned v = 0;
-    for (std::size_t k = 0; k < 3; ++k)
-      v = (v << 8) | (k < n ? static_cast<unsigned char>(bytes[i + k]) : 0u);
-    for (std::size_t k = 0; k < 4; ++k) out += k <= n ? kAlphabet[(v >> (18 - 6 * k)) & 63] : '=';
-  }
-  return out;
-}
-
-// Coordinates as floats: a picture needs no more, and the page stays small.
-void push_point(Json& out, const Eigen::Vector3d& p) {
-  for (int k = 0; k < 3; ++k) out.push_back(static_cast<float>(p[k]));
-}
-
-void push_point(std::vector<float>& out, const Eigen::Vector3d& p) {
-  for (int k = 0; k < 3; ++k) out.push_back(static_cast<float>(p[k]));
-}
-
-// A typed array for the page: its bytes, little-endian, in base64 (viewer.js decodes it
-// into a Float32Array or an Int32Array).
-template <class T>
-std::string packed(const std::vector<T>& values) {
-  static_assert(sizeof(T) == 4, "4-byte values");
-  std::string bytes(values.size() * 4, '\0');
-  for (std::size_t i = 0; i < values.size(); ++i) {
-    std::uint32_t u = 0;
-    std::memcpy(&u, &values[i], 4);
-    for (int b = 0; b < 4; ++b) bytes[4 * i + b] = static_cast<char>((u >> (8 * b)) & 0xff);
-  }
-  return base64(bytes);
-}
-
-Json spheres_json(const std::vector<Sphere>& spheres) {
-  Json out = Json::array();
-  for (const Sphere& s : spheres) {
-    Json row = Json::array();
-    push_point(row, s.center);
-    row.push_back(static_cast<float>(s.radius));
-    out.push_back(std::move(row));
-  }
-  return out;
-}
-
-// The corners of the pieces certify_cover leaves uncertified, 9 numbers a piece; an
-// uncertified triangle whose pieces were not all listed is added whole.
-std::string uncovered_pieces(const TriangleMesh& mesh, const std::vector<Sphere>& balls,
-                             const ViewOptions& options) {
-  std::vector<float> out;
-  if (balls.empty() || mesh.triangles.empty()) return packed(out);
-  CoverCertificateOptions o;
-  o.max_depth = options.cover_depth;
-  o.max_pieces_reported = 2000000;
-  o.max_worst_evaluations = 1;  // the worst point is not shown
-  o.threads = options.threads;
-  const CoverCertificate cert = certify_cover(mesh, balls, o);
-  int last_listed = -1;
-  for (const CoverPiece& p : cert.uncertified_pieces) {
-    for (const Eigen::Vector3d& c : p.corners) push_point(out, c);
-    last_listed = p.triangle;
-  }
-  if (cert.uncertified_pieces.size() < cert.uncertified_pieces_total)
-    for (std::size_t t = static_cast<std::size_t>(last_listed + 1); t < mesh.num_triangles(); ++t)
-      if (!cert.triangle_certified[t])
-        for (int k = 0; k < 3; ++k) push_point(out, mesh.corner(t, k));
-  return packed(out);
-}
-
-Json part_json(const ScenePart& part, const ViewOptions& options) {
-  Json j;
-  j["name"] = part.name;
-  std::vector<float> positions;
-  std::vector<std::int32_t> triangles;
-  for (const Eigen::Vector3d& v : part.mesh.vertices) push_point(positions, v);
-  for (const auto& t : part.mesh.triangles)
-    for (int k : t) triangles.push_back(k);
-  j["triangle_count"] = part.mesh.num_triangles();
-  j["positions"] = packed(positions);
-  j["triangles"] = packed(triangles);
-  j["inner"] = spheres_json(part.inner);
-  j["outer"] = spheres_json(part.outer);
-  j["uncovered_inner"] = uncovered_pieces(part.mesh, part.inner, options);
-  j["uncovered_outer"] = uncovered_pieces(part.mesh, part.outer, options);
-  return j;
-}
+using detail::base64;
 
 // JSON inside <script>: "</" would end the element early; "<\/" is the same JSON string.
 std::string script_safe(std::string text) {
@@ -155,7 +62,8 @@ std::string view_html(const Scene& scene, const ViewOptions& options) {
   data["title"] = options.title;
   data["warning"] = options.warning;
   data["parts"] = Json::array();
-  for (const ScenePart& part : scene.parts) data["parts"].push_back(part_json(part, options));
+  for (const ScenePart& part : scene.parts)
+    data["parts"].push_back(detail::part_data(part, options));
   const Json imports = {
       {"imports",
        {{"three", "data:text/javascript;base64," + base64(assets::kThreeModule)},

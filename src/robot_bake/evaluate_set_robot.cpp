@@ -9,6 +9,7 @@
 #include "medspheres/error.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/mesh/cover_certificate_json.h"
+#include "medspheres/number_text.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot_file.h"
 
@@ -78,8 +79,8 @@ RobotEvaluation evaluate_robot_spheres(const std::string& urdf, const UrdfReadOp
       out.unknown_links.push_back(link);
   }
   if (known.empty() && !out.unknown_links.empty())
-    throw InputError(spheres_file, "none of its " + std::to_string(out.unknown_links.size()) +
-                                       " links is a link of the robot in " + urdf + " (first: '" +
+    throw InputError(spheres_file, "none of its " + count_text(out.unknown_links.size(), "link") +
+                                       " is a link of the robot in " + urdf + " (first: '" +
                                        out.unknown_links.front() + "')");
   out.links = evaluate_robot_fit(solids, known, spheres_file, options);
   return out;

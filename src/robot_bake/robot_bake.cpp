@@ -214,7 +214,11 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   stats.seconds = own ? job.seconds : 0.0;
   stats.outer_seconds = own ? job.outer_seconds : 0.0;
   if (job.outcome.solid == SolidKind::kRobust)
-    stats.note += std::string(stats.note.empty() ? "" : "; ") + "robust solid";
+    stats.note += std::string(stats.note.empty() ? "" : "; ") + "robust solid" +
+                  (job.outcome.robust_thickness_escalated
+                       ? ", walls thickened to " + number_text(job.outcome.robust_thickness, 3) +
+                             " m (thinner ones enclosed nothing)"
+                       : "");
   if (!job.outer) return;
   const bool one = solid.parts.size() == 1;
   const CoverResult& cover = *job.outer->cover;

@@ -4,6 +4,7 @@
 #include <numeric>
 
 #include "medspheres/error.h"
+#include "medspheres/number_text.h"
 #include "medspheres/robot_bake/robot_bake.h"
 
 namespace medspheres {
@@ -99,8 +100,9 @@ std::vector<std::optional<std::size_t>> link_bake_budgets(const std::vector<Link
     throw InputError::option(ErrorKind::kOutOfRange, "budget", "",
                              std::to_string(*budget.total) + " is too small for " + source +
                                  ": the exact sphere primitives and the per-link overrides take " +
-                                 std::to_string(fixed) + " and " + std::to_string(shared.size()) +
-                                 " links to bake need at least 1 each");
+                                 std::to_string(fixed) + " and " +
+                                 count_text(shared.size(), "link") +
+                                 " to bake need at least 1 each");
   std::vector<double> areas;
   for (std::size_t i : shared) areas.push_back(surface_area(solids[i]));
   const std::vector<std::size_t> extra =

@@ -21,4 +21,8 @@ std::string exact_number_text(double v) {
   return std::string(buffer, result.ptr);
 }
 
+std::string count_text(std::size_t n, const std::string& noun, const std::string& plural) {
+  return std::to_string(n) + " " + (n == 1 ? noun : plural.empty() ? noun + "s" : plural);
+}
+
 }  // namespace medspheres

@@ -309,6 +309,32 @@ std::string robot_to_json(const RobotModel& model) {
   return out + "\n";
 }
 
+namespace {
+
+Json robot_document(const std::string& robot_json, const std::string& source) {
+  Json doc = Json::parse(robot_json, nullptr, false);
+  if (doc.is_discarded() || !doc.is_object())
+    throw InputError(source, "is not a JSON object (a robot file)");
+  return doc;
+}
+
+}  // namespace
+
+std::string robot_json_with_metadata(const std::string& robot_json,
+                                     const std::string& metadata_json, const std::string& source) {
+  Json doc = robot_document(robot_json, source);
+  doc["metadata"] = object_from_text(metadata_json, "metadata");
+  std::string out;
+  dump_readable(doc, 0, out);
+  return out + "\n";
+}
+
+std::string robot_json_metadata(const std::string& robot_json, const std::string& source) {
+  const Json doc = robot_document(robot_json, source);
+  const auto it = doc.find("metadata");
+  return it == doc.end() ? std::string("{}") : it->dump();
+}
+
 void save_robot(const RobotModel& model, const std::string& path) {
   validate_robot_model(model, path);
   write_file_atomically(path, robot_to_json(model));

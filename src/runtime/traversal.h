@@ -47,23 +47,20 @@
 namespace medspheres::detail {
 
 /// The child pairs of \p p, opened on the side the adapter chooses, with their bounds
-/// (each counted in stats.bv_tests), sorted nearest first, ties in child order.
+/// (each counted in stats.bv_tests), and in \p order their indices nearest first, ties in
+/// child order (the pairs themselves stay put: a bounds walk's pairs hold two pairs each).
 template <class Nodes>
 int open_pair(const Nodes& nodes, const typename Nodes::Pair& p, double prune_at, QueryStats& stats,
-              typename Nodes::Pair* next, double* lb) {
-  using Pair = typename Nodes::Pair;
+              typename Nodes::Pair* next, double* lb, int* order) {
   const int n = nodes.children(p, nodes.open_first(p), next);
   for (int k = 0; k < n; ++k) {
     ++stats.bv_tests;
     lb[k] = nodes.bound(next[k], prune_at);
+    order[k] = k;
   }
   for (int k = 1; k < n; ++k) {  // insertion sort: stable, and n is small
-    for (int m = k; m > 0 && lb[m] < lb[m - 1]; --m) {
-      std::swap(lb[m], lb[m - 1]);
-      Pair t = next[m];
-      next[m] = next[m - 1];
-      next[m - 1] = t;
-    }
+    for (int m = k; m > 0 && lb[order[m]] < lb[order[m - 1]]; --m)
+      std::swap(order[m], order[m - 1]);
   }
   return n;
 }
@@ -76,9 +73,10 @@ void recurse(const Nodes& nodes, const typename Nodes::Pair& p, Acc& acc) {
   }
   typename Nodes::Pair next[Nodes::kMaxChildren];
   double lb[Nodes::kMaxChildren];
-  const int n = open_pair(nodes, p, acc.prune_at(), acc.stats, next, lb);
+  int order[Nodes::kMaxChildren];
+  const int n = open_pair(nodes, p, acc.prune_at(), acc.stats, next, lb, order);
   for (int k = 0; k < n; ++k) {
-    if (acc.keeps(lb[k])) recurse(nodes, next[k], acc);
+    if (acc.keeps(lb[order[k]])) recurse(nodes, next[order[k]], acc);
     if (acc.done()) return;
   }
 }

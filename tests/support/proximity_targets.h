@@ -111,11 +111,12 @@ class HalfspaceTarget final : public LonePrimitiveTarget {
 /// Occupied cells of a 2^depth grid over the cube [-half, half]^3, in an octree: a node
 /// is a cell (level, i, j, k) whose children are its occupied sub-cells, in z-order; a
 /// leaf is an occupied cell of the last level, a solid cube whose primitive id is its
-/// linear index i + n (j + n k), n = 2^depth.
-class CubeGridTarget final : public ProximityTarget {
+/// linear index i + n (j + n k), n = 2^depth. With \p boxes, internal nodes also carry
+/// their cube as TargetNode::box_half.
+class CubeGridTarget : public ProximityTarget {
  public:
-  CubeGridTarget(int depth, double half, std::vector<bool> occupied)
-      : depth_(depth), half_(half), occupied_(std::move(occupied)) {}
+  CubeGridTarget(int depth, double half, std::vector<bool> occupied, bool boxes = false)
+      : depth_(depth), half_(half), occupied_(std::move(occupied)), boxes_(boxes) {}
 
   std::optional<TargetNode> root() const override {
     if (!any_below(0, 0, 0, 0)) return std::nullopt;
@@ -175,6 +176,7 @@ class CubeGridTarget final : public ProximityTarget {
       t.primitive = i + n * (j + n * k);
     } else {
       t.bounds = box_bounds(lo, hi);
+      if (boxes_) t.box_half = 0.5 * (hi - lo);
     }
     return t;
   }
@@ -182,6 +184,7 @@ class CubeGridTarget final : public ProximityTarget {
   int depth_;
   double half_;
   std::vector<bool> occupied_;
+  bool boxes_;
 };
 
 }  // namespace medspheres::test

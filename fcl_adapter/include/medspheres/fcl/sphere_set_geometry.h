@@ -53,7 +53,11 @@
 ///   - a contact normal points from o1 to o2; penetration_depth >= 0; the position is the
 ///     midpoint of the two objects' deepest points (sphere_tree.h). Touching is collision;
 ///   - a preset result.min_distance is respected: only a strictly closer pair replaces it,
-///     and it prunes the search (MoveIt presets it as a threshold);
+///     and it prunes the search (MoveIt presets it as a threshold). Before any walk, the
+///     set's bounding ball is tested against the other geometry's bound (a sphere set's
+///     bounding ball, a BVHModel's root volume, a box, sphere, capsule or cylinder); a pair
+///     certainly farther apart than min_distance (by 1e-12 of the magnitudes) returns at
+///     once, as collide() does for a pair certainly apart. The answer is the walk's;
 ///   - enable_nearest_points: points written only when set. They are the witness points
 ///     of the reported pair (sphere_tree.h); for a sphere and a primitive, p_sphere =
 ///     c + r n and p_other = p_sphere + d n, d the distance, n the unit direction of FCL's
@@ -102,6 +106,10 @@ class SphereSetGeometry final : public ::fcl::Box<double> {
 
   const SphereSet& sphere_set() const noexcept { return set_; }
   const SphereTree& tree() const noexcept { return tree_; }
+  /// A ball, in the set's frame, that contains every sphere: the tree root's bounding
+  /// ball (SphereTree::bounding_ball(0)). distance() and collide() test it against the
+  /// other geometry's bound before they walk the tree.
+  const Sphere& bounding_ball() const noexcept { return bound_; }
 
   /// Sets aabb_local to the smallest axis-aligned box of the spheres in the geometry's
   /// frame, aabb_center to its centre, and aabb_radius to the radius of the smallest
@@ -119,6 +127,7 @@ class SphereSetGeometry final : public ::fcl::Box<double> {
  private:
   SphereSet set_;
   SphereTree tree_;
+  Sphere bound_;
 };
 
 /// The SphereSetGeometry behind \p geometry, or nullptr when it is something else.

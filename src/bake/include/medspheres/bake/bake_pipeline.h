@@ -55,7 +55,9 @@ struct BakeRequest {
   /// outward mesh; for any other mesh the winding-number solid unless its bake finds no
   /// well-defined interior (kNoInterior), then the robust solid, with a warning.
   SolidKind solid = SolidKind::kAuto;
-  RobustSolidOptions robust;               ///< of the robust solid, when it is used
+  /// Of the robust solid, when it is used. A bake escalates its thickness by default (walls
+  /// that enclose nothing are thickened, robust_solid.h); a robust_thickness is kept as given.
+  RobustSolidOptions robust{0, 0.0, true};
   std::optional<Length> robust_thickness;  ///< overrides robust.thickness (>= 0)
 };
 
@@ -70,7 +72,13 @@ struct BakeOutcome {
   /// The solid baked, kWinding or kRobust (recorded as stats "solid" in the file); every
   /// measure and guarantee of the outcome is of that solid.
   SolidKind solid = SolidKind::kWinding;
-  std::vector<std::string> warnings;  ///< one sentence each: a fallback to the robust solid
+  /// kRobust: the robust solid's wall thickness t (recorded as stats "robust_thickness"),
+  /// and whether it was escalated beyond the one requested because the walls enclosed
+  /// nothing there (recorded as "robust_thickness_requested", with a warning).
+  double robust_thickness = 0.0;
+  bool robust_thickness_escalated = false;
+  /// One sentence each: a fallback to the robust solid, an escalated wall thickness.
+  std::vector<std::string> warnings;
 };
 
 /// Bakes the solid of \p mesh that request.solid chooses (with its \p report, as

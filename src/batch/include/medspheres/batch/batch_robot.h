@@ -6,12 +6,14 @@
 /// relative path without the extension (a/b/arm.urdf -> OUT/a/b/arm/), replaced as a
 /// whole (write_robot_outputs), so a killed run leaves whole folders only.
 ///
-/// Cache (robot_cache_key): the SHA-256 of the URDF's bytes, the path of the URDF as read
-/// and of every mesh file it references as resolved, each with its SHA-256 (the files record
-/// these paths, so a copy of the library elsewhere is baked again), every field of the job
-/// that changes the files (request, budget, outer sets, from_visual, formats, set, the
-/// recorded options) and the tool's version. An entry is every output file in one
-/// MessagePack map {"links", "spheres", "files": {name: bytes}}, written atomically; an
+/// Cache (robot_cache_key): content and relative layout only, so that a copy of the library
+/// elsewhere is found: the SHA-256 of the URDF's bytes and its relative path, every mesh
+/// file it references by its path relative to the URDF's folder (below that relative path)
+/// with its SHA-256, every field of the job that changes the files (request, budget, outer
+/// sets, from_visual, formats, set, the recorded options) and the tool's version. An entry
+/// is every output file in one MessagePack map {"links", "spheres", "files": {name:
+/// bytes}}, written atomically, its robot file naming the URDF and meshes by those relative
+/// paths; a copy from the entry names them as read (the files are those a bake writes). An
 /// entry that does not read as one is a miss and is overwritten by the next store.
 ///
 /// Determinism: a batch bakes with request.record_seconds false, so the files carry no
@@ -61,10 +63,11 @@ RobotFileResult bake_robot_file(const std::string& urdf, const std::string& out,
 std::string robot_output_relative(const std::string& relative);
 
 /// 64 hex digits naming the files of \p robot (read from a URDF with SHA-256
-/// \p urdf_sha256) made by \p job (file comment).
+/// \p urdf_sha256, whose path relative to the batch's folder is \p relative) made by
+/// \p job (file comment).
 /// \throws InputError naming the URDF and the link whose mesh file cannot be read.
 std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha256,
-                            const RobotJob& job);
+                            const RobotJob& job, const std::string& relative);
 
 struct RobotBatchOptions : BatchSettings {
   RobotJob robot;  ///< every robot's; each bakes batch_threads_each(jobs) links at once
