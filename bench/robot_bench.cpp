@@ -71,8 +71,6 @@
 #include <string>
 #include <vector>
 
-#include <unistd.h>
-
 #include <fcl/fcl.h>
 
 #include "bench_args.h"
@@ -80,14 +78,13 @@
 #include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/sphere_set_geometry.h"
-#include "medspheres/formats/srdf_disabled_collisions.h"
 #include "robot_bench_breakdown.h"
 #include "robot_bench_check.h"
 #include "robot_bench_exact.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
+#include "robot_bench_setup.h"
 #include "robot_bench_spheres.h"
-#include "support/coarse_arm.h"
 
 namespace {
 
@@ -96,16 +93,8 @@ namespace mb = medspheres::bench;
 using Poses = std::vector<::fcl::Transform3d>;
 using mb::Clock;
 
-struct Options {
-  mb::RobotSource robot;
-  std::string generated;  // a generated robot's name ("coarse-arm"); empty: the URDF
-  std::size_t configs = 10000;
-  unsigned seed = 1;
-  double margin = 0.01;
+struct Options : mb::RobotBenchOptions {
   double scale = 1.0;
-  std::string srdf;
-  std::string meshes;
-  bool self = true;
   std::size_t distance_every = 10;
   bool explain = false;
   std::size_t breakdown = 0;
@@ -118,34 +107,13 @@ struct Options {
 
 Options parse(int argc, char** argv) {
   Options o;
-  const std::string shared = std::string(MEDSPHERES_SOURCE_DIR) + "/../shared";
-  o.robot.urdf = shared + "/robots/unitree_g1/g1_29dof_rev_1_0.urdf";
-  if (std::filesystem::exists(shared + "/meshes/MANIFEST.tsv")) o.meshes = shared + "/meshes";
-  const char* home = std::getenv("HOME");
-  const char* xdg = std::getenv("XDG_CACHE_HOME");
-  o.robot.cache_dir = xdg ? std::string(xdg) + "/medspheres/bench_robot"
-                          : std::string(home ? home : ".") + "/.cache/medspheres/bench_robot";
   o.robot.spheres_per_link = 32;
   mb::Args args("bench_robot", "Certified robot queries against exact meshes");
   CLI::App& app = args.app();
-  CLI::Option* urdf =
-      app.add_option("urdf", o.robot.urdf, "Robot description")->capture_default_str();
-  app.add_option("--robot", o.generated,
-                 "A generated robot instead of a URDF: coarse-arm (7 joints, 11 coarse links)")
-      ->check(CLI::IsMember({"coarse-arm"}))
-      ->excludes(urdf);
-  args.add("--configs", o.configs, "Seeded joint configurations");
-  args.add("--seed", o.seed, "Seed of the configurations and the scene");
-  args.add("--margin", o.margin, "Collision threshold (m): colliding means distance <= it");
+  o.add_to(args);
   args.add("--scale", o.scale, "Scale of the scene's positions and sizes");
   args.add("--robot-file", o.robot.robot_file, "Sets from `medspheres robot` (no bake)");
-  args.add("--cache", o.robot.cache_dir, "Folder of cached bakes ('' for none)");
   args.add("--spheres-per-link", o.robot.spheres_per_link, "Bake budget per link");
-  args.add("--jobs", o.robot.jobs, "Links baked at once (0: one per core)");
-  app.add_option("--package", o.robot.packages, "PKG=DIR for package:// (repeatable)");
-  args.add("--srdf", o.srdf, "SRDF whose <disable_collisions> pairs are excluded");
-  args.add_meshes(o.meshes);
-  app.add_flag("!--no-self", o.self, "Robot against the scene only");
   args.add("--distance-every", o.distance_every, "Distance errors on every k-th configuration");
   args.add("--order-samples", o.order_samples,
            "Seeded configurations that order the self pairs and pick witnesses (SelfPairOrder; 0: "
@@ -161,18 +129,6 @@ Options parse(int argc, char** argv) {
   app.add_flag("!--no-checker", o.checker, "Leave out the robot checker's rows");
   args.parse(argc, argv);
   return o;
-}
-
-// Every joint at 0, clamped to its limits.
-Eigen::VectorXd default_config(const medspheres::RobotModel& model,
-                               const medspheres::KinematicTree& tree) {
-  Eigen::VectorXd q = Eigen::VectorXd::Zero(tree.num_positions());
-  for (Eigen::Index k = 0; k < q.size(); ++k) {
-    const medspheres::Joint& j = *model.find_joint(tree.joint_names()[k]);
-    if (j.type != medspheres::JointType::kContinuous && j.limits)
-      q[k] = std::clamp(0.0, j.limits->lower, j.limits->upper);
-  }
-  return q;
 }
 
 // CPU time of the thread per configuration for the link poses alone, the same calls every
@@ -355,25 +311,6 @@ void print_table(const std::vector<MethodRun>& runs, const Reference& ref) {
               }));
 }
 
-using NamePairs = std::vector<std::pair<std::string, std::string>>;
-
-// The pairs excluded from self-collision: the SRDF's, and those within the margin at the
-// default configuration (by the exact meshes).
-NamePairs disabled_pairs(const Options& o, const mb::BenchRobot& robot, std::size_t& by_default) {
-  NamePairs out;
-  if (!o.srdf.empty())
-    for (const auto& d : medspheres::formats::load_srdf_disabled_collisions(o.srdf))
-      out.emplace_back(d.link1, d.link2);
-  const mf::RobotBounds all(robot.model, robot.meshes, out);
-  mb::ExactRobot exact(all, robot.exact, {}, robot.solids);
-  const Eigen::VectorXd q0 = default_config(robot.model, all.kinematics());
-  const auto near = exact.self_pairs_within(all.poses(q0, Eigen::Isometry3d::Identity()), o.margin);
-  for (const auto& [a, b] : near)
-    out.emplace_back(all.geometries()[a].link(), all.geometries()[b].link());
-  by_default = near.size();
-  return out;
-}
-
 void print_setup(const Options& o, const mb::BenchRobot& robot, const mf::RobotBounds& bounds,
                  const mb::BenchScene& scene, std::size_t by_default) {
   std::size_t inner = 0, outer = 0;
@@ -402,7 +339,7 @@ int run(const Options& o) {
   const mb::BenchScene scene = mb::make_scene(o.seed, o.meshes, o.scale);
   const std::vector<const ::fcl::CollisionObjectd*> objects = scene.pointers();
   std::size_t by_default = 0;
-  const NamePairs disabled = disabled_pairs(o, robot, by_default);
+  const mb::NamePairs disabled = mb::disabled_pairs(o.srdf, o.margin, robot, by_default);
   const mf::RobotBounds plain(robot.model, robot.meshes, disabled);
   const auto t_order = Clock::now();
   const mf::RobotBounds bounds(robot.model, robot.meshes, disabled, {},
@@ -549,52 +486,9 @@ int run(const Options& o) {
 
 }  // namespace
 
-namespace {
-
-// A generated robot's files: in the cache folder (the same bytes each time, so the bake's
-// cache key holds), or in a temporary folder removed at exit when there is no cache.
-class GeneratedRobot {
- public:
-  explicit GeneratedRobot(Options& o) {
-    if (o.generated.empty()) return;
-    namespace fs = std::filesystem;
-    fs::path dir = fs::path(o.robot.cache_dir) / "coarse_arm";
-    if (o.robot.cache_dir.empty())
-      dir = temp_ =
-          fs::temp_directory_path() / ("medspheres-bench-coarse-arm-" + std::to_string(::getpid()));
-    o.robot.urdf = medspheres::test::write_coarse_arm(dir);
-  }
-  ~GeneratedRobot() {
-    std::error_code ec;
-    if (!temp_.empty()) std::filesystem::remove_all(temp_, ec);
-  }
-  GeneratedRobot(const GeneratedRobot&) = delete;
-  GeneratedRobot& operator=(const GeneratedRobot&) = delete;
-
- private:
-  std::filesystem::path temp_;
-};
-
-}  // namespace
-
 int main(int argc, char** argv) {
-  // The checker's rows on every core: OpenMP's threads sleep rather than spin while they
-  // wait, which on a machine shared with other work would take the cores the others need.
-  // The runtime reads the setting when it loads, so the program starts again with it.
-  if (std::getenv("OMP_WAIT_POLICY") == nullptr) {
-    setenv("OMP_WAIT_POLICY", "passive", 1);
-    execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
-  }
+  mb::restart_with_passive_openmp(argv);
   Options o = parse(argc, argv);
-  const GeneratedRobot generated(o);
-  if (!std::filesystem::exists(o.robot.urdf)) {
-    std::fprintf(stderr, "bench_robot: no robot at %s (give a URDF)\n", o.robot.urdf.c_str());
-    return 2;
-  }
-  try {
-    return run(o);
-  } catch (const medspheres::InputError& e) {
-    std::fprintf(stderr, "bench_robot: %s\n", e.what());
-    return 2;
-  }
+  return mb::run_robot_bench("bench_robot", o.generated, o.robot.cache_dir, o.robot.urdf,
+                             [&o] { return run(o); });
 }

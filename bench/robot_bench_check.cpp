@@ -13,6 +13,7 @@
 
 #include "bench_timing.h"
 #include "medspheres/fcl/certified_checker.h"
+#include "medspheres/fcl/scene_from_fcl.h"
 #include "medspheres/forward_kinematics.h"
 
 namespace medspheres::bench {
@@ -155,6 +156,7 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
               "configs/edge", "configs/s/core", "colliding", "note");
   for (int certified_mode : {0, 1})
     for (int threads : {1, 0}) {
+      if (threads != 1 && !in.all_cores) continue;
       std::size_t checked = 0;
       fcl::FallbackStats stats;
       const double micros = best_micros(in.repeats, threads != 1, [&] {
@@ -231,6 +233,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   std::vector<Verdict> v(n);
   std::vector<Row> rows;
   for (int threads : {1, 0}) {
+    if (threads != 1 && !in.all_cores) continue;
     Row r{"check/s", threads};
     r.micros =
         best_micros(in.repeats, threads != 1,
@@ -238,6 +241,20 @@ void print_checker_rows(const CheckerBenchInput& in) {
         double(n);
     r.colliding = colliding_of(v);
     r.note = "planner covering sets only";
+    rows.push_back(r);
+  }
+  {
+    // The same checks with every test in doubles (no float pass): the float pass's gain.
+    check::CheckerOptions od = o;
+    od.float_tests = false;
+    const check::RobotChecker doubles(in.planner->model, fcl::scene_from_fcl(in.scene).scene, od,
+                                      fine);
+    Row r{"check/d", 1};
+    r.micros = best_micros(in.repeats, false,
+                           [&] { doubles.check(q.data(), n, check::Mode::spheres, v.data(), 1); }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    r.note = "as check/s, every test in doubles";
     rows.push_back(r);
   }
   {
@@ -251,6 +268,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
     rows.push_back(r);
   }
   for (int threads : {1, 0}) {
+    if (threads != 1 && !in.all_cores) continue;
     Row r{"check/c", threads};
     fcl::FallbackStats stats;
     r.micros = best_micros(in.repeats, threads != 1,
@@ -270,7 +288,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.note = note;
     rows.push_back(r);
   }
-  {
+  if (in.fcl_loop) {
     FclSphereLoop loop(in.planner->model, spheres, in.scene, in.margin, in.self);
     Row r{"fcl loop", 1};
     std::vector<char> c(n);

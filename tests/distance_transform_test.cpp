@@ -4,7 +4,7 @@
 
 #include <catch2/catch.hpp>
 
-#include "../src/mesh/distance_transform.h"
+#include "medspheres/distance_transform.h"
 
 using medspheres::detail::kNoSeed;
 using medspheres::detail::squared_distance_transform;

@@ -140,29 +140,63 @@ std::vector<Verdict> run(const check::RobotChecker& c, const std::vector<double>
   return out;
 }
 
+// The configurations q and, after them, pairs of configurations 1e-12 apart (in t) on
+// either side of contact: bisected between a free and a colliding configuration of q as
+// `checker` sees them (up to 120 pairs). Where two computations round differently, some
+// end would flip.
+std::vector<double> near_contact(const check::RobotChecker& checker, std::vector<double> q) {
+  const std::size_t dof = checker.num_positions();
+  const std::vector<Verdict> first = run(checker, q, Mode::spheres);
+  std::vector<double> edges;
+  std::size_t a = 0;
+  for (std::size_t i = 1; i < first.size() && edges.size() < dof * 2 * 120; ++i)
+    if (first[i] != first[a]) {
+      double lo = 0.0, hi = 1.0;
+      std::vector<double> at(dof);
+      auto point = [&](double t) {
+        for (std::size_t j = 0; j < dof; ++j)
+          at[j] = q[dof * a + j] + t * (q[dof * i + j] - q[dof * a + j]);
+        return at;
+      };
+      const Verdict v0 = checker.check(point(0.0).data(), Mode::spheres);
+      while (hi - lo > 1e-12) {
+        const double mid = (lo + hi) / 2;
+        (checker.check(point(mid).data(), Mode::spheres) == v0 ? lo : hi) = mid;
+      }
+      for (double t : {lo, hi})
+        for (double x : point(t)) edges.push_back(x);
+      a = i;
+    }
+  q.insert(q.end(), edges.begin(), edges.end());
+  return q;
+}
+
 }  // namespace
 
 TEST_CASE("spheres mode: the verdict of every sphere and self pair checked by brute force",
           "[check]") {
   const RobotModel arm = test::capsule_arm(5);
-  for (double margin : {0.0, 0.01}) {
-    const check::RobotChecker checker(arm, test_scene().scene, options(margin));
-    REQUIRE(checker.num_positions() == 8);
-    const std::vector<double> q = test::capsule_arm_configs(600, 11);
-    const std::vector<Verdict> v = run(checker, q, Mode::spheres);
-    std::size_t colliding = 0, disagree = 0;
-    for (std::size_t i = 0; i < v.size(); ++i) {
-      const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
-      const bool truth = brute_force(arm, qi, margin);
-      colliding += truth;
-      disagree += truth != (v[i] == Verdict::colliding);
-      CHECK(v[i] != Verdict::undecided);
+  for (const bool floats : {true, false})
+    for (double margin : {0.0, 0.01}) {
+      check::CheckerOptions o = options(margin);
+      o.float_tests = floats;
+      const check::RobotChecker checker(arm, test_scene().scene, o);
+      REQUIRE(checker.num_positions() == 8);
+      const std::vector<double> q = test::capsule_arm_configs(600, 11);
+      const std::vector<Verdict> v = run(checker, q, Mode::spheres);
+      std::size_t colliding = 0, disagree = 0;
+      for (std::size_t i = 0; i < v.size(); ++i) {
+        const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
+        const bool truth = brute_force(arm, qi, margin);
+        colliding += truth;
+        disagree += truth != (v[i] == Verdict::colliding);
+        CHECK(v[i] != Verdict::undecided);
+      }
+      CHECK(disagree == 0);
+      // Both answers occur often enough for the comparison to mean something.
+      CHECK(colliding > v.size() / 10);
+      CHECK(colliding < v.size() * 9 / 10);
     }
-    CHECK(disagree == 0);
-    // Both answers occur often enough for the comparison to mean something.
-    CHECK(colliding > v.size() / 10);
-    CHECK(colliding < v.size() * 9 / 10);
-  }
 }
 
 TEST_CASE("bounds mode: colliding only where the inner sets are, free only where the covers are",
@@ -201,32 +235,9 @@ TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contac
   }
   const check::RobotChecker avx2(arm, test_scene().scene, avx2_options, &fine);
   REQUIRE(avx2.uses_avx2());
-  std::vector<double> q = test::capsule_arm_configs(2000, 13);
-  const std::vector<Verdict> first = run(scalar, q, Mode::spheres);
-  // Bisect between a free and a colliding configuration until 1e-12 apart (in t), and
-  // check both ends: where the two paths rounded differently, some end would flip.
-  std::vector<double> edges;
-  std::size_t a = 0;
-  for (std::size_t i = 1; i < first.size() && edges.size() < 8 * 2 * 120; ++i)
-    if (first[i] != first[a]) {
-      double lo = 0.0, hi = 1.0;
-      std::vector<double> at(8);
-      auto point = [&](double t) {
-        for (int j = 0; j < 8; ++j) at[j] = q[8 * a + j] + t * (q[8 * i + j] - q[8 * a + j]);
-        return at;
-      };
-      const Verdict v0 = scalar.check(point(0.0).data(), Mode::spheres);
-      while (hi - lo > 1e-12) {
-        const double mid = (lo + hi) / 2;
-        (scalar.check(point(mid).data(), Mode::spheres) == v0 ? lo : hi) = mid;
-      }
-      for (double t : {lo, hi})
-        for (double x : point(t)) edges.push_back(x);
-      a = i;
-    }
-  q.insert(q.end(), edges.begin(), edges.end());
+  const std::vector<double> q = near_contact(scalar, test::capsule_arm_configs(2000, 13));
   for (Mode mode : {Mode::spheres, Mode::bounds}) CHECK(run(scalar, q, mode) == run(avx2, q, mode));
-  CHECK(edges.size() >= 8 * 2 * 100);
+  CHECK(q.size() >= 8 * (2000 + 2 * 100));
 }
 
 TEST_CASE("thread counts: the same verdicts with 1, 2 and 3 threads", "[check]") {
@@ -323,4 +334,33 @@ TEST_CASE("robot checker: bad input is refused with a message naming it", "[chec
                     Catch::Contains("crate"));
   CHECK_THROWS_WITH(bad.add_mesh(TriangleMesh{{}, {{0, 1, 2}}}, Eigen::Isometry3d::Identity(), "m"),
                     Catch::Contains("out of range"));
+}
+
+TEST_CASE("float tests: the verdicts of the double tests, also at 1e-12 of contact", "[check]") {
+  // The float pass decides what it can with its slack and leaves the rest to the doubles:
+  // every verdict must be the double one, in both modes, with and without a fine level,
+  // and the spheres mode must be brute force's (away from contact, where brute force's own
+  // rounding may differ).
+  const RobotModel arm = test::capsule_arm(5);
+  const RobotModel fine = test::capsule_arm(9);
+  check::CheckerOptions with = options(0.01), without = options(0.01);
+  without.float_tests = false;
+  const check::RobotChecker floats(arm, test_scene().scene, with, &fine);
+  const check::RobotChecker doubles(arm, test_scene().scene, without, &fine);
+  const std::vector<double> q = near_contact(doubles, test::capsule_arm_configs(600, 11));
+  REQUIRE(q.size() >= 8 * (600 + 2 * 100));
+  for (Mode mode : {Mode::spheres, Mode::bounds}) {
+    const std::vector<Verdict> a = run(floats, q, mode), b = run(doubles, q, mode);
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) differ += a[i] != b[i];
+    INFO("mode " << int(mode));
+    CHECK(differ == 0);
+  }
+  const std::vector<Verdict> v = run(floats, q, Mode::spheres);
+  std::size_t disagree = 0;
+  for (std::size_t i = 0; i < 600; ++i) {
+    const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
+    disagree += brute_force(arm, qi, 0.01) != (v[i] == Verdict::colliding);
+  }
+  CHECK(disagree == 0);
 }

@@ -12,31 +12,10 @@
 #include <string>
 
 #include "medspheres/error.h"
+#include "medspheres/self_pairs.h"
 
 namespace medspheres::fcl {
 namespace {
-
-using IndexPair = std::pair<std::size_t, std::size_t>;
-
-IndexPair ordered(std::size_t a, std::size_t b) {
-  return a < b ? IndexPair{a, b} : IndexPair{b, a};
-}
-
-// The pairs of link indices (kinematics order) that self-collision skips.
-std::set<IndexPair> skipped_links(
-    const RobotModel& model, const KinematicTree& tree,
-    const std::vector<std::pair<std::string, std::string>>& disabled) {
-  std::set<IndexPair> out;
-  for (const Joint& j : model.joints)
-    out.insert(ordered(tree.link_index(j.parent), tree.link_index(j.child)));
-  for (const auto& [a, b] : disabled) {
-    for (const std::string* name : {&a, &b})
-      if (model.find_link(*name) == nullptr)
-        throw InputError(*name, "a disabled collision pair names a link the robot does not have");
-    out.insert(ordered(tree.link_index(a), tree.link_index(b)));
-  }
-  return out;
-}
 
 void add_minimum(DistanceBounds& m, const DistanceBounds& b) {
   m.lower = std::min(m.lower, b.lower);
@@ -206,10 +185,11 @@ RobotBounds::RobotBounds(const RobotModel& model,
         link.name, s, mesh != meshes.end() ? mesh->second : nullptr, options));
     link_of_.push_back(tree_.link_index(link.name));
   }
-  const std::set<IndexPair> skip = skipped_links(model, tree_, disabled);
+  const std::set<LinkPair> skip = skipped_self_pairs(model, disabled);
   for (std::size_t i = 0; i < geometries_.size(); ++i)
     for (std::size_t k = i + 1; k < geometries_.size(); ++k)
-      if (skip.count(ordered(link_of_[i], link_of_[k])) == 0) self_pairs_.emplace_back(i, k);
+      if (skip.count(ordered_pair(geometries_[i].link(), geometries_[k].link())) == 0)
+        self_pairs_.emplace_back(i, k);
   seen_colliding_ = self_pairs_.size();
   if (order.samples > 0) order_self_pairs(model, order);
 }

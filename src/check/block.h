@@ -1,7 +1,12 @@
 #pragma once
-// The data a kernel sees for one block of four configurations (one per lane): plain
+// The data a kernel sees for one block of kLanes configurations (one per lane): plain
 // pointers only, so that the kernel's two builds (scalar, AVX2) share no inline code with
 // the rest of the library.
+//
+// A block is checked in two precisions (robot_checker.h, "precision"): forward kinematics
+// in doubles, four lanes at a time (two halves); then every test in floats, eight lanes at
+// once, each answer three-valued (certain either way, or unsure within `slack` of its
+// threshold); then the lanes left unsure again in doubles with the documented tests.
 
 #include <cstdint>
 
@@ -10,38 +15,65 @@
 
 namespace medspheres::check::detail {
 
-inline constexpr int kLanes = 4;
+inline constexpr int kLanes = 8;            // configurations per block: the float lanes
+inline constexpr int kHalf = 4;             // the double lanes
 inline constexpr int kBoundSlot = kLevels;  // the posed bounding sphere's slot
 inline constexpr int kSlots = kLevels + 1;
 
-/// The scene grid's lower bounds, for look-ups inside the kernel (SceneGrid::clear's, with
-/// the cell found by a multiplication: a point a rounding away from its cell is still
-/// within the pad the bounds carry). lower is null when the scene is empty.
+/// The scene's distance field (distance_field.h), for look-ups inside the kernel (the cell
+/// found by a multiplication: a point a rounding away from its cell is still within the
+/// pad the bounds carry, or, in floats, within the slack), and outside it the elements'
+/// bounding box. field is null when the scene is empty.
+template <class T>
 struct GridView {
-  double origin[3] = {0, 0, 0};
-  double inverse_side = 0.0;
-  long n[3] = {0, 0, 0};
-  const std::uint8_t* lower = nullptr;  // in units of `unit`
-  double unit = 0.0;
+  T origin[3] = {0, 0, 0};
+  T side = 0, inverse_side = 0;
+  int n[3] = {0, 0, 0};
+  const std::uint16_t* field = nullptr;  // DistanceField::bounds(): lower | upper << 8
+  T unit = 0;
+  T pad = 0;  // SceneGrid::pad(): the bounds' own rounding allowance
+  T box_min[3] = {0, 0, 0}, box_max[3] = {0, 0, 0};  // the elements' bounds
+};
+
+/// The spheres and bounding spheres of the layout in one precision.
+template <class T>
+struct KernelSpheres {
+  const T *x = nullptr, *y = nullptr, *z = nullptr, *r = nullptr;  // per sphere
+  const T* bound = nullptr;  // per link: x, y, z, r in its frame
+  GridView<T> grid;
 };
 
 struct KernelRobot {
+  int dof = 0;
   int frames = 0;
   int steps = 0;
   const FrameStep* step = nullptr;
   int links = 0;
   const LinkLayout* link = nullptr;
   int spheres = 0;
-  const double *x = nullptr, *y = nullptr, *z = nullptr, *r = nullptr;
+  KernelSpheres<double> d;
+  KernelSpheres<float> f;
   int pairs = 0;
   const std::uint32_t *pair_a = nullptr, *pair_b = nullptr;
   bool fine = false;
-  GridView grid;
+};
+
+/// One pass over a block's lanes in one precision: W lanes of T, the frames posed, a
+/// workspace for the posed spheres.
+template <class T>
+struct Pass {
+  const T* frames = nullptr;            // frames * 12 * W: X_WF rows of R, then p
+  T* posed = nullptr;                   // per sphere 3 * W, then per link 3 * W (bounding spheres)
+  unsigned char* posed_flag = nullptr;  // links * kSlots
+  unsigned char* pending = nullptr;     // per link and self pair (bounds mode)
+  unsigned char* unsure = nullptr;      // per link and self pair (bounds mode, floats)
+  unsigned lanes = 0;                   // the lanes that hold a configuration (bits)
+  T slack = 0;                          // 0 in doubles
 };
 
 struct Block;
-/// Called by the kernel (bounds mode) for a pair left undecided in a lane: scene pairs
-/// with other = -1 (the callee finds the objects near the posed spheres).
+/// Called by the double pass (bounds mode) for a pair left undecided in a lane: scene
+/// pairs with other = -1 (the callee finds the objects near the posed spheres).
 using UndecidedSink = void (*)(Block& block, int lane, int link, int other);
 
 struct Block {
@@ -50,16 +82,23 @@ struct Block {
   unsigned lanes = 0;         // the lanes that hold a configuration (bits)
   bool bounds = false;        // false: spheres only
   bool self = true;
+  bool floats = true;  // false: every test in doubles
   double margin = 0.0, allowance = 0.0;
+  float slack = 0.0f;  // m: the float tests' allowance (robot_checker.cpp)
   // Workspace, sized by the caller.
-  double* frames = nullptr;             // frames * 12 * kLanes (frame 0: identity)
-  double* posed = nullptr;              // per sphere 3 * kLanes, then per link 3 * kLanes
+  double* frames = nullptr;             // two halves of frames * 12 * kHalf
+  float* frames_f = nullptr;            // frames * 12 * kLanes
+  double* posed = nullptr;              // (spheres + links) * 3 * kHalf
+  float* posed_f = nullptr;             // (spheres + links) * 3 * kLanes
   unsigned char* posed_flag = nullptr;  // links * kSlots
-  unsigned char* pending = nullptr;     // links + self pairs (bounds mode)
+  unsigned char* pending = nullptr;     // links + self pairs
+  unsigned char* unsure = nullptr;      // links + self pairs
   // Output (lane bits).
   unsigned colliding = 0, undecided = 0;
+  unsigned rechecked = 0;  // the lanes the floats left unsure (checked again in doubles)
   UndecidedSink sink = nullptr;
   void* context = nullptr;  // the sink's
+  int half = 0;             // the half the double pass is in (for the sink's lane)
 };
 
 using KernelFn = void (*)(const KernelRobot& robot, const SceneGrid& scene, Block& block);

@@ -1,7 +1,7 @@
-// The kernel with AVX2 lanes (four doubles in one register). Built with -mavx2 and without
-// FMA, so that every lane performs the scalar kernel's operations exactly (no fused
-// multiply-add, which rounds once where the scalar path rounds twice); called only when
-// the processor has AVX2 (robot_checker.cpp).
+// The kernel with AVX2 lanes (four doubles or eight floats in one register). Built with
+// -mavx2 and without FMA, so that every lane performs the scalar kernel's operations
+// exactly (no fused multiply-add, which rounds once where the scalar path rounds twice);
+// called only when the processor has AVX2 (robot_checker.cpp).
 
 #include <immintrin.h>
 
@@ -10,30 +10,115 @@
 namespace medspheres::check::detail {
 namespace {
 
-struct V {
+struct VD {
+  using T = double;
+  static constexpr int W = kHalf;
   __m256d v;
 };
+struct VF {
+  using T = float;
+  static constexpr int W = kLanes;
+  __m256 v;
+};
 
-V splat(double a) {
+VD splat(double a) {
   return {_mm256_set1_pd(a)};
 }
-V load(const double* p) {
+VF splat(float a) {
+  return {_mm256_set1_ps(a)};
+}
+VD load(const double* p) {
   return {_mm256_loadu_pd(p)};
 }
-void store(double* p, V a) {
+VF load(const float* p) {
+  return {_mm256_loadu_ps(p)};
+}
+void store(double* p, VD a) {
   _mm256_storeu_pd(p, a.v);
 }
-V operator+(V a, V b) {
+void store(float* p, VF a) {
+  _mm256_storeu_ps(p, a.v);
+}
+VD operator+(VD a, VD b) {
   return {_mm256_add_pd(a.v, b.v)};
 }
-V operator-(V a, V b) {
+VD operator-(VD a, VD b) {
   return {_mm256_sub_pd(a.v, b.v)};
 }
-V operator*(V a, V b) {
+VD operator*(VD a, VD b) {
   return {_mm256_mul_pd(a.v, b.v)};
 }
-unsigned le_bits(V a, V b) {
+VF operator+(VF a, VF b) {
+  return {_mm256_add_ps(a.v, b.v)};
+}
+VF operator-(VF a, VF b) {
+  return {_mm256_sub_ps(a.v, b.v)};
+}
+VF operator*(VF a, VF b) {
+  return {_mm256_mul_ps(a.v, b.v)};
+}
+unsigned le_bits(VD a, VD b) {
   return static_cast<unsigned>(_mm256_movemask_pd(_mm256_cmp_pd(a.v, b.v, _CMP_LE_OQ)));
+}
+unsigned le_bits(VF a, VF b) {
+  return static_cast<unsigned>(_mm256_movemask_ps(_mm256_cmp_ps(a.v, b.v, _CMP_LE_OQ)));
+}
+VF to_float(VD lo, VD hi) {
+  return {_mm256_set_m128(_mm256_cvtpd_ps(hi.v), _mm256_cvtpd_ps(lo.v))};
+}
+
+VD vmax(VD a, VD b) {
+  return {_mm256_max_pd(a.v, b.v)};
+}
+VF vmax(VF a, VF b) {
+  return {_mm256_max_ps(a.v, b.v)};
+}
+
+// Lane bits as a mask of 32-bit lanes.
+__m256i mask8(unsigned bits) {
+  const __m256i bit = _mm256_setr_epi32(1, 2, 4, 8, 16, 32, 64, 128);
+  const __m256i b = _mm256_and_si256(_mm256_set1_epi32(int(bits)), bit);
+  return _mm256_cmpeq_epi32(b, bit);
+}
+
+VF gather_cells(const GridView<float>& g, VF ux, VF uy, VF uz, unsigned inside, VF& cx, VF& cy,
+                VF& cz, VF& upper) {
+  const __m256i mask = mask8(inside);
+  const __m256i ix = _mm256_and_si256(_mm256_cvttps_epi32(ux.v), mask);
+  const __m256i iy = _mm256_and_si256(_mm256_cvttps_epi32(uy.v), mask);
+  const __m256i iz = _mm256_and_si256(_mm256_cvttps_epi32(uz.v), mask);
+  cx.v = _mm256_cvtepi32_ps(ix);
+  cy.v = _mm256_cvtepi32_ps(iy);
+  cz.v = _mm256_cvtepi32_ps(iz);
+  const __m256i cell = _mm256_add_epi32(
+      ix,
+      _mm256_mullo_epi32(_mm256_set1_epi32(g.n[0]),
+                         _mm256_add_epi32(iy, _mm256_mullo_epi32(_mm256_set1_epi32(g.n[1]), iz))));
+  // Two bytes a cell: the byte offset is twice the index.
+  const __m256i bytes = _mm256_mask_i32gather_epi32(
+      _mm256_setzero_si256(), reinterpret_cast<const int*>(g.field), cell, mask, 2);
+  const __m256i ff = _mm256_set1_epi32(0xFF);
+  upper.v = _mm256_cvtepi32_ps(_mm256_and_si256(_mm256_srli_epi32(bytes, 8), ff));
+  return {_mm256_cvtepi32_ps(_mm256_and_si256(bytes, ff))};
+}
+
+VD gather_cells(const GridView<double>& g, VD ux, VD uy, VD uz, unsigned inside, VD& cx, VD& cy,
+                VD& cz, VD& upper) {
+  const __m128i mask = _mm256_castsi256_si128(mask8(inside));
+  const __m128i ix = _mm_and_si128(_mm256_cvttpd_epi32(ux.v), mask);
+  const __m128i iy = _mm_and_si128(_mm256_cvttpd_epi32(uy.v), mask);
+  const __m128i iz = _mm_and_si128(_mm256_cvttpd_epi32(uz.v), mask);
+  cx.v = _mm256_cvtepi32_pd(ix);
+  cy.v = _mm256_cvtepi32_pd(iy);
+  cz.v = _mm256_cvtepi32_pd(iz);
+  const __m128i cell = _mm_add_epi32(
+      ix, _mm_mullo_epi32(_mm_set1_epi32(g.n[0]),
+                          _mm_add_epi32(iy, _mm_mullo_epi32(_mm_set1_epi32(g.n[1]), iz))));
+  const __m128i bytes = _mm_mask_i32gather_epi32(
+      _mm_setzero_si128(), reinterpret_cast<const int*>(g.field), cell, mask, 2);
+  const __m128i ff = _mm_set1_epi32(0xFF);
+  upper.v = _mm256_cvtepi32_pd(_mm_and_si128(_mm_srli_epi32(bytes, 8), ff));
+  return {_mm256_cvtepi32_pd(_mm_and_si128(bytes, ff))};
 }
 
 }  // namespace

@@ -1,10 +1,16 @@
 // The batched kernel: forward kinematics, posed spheres and the checks of one block of
-// kLanes configurations, written once over a lane type V that the including file defines
-// with these functions (each lane's arithmetic is the same IEEE operations in the same
-// order in every definition, so all give the same bits):
-//   V splat(double); V load(const double*); void store(double*, V);
-//   V operator+(V, V), operator-(V, V), operator*(V, V);
-//   unsigned le_bits(V a, V b) (the lanes where a <= b, as bits).
+// kLanes configurations, written once over lane types that the including file defines
+// (each lane's arithmetic is the same IEEE operations in the same order in every
+// definition, so all give the same bits):
+//   VD: kHalf doubles, VF: kLanes floats, each with `using T` (the scalar) and `W` (lanes);
+//   V splat(T); V load(const T*); void store(T*, V); V operator+, -, * (V, V);
+//   unsigned le_bits(V a, V b) (the lanes where a <= b, as bits);
+//   VF to_float(VD lo, VD hi) (lanes 0-3 from lo, 4-7 from hi, each rounded to nearest);
+//   V vmax(V a, V b) (a > b ? a : b per lane);
+//   V gather_cells(const GridView<T>& g, V ux, V uy, V uz, unsigned inside, V& cx, V& cy,
+//     V& cz, V& upper) (in the lanes `inside`, the cell (i, j, k) = ((int)ux, (int)uy,
+//     (int)uz) of the field: its lower byte (returned) and upper byte, and i, j, k in cx,
+//     cy, cz; 0 in the other lanes).
 // Included by kernel_scalar.cpp and kernel_avx2.cpp only. Everything here is internal to
 // the including file (an unnamed namespace), and it calls no inline function of another
 // file, so that no code built for AVX2 is shared with the scalar build.
@@ -16,12 +22,21 @@
 // level (the planner's sets, then the fine sets). Both start from the links' bounding
 // spheres, farther than margin + allowance from everything: a shortcut that never changes
 // an answer.
+//
+// Precision: the frames are posed in doubles. The float pass then runs every test on
+// frames rounded to floats, with `slack` (robot_checker.cpp's float_slack: more than any
+// float posed point's distance from its double twin plus the float tests' own rounding):
+// a test is certain when its float value clears its threshold by the slack, unsure
+// otherwise. A lane whose verdict rests on an unsure test is checked again by the double
+// pass (slack 0: the documented tests, exactly), so every verdict is the double one.
 
 namespace medspheres::check::detail {
 namespace {
 
+// ---- Forward kinematics, in doubles, kHalf lanes at a time.
+
 // Rounds every lane to the nearest integer (ties to even), exact for |x| < 2^51.
-V round_nearest(V x) {
+VD round_nearest(VD x) {
   const double kRound = 6755399441055744.0;  // 1.5 * 2^52
   return (x + splat(kRound)) - splat(kRound);
 }
@@ -29,312 +44,477 @@ V round_nearest(V x) {
 // sin and cos of every lane: Cody and Waite's reduction by pi / 2 (three parts, exact for
 // |x| < 2^26), Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp), then the quadrant's
 // swap and signs as exact arithmetic on 0, 1 and -1 (no per-lane branch).
-void sincos(V x, V& s, V& c) {
-  const V k = round_nearest(x * splat(0.63661977236758134308));
-  const V r = ((x - k * splat(1.57079625129699707031)) - k * splat(7.54978941586159635335e-8)) -
-              k * splat(5.39030285815811905290e-15);
-  const V z = r * r;
-  V ps = splat(1.58962301576546568060e-10);
+void sincos(VD x, VD& s, VD& c) {
+  const VD k = round_nearest(x * splat(0.63661977236758134308));
+  const VD r = ((x - k * splat(1.57079625129699707031)) - k * splat(7.54978941586159635335e-8)) -
+               k * splat(5.39030285815811905290e-15);
+  const VD z = r * r;
+  VD ps = splat(1.58962301576546568060e-10);
   ps = ps * z + splat(-2.50507477628578072866e-8);
   ps = ps * z + splat(2.75573136213857245213e-6);
   ps = ps * z + splat(-1.98412698295895385996e-4);
   ps = ps * z + splat(8.33333333332211858878e-3);
   ps = ps * z + splat(-1.66666666666666307295e-1);
-  V pc = splat(-1.13585365213876817300e-11);
+  VD pc = splat(-1.13585365213876817300e-11);
   pc = pc * z + splat(2.08757008419747316778e-9);
   pc = pc * z + splat(-2.75573141792967388112e-7);
   pc = pc * z + splat(2.48015872888517045348e-5);
   pc = pc * z + splat(-1.38888888888730564116e-3);
   pc = pc * z + splat(4.16666666666665929218e-2);
-  const V sr = r + (r * z) * ps;
-  const V cr = (splat(1.0) - splat(0.5) * z) + (z * z) * pc;
+  const VD sr = r + (r * z) * ps;
+  const VD cr = (splat(1.0) - splat(0.5) * z) + (z * z) * pc;
   // m = k mod 4 in {0, 1, 2, 3}; sin x = (s, c, -s, -c)[m], cos x = (c, -s, -c, s)[m].
-  const V m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
-  const V half = round_nearest(m * splat(0.5) - splat(0.25));               // 0, 0, 1, 1
-  const V swap = m - splat(2.0) * half;                                     // 0, 1, 0, 1
-  const V hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
-  const V sign_s = splat(1.0) - splat(2.0) * half;
-  const V sign_c =
+  const VD m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
+  const VD half = round_nearest(m * splat(0.5) - splat(0.25));               // 0, 0, 1, 1
+  const VD swap = m - splat(2.0) * half;                                     // 0, 1, 0, 1
+  const VD hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
+  const VD sign_s = splat(1.0) - splat(2.0) * half;
+  const VD sign_c =
       splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
-  const V keep = splat(1.0) - swap;
+  const VD keep = splat(1.0) - swap;
   s = (sr * keep + cr * swap) * sign_s;
   c = (cr * keep + sr * swap) * sign_c;
 }
 
-// X_WF of every moving frame (frame 0, W itself, is left as the caller set it).
-void pose_frames(const KernelRobot& robot, Block& b) {
+// X_WF of every moving frame for the lanes of half h (frame 0, W itself, is left as the
+// caller set it).
+void pose_frames(const KernelRobot& robot, const Block& b, int h) {
+  double* frames = b.frames + h * robot.frames * 12 * kHalf;
   for (int i = 0; i < robot.steps; ++i) {
     const FrameStep& s = robot.step[i];
-    const V q = load(b.q + s.source * kLanes) * splat(s.multiplier) + splat(s.offset);
-    V rel[12];
+    const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
+    VD rel[12];
     if (s.prismatic) {
       for (int e = 0; e < 9; ++e) rel[e] = splat(s.P[e]);
       for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]) + q * splat(s.v[k]);
     } else {
-      V sn, cs;
+      VD sn, cs;
       sincos(q, sn, cs);
       for (int e = 0; e < 9; ++e)
         rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
       for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]);
     }
-    double* out = b.frames + s.frame * 12 * kLanes;
+    double* out = frames + s.frame * 12 * kHalf;
     if (s.parent == 0) {
-      for (int e = 0; e < 12; ++e) store(out + e * kLanes, rel[e]);
+      for (int e = 0; e < 12; ++e) store(out + e * kHalf, rel[e]);
       continue;
     }
-    const double* in = b.frames + s.parent * 12 * kLanes;
-    V p[12];
-    for (int e = 0; e < 12; ++e) p[e] = load(in + e * kLanes);
+    const double* in = frames + s.parent * 12 * kHalf;
+    VD p[12];
+    for (int e = 0; e < 12; ++e) p[e] = load(in + e * kHalf);
     for (int r = 0; r < 3; ++r) {
       for (int c = 0; c < 3; ++c)
-        store(out + (3 * r + c) * kLanes,
+        store(out + (3 * r + c) * kHalf,
               (p[3 * r] * rel[c] + p[3 * r + 1] * rel[3 + c]) + p[3 * r + 2] * rel[6 + c]);
-      store(out + (9 + r) * kLanes,
+      store(out + (9 + r) * kHalf,
             ((p[3 * r] * rel[9] + p[3 * r + 1] * rel[10]) + p[3 * r + 2] * rel[11]) + p[9 + r]);
     }
   }
 }
 
-// Poses the points (x, y, z)[i] of frame f into out[i * 3 * kLanes ...], i < n.
-void pose_points(const Block& b, int f, const double* x, const double* y, const double* z, int n,
-                 double* out) {
-  const double* in = b.frames + f * 12 * kLanes;
+// The frames of both halves rounded to floats, kLanes lanes side by side.
+void frames_to_float(const KernelRobot& robot, Block& b) {
+  const double* lo = b.frames;
+  const double* hi = b.frames + robot.frames * 12 * kHalf;
+  for (int e = 0; e < robot.frames * 12; ++e)
+    store(b.frames_f + e * kLanes, to_float(load(lo + e * kHalf), load(hi + e * kHalf)));
+}
+
+// ---- The tests, in either precision (V: VD or VF).
+
+// What a pass needs besides the block: the robot's spheres in its precision.
+template <class V>
+struct Ctx {
+  using T = typename V::T;
+  static constexpr int W = V::W;
+  const KernelRobot& robot;
+  const KernelSpheres<T>& sp;
+  const SceneGrid& scene;
+  Block& b;
+  Pass<T>& p;
+};
+
+// Poses the points (x, y, z)[i] of frame f into out[i * 3 * W ...], i < n.
+template <class V>
+void pose_points(const typename V::T* frames, int f, const typename V::T* x, const typename V::T* y,
+                 const typename V::T* z, int n, typename V::T* out) {
+  constexpr int W = V::W;
+  const typename V::T* in = frames + f * 12 * W;
   V R[12];
-  for (int e = 0; e < 12; ++e) R[e] = load(in + e * kLanes);
+  for (int e = 0; e < 12; ++e) R[e] = load(in + e * W);
   for (int i = 0; i < n; ++i) {
     const V px = splat(x[i]), py = splat(y[i]), pz = splat(z[i]);
     for (int r = 0; r < 3; ++r)
-      store(out + (3 * i + r) * kLanes,
+      store(out + (3 * i + r) * W,
             ((R[3 * r] * px + R[3 * r + 1] * py) + R[3 * r + 2] * pz) + R[9 + r]);
   }
 }
 
 // The posed spheres of a link's set (slot < kLevels) or its bounding sphere (kBoundSlot),
-// posed on first use in the block.
-const double* posed(const KernelRobot& robot, Block& b, int link, int slot) {
-  const LinkLayout& l = robot.link[link];
-  double* out = slot == kBoundSlot ? b.posed + (robot.spheres + link) * 3 * kLanes
-                                   : b.posed + l.begin[slot] * 3 * kLanes;
-  unsigned char& done = b.posed_flag[link * kSlots + slot];
+// posed on first use in the pass.
+template <class V>
+const typename V::T* posed(const Ctx<V>& c, int link, int slot) {
+  constexpr int W = V::W;
+  const LinkLayout& l = c.robot.link[link];
+  typename V::T* out = slot == kBoundSlot ? c.p.posed + (c.robot.spheres + link) * 3 * W
+                                          : c.p.posed + l.begin[slot] * 3 * W;
+  unsigned char& done = c.p.posed_flag[link * kSlots + slot];
   if (!done) {
+    const auto* bound = c.sp.bound + 4 * link;
     if (slot == kBoundSlot)
-      pose_points(b, l.frame, &l.bound[0], &l.bound[1], &l.bound[2], 1, out);
+      pose_points<V>(c.p.frames, l.frame, bound, bound + 1, bound + 2, 1, out);
     else
-      pose_points(b, l.frame, robot.x + l.begin[slot], robot.y + l.begin[slot],
-                  robot.z + l.begin[slot], static_cast<int>(l.count[slot]), out);
+      pose_points<V>(c.p.frames, l.frame, c.sp.x + l.begin[slot], c.sp.y + l.begin[slot],
+                     c.sp.z + l.begin[slot], static_cast<int>(l.count[slot]), out);
     done = 1;
   }
   return out;
 }
 
-void lane_point(const double* posed_set, int i, int lane, double* p) {
-  for (int k = 0; k < 3; ++k) p[k] = posed_set[(3 * i + k) * kLanes + lane];
+template <class V>
+void lane_point(const typename V::T* posed_set, int i, int lane, double* p) {
+  for (int k = 0; k < 3; ++k) p[k] = double(posed_set[(3 * i + k) * V::W + lane]);
 }
 
-// The grid's lower bound at p exceeds rq (so nothing is within rq of p); false outside
-// the grid (the caller asks the grid itself then).
-bool grid_clear(const GridView& g, const double* p, double rq) {
-  if (g.lower == nullptr) return true;  // no element
-  long index = 0;
-  for (int k = 2; k >= 0; --k) {
-    const double u = (p[k] - g.origin[k]) * g.inverse_side;
-    if (!(u >= 0.0) || !(u < g.n[k])) return false;
-    index = index * g.n[k] + static_cast<long>(u);
+// The lanes in which the point (x, y, z) is certainly farther than `far` from every
+// element (returned), and those in which it is certainly within `near` of one (`hit`):
+// inside the field, by its cell's bounds at the centre and |p - centre|; outside, by the
+// elements' bounding box (no hit). Both less the grid's pad, for the rounding of these
+// tests in doubles (in floats, the slack in far and near covers theirs).
+template <class V>
+unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z, typename V::T far,
+                   typename V::T near, unsigned& hit) {
+  using T = typename V::T;
+  const V ux = (x - splat(g.origin[0])) * splat(g.inverse_side),
+          uy = (y - splat(g.origin[1])) * splat(g.inverse_side),
+          uz = (z - splat(g.origin[2])) * splat(g.inverse_side);
+  const V zero = splat(T(0));
+  // 0 <= u < n on every axis.
+  const unsigned inside = le_bits(zero, ux) & le_bits(zero, uy) & le_bits(zero, uz) &
+                          ~le_bits(splat(T(g.n[0])), ux) & ~le_bits(splat(T(g.n[1])), uy) &
+                          ~le_bits(splat(T(g.n[2])), uz);
+  const T reach = far + g.pad;
+  unsigned clear = 0;
+  hit = 0;
+  if (inside) {
+    V cx, cy, cz, upper;
+    const V lower = gather_cells(g, ux, uy, uz, inside, cx, cy, cz, upper);
+    const V half = splat(T(0.5));
+    const V dx = x - ((cx + half) * splat(g.side) + splat(g.origin[0])),
+            dy = y - ((cy + half) * splat(g.side) + splat(g.origin[1])),
+            dz = z - ((cz + half) * splat(g.side) + splat(g.origin[2]));
+    const V centre2 = (dx * dx + dy * dy) + dz * dz;
+    const V room = lower * splat(g.unit) - splat(reach);  // clear when room > |p - centre|
+    clear = inside & ~le_bits(room, zero) & ~le_bits(room * room, centre2);
+    // upper 255: none known.
+    const V depth = splat(near - g.pad) - upper * splat(g.unit);  // hit when >= |p - centre|
+    hit = inside & ~le_bits(splat(T(254.5)), upper) & le_bits(zero, depth) &
+          le_bits(centre2, depth * depth);
   }
-  return g.lower[index] * g.unit > rq;
-}
-
-// Some sphere of the set within rq(radius) of the scene, in this lane.
-bool set_within(const KernelRobot& robot, const SceneGrid& scene, const double* set, int begin,
-                int count, int lane, double add) {
-  double p[3];
-  for (int i = 0; i < count; ++i) {
-    lane_point(set, i, lane, p);
-    const double rq = robot.r[begin + i] + add;
-    if (!grid_clear(robot.grid, p, rq) && scene.within(p, rq)) return true;
+  const unsigned outside = ((1u << V::W) - 1) & ~inside;
+  if (outside) {
+    const V bx = vmax(vmax(splat(g.box_min[0]) - x, x - splat(g.box_max[0])), zero),
+            by = vmax(vmax(splat(g.box_min[1]) - y, y - splat(g.box_max[1])), zero),
+            bz = vmax(vmax(splat(g.box_min[2]) - z, z - splat(g.box_max[2])), zero);
+    if (reach > T(0))
+      clear |= outside & ~le_bits((bx * bx + by * by) + bz * bz, splat(reach * reach));
   }
-  return false;
+  return clear;
 }
 
-// Spheres mode: a link against the scene in the lanes `need`; the lanes it collides in.
-unsigned scene_spheres(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
-                       unsigned need) {
-  const LinkLayout& l = robot.link[link];
-  const int slot = l.spheres;
-  const double* set = posed(robot, b, link, slot);
+// The lanes of `open` in which point i of the posed set may lie within rq of the scene
+// (the field does not clear it by more than the slack); those certainly within rq - slack
+// of it into `hit`.
+template <class V>
+unsigned grid_near(const Ctx<V>& c, const typename V::T* set, int i, double rq, unsigned open,
+                   unsigned& hit) {
+  hit = 0;
+  if (c.sp.grid.field == nullptr || !open) return 0;  // no element
+  constexpr int W = V::W;
+  using T = typename V::T;
+  const unsigned clear = grid_test(c.sp.grid, load(set + 3 * i * W), load(set + (3 * i + 1) * W),
+                                   load(set + (3 * i + 2) * W), T(rq + double(c.p.slack)),
+                                   T(rq - double(c.p.slack)), hit);
+  hit &= open;
+  return open & ~clear;
+}
+
+// Lanes of `need` in which some sphere of the link's set `slot` is within r + add of the
+// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it).
+template <class V>
+unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned need,
+                   unsigned& maybe) {
+  const LinkLayout& l = c.robot.link[link];
+  const typename V::T* set = posed(c, link, slot);
+  const int begin = static_cast<int>(l.begin[slot]);
   unsigned hit = 0;
-  for (int lane = 0; lane < kLanes; ++lane)
-    if ((need >> lane & 1) && set_within(robot, scene, set, static_cast<int>(l.begin[slot]),
-                                         static_cast<int>(l.count[slot]), lane, b.margin))
-      hit |= 1u << lane;
-  return hit;
-}
-
-// Bounds mode, one level (0 the planner's sets, 1 the fine ones) of a link against the
-// scene in the lanes `pending`: the lanes certainly free leave `pending`, those certainly
-// colliding leave it for the result.
-unsigned scene_level(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
-                     int level, unsigned& pending) {
-  const LinkLayout& l = robot.link[link];
-  const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
-  unsigned hit = 0;
-  if (l.count[outer] > 0) {
-    const double* set = posed(robot, b, link, outer);
-    for (int lane = 0; lane < kLanes; ++lane)
-      if ((pending >> lane & 1) &&
-          !set_within(robot, scene, set, static_cast<int>(l.begin[outer]),
-                      static_cast<int>(l.count[outer]), lane, b.margin + b.allowance))
-        pending &= ~(1u << lane);  // certainly free
-  }
-  if (l.count[inner] > 0 && pending) {
-    const double* set = posed(robot, b, link, inner);
-    for (int lane = 0; lane < kLanes; ++lane)
-      if ((pending >> lane & 1) &&
-          set_within(robot, scene, set, static_cast<int>(l.begin[inner]),
-                     static_cast<int>(l.count[inner]), lane, b.margin - b.allowance)) {
-        hit |= 1u << lane;  // certainly colliding
-        pending &= ~(1u << lane);
-      }
+  for (int i = 0; i < static_cast<int>(l.count[slot]) && (need & ~hit); ++i) {
+    const double rq = double(c.sp.r[begin + i]) + add;
+    unsigned certain = 0;
+    unsigned near = grid_near(c, set, i, rq, need & ~hit, certain);
+    hit |= certain;
+    near &= ~certain;
+    for (int lane = 0; lane < V::W && near; ++lane) {
+      if (!(near >> lane & 1)) continue;
+      near &= ~(1u << lane);
+      double p[3];
+      lane_point<V>(set, i, lane, p);
+      const int v = c.scene.classify(p, rq, double(c.p.slack));
+      if (v == 1) hit |= 1u << lane;
+      if (v == 2) maybe |= 1u << lane;
+    }
   }
   return hit;
 }
 
 // The lanes in which some sphere of set a is within `add` + radii of some sphere of set
-// b; stops when every lane of `need` is found. A sphere of a farther from b's bounding
-// sphere (bound, radius rb) than that in every lane meets no sphere of b, and is skipped
-// (the bounding sphere holds b's spheres with room for the rounding: the skip changes no
-// answer).
-unsigned sets_within(const KernelRobot& robot, const double* pa, int ba, int na, const double* pb,
-                     int bb, int nb, const double* bound, double rb, double add, unsigned need) {
-  unsigned hit = 0;
-  const V bx = load(bound), by = load(bound + kLanes), bz = load(bound + 2 * kLanes);
+// b: certainly (returned) or maybe (added to `maybe`); stops when every lane of `need` is
+// certain. A sphere of a farther from b's bounding sphere (bound, radius rb) than that in
+// every lane meets no sphere of b, and is skipped (the bounding sphere holds b's spheres
+// with room for the rounding: the skip changes no answer).
+template <class V>
+unsigned sets_within(const Ctx<V>& c, const typename V::T* pa, int ba, int na,
+                     const typename V::T* pb, int bb, int nb, const typename V::T* bound, double rb,
+                     double add, unsigned need, unsigned& maybe) {
+  using T = typename V::T;
+  constexpr int W = V::W;
+  const T slack = c.p.slack;
+  unsigned hit = 0, near = 0;
+  const V bx = load(bound), by = load(bound + W), bz = load(bound + 2 * W);
   for (int i = 0; i < na; ++i) {
-    const V ax = load(pa + 3 * i * kLanes), ay = load(pa + (3 * i + 1) * kLanes),
-            az = load(pa + (3 * i + 2) * kLanes);
-    const double ra = robot.r[ba + i] + add;
-    const double cull = ra + rb + 1e-9 * (1.0 + rb);
+    const V ax = load(pa + 3 * i * W), ay = load(pa + (3 * i + 1) * W),
+            az = load(pa + (3 * i + 2) * W);
+    const double ra = double(c.sp.r[ba + i]) + add;
+    const double cull = ra + rb + 1e-9 * (1.0 + rb) + double(slack);
     if (cull < 0.0) continue;
     const V ex = ax - bx, ey = ay - by, ez = az - bz;
-    const unsigned open = need & ~hit & le_bits((ex * ex + ey * ey) + ez * ez, splat(cull * cull));
+    const unsigned open =
+        need & ~hit & le_bits((ex * ex + ey * ey) + ez * ez, splat(T(cull * cull)));
     if (!open) continue;
     for (int j = 0; j < nb; ++j) {
-      const V dx = ax - load(pb + 3 * j * kLanes), dy = ay - load(pb + (3 * j + 1) * kLanes),
-              dz = az - load(pb + (3 * j + 2) * kLanes);
-      const double reach = ra + robot.r[bb + j];
-      if (reach < 0.0) continue;
-      hit |= le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
+      const T reach = T(ra + double(c.sp.r[bb + j]));
+      if (reach + slack < T(0)) continue;
+      const V dx = ax - load(pb + 3 * j * W), dy = ay - load(pb + (3 * j + 1) * W),
+              dz = az - load(pb + (3 * j + 2) * W);
+      const V d2 = (dx * dx + dy * dy) + dz * dz;
+      const T in = reach - slack;
+      if (in >= T(0)) hit |= le_bits(d2, splat(in * in));
+      if (slack > T(0)) near |= open & le_bits(d2, splat((reach + slack) * (reach + slack)));
     }
     if ((hit & need) == need) break;
   }
+  maybe |= near & need;
   return hit & need;
 }
 
-unsigned level_within(const KernelRobot& robot, Block& b, int a, int c, int slot_a, int slot_c,
-                      double add, unsigned need) {
-  const LinkLayout &la = robot.link[a], &lc = robot.link[c];
-  return sets_within(robot, posed(robot, b, a, slot_a), static_cast<int>(la.begin[slot_a]),
-                     static_cast<int>(la.count[slot_a]), posed(robot, b, c, slot_c),
-                     static_cast<int>(lc.begin[slot_c]), static_cast<int>(lc.count[slot_c]),
-                     posed(robot, b, c, kBoundSlot), lc.bound[3], add, need);
-}
-
-// Bounds mode, one level of a self pair in the lanes `pending`, as scene_level.
-unsigned self_level(const KernelRobot& robot, Block& b, int a, int c, int level,
-                    unsigned& pending) {
-  const LinkLayout &la = robot.link[a], &lc = robot.link[c];
-  const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
-  if (la.count[outer] > 0 && lc.count[outer] > 0)
-    pending = level_within(robot, b, a, c, outer, outer, b.margin + b.allowance, pending);
-  unsigned hit = 0;
-  if (la.count[inner] > 0 && lc.count[inner] > 0 && pending) {
-    hit = level_within(robot, b, a, c, inner, inner, b.margin - b.allowance, pending);
-    pending &= ~hit;
-  }
-  return hit;
+template <class V>
+unsigned level_within(const Ctx<V>& c, int a, int o, int slot_a, int slot_o, double add,
+                      unsigned need, unsigned& maybe) {
+  const LinkLayout &la = c.robot.link[a], &lo = c.robot.link[o];
+  return sets_within(c, posed(c, a, slot_a), static_cast<int>(la.begin[slot_a]),
+                     static_cast<int>(la.count[slot_a]), posed(c, o, slot_o),
+                     static_cast<int>(lo.begin[slot_o]), static_cast<int>(lo.count[slot_o]),
+                     posed(c, o, kBoundSlot), double(c.sp.bound[4 * o + 3]), add, need, maybe);
 }
 
 // The lanes of `open` in which link's bounding sphere may come within the margin of the
 // scene.
-unsigned scene_near(const KernelRobot& robot, const SceneGrid& scene, Block& b, int link,
-                    unsigned open) {
-  const double* bound = posed(robot, b, link, kBoundSlot);
-  const double rq = robot.link[link].bound[3] + b.margin + b.allowance;
-  unsigned need = 0;
-  double p[3];
-  for (int lane = 0; lane < kLanes; ++lane) {
-    if (!(open >> lane & 1)) continue;
-    lane_point(bound, 0, lane, p);
-    if (!grid_clear(robot.grid, p, rq) && !scene.clear(p, rq)) need |= 1u << lane;
-  }
-  return need;
+template <class V>
+unsigned scene_near(const Ctx<V>& c, int link, unsigned open) {
+  const double rq = double(c.sp.bound[4 * link + 3]) + c.b.margin + c.b.allowance;
+  unsigned hit = 0;  // of the bounding sphere: says nothing of the link
+  return grid_near(c, posed(c, link, kBoundSlot), 0, rq, open, hit);
 }
 
-// The lanes of `open` in which the bounding spheres of links a and c may come within the
+// The lanes of `open` in which the bounding spheres of links a and o may come within the
 // margin of each other.
-unsigned pair_near(const KernelRobot& robot, Block& b, int a, int c, unsigned open) {
-  const double* ba = posed(robot, b, a, kBoundSlot);
-  const double* bc = posed(robot, b, c, kBoundSlot);
-  const V dx = load(ba) - load(bc), dy = load(ba + kLanes) - load(bc + kLanes),
-          dz = load(ba + 2 * kLanes) - load(bc + 2 * kLanes);
-  const double reach = robot.link[a].bound[3] + robot.link[c].bound[3] + b.margin + b.allowance;
+template <class V>
+unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
+  using T = typename V::T;
+  constexpr int W = V::W;
+  const T* ba = posed(c, a, kBoundSlot);
+  const T* bo = posed(c, o, kBoundSlot);
+  const V dx = load(ba) - load(bo), dy = load(ba + W) - load(bo + W),
+          dz = load(ba + 2 * W) - load(bo + 2 * W);
+  const T reach = T(double(c.sp.bound[4 * a + 3]) + double(c.sp.bound[4 * o + 3]) + c.b.margin +
+                    c.b.allowance) +
+                  c.p.slack;
   return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
+}
+
+// The bounding-sphere tests of every link against the scene and of every self pair, for
+// the lanes `open`, into near[0 .. links + pairs): independent of one another, so run
+// back to back (their look-ups overlap) before any finer test.
+template <class V>
+void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
+  const KernelRobot& robot = c.robot;
+  for (int link = 0; link < robot.links; ++link) posed(c, link, kBoundSlot);
+  for (int link = 0; link < robot.links; ++link)
+    near[link] = static_cast<unsigned char>(scene_near(c, link, open));
+  for (int k = 0; k < robot.pairs; ++k)
+    near[robot.links + k] =
+        static_cast<unsigned char>(c.b.self ? pair_near(c, static_cast<int>(robot.pair_a[k]),
+                                                        static_cast<int>(robot.pair_b[k]), open)
+                                            : 0u);
+}
+
+// Bounds mode, one level of a pair (link against the scene when o < 0, else the self pair
+// link, o) in the lanes `pending`: the lanes certainly free leave `pending`, those
+// certainly colliding leave it for the result. Unsure tests: a covering sphere maybe
+// within the margin keeps the lane pending and joins `maybe_near` (the pair may be free
+// in doubles); an inner sphere maybe within it joins `maybe_hit` (the lane may collide).
+template <class V>
+unsigned pair_level(const Ctx<V>& c, int link, int o, int level, unsigned& pending,
+                    unsigned& maybe_near, unsigned& maybe_hit) {
+  const LinkLayout& la = c.robot.link[link];
+  const int outer = level ? kFineOuter : kOuter, inner = level ? kFineInner : kInner;
+  const bool self = o >= 0;
+  const double far = c.b.margin + c.b.allowance, near = c.b.margin - c.b.allowance;
+  if (la.count[outer] > 0 && (!self || c.robot.link[o].count[outer] > 0)) {
+    unsigned maybe = 0;
+    const unsigned hit = self ? level_within(c, link, o, outer, outer, far, pending, maybe)
+                              : set_scene(c, link, outer, far, pending, maybe);
+    maybe_near |= maybe & ~hit;
+    pending = hit | maybe;
+  }
+  unsigned out = 0;
+  if (la.count[inner] > 0 && (!self || c.robot.link[o].count[inner] > 0) && pending) {
+    unsigned maybe = 0;
+    out = self ? level_within(c, link, o, inner, inner, near, pending, maybe)
+               : set_scene(c, link, inner, near, pending, maybe);
+    maybe_hit |= maybe & ~out;
+    pending &= ~out;
+  }
+  return out;
 }
 
 // The bounds mode level by level: every pair at the planner's level first (a certain
 // collision found there spares the fine level of every other pair), then the fine level
-// of the pairs still open. b.pending holds per link (scene) and per self pair the lanes
-// still undecided.
-unsigned run_bounds(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
-  unsigned char* pending = b.pending;
-  for (int k = 0; k < robot.links + robot.pairs; ++k) pending[k] = 0;
-  unsigned open = b.lanes;
+// of the pairs still open. p.pending holds per link (scene) and per self pair the lanes
+// still undecided, p.unsure those in which a covering test of the pair was unsure.
+// Returns the open lanes, adds the undecided ones to b.undecided; `unsure`: the open lanes
+// whose verdict may differ in doubles (a pair still pending after an unsure covering test
+// may be free there; an unsure inner test may collide there).
+template <class V>
+unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
+  const KernelRobot& robot = c.robot;
+  unsigned char* pending = c.p.pending;
+  unsigned char* near = c.p.unsure;
+  near_all(c, c.p.lanes, pending);
+  for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = 0;
+  unsigned open = c.p.lanes, maybe_hit = 0;
   for (int level = 0; level < (robot.fine ? 2 : 1); ++level) {
     for (int link = 0; link < robot.links && open; ++link) {
-      unsigned p = level ? pending[link] & open : scene_near(robot, scene, b, link, open);
-      if (p) open &= ~scene_level(robot, scene, b, link, level, p);
+      unsigned p = pending[link] & open, m = near[link];
+      if (p) open &= ~pair_level(c, link, -1, level, p, m, maybe_hit);
       pending[link] = static_cast<unsigned char>(p);
+      near[link] = static_cast<unsigned char>(m);
     }
-    for (int k = 0; k < robot.pairs && open && b.self; ++k) {
-      const int a = static_cast<int>(robot.pair_a[k]), c = static_cast<int>(robot.pair_b[k]);
-      unsigned p = level ? pending[robot.links + k] & open : pair_near(robot, b, a, c, open);
-      if (p) open &= ~self_level(robot, b, a, c, level, p);
-      pending[robot.links + k] = static_cast<unsigned char>(p);
+    for (int k = 0; k < robot.pairs && open && c.b.self; ++k) {
+      const int a = static_cast<int>(robot.pair_a[k]), o = static_cast<int>(robot.pair_b[k]);
+      const int s = robot.links + k;
+      unsigned p = pending[s] & open, m = near[s];
+      if (p) open &= ~pair_level(c, a, o, level, p, m, maybe_hit);
+      pending[s] = static_cast<unsigned char>(p);
+      near[s] = static_cast<unsigned char>(m);
     }
   }
+  unsure = maybe_hit;
   for (int k = 0; k < robot.links + robot.pairs; ++k) {
-    const unsigned p = pending[k] & open;
-    b.undecided |= p;
-    for (int lane = 0; lane < kLanes && b.sink; ++lane)
-      if (p >> lane & 1)
-        k < robot.links ? b.sink(b, lane, k, -1)
-                        : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
-                                 static_cast<int>(robot.pair_b[k - robot.links]));
+    unsure |= near[k] & pending[k];
+    c.b.undecided |= pending[k] & open;
   }
+  unsure &= open;
   return open;
 }
 
 // The spheres mode: every link against the scene, then every self pair.
-unsigned run_spheres(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
-  unsigned open = b.lanes;
+template <class V>
+unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
+  const KernelRobot& robot = c.robot;
+  unsigned char* near = c.p.pending;
+  near_all(c, c.p.lanes, near);
+  unsigned open = c.p.lanes, maybe = 0;
   for (int link = 0; link < robot.links && open; ++link) {
-    const unsigned need = scene_near(robot, scene, b, link, open);
-    if (need) open &= ~scene_spheres(robot, scene, b, link, need);
+    const unsigned need = near[link] & open;
+    if (need) open &= ~set_scene(c, link, robot.link[link].spheres, c.b.margin, need, maybe);
   }
-  for (int k = 0; k < robot.pairs && open && b.self; ++k) {
-    const int a = static_cast<int>(robot.pair_a[k]), c = static_cast<int>(robot.pair_b[k]);
-    const unsigned need = pair_near(robot, b, a, c, open);
-    const LinkLayout &la = robot.link[a], &lc = robot.link[c];
-    if (need) open &= ~level_within(robot, b, a, c, la.spheres, lc.spheres, b.margin, need);
+  for (int k = 0; k < robot.pairs && open && c.b.self; ++k) {
+    const int a = static_cast<int>(robot.pair_a[k]), o = static_cast<int>(robot.pair_b[k]);
+    const unsigned need = near[robot.links + k] & open;
+    if (need)
+      open &= ~level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
+                            maybe);
   }
+  unsure = maybe & open;
   return open;
 }
 
+// One pass; returns the colliding lanes (certain), sets `unsure`.
+template <class V>
+unsigned run_pass(const Ctx<V>& c, unsigned& unsure) {
+  for (int k = 0; k < c.robot.links * kSlots; ++k) c.p.posed_flag[k] = 0;
+  const unsigned open = c.b.bounds ? run_bounds(c, unsure) : run_spheres(c, unsure);
+  return c.p.lanes & ~open;
+}
+
+// The double pass over the lanes `lanes` of half h: the documented tests; the sink sees
+// the undecided pairs.
+void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int h,
+                 unsigned lanes) {
+  Pass<double> p;
+  p.frames = b.frames + h * robot.frames * 12 * kHalf;
+  p.posed = b.posed;
+  p.posed_flag = b.posed_flag;
+  p.pending = b.pending;
+  p.unsure = b.unsure;
+  p.lanes = lanes;
+  const unsigned undecided = b.undecided;
+  b.undecided = 0;
+  b.half = h;
+  const Ctx<VD> c{robot, robot.d, scene, b, p};
+  unsigned unsure = 0;
+  const unsigned hit = run_pass(c, unsure);
+  const unsigned open = lanes & ~hit;
+  if (b.sink && b.bounds)
+    for (int k = 0; k < robot.links + robot.pairs; ++k)
+      for (int lane = 0; lane < kHalf; ++lane)
+        if (b.pending[k] & open >> lane & 1)
+          k < robot.links ? b.sink(b, lane, k, -1)
+                          : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
+                                   static_cast<int>(robot.pair_b[k - robot.links]));
+  const unsigned shift = static_cast<unsigned>(h * kHalf);
+  b.colliding |= hit << shift;
+  b.undecided = undecided | (b.undecided & open) << shift;
+}
+
 void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
-  for (int k = 0; k < robot.links * kSlots; ++k) b.posed_flag[k] = 0;
-  b.colliding = b.undecided = 0;
-  pose_frames(robot, b);
-  const unsigned open = b.bounds ? run_bounds(robot, scene, b) : run_spheres(robot, scene, b);
-  b.colliding = b.lanes & ~open;
+  b.colliding = b.undecided = b.rechecked = 0;
+  const unsigned half_lanes[2] = {b.lanes & 0xFu, b.lanes >> kHalf & 0xFu};
+  for (int h = 0; h < 2; ++h)
+    if (half_lanes[h]) pose_frames(robot, b, h);
+  unsigned recheck = b.lanes;
+  if (b.floats) {
+    frames_to_float(robot, b);
+    Pass<float> p;
+    p.frames = b.frames_f;
+    p.posed = b.posed_f;
+    p.posed_flag = b.posed_flag;
+    p.pending = b.pending;
+    p.unsure = b.unsure;
+    p.lanes = b.lanes;
+    p.slack = b.slack;
+    const Ctx<VF> c{robot, robot.f, scene, b, p};
+    unsigned unsure = 0;
+    b.colliding = run_pass(c, unsure);
+    recheck = unsure & ~b.colliding;
+    b.undecided &= ~(b.colliding | recheck);
+    b.rechecked = recheck;
+  }
+  for (int h = 0; h < 2; ++h) {
+    const unsigned lanes = recheck >> (h * kHalf) & 0xFu;
+    if (lanes) run_doubles(robot, scene, b, h, lanes);
+  }
   b.undecided &= ~b.colliding;
 }
 

@@ -1,44 +1,99 @@
-// The kernel with a plain lane type: four doubles, one operation each (the path for
-// machines without AVX2, and the reference the AVX2 path must match bit for bit).
+// The kernel with plain lane types: four doubles or eight floats, one operation each (the
+// path for machines without AVX2, and the reference the AVX2 path must match bit for bit).
 
 #include "block.h"
 
 namespace medspheres::check::detail {
 namespace {
 
-struct V {
-  double v[kLanes];
+template <class S, int N>
+struct Lanes {
+  using T = S;
+  static constexpr int W = N;
+  S v[N];
 };
+using VD = Lanes<double, kHalf>;
+using VF = Lanes<float, kLanes>;
 
-V splat(double a) {
-  V r;
-  for (double& x : r.v) x = a;
+template <class S, int N>
+Lanes<S, N> splat_as(S a) {
+  Lanes<S, N> r;
+  for (S& x : r.v) x = a;
   return r;
 }
-V load(const double* p) {
-  V r;
-  for (int l = 0; l < kLanes; ++l) r.v[l] = p[l];
+VD splat(double a) {
+  return splat_as<double, kHalf>(a);
+}
+VF splat(float a) {
+  return splat_as<float, kLanes>(a);
+}
+template <class S, int N>
+Lanes<S, N> load_as(const S* p) {
+  Lanes<S, N> r;
+  for (int l = 0; l < N; ++l) r.v[l] = p[l];
   return r;
 }
-void store(double* p, V a) {
-  for (int l = 0; l < kLanes; ++l) p[l] = a.v[l];
+VD load(const double* p) {
+  return load_as<double, kHalf>(p);
 }
-V operator+(V a, V b) {
-  for (int l = 0; l < kLanes; ++l) a.v[l] += b.v[l];
+VF load(const float* p) {
+  return load_as<float, kLanes>(p);
+}
+template <class S, int N>
+void store(S* p, Lanes<S, N> a) {
+  for (int l = 0; l < N; ++l) p[l] = a.v[l];
+}
+template <class S, int N>
+Lanes<S, N> operator+(Lanes<S, N> a, Lanes<S, N> b) {
+  for (int l = 0; l < N; ++l) a.v[l] += b.v[l];
   return a;
 }
-V operator-(V a, V b) {
-  for (int l = 0; l < kLanes; ++l) a.v[l] -= b.v[l];
+template <class S, int N>
+Lanes<S, N> operator-(Lanes<S, N> a, Lanes<S, N> b) {
+  for (int l = 0; l < N; ++l) a.v[l] -= b.v[l];
   return a;
 }
-V operator*(V a, V b) {
-  for (int l = 0; l < kLanes; ++l) a.v[l] *= b.v[l];
+template <class S, int N>
+Lanes<S, N> operator*(Lanes<S, N> a, Lanes<S, N> b) {
+  for (int l = 0; l < N; ++l) a.v[l] *= b.v[l];
   return a;
 }
-unsigned le_bits(V a, V b) {
+template <class S, int N>
+unsigned le_bits(Lanes<S, N> a, Lanes<S, N> b) {
   unsigned m = 0;
-  for (int l = 0; l < kLanes; ++l) m |= (a.v[l] <= b.v[l] ? 1u : 0u) << l;
+  for (int l = 0; l < N; ++l) m |= (a.v[l] <= b.v[l] ? 1u : 0u) << l;
   return m;
+}
+VF to_float(VD lo, VD hi) {
+  VF r;
+  for (int l = 0; l < kHalf; ++l) {
+    r.v[l] = static_cast<float>(lo.v[l]);
+    r.v[kHalf + l] = static_cast<float>(hi.v[l]);
+  }
+  return r;
+}
+template <class S, int N>
+Lanes<S, N> vmax(Lanes<S, N> a, Lanes<S, N> b) {
+  for (int l = 0; l < N; ++l) a.v[l] = a.v[l] > b.v[l] ? a.v[l] : b.v[l];
+  return a;
+}
+template <class S, int N>
+Lanes<S, N> gather_cells(const GridView<S>& g, Lanes<S, N> ux, Lanes<S, N> uy, Lanes<S, N> uz,
+                         unsigned inside, Lanes<S, N>& cx, Lanes<S, N>& cy, Lanes<S, N>& cz,
+                         Lanes<S, N>& upper) {
+  Lanes<S, N> lower;
+  for (int l = 0; l < N; ++l) {
+    const bool in = inside >> l & 1;
+    const int i = in ? static_cast<int>(ux.v[l]) : 0, j = in ? static_cast<int>(uy.v[l]) : 0,
+              k = in ? static_cast<int>(uz.v[l]) : 0;
+    cx.v[l] = S(i);
+    cy.v[l] = S(j);
+    cz.v[l] = S(k);
+    const int bytes = in ? g.field[i + g.n[0] * (j + g.n[1] * k)] : 0;
+    lower.v[l] = S(bytes & 0xFF);
+    upper.v[l] = S(bytes >> 8 & 0xFF);
+  }
+  return lower;
 }
 
 }  // namespace

@@ -2,11 +2,13 @@
 
 #include <algorithm>
 #include <cmath>
+#include <limits>
 #include <stdexcept>
 
 #include <omp.h>
 
 #include "block.h"
+#include "distance_field.h"
 #include "robot_layout.h"
 #include "scene_grid.h"
 
@@ -36,9 +38,51 @@ KernelFn choose_kernel(Simd simd) {
 // One thread's buffers for the kernel.
 struct Workspace {
   std::vector<double> frames, posed, q;
-  std::vector<unsigned char> flags, pending;
+  std::vector<float> frames_f, posed_f;
+  std::vector<unsigned char> flags, pending, unsure;
   std::vector<UndecidedPair>* pairs[kLanes] = {};
 };
+
+// A layout's spheres and bounding spheres in precision T, and the grid's view in T.
+template <class T>
+struct SphereArrays {
+  std::vector<T> x, y, z, r, bound;
+  KernelSpheres<T> view(const SceneGrid& g, const DistanceField& f) const {
+    KernelSpheres<T> k;
+    k.x = x.data();
+    k.y = y.data();
+    k.z = z.data();
+    k.r = r.data();
+    k.bound = bound.data();
+    if (!f.empty()) {
+      for (int d = 0; d < 3; ++d) {
+        k.grid.origin[d] = T(f.origin()[d]);
+        k.grid.n[d] = f.dims()[d];
+      }
+      k.grid.side = T(f.cell_side());
+      k.grid.inverse_side = T(1.0 / f.cell_side());
+      k.grid.field = f.bounds();
+      k.grid.unit = T(f.unit());
+      k.grid.pad = T(g.pad());
+      for (int d = 0; d < 3; ++d) {
+        k.grid.box_min[d] = T(g.bounds().min()[d]);
+        k.grid.box_max[d] = T(g.bounds().max()[d]);
+      }
+    }
+    return k;
+  }
+};
+
+template <class T>
+SphereArrays<T> sphere_arrays(const RobotLayout& l) {
+  SphereArrays<T> a;
+  a.x.assign(l.x.begin(), l.x.end());
+  a.y.assign(l.y.begin(), l.y.end());
+  a.z.assign(l.z.begin(), l.z.end());
+  a.r.assign(l.r.begin(), l.r.end());
+  for (const LinkLayout& link : l.links) a.bound.insert(a.bound.end(), link.bound, link.bound + 4);
+  return a;
+}
 
 }  // namespace
 }  // namespace detail
@@ -47,21 +91,43 @@ struct RobotChecker::Impl {
   CheckerOptions options;
   detail::RobotLayout layout;
   std::unique_ptr<detail::SceneGrid> grid;
+  std::unique_ptr<detail::DistanceField> field;
+  detail::SphereArrays<double> spheres_d;
+  detail::SphereArrays<float> spheres_f;
   detail::KernelRobot kernel_robot;
   detail::KernelFn kernel = nullptr;
   double allowance = 0.0;
+  float slack = 0.0f;
+  // Per joint position: the largest |q| for which the float tests' slack holds (infinite
+  // for a joint that moves no prismatic joint: rotations are bounded whatever q).
+  std::vector<double> float_range;
   std::size_t scene_objects = 0;
 
   detail::Workspace workspace() const {
     detail::Workspace w;
-    w.frames.assign(static_cast<std::size_t>(layout.frames) * 12 * detail::kLanes, 0.0);
-    for (int e : {0, 4, 8})
-      for (int l = 0; l < detail::kLanes; ++l) w.frames[e * detail::kLanes + l] = 1.0;  // frame 0
-    w.posed.assign((layout.x.size() + layout.links.size()) * 3 * detail::kLanes, 0.0);
+    const std::size_t frames = static_cast<std::size_t>(layout.frames) * 12;
+    w.frames.assign(2 * frames * detail::kHalf, 0.0);
+    for (int h = 0; h < 2; ++h)
+      for (int e : {0, 4, 8})
+        for (int l = 0; l < detail::kHalf; ++l)
+          w.frames[h * frames * detail::kHalf + e * detail::kHalf + l] = 1.0;  // frame 0: W
+    w.frames_f.assign(frames * detail::kLanes, 0.0f);
+    const std::size_t points = layout.x.size() + layout.links.size();
+    w.posed.assign(points * 3 * detail::kHalf, 0.0);
+    w.posed_f.assign(points * 3 * detail::kLanes, 0.0f);
     w.flags.assign(layout.links.size() * detail::kSlots, 0);
     w.pending.assign(layout.links.size() + layout.pair_a.size(), 0);
+    w.unsure.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.q.assign(layout.dof * detail::kLanes, 0.0);
     return w;
+  }
+
+  // Whether the float tests' slack holds for the block's configurations.
+  bool floats_hold(const std::vector<double>& q) const {
+    for (std::size_t j = 0; j < layout.dof; ++j)
+      for (int l = 0; l < detail::kLanes; ++l)
+        if (std::abs(q[j * detail::kLanes + std::size_t(l)]) > float_range[j]) return false;
+    return true;
   }
 
   void validate(const double* q, std::size_t index) const {
@@ -94,7 +160,7 @@ void scene_objects(const detail::RobotLayout& layout, const detail::SceneGrid& g
   }
   for (std::uint32_t i = l.begin[slot]; i < l.begin[slot] + l.count[slot]; ++i) {
     double p[3];
-    for (int k = 0; k < 3; ++k) p[k] = b.posed[(3 * i + k) * detail::kLanes + lane];
+    for (int k = 0; k < 3; ++k) p[k] = b.posed[(3 * i + k) * detail::kHalf + lane];
     grid.objects_within(p, layout.r[i] + b.margin + b.allowance, out);
   }
 }
@@ -106,9 +172,10 @@ struct SinkContext {
   detail::Workspace* w;
 };
 
+// The sink of the double pass: `lane` is a lane of the half b.half.
 void record_pair(detail::Block& b, int lane, int link, int other) {
   const auto* c = static_cast<const SinkContext*>(b.context);
-  std::vector<UndecidedPair>* pairs = c->w->pairs[lane];
+  std::vector<UndecidedPair>* pairs = c->w->pairs[b.half * detail::kHalf + lane];
   if (pairs == nullptr) return;
   if (other >= 0) {
     pairs->push_back({std::size_t(link), std::size_t(other), true});
@@ -135,12 +202,18 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.lanes = lanes;
   b.bounds = mode == Mode::bounds;
   b.self = options.self;
+  // The sink sees the double pass only: a lane the floats decide never reaches it.
+  b.floats = options.float_tests && !want_pairs && floats_hold(w.q);
   b.margin = options.margin;
   b.allowance = allowance;
+  b.slack = slack;
   b.frames = w.frames.data();
+  b.frames_f = w.frames_f.data();
   b.posed = w.posed.data();
+  b.posed_f = w.posed_f.data();
   b.posed_flag = w.flags.data();
   b.pending = w.pending.data();
+  b.unsure = w.unsure.data();
   SinkContext context{&layout, grid.get(), scene_objects, &w};
   if (want_pairs) {
     b.sink = record_pair;
@@ -190,11 +263,9 @@ namespace {
 // most `extent` metres over chains of at most `depth` joints; their rounding is below
 // 64 (depth + 8) eps extent, which 1e-9 (1 + extent) exceeds by over 10^4 for any robot of
 // fewer than 100 joints.
-double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene) {
-  double extent = layout.extent;
-  for (const detail::FrameStep& s : layout.steps)
-    extent += std::sqrt(s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2]) +
-              std::sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]);
+// The scene's largest coordinate, with every object's size.
+double scene_extent(const Scene& scene) {
+  double extent = 0.0;
   for (const SceneObject& o : scene.objects()) {
     extent = std::max(
         extent, o.X_WO.translation().cwiseAbs().maxCoeff() + o.size.norm() + o.radius + o.length);
@@ -202,7 +273,57 @@ double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene)
     for (const Eigen::Vector3d& v : o.mesh.vertices)
       extent = std::max(extent, (o.X_WO * v).cwiseAbs().maxCoeff());
   }
-  return 1e-9 * (1.0 + extent);
+  return extent;
+}
+
+double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene) {
+  double extent = layout.extent;
+  for (const detail::FrameStep& s : layout.steps)
+    extent += std::sqrt(s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2]) +
+              std::sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]);
+  return 1e-9 * (1.0 + std::max(extent, scene_extent(scene)));
+}
+
+// Per joint position, the largest |q| the float tests' slack is computed for: for a joint
+// that moves a prismatic joint, the larger of 1 and its limits' magnitudes; unbounded
+// otherwise (a revolute joint's rotation is bounded whatever q).
+std::vector<double> float_ranges(const RobotModel& model, const detail::RobotLayout& layout) {
+  std::vector<double> out(layout.dof, std::numeric_limits<double>::infinity());
+  for (const detail::FrameStep& s : layout.steps) {
+    if (!s.prismatic) continue;
+    const Joint* j = model.find_joint(layout.joint_names[static_cast<std::size_t>(s.source)]);
+    double range = 1.0;
+    if (j != nullptr && j->limits)
+      range = std::max({range, std::abs(j->limits->lower), std::abs(j->limits->upper)});
+    out[static_cast<std::size_t>(s.source)] = range;
+  }
+  return out;
+}
+
+// The float tests' slack: 2^-16 (1 + E), E bounding every coordinate and distance they
+// handle (the robot's reach with its prismatic joints at float_ranges, the scene, the
+// grid's corners). A float posed point lies within 12 u E of its double twin (u = 2^-24:
+// the frame's and the point's rounding to floats, then three products and three sums), a
+// float squared distance compared with a float threshold errs by at most 14 u E more, and
+// the grid's float cell look-up by 10 u E: every certain float answer holds in doubles
+// while the slack exceeds 2 (12 + 14 + 10) u E = 72 u E; it is 256 u (1 + E).
+float float_slack(const detail::RobotLayout& layout, const Scene& scene,
+                  const detail::SceneGrid& grid, const std::vector<double>& range) {
+  double reach = layout.extent;
+  for (const detail::FrameStep& s : layout.steps) {
+    const double travel = s.prismatic
+                              ? std::abs(s.multiplier) * range[static_cast<std::size_t>(s.source)] +
+                                    std::abs(s.offset)
+                              : 0.0;
+    reach += std::sqrt(s.u[0] * s.u[0] + s.u[1] * s.u[1] + s.u[2] * s.u[2]) +
+             travel * std::sqrt(s.v[0] * s.v[0] + s.v[1] * s.v[1] + s.v[2] * s.v[2]);
+  }
+  double e = reach + scene_extent(scene);
+  if (!grid.empty())
+    for (int k = 0; k < 3; ++k)
+      e = std::max(e, std::abs(grid.origin()[k]) + grid.dims()[k] * grid.cell_side());
+  const double slack = std::ldexp(1.0 + e, -16);
+  return std::nextafter(static_cast<float>(slack), std::numeric_limits<float>::infinity());
 }
 
 int thread_count(int threads) {
@@ -232,32 +353,27 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   const double reach = typical + options.margin + 2 * m.allowance;
   m.grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
                                                options.max_cells, m.allowance);
+  const detail::SceneGrid& g = *m.grid;
+  m.spheres_d = detail::sphere_arrays<double>(m.layout);
+  m.spheres_f = detail::sphere_arrays<float>(m.layout);
   detail::KernelRobot& k = m.kernel_robot;
   const detail::RobotLayout& l = m.layout;
+  k.dof = static_cast<int>(l.dof);
   k.frames = l.frames;
   k.steps = static_cast<int>(l.steps.size());
   k.step = l.steps.data();
   k.links = static_cast<int>(l.links.size());
   k.link = l.links.data();
   k.spheres = static_cast<int>(l.x.size());
-  k.x = l.x.data();
-  k.y = l.y.data();
-  k.z = l.z.data();
-  k.r = l.r.data();
+  m.field = std::make_unique<detail::DistanceField>(g, 2);
+  k.d = m.spheres_d.view(g, *m.field);
+  k.f = m.spheres_f.view(g, *m.field);
   k.pairs = static_cast<int>(l.pair_a.size());
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();
   k.fine = l.fine;
-  const detail::SceneGrid& g = *m.grid;
-  if (g.lower_bounds() != nullptr) {
-    for (int d = 0; d < 3; ++d) {
-      k.grid.origin[d] = g.origin()[d];
-      k.grid.n[d] = g.dims()[d];
-    }
-    k.grid.inverse_side = 1.0 / g.cell_side();
-    k.grid.lower = g.lower_bounds();
-    k.grid.unit = g.lower_unit();
-  }
+  m.float_range = float_ranges(planner, l);
+  m.slack = float_slack(l, scene, g, m.float_range);
 }
 
 RobotChecker::~RobotChecker() = default;
@@ -330,7 +446,8 @@ void RobotChecker::check(const double* q, std::size_t n, Mode mode, Verdict* out
     for (long k = 0; k < blocks; ++k) {
       const std::size_t first = std::size_t(k) * detail::kLanes;
       fill_block(w.q, q, first, n, dof);
-      const unsigned lanes = n - first >= detail::kLanes ? 0xFu : (1u << (n - first)) - 1;
+      const unsigned lanes =
+          n - first >= detail::kLanes ? (1u << detail::kLanes) - 1 : (1u << (n - first)) - 1;
       const detail::Block b = m.run(w, lanes, mode, false);
       for (int l = 0; l < detail::kLanes && first + std::size_t(l) < n; ++l)
         out[first + std::size_t(l)] = verdict_of(b, l);

@@ -7,6 +7,7 @@
 #include "medspheres/error.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/min_enclosing_ball.h"
+#include "medspheres/self_pairs.h"
 
 namespace medspheres::check::detail {
 namespace {
@@ -69,20 +70,10 @@ FrameStep moving_step(const KinematicTree::Step& s, int frame, int parent,
 void add_self_pairs(const RobotModel& model, const std::vector<std::string>& names,
                     const std::vector<std::pair<std::string, std::string>>& disabled,
                     RobotLayout& out) {
-  std::set<std::pair<std::string, std::string>> skip;
-  auto ordered = [](const std::string& a, const std::string& b) {
-    return a < b ? std::make_pair(a, b) : std::make_pair(b, a);
-  };
-  for (const Joint& j : model.joints) skip.insert(ordered(j.parent, j.child));
-  for (const auto& [a, b] : disabled) {
-    for (const std::string* name : {&a, &b})
-      if (model.find_link(*name) == nullptr)
-        throw InputError(*name, "a disabled collision pair names a link the robot does not have");
-    skip.insert(ordered(a, b));
-  }
+  const std::set<LinkPair> skip = skipped_self_pairs(model, disabled);
   for (std::size_t i = 0; i < names.size(); ++i)
     for (std::size_t k = i + 1; k < names.size(); ++k)
-      if (skip.count(ordered(names[i], names[k])) == 0) {
+      if (skip.count(ordered_pair(names[i], names[k])) == 0) {
         out.pair_a.push_back(static_cast<std::uint32_t>(i));
         out.pair_b.push_back(static_cast<std::uint32_t>(k));
       }

@@ -5,7 +5,7 @@
 #include <limits>
 #include <stdexcept>
 
-#include "distance_transform.h"
+#include "boxes_distance_transform.h"
 
 namespace medspheres::check::detail {
 namespace {
@@ -21,6 +21,8 @@ const double kHalfDiagonal = std::sqrt(3.0) / 2.0;
 // A cell's lower bound is kept in steps of side / kLowerSteps, in one byte: the grid of
 // bounds stays in the processor's cache (a bound is at most 255 / kLowerSteps sides).
 constexpr double kLowerSteps = 8.0;
+// Cells are indexed by 32-bit integers in the kernel's look-ups.
+constexpr std::size_t kMaxCells = std::size_t(1) << 30;
 
 }  // namespace
 
@@ -46,8 +48,10 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
       n_[k] = static_cast<int>(std::ceil((extent[k] + 2 * (reach + h_)) / h_));
       cells *= n_[k];
     }
-    if (cells <= static_cast<double>(std::max<std::size_t>(max_cells, 1))) break;
-    h_ *= std::max(1.01, std::cbrt(cells / static_cast<double>(max_cells)));
+    if (cells <= static_cast<double>(std::clamp<std::size_t>(max_cells, 1, kMaxCells))) break;
+    h_ *= std::max(
+        1.01,
+        std::cbrt(cells / static_cast<double>(std::clamp<std::size_t>(max_cells, 1, kMaxCells))));
   }
   origin_ = bounds_.min().array() - (reach + h_);
   inverse_h_ = 1.0 / h_;
@@ -56,12 +60,14 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
   build_lower(pad);
 }
 
-long SceneGrid::cell_of(const double* p) const {
+long SceneGrid::cell_of(const double* p, long* xyz) const {
   long index = 0, stride = 1;
   for (int k = 0; k < 3; ++k) {
     const double u = (p[k] - origin_[k]) * inverse_h_;  // a rounding off: within the pad
     if (!(u >= 0.0) || u >= n_[k]) return -1;
-    index += static_cast<long>(u) * stride;
+    const auto i = static_cast<long>(u);
+    if (xyz) xyz[k] = i;
+    index += i * stride;
     stride *= n_[k];
   }
   return index;
@@ -116,93 +122,107 @@ void SceneGrid::build_lists(double pad) {
               });
 }
 
-// Per cell: the lists' bound (the first entry, or reach when none is listed: every element
-// not listed is farther than reach), raised to the distance transform's where larger.
+// Per cell: a lower bound of the distance from its centre to the scene, the larger of the
+// lists' (the first entry, or reach when none is listed: every element
+// not listed is farther than that from the centre) and the distance transform's.
 void SceneGrid::build_lower(double pad) {
   const std::size_t cells = begin_.size() - 1;
-  std::vector<char> touched(cells, 0);
-  for (const Element& e : elements_) {
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, int(std::floor((e.box.min()[k] - pad - origin_[k]) / h_)));
-      hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + pad - origin_[k]) / h_)));
-    }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x)
-          touched[std::size_t(x) + n_[0] * (std::size_t(y) + std::size_t(n_[1]) * z)] = 1;
-  }
-  const std::vector<double> d2 = squared_distance_transform(touched, n_[0], n_[1], n_[2]);
-  lower_.resize(cells);
+  const std::vector<double> d2 = boxes_distance_transform(elements_, origin_.data(), h_, n_, pad);
+  lower_.assign(cells + 3, 0);  // 3 bytes beyond the last cell for 4-byte reads
+  // Every element not listed is farther than reach from the cell, so from its centre.
+  const double unlisted = reach_;
   for (std::size_t c = 0; c < cells; ++c) {
-    // Two cubes of side h whose centres are D h apart are at least (D - sqrt 3) h apart.
-    const double transform = h_ * (std::sqrt(d2[c]) - 2 * kHalfDiagonal) - pad;
-    const double listed = begin_[c] < begin_[c + 1]
-                              ? double(entries_[begin_[c]].lower) - kHalfDiagonal * h_ - pad
-                              : reach_;
-    const double value = std::max({std::min(listed, reach_), transform, 0.0});
+    // A cube of side h whose centre is D h from this centre is at least (D - sqrt 3 / 2) h
+    // from it.
+    const double transform = h_ * (std::sqrt(d2[c]) - kHalfDiagonal) - pad;
+    const double listed =
+        begin_[c] < begin_[c + 1] ? double(entries_[begin_[c]].lower) - pad : unlisted;
+    const double value = std::max({std::min(listed, unlisted), transform, 0.0});
     double q = std::min(std::floor(value / unit_), 255.0);
     if (q * unit_ > value) q -= 1.0;  // the division rounded up
     lower_[c] = static_cast<std::uint8_t>(std::max(q, 0.0));
   }
 }
 
-bool SceneGrid::clear(const double* p, double rq) const {
-  if (elements_.empty()) return true;
-  const long c = cell_of(p);
-  if (c < 0) return outside_lower(p) > rq;
-  return lower_[std::size_t(c)] * unit_ > rq;
+// The cell's bound at p: its centre's, less |p - centre| (distance is 1-Lipschitz), less
+// the pad for the rounding of that.
+double SceneGrid::cell_lower(std::size_t c, const Eigen::Vector3d& centre,
+                             const Eigen::Vector3d& p) const {
+  return lower_[c] * unit_ - (p - centre).norm() - pad_;
 }
 
-Eigen::Vector3d SceneGrid::centre(std::size_t c) const {
-  const std::size_t x = c % std::size_t(n_[0]), y = c / std::size_t(n_[0]) % std::size_t(n_[1]),
-                    z = c / (std::size_t(n_[0]) * std::size_t(n_[1]));
+bool SceneGrid::clear(const double* p, double rq) const {
+  if (elements_.empty()) return true;
+  long xyz[3];
+  const long c = cell_of(p, xyz);
+  if (c < 0) return outside_lower(p) > rq;
+  return cell_lower(std::size_t(c), centre(xyz[0], xyz[1], xyz[2]),
+                    Eigen::Vector3d(p[0], p[1], p[2])) > rq;
+}
+
+Eigen::Vector3d SceneGrid::centre(long x, long y, long z) const {
   return origin_ + h_ * Eigen::Vector3d(double(x) + 0.5, double(y) + 0.5, double(z) + 0.5);
 }
 
-// The list of cell c: the elements within rq of p, to `found` until it returns true
-// (then true). An element farther than rq + delta from the centre (delta = |p - centre|,
-// padded) is farther than rq from p; one nearer than rq - delta is within; then the same
-// with the element's ball (its centre's distance d from p, its radius b: beyond when
-// d - b > rq, within when d + b <= rq); the others are tested exactly. The pads keep the
-// shortcuts on the side the exact test would take.
+// The list of cell c (centred at `centre`): the elements within rq_out of p, to
+// found(element, certain) until it returns true (then true), certain when the element is
+// within rq_in <= rq_out. An element farther than rq + delta from the centre (delta =
+// |p - centre|, padded) is farther than rq from p; one nearer than rq - delta is within;
+// then the same with the element's ball (its centre's distance d from p, its radius b:
+// beyond when d - b > rq, within when d + b <= rq); the others are tested exactly. The
+// pads keep the shortcuts on the side the exact test would take.
 template <class Found>
-bool SceneGrid::scan_list(std::size_t c, const Eigen::Vector3d& p, double rq, Found&& found) const {
-  const double delta = (p - centre(c)).norm() + pad_;
+bool SceneGrid::scan_list(std::size_t c, const Eigen::Vector3d& centre, const Eigen::Vector3d& p,
+                          double rq_in, double rq_out, Found&& found) const {
+  const double delta = (p - centre).norm() + pad_;
   for (std::uint32_t k = begin_[c]; k < begin_[c + 1]; ++k) {
     const Entry& entry = entries_[k];
-    if (double(entry.lower) - delta > rq) break;
+    if (double(entry.lower) - delta > rq_out) break;
     const double* ball = &balls_[4 * std::size_t(entry.element)];
     const double dx = p.x() - ball[0], dy = p.y() - ball[1], dz = p.z() - ball[2];
-    const double beyond = rq + ball[3] + pad_;
-    if (dx * dx + dy * dy + dz * dz > beyond * beyond) continue;
-    const double inside = rq - ball[3] - pad_;
-    const bool near = double(entry.upper) + delta + pad_ <= rq ||
-                      (inside >= 0.0 && dx * dx + dy * dy + dz * dz <= inside * inside);
-    if ((near || element_within(elements_[entry.element], p, rq)) &&
-        found(elements_[entry.element]))
-      return true;
+    const double d2 = dx * dx + dy * dy + dz * dz;
+    const double beyond = rq_out + ball[3] + pad_;
+    if (d2 > beyond * beyond) continue;
+    const double inside = rq_in - ball[3] - pad_;
+    const Element& e = elements_[entry.element];
+    bool certain =
+        double(entry.upper) + delta + pad_ <= rq_in || (inside >= 0.0 && d2 <= inside * inside);
+    if (!certain) {
+      const double in = rq_in + e.radius, out = rq_out + e.radius;
+      if (out < 0.0) continue;
+      const double core = core_distance_sq(e, p);
+      if (core > out * out) continue;
+      certain = in >= 0.0 && core <= in * in;
+    }
+    if (found(e, certain)) return true;
   }
   return false;
 }
 
-// Every element within rq of p to `found` until it returns true (then true).
+// Every element within rq_out of p to found(element, certain) until it returns true (then
+// true), certain when within rq_in <= rq_out.
 template <class Found>
-bool SceneGrid::scan(const double* p, double rq, Found&& found) const {
-  if (elements_.empty() || rq < 0.0) return false;
+bool SceneGrid::scan(const double* p, double rq_in, double rq_out, Found&& found) const {
+  if (elements_.empty() || rq_out < 0.0) return false;
   const Eigen::Vector3d P(p[0], p[1], p[2]);
-  const long c = cell_of(p);
+  long xyz[3];
+  const long c = cell_of(p, xyz);
   if (c < 0) {
-    if (outside_lower(p) > rq) return false;
-    for (const Element& e : elements_)
-      if (element_within(e, P, rq) && found(e)) return true;
+    if (outside_lower(p) > rq_out) return false;
+    for (const Element& e : elements_) {
+      const double in = rq_in + e.radius, out = rq_out + e.radius;
+      if (out < 0.0) continue;
+      const double core = core_distance_sq(e, P);
+      if (core <= out * out && found(e, in >= 0.0 && core <= in * in)) return true;
+    }
     return false;
   }
-  if (lower_[std::size_t(c)] * unit_ > rq) return false;
-  if (rq <= reach_) return scan_list(std::size_t(c), P, rq, found);
+  const Eigen::Vector3d mid = centre(xyz[0], xyz[1], xyz[2]);
+  if (cell_lower(std::size_t(c), mid, P) > rq_out) return false;
+  if (rq_out <= reach_) return scan_list(std::size_t(c), mid, P, rq_in, rq_out, found);
   // A larger ball: every element within rq of p is within reach of a point x at most
   // rq - reach from p, so in the list of x's cell; read every cell that such x can be in.
-  const double out = rq - reach_ + pad_;
+  const double out = rq_out - reach_ + pad_;
   int lo[3], hi[3];
   for (int k = 0; k < 3; ++k) {
     lo[k] = std::max(0, int(std::floor((p[k] - out - origin_[k]) / h_)));
@@ -212,23 +232,48 @@ bool SceneGrid::scan(const double* p, double rq, Found&& found) const {
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int x = lo[0]; x <= hi[0]; ++x) {
         const std::size_t cell = std::size_t(x) + n_[0] * (std::size_t(y) + std::size_t(n_[1]) * z);
-        const Eigen::Vector3d m = centre(cell);
+        const Eigen::Vector3d m = centre(x, y, z);
         double d2 = 0.0;  // from p to the cell's box
         for (int k = 0; k < 3; ++k) {
           const double d = std::max(std::abs(P[k] - m[k]) - h_ / 2, 0.0);
           d2 += d * d;
         }
-        if (std::sqrt(d2) <= out && scan_list(cell, P, rq, found)) return true;
+        if (std::sqrt(d2) <= out && scan_list(cell, m, P, rq_in, rq_out, found)) return true;
       }
   return false;
 }
 
 bool SceneGrid::within(const double* p, double rq) const {
-  return scan(p, rq, [](const Element&) { return true; });
+  return scan(p, rq, rq, [](const Element&, bool) { return true; });
+}
+
+int SceneGrid::classify(const double* p, double rq, double slack) const {
+  bool maybe = false;
+  const bool hit = scan(p, rq - slack, rq + slack, [&maybe](const Element&, bool certain) {
+    maybe = true;
+    return certain;
+  });
+  return hit ? 1 : maybe ? 2 : 0;
+}
+
+double SceneGrid::nearest(const double* p, double limit) const {
+  const double inf = std::numeric_limits<double>::infinity();
+  long xyz[3];
+  const long c = cell_of(p, xyz);
+  if (c < 0 || limit > reach_) return inf;
+  const Eigen::Vector3d P(p[0], p[1], p[2]);
+  const double delta = (P - centre(xyz[0], xyz[1], xyz[2])).norm() + pad_;
+  double best = inf;
+  for (std::uint32_t k = begin_[std::size_t(c)]; k < begin_[std::size_t(c) + 1]; ++k) {
+    const Entry& entry = entries_[k];
+    if (double(entry.lower) - delta > std::min(best, limit)) break;
+    best = std::min(best, element_distance(elements_[entry.element], P));
+  }
+  return best;
 }
 
 void SceneGrid::objects_within(const double* p, double rq, std::vector<std::uint32_t>& out) const {
-  scan(p, rq, [&out](const Element& e) {
+  scan(p, rq, rq, [&out](const Element& e, bool) {
     out.push_back(e.object);
     return false;
   });

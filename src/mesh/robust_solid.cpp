@@ -10,7 +10,7 @@
 #include <unordered_map>
 #include <vector>
 
-#include "distance_transform.h"
+#include "medspheres/distance_transform.h"
 #include "medspheres/error.h"
 #include "medspheres/number_text.h"
 #include "medspheres/point_triangle.h"

@@ -71,8 +71,11 @@ struct CheckerOptions {
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();  ///< the root link's pose in W
   /// Link pairs left out of self-collision, in either order.
   std::vector<std::pair<std::string, std::string>> disabled;
-  bool self = true;                  ///< check self-collision pairs
-  Simd simd = Simd::automatic;       ///< AVX2 when the processor has it
+  bool self = true;             ///< check self-collision pairs
+  Simd simd = Simd::automatic;  ///< AVX2 when the processor has it
+  /// Every test in floats first, eight configurations at once, the unsure ones again in
+  /// doubles (the same verdicts; false: doubles only).
+  bool float_tests = true;
   double cell = 0.0;                 ///< m: the scene grid's cell side (0: half the reach)
   std::size_t max_cells = 1u << 22;  ///< the grid's cells at most (the side grows to fit)
 };

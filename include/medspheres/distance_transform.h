@@ -3,7 +3,8 @@
 // Huttenlocher, "Distance transforms of sampled functions", Theory of Computing 8, 2012):
 // for every cell, the squared distance between its centre and the nearest seed cell's
 // centre, in cells (an integer: the distance between lattice points), computed exactly in
-// three 1D passes of lower envelopes of parabolas, O(cells).
+// three 1D passes of lower envelopes of parabolas, O(cells). The robust solid (mesh) and the
+// checker's scene grid and distance field (check) start from it.
 
 #include <array>
 #include <cstdint>

@@ -1,4 +1,4 @@
-#include "distance_transform.h"
+#include "medspheres/distance_transform.h"
 
 #include <algorithm>
 #include <cstddef>
