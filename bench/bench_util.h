@@ -8,6 +8,7 @@
 
 #include <fcl/fcl.h>
 
+#include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/triangle_mesh.h"
 
 namespace medspheres::bench {
@@ -15,14 +16,7 @@ namespace medspheres::bench {
 // FCL's exact mesh representation of `mesh`, in the mesh's frame, finished (endModel()).
 template <class BV>
 std::shared_ptr<::fcl::BVHModel<BV>> make_bvh(const TriangleMesh& mesh) {
-  auto model = std::make_shared<::fcl::BVHModel<BV>>();
-  std::vector<::fcl::Triangle> tris;
-  tris.reserve(mesh.triangles.size());
-  for (const auto& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
-  model->beginModel(static_cast<int>(tris.size()), static_cast<int>(mesh.vertices.size()));
-  model->addSubModel(mesh.vertices, tris);
-  model->endModel();
-  return model;
+  return medspheres::fcl::make_bvh_model<BV>(mesh);
 }
 
 // The element of rank round(q (n - 1)) of v sorted ascending (q = 0.5: the median).

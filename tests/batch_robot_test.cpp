@@ -219,18 +219,22 @@ TEST_CASE("robot batch: a copy of the library elsewhere is found in the cache", 
   CHECK(fresh.count(BatchOutcome::kBaked) == 4);
   const auto cached_files = file_tree(dir.file("out_copy"));
   CHECK(cached_files == file_tree(dir.file("out_fresh")));
-  // They differ from the first run's only where the robot file names what it read.
+  // They differ from the first run's only where the robot file and the cuRobo
+  // configurations (urdf_path) name what was read.
   const auto original = file_tree(dir.file("out"));
   REQUIRE(cached_files.size() == original.size());
   for (const auto& [name, text] : original) {
     INFO(name);
     REQUIRE(cached_files.count(name));
-    if (name.find(".robot.json") == std::string::npos) {
+    const bool robot_file = name.find(".robot.json") != std::string::npos;
+    if (!robot_file && name.find(".curobo") == std::string::npos) {
       CHECK(cached_files.at(name) == text);
       continue;
     }
-    const auto meta = nlohmann::json::parse(cached_files.at(name))["metadata"];
-    CHECK(meta["urdf"].get<std::string>().find("elsewhere/deeper/lib") != std::string::npos);
+    if (robot_file) {
+      const auto meta = nlohmann::json::parse(cached_files.at(name))["metadata"];
+      CHECK(meta["urdf"].get<std::string>().find("elsewhere/deeper/lib") != std::string::npos);
+    }
     std::string moved = text;
     const std::string from = dir.file("lib"), to = dir.file("elsewhere/deeper/lib");
     for (std::size_t at = moved.find(from); at != std::string::npos; at = moved.find(from, at))
@@ -259,16 +263,18 @@ TEST_CASE("robot_cache_key: the URDF, its meshes and every result-changing optio
   const std::string key = robot_cache_key(r, sha, base, "gripper.urdf");
   CHECK(key.size() == 64);
   CHECK(robot_cache_key(r, sha, base, "gripper.urdf") == key);
-  std::vector<RobotJob> changed(6, base);
+  std::vector<RobotJob> changed(8, base);
   changed[0].bake.request.medial.resolution = 20;
   changed[1].bake.budget.per_link = 3;
   changed[2].bake.outer = false;
   changed[3].formats = {formats::SphereFormat::kCurobo};
   changed[4].set = formats::SphereChoice::kInner;
   changed[5].options_json = "{}";
+  changed[6].planner.self_collision.samples = 50;  // the planner request changes the files
+  changed[7].planner.tool_frames = {"palm"};
   std::set<std::string> keys = {key};
   for (const RobotJob& j : changed) keys.insert(robot_cache_key(r, sha, j, "gripper.urdf"));
-  CHECK(keys.size() == 7);
+  CHECK(keys.size() == 9);
   RobotJob threads = base;
   threads.bake.request.medial.threads = 3;
   threads.bake.jobs = 2;

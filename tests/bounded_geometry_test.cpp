@@ -526,7 +526,7 @@ TEST_CASE("decide then settle is collide", "[bounds]") {
   }
 }
 
-TEST_CASE("robot collide: meshes only when no pair surely collides; scene AABBs may be stale",
+TEST_CASE("robot collide: meshes only when no pair surely collides, scene AABBs may be stale",
           "[bounds][robot]") {
   std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
   std::map<std::string, const Solid*> solid_of;

@@ -273,7 +273,7 @@ TEST_CASE("bake -o: links are followed, devices written in place, failures exit 
   CHECK(entries == 2);
 }
 
-TEST_CASE("bake --cover-start: given spheres become a certified cover; misuse exits 2",
+TEST_CASE("bake --cover-start: given spheres become a certified cover, misuse exits 2",
           "[cli][bake]") {
   TempDir dir;
   const std::string inner = dir.file("inner.json"), yml = dir.file("start.yml");

@@ -13,6 +13,7 @@
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/robot_file.h"
+#include "support/generated_arms.h"
 #include "support/run_command.h"
 #include "support/urdf_fixtures.h"
 
@@ -216,7 +217,10 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
   for (const std::string& bad :
        {std::string(" --spheres-per-link 0"), std::string(" --budget 5 --spheres-per-link 3"),
         std::string(" --link forearm"), std::string(" --link nowhere=3"),
-        std::string(" --format nonsense"), std::string(" --jobs -1"), std::string(" --budget 2")}) {
+        std::string(" --format nonsense"), std::string(" --jobs -1"), std::string(" --budget 2"),
+        std::string(" --self-collision-samples 0"), std::string(" --self-collision-threshold 0"),
+        std::string(" --self-collision-margin -1"), std::string(" --tool-frame ghost"),
+        std::string(" --srdf ") + shell_quote(dir.file("missing.srdf"))}) {
     INFO(bad);
     const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);
     CHECK(r.exit_code == 2);
@@ -266,10 +270,10 @@ TEST_CASE("robot: budgets, --link, --format, --no-outer and the tree reach the o
                               " --budget 12 --link forearm=5 --no-outer --format robot,xrdf -q");
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
-  // Only the chosen formats.
+  // Only the chosen formats, and beside the robot file its self-collision report.
   std::set<std::string> files;
   for (const auto& e : fs::directory_iterator(out)) files.insert(e.path().filename().string());
-  CHECK(files == std::set<std::string>{"arm.robot.json", "arm.xrdf"});
+  CHECK(files == std::set<std::string>{"arm.robot.json", "arm.self_collision.txt", "arm.xrdf"});
   const medspheres::RobotModel m = medspheres::load_robot(out + "/arm.robot.json");
   std::size_t total = 0;
   for (const medspheres::Link& l : m.links) {
@@ -410,4 +414,43 @@ TEST_CASE("robot --cover-start: a planner's own spheres become certified covers,
     CHECK_THAT(b.err, Contains("--cover-start"));
     CHECK_FALSE(fs::exists(out));
   }
+}
+
+TEST_CASE("robot: tool frames, the matrix and the default configuration in every planner file",
+          "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = dir.write("arm.urdf", medspheres::test::generated_arm_urdf(7, 4));
+  const std::string out = dir.file("out");
+  const CommandResult r =
+      cli("robot " + shell_quote(urdf) + " -o " + shell_quote(out) +
+          " --spheres-per-link 6 --no-measure --self-collision-samples 300 --tool-frame link4 "
+          "--tool-frame hand");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  // The summary names the choices.
+  CHECK_THAT(r.out, Contains("tool frames: link4, hand (as given)"));
+  CHECK_THAT(r.out, Contains("default configuration: "));
+  CHECK_THAT(r.out, Contains("self-collision matrix: 300 samples"));
+  std::set<std::string> files;
+  for (const auto& e : fs::directory_iterator(out)) files.insert(e.path().filename().string());
+  for (const char* f : {"generated_arm_7.curobo.yml", "generated_arm_7.curobo_v1.yml",
+                        "generated_arm_7.curobo_spheres.yml", "generated_arm_7.xrdf",
+                        "generated_arm_7.srdf", "generated_arm_7.self_collision.txt"})
+    CHECK(files.count(f) == 1);
+  // The robot file keeps the setup, and convert writes it again: the cuRobo file converted
+  // from the robot file is the one the robot command wrote.
+  const medspheres::RobotModel m = medspheres::load_robot(out + "/generated_arm_7.robot.json");
+  REQUIRE(m.planner);
+  CHECK(m.planner->tool_frames == std::vector<std::string>{"link4", "hand"});
+  REQUIRE(m.planner->self_collision);
+  CHECK(m.planner->self_collision->samples == 300);
+  const CommandResult c = cli("convert " + shell_quote(out + "/generated_arm_7.robot.json") + " " +
+                              shell_quote(dir.file("again.xrdf")));
+  REQUIRE(c.exit_code == 0);
+  CHECK(medspheres::read_text_file(dir.file("again.xrdf")) ==
+        medspheres::read_text_file(out + "/generated_arm_7.xrdf"));
+  const std::string report =
+      medspheres::read_text_file(out + "/generated_arm_7.self_collision.txt");
+  CHECK_THAT(report, Contains("300 samples (seed 1)"));
+  CHECK_THAT(report, Contains("adjacent"));
 }

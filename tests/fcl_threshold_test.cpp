@@ -198,7 +198,7 @@ TEST_CASE("collide() finds what the full distance query puts at or below 0", "[f
   }
 }
 
-TEST_CASE("Non-finite poses throw before the bounding test; finite ones never do",
+TEST_CASE("Non-finite poses throw before the bounding test, finite ones never do",
           "[fcl][threshold]") {
   std::mt19937 rng(43);
   auto set = std::make_shared<SphereSetGeometry>(mt::random_sphere_set(rng, 10, 0.3));

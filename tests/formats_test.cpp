@@ -1,4 +1,6 @@
 #include <filesystem>
+#include <regex>
+#include <set>
 
 #include <yaml-cpp/yaml.h>
 #include <catch2/catch.hpp>
@@ -9,6 +11,7 @@
 #include "medspheres/formats/sph_file.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/formats/spherized_urdf.h"
+#include "medspheres/formats/srdf_disabled_collisions.h"
 #include "medspheres/formats/srdf_spheres.h"
 #include "medspheres/formats/xrdf.h"
 #include "medspheres/io.h"
@@ -25,6 +28,12 @@ using medspheres::test::kAwkwardLink;
 using medspheres::test::random_robot_spheres;
 
 namespace {
+
+CuroboOptions with_base(const std::string& base) {
+  CuroboOptions o;
+  o.base_link = base;
+  return o;
+}
 
 std::string problem(void (*read)(const std::string&), const std::string& text) {
   try {
@@ -43,7 +52,7 @@ std::string problem(void (*read)(const std::string&), const std::string& text) {
 TEST_CASE("every per-link writer read back by its reader gives the same spheres", "[formats]") {
   for (unsigned seed : {1u, 2u, 3u}) {
     const RobotSpheres s = random_robot_spheres(seed);
-    CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s, {"base", {}}), "f"), s));
+    CHECK(identical(parse_curobo_yaml(curobo_yaml_text(s, with_base("base")), "f"), s));
     XrdfOptions xo;
     xo.joint_names = {"j1"};
     CHECK(identical(parse_xrdf(xrdf_text(s, xo), "f"), s));
@@ -77,7 +86,7 @@ TEST_CASE("every one-set writer read back by its reader gives the same spheres",
 
 TEST_CASE("XRDF and cuRobo files have the layouts their tools read", "[formats]") {
   const RobotSpheres s = random_robot_spheres(9);
-  const YAML::Node curobo = YAML::Load(curobo_yaml_text(s, {"base", {}}));
+  const YAML::Node curobo = YAML::Load(curobo_yaml_text(s, with_base("base")));
   CHECK(curobo["format_version"].as<double>() == 2.0);
   const YAML::Node k = curobo["robot_cfg"]["kinematics"];
   CHECK(k["base_link"].as<std::string>() == "base");
@@ -99,7 +108,7 @@ TEST_CASE("XRDF and cuRobo files have the layouts their tools read", "[formats]"
   CHECK(x["self_collision"]["ignore"].size() == 0);
   CHECK(x["default_joint_positions"]["j2"].as<double>() == 0.0);
   CHECK(!x["tool_frames"]);
-  o.default_positions = {0.5, -1.25};
+  o.default_positions = {{"j1", 0.5}, {"j2", -1.25}};
   o.tool_frames = {"tool"};
   o.self_collision_ignore = {{"base", {"tool", kAwkwardLink}}};
   const YAML::Node y = YAML::Load(xrdf_text(s, o));
@@ -108,7 +117,8 @@ TEST_CASE("XRDF and cuRobo files have the layouts their tools read", "[formats]"
   CHECK(y["self_collision"]["ignore"]["base"].as<std::vector<std::string>>() ==
         std::vector<std::string>{"tool", kAwkwardLink});
   CHECK(identical(parse_xrdf(xrdf_text(s, o), "f"), s));
-  CuroboOptions co{"base", o.self_collision_ignore};
+  CuroboOptions co = with_base("base");
+  co.self_collision_ignore = o.self_collision_ignore;
   const YAML::Node c = YAML::Load(curobo_yaml_text(s, co));
   CHECK(c["robot_cfg"]["kinematics"]["self_collision_ignore"]["base"][1].as<std::string>() ==
         kAwkwardLink);
@@ -234,8 +244,9 @@ TEST_CASE("a robot model's document writes every per-link format from its coveri
   const RobotSpheres expected{{"l2", {{{0.1, 0.2, 0.3}, 0.05}}}};
   {
     // Adjacent links for the planners skip the links without spheres between them (l1
-    // between base and l2, l3 between l2 and tool); the leaf "tool" is the tool frame;
-    // j2's default position is moved into its limits.
+    // between base and l2, l3 between l2 and tool); the tool frame is l1, which carries
+    // what only finger joints move (j2 prismatic, j3 a mimic); j2's default position is
+    // moved into its limits.
     medspheres::RobotModel n = m;
     n.links[0].spheres.outer.spheres = {{{0, 0, 0}, 0.1}};
     n.links[4].spheres.outer.spheres = {{{0, 0, 0}, 0.02}};
@@ -246,7 +257,7 @@ TEST_CASE("a robot model's document writes every per-link format from its coveri
     REQUIRE(ignore.size() == 2);
     CHECK(ignore["base"].as<std::vector<std::string>>() == std::vector<std::string>{"l2"});
     CHECK(ignore["l2"].as<std::vector<std::string>>() == std::vector<std::string>{"tool"});
-    CHECK(x["tool_frames"].as<std::vector<std::string>>() == std::vector<std::string>{"tool"});
+    CHECK(x["tool_frames"].as<std::vector<std::string>>() == std::vector<std::string>{"l1"});
     CHECK(x["default_joint_positions"]["j1"].as<double>() == 0.0);
     CHECK(x["default_joint_positions"]["j2"].as<double>() == 0.125);
     const YAML::Node c = YAML::Load(sphere_document_text(d, SphereFormat::kCurobo));
@@ -258,9 +269,12 @@ TEST_CASE("a robot model's document writes every per-link format from its coveri
                   expected));
   const YAML::Node curobo = YAML::Load(sphere_document_text(doc, SphereFormat::kCurobo));
   CHECK(curobo["robot_cfg"]["kinematics"]["base_link"].as<std::string>() == "base");
+  // The planned joints: j2 is the gripper's (l1's finger joint), held at its default, which
+  // default_joint_positions gives with j1's.
   const YAML::Node xrdf = YAML::Load(sphere_document_text(doc, SphereFormat::kXrdf));
   CHECK(xrdf["cspace"]["joint_names"].as<std::vector<std::string>>() ==
-        std::vector<std::string>{"j1", "j2"});
+        std::vector<std::string>{"j1"});
+  CHECK(xrdf["default_joint_positions"].size() == 2);
   CHECK(medspheres::parse_robot(sphere_document_text(doc, SphereFormat::kRobot), "r")
             .links[2]
             .spheres.inner.size() == 1);
@@ -308,4 +322,274 @@ TEST_CASE("the cuRobo reader takes the current, the older and the sphere-file la
     INFO(text);
     CHECK(identical(parse_curobo_yaml(text, "f"), want));
   }
+}
+
+// ---------------------------------------------------------------------------------------------
+// The loaders' contracts (curobo_yaml.h and xrdf.h list them with cuRobo's files and lines):
+// one check per item, on the files of a robot model with a planner setup.
+
+namespace {
+
+using Names = std::vector<std::string>;
+
+// The keys cuRobo's kinematics dataclasses take (v2 a35a708
+// robot/loader/kinematics_loader_cfg.py:31-126; v1 d64c4b0
+// cuda_robot_model/cuda_robot_generator.py:64-169): any other key is a TypeError.
+const std::set<std::string> kV2Keys = {"base_link",
+                                       "device_cfg",
+                                       "tool_frames",
+                                       "collision_link_names",
+                                       "collision_spheres",
+                                       "collision_sphere_buffer",
+                                       "self_collision_buffer",
+                                       "self_collision_ignore",
+                                       "debug",
+                                       "asset_root_path",
+                                       "mesh_link_names",
+                                       "grasp_contact_link_names",
+                                       "load_tool_frames_with_mesh",
+                                       "urdf_path",
+                                       "lock_joints",
+                                       "extra_links",
+                                       "add_object_link",
+                                       "use_external_assets",
+                                       "external_asset_path",
+                                       "external_robot_configs_path",
+                                       "extra_collision_spheres",
+                                       "load_collision_spheres",
+                                       "num_envs",
+                                       "cspace",
+                                       "load_meshes",
+                                       "use_global_cumul",
+                                       "format_version"};
+const std::set<std::string> kV1Keys = {"base_link",
+                                       "ee_link",
+                                       "tensor_args",
+                                       "link_names",
+                                       "collision_link_names",
+                                       "collision_spheres",
+                                       "collision_sphere_buffer",
+                                       "compute_jacobian",
+                                       "self_collision_buffer",
+                                       "self_collision_ignore",
+                                       "debug",
+                                       "use_global_cumul",
+                                       "asset_root_path",
+                                       "mesh_link_names",
+                                       "load_link_names_with_mesh",
+                                       "urdf_path",
+                                       "usd_path",
+                                       "usd_robot_root",
+                                       "isaac_usd_path",
+                                       "use_usd_kinematics",
+                                       "usd_flip_joints",
+                                       "usd_flip_joint_limits",
+                                       "lock_joints",
+                                       "extra_links",
+                                       "add_object_link",
+                                       "use_external_assets",
+                                       "external_asset_path",
+                                       "external_robot_configs_path",
+                                       "extra_collision_spheres",
+                                       "cspace",
+                                       "load_meshes"};
+
+// PyYAML's float pattern (yaml/resolver.py, YAML 1.1), which cuRobo's loaders read with.
+const std::regex kPyYamlFloat(
+    R"(^(?:[-+]?(?:[0-9][0-9_]*)\.[0-9_]*(?:[eE][-+][0-9]+)?|\.[0-9][0-9_]*(?:[eE][-+][0-9]+)?|[-+]?\.(?:inf|Inf|INF)|\.(?:nan|NaN|NAN))$)");
+
+// Every plain scalar of \p n that reads as a number must be a PyYAML float.
+void check_floats(const YAML::Node& n, const std::string& where, std::size_t& numbers) {
+  if (n.IsMap()) {
+    for (const auto& kv : n)
+      check_floats(kv.second, where + "." + kv.first.as<std::string>(), numbers);
+  } else if (n.IsSequence()) {
+    for (std::size_t i = 0; i < n.size(); ++i) check_floats(n[i], where, numbers);
+  } else if (n.IsScalar()) {
+    double v = 0;
+    if (!YAML::convert<double>::decode(n, v)) return;
+    INFO(where << ": " << n.Scalar());
+    CHECK(std::regex_match(n.Scalar(), kPyYamlFloat));
+    ++numbers;
+  }
+}
+
+Names keys(const YAML::Node& map) {
+  Names out;
+  for (const auto& kv : map) out.push_back(kv.first.as<std::string>());
+  return out;
+}
+
+// The three-link arm with spheres on base, l2 and tool, two tool frames, the gripper's j2
+// locked, and a matrix that skips two pairs (one given by an SRDF).
+medspheres::RobotModel planned_arm() {
+  medspheres::RobotModel m = medspheres::test::three_link_arm();
+  const RobotSpheres s = random_robot_spheres(9);
+  m.links[0].spheres.outer.spheres = s[0].spheres;
+  m.links[2].spheres.outer.spheres = s[1].spheres;
+  m.links[4].spheres.outer.spheres = s[2].spheres;
+  medspheres::PlannerSetup p;
+  p.tool_frames = {"tool", "l2"};
+  p.tool_frames_from = "option";
+  p.locked_joints = {"j2"};
+  p.default_positions = {{"j1", 1e-5}, {"j2", 0.25}};
+  p.default_from = "sample";
+  medspheres::SelfCollisionMatrix mx;
+  mx.samples = 10;
+  mx.pairs = {{"base", "l2", medspheres::PairClass::kAdjacent, true, ""},
+              {"base", "tool", medspheres::PairClass::kGiven, true, "User"},
+              {"l2", "tool", medspheres::PairClass::kChecked, false, ""}};
+  mx.buffer = {{"base", -0.0125}, {"l2", 0.0}, {"tool", 0.0}};
+  p.self_collision = mx;
+  m.planner = p;
+  return m;
+}
+
+YAML::Node curobo_file(const medspheres::RobotModel& m, CuroboLayout layout) {
+  const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
+  WriteOptions o;
+  o.curobo = layout;
+  o.urdf_path = "/robots/arm.urdf";
+  return YAML::Load(sphere_document_text(doc, SphereFormat::kCurobo, o));
+}
+
+}  // namespace
+
+TEST_CASE("cuRobo loader contract: nesting, and only keys the dataclasses take", "[formats]") {
+  const medspheres::RobotModel m = planned_arm();
+  for (const auto& [layout, allowed] :
+       {std::pair{CuroboLayout::kV2, &kV2Keys}, std::pair{CuroboLayout::kV1, &kV1Keys}}) {
+    const YAML::Node f = curobo_file(m, layout);
+    REQUIRE(f["robot_cfg"]["kinematics"].IsMap());
+    for (const std::string& k : keys(f["robot_cfg"]["kinematics"])) {
+      INFO("key " << k);
+      CHECK(allowed->count(k) == 1);
+    }
+    const YAML::Node k = f["robot_cfg"]["kinematics"];
+    CHECK(k["base_link"].as<std::string>() == "base");
+    CHECK(k["urdf_path"].as<std::string>() == "/robots/arm.urdf");
+    // collision_spheres: a mapping; collision_link_names: its keys, in order.
+    CHECK(k["collision_spheres"].IsMap());
+    CHECK(k["collision_link_names"].as<Names>() == keys(k["collision_spheres"]));
+    CHECK(k["collision_link_names"].as<Names>() == Names{"base", "l2", "tool"});
+    std::size_t numbers = 0;
+    check_floats(f, "file", numbers);
+    CHECK(numbers > 14 * 4);  // every sphere's four numbers at least
+  }
+}
+
+TEST_CASE("cuRobo loader contract: v2 tool_frames, v1 ee_link and link_names", "[formats]") {
+  const medspheres::RobotModel m = planned_arm();
+  const YAML::Node v2 = curobo_file(m, CuroboLayout::kV2)["robot_cfg"]["kinematics"];
+  CHECK(v2["tool_frames"].as<Names>() == Names{"tool", "l2"});
+  CHECK(!v2["ee_link"]);
+  CHECK(!v2["link_names"]);
+  const YAML::Node v1 = curobo_file(m, CuroboLayout::kV1)["robot_cfg"]["kinematics"];
+  CHECK(v1["ee_link"].as<std::string>() == "tool");
+  CHECK(v1["link_names"].as<Names>() == Names{"tool", "l2"});
+  CHECK(!v1["tool_frames"]);
+  // One tool frame: v1 has no link_names.
+  medspheres::RobotModel one = m;
+  one.planner->tool_frames = {"tool"};
+  CHECK(!curobo_file(one, CuroboLayout::kV1)["robot_cfg"]["kinematics"]["link_names"]);
+}
+
+TEST_CASE("cuRobo loader contract: buffers, ignore, lock_joints", "[formats]") {
+  for (CuroboLayout layout : {CuroboLayout::kV2, CuroboLayout::kV1}) {
+    const YAML::Node k = curobo_file(planned_arm(), layout)["robot_cfg"]["kinematics"];
+    // collision_sphere_buffer: a float (isinstance(x, float)), not an integer.
+    REQUIRE(k["collision_sphere_buffer"].IsScalar());
+    CHECK(std::regex_match(k["collision_sphere_buffer"].Scalar(), kPyYamlFloat));
+    CHECK(k["collision_sphere_buffer"].as<double>() == 0.0);
+    // self_collision_buffer: a mapping over every collision link (.copy() on it).
+    REQUIRE(k["self_collision_buffer"].IsMap());
+    CHECK(keys(k["self_collision_buffer"]) == Names{"base", "l2", "tool"});
+    CHECK(k["self_collision_buffer"]["base"].as<double>() == -0.0125);
+    // self_collision_ignore: a mapping (.keys() on it), keyed by the earlier link.
+    REQUIRE(k["self_collision_ignore"].IsMap());
+    CHECK(keys(k["self_collision_ignore"]) == Names{"base"});
+    CHECK(k["self_collision_ignore"]["base"].as<Names>() == Names{"l2", "tool"});
+    // lock_joints: actuated joints (not mimic ones) at their default positions.
+    REQUIRE(k["lock_joints"].IsMap());
+    CHECK(keys(k["lock_joints"]) == Names{"j2"});
+    CHECK(k["lock_joints"]["j2"].as<double>() == 0.25);
+  }
+  // With nothing skipped the ignore mapping is still written, empty.
+  medspheres::RobotModel none = planned_arm();
+  for (auto& p : none.planner->self_collision->pairs) p.ignored = false;
+  const YAML::Node k = curobo_file(none, CuroboLayout::kV2)["robot_cfg"]["kinematics"];
+  REQUIRE(k["self_collision_ignore"].IsMap());
+  CHECK(k["self_collision_ignore"].size() == 0);
+}
+
+TEST_CASE("cuRobo loader contract: cspace in v2's and v1's names", "[formats]") {
+  for (CuroboLayout layout : {CuroboLayout::kV2, CuroboLayout::kV1}) {
+    const YAML::Node c = curobo_file(planned_arm(), layout)["robot_cfg"]["kinematics"]["cspace"];
+    REQUIRE(c.IsMap());
+    // Every actuated joint (the locked one too: cuRobo v2 requires a joint of the cspace
+    // that is not in the planned tree to be locked).
+    CHECK(c["joint_names"].as<Names>() == Names{"j1", "j2"});
+    const char* key = layout == CuroboLayout::kV2 ? "default_joint_position" : "retract_config";
+    const char* other = layout == CuroboLayout::kV2 ? "retract_config" : "default_joint_position";
+    CHECK(c[key].as<std::vector<double>>() == std::vector<double>{1e-5, 0.25});
+    CHECK(!c[other]);
+    for (const char* list :
+         {"null_space_weight", "cspace_distance_weight", "max_acceleration", "max_jerk"})
+      CHECK(c[list].size() == 2);
+  }
+}
+
+TEST_CASE("cuRobo loader contract: a spheres-only file that a configuration names", "[formats]") {
+  const medspheres::RobotModel m = planned_arm();
+  const YAML::Node f = curobo_file(m, CuroboLayout::kSpheres);
+  // The file a configuration's `collision_spheres: "<path>"` names: collision_spheres at the
+  // top level and nothing else (v2 kinematics_loader_cfg.py:176, v1 :216).
+  CHECK(keys(f) == Names{"collision_spheres"});
+  const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
+  WriteOptions o;
+  o.curobo = CuroboLayout::kSpheres;
+  CHECK(identical(parse_curobo_yaml(sphere_document_text(doc, SphereFormat::kCurobo, o), "f"),
+                  doc.links));
+}
+
+TEST_CASE("XRDF loader contract: every required section", "[formats]") {
+  const medspheres::RobotModel m = planned_arm();
+  const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
+  const YAML::Node x = YAML::Load(sphere_document_text(doc, SphereFormat::kXrdf));
+  CHECK(x["format"].as<std::string>() == "xrdf");
+  CHECK(std::regex_match(x["format_version"].Scalar(), kPyYamlFloat));
+  const std::string group = x["collision"]["geometry"].as<std::string>();
+  CHECK(x["geometry"][group]["spheres"].IsMap());
+  CHECK(keys(x["geometry"][group]["spheres"]) == Names{"base", "l2", "tool"});
+  CHECK(x["self_collision"]["geometry"].as<std::string>() == group);
+  REQUIRE(x["self_collision"]["ignore"].IsMap());
+  CHECK(x["self_collision"]["ignore"]["base"].as<Names>() == Names{"l2", "tool"});
+  REQUIRE(x["self_collision"]["buffer_distance"].IsMap());
+  CHECK(x["self_collision"]["buffer_distance"]["base"].as<double>() == -0.0125);
+  CHECK(x["tool_frames"].as<Names>() == Names{"tool", "l2"});
+  // The planned joints; the locked j2 is left out of the cspace, so the loader locks it at
+  // its default_joint_positions value.
+  CHECK(x["cspace"]["joint_names"].as<Names>() == Names{"j1"});
+  CHECK(x["cspace"]["acceleration_limits"].size() == 1);
+  CHECK(x["cspace"]["jerk_limits"].size() == 1);
+  REQUIRE(x["default_joint_positions"].IsMap());
+  CHECK(keys(x["default_joint_positions"]) == Names{"j1", "j2"});
+  CHECK(x["default_joint_positions"]["j2"].as<double>() == 0.25);
+  std::size_t numbers = 0;
+  check_floats(x, "xrdf", numbers);
+  CHECK(numbers > 14 * 4);
+}
+
+TEST_CASE("SRDF: every skipped pair as a disable_collisions with its reason", "[formats]") {
+  const medspheres::RobotModel m = planned_arm();
+  const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
+  const std::string text = sphere_document_text(doc, SphereFormat::kSrdf);
+  const auto pairs = parse_srdf_disabled_collisions(text, "f");
+  REQUIRE(pairs.size() == 2);
+  CHECK(pairs[0].link1 == "base");
+  CHECK(pairs[0].link2 == "l2");
+  CHECK(pairs[0].reason == "Adjacent");
+  CHECK(pairs[1].link2 == "tool");
+  CHECK(pairs[1].reason == "User");  // a given pair keeps the SRDF's own reason
+  CHECK(identical(parse_srdf_spheres(text, "f"), doc.links));
 }

@@ -51,7 +51,7 @@ TEST_CASE("forward kinematics matches hand-computed poses of a three-link arm", 
              {0.5 + 0.2 * std::cos(phi), 1 + d + 0.2 * std::sin(phi), 1});
 }
 
-TEST_CASE("a base pose moves every link; the by-name overload agrees", "[fk]") {
+TEST_CASE("a base pose moves every link, the by-name overload agrees", "[fk]") {
   const KinematicTree tree(three_link_arm());
   Eigen::Isometry3d X_WB = Eigen::Isometry3d::Identity();
   X_WB.linear() = rot(0.7, Eigen::Vector3d(1, 2, 3).normalized());

@@ -13,6 +13,7 @@
 #include <set>
 #include <stdexcept>
 #include <utility>
+#include <vector>
 
 #include <fcl/narrowphase/distance.h>
 #include <nlohmann/json.hpp>
@@ -125,6 +126,12 @@ CollideResult from_decision(const BoundsDecision& d, bool certified) {
 }
 
 }  // namespace
+
+std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh) {
+  if (mesh.triangles.empty())
+    throw std::invalid_argument("make_mesh_model: the mesh has no triangles");
+  return make_bvh_model<::fcl::OBBRSSd>(mesh);
+}
 
 bool records_certified_cover(const std::string& json) {
   const nlohmann::json j = nlohmann::json::parse(json, nullptr, false);

@@ -20,6 +20,12 @@
 ///      "limits": {"lower": -1, "upper": 1, "velocity": 2, "effort": 10},
 ///      "mimic": {"joint": "j0", "multiplier": 1, "offset": 0}}
 ///   ],
+///   "planner": {"tool_frames": ["hand"], "tool_frames_from": "gripper",
+///               "locked_joints": ["finger"], "default_positions": {"j1": 0, "finger": 0},
+///               "default_from": "zero",
+///               "self_collision": {"samples": 10000, "seed": 1, "threshold": 0.95,
+///                                  "margin": 0.01, "srdf": "", "buffer": {"base": 0},
+///                                  "pairs": [["base", "l1", "adjacent", true]]}},
 ///   "metadata": {...}
 /// }
 /// \endcode
@@ -27,7 +33,10 @@
 /// "xyz" and the rotation as a unit quaternion in (x, y, z, w) order, urdfdom's order. A
 /// reader also accepts "rpy" (URDF's fixed-axis roll, pitch, yaw in radians) in place of
 /// the quaternion. "type" is fixed, revolute, continuous or prismatic; "limits", "mimic",
-/// "outer_certificate" and "note" may be absent; "inner" and "outer" may be empty.
+/// "outer_certificate", "note" and "planner" may be absent; "inner" and "outer" may be
+/// empty. "planner" is the PlannerSetup (planner_setup.h); a pair is [link1, link2, class,
+/// ignored], with the SRDF's reason fifth for the class "given". A reader of version 1 that
+/// predates "planner" ignores it.
 /// "metadata" is kept verbatim (RobotModel::metadata_json); other unknown keys are ignored.
 /// Numbers are written in the shortest form that reads back bit-identical, so spheres,
 /// translations, axes, limits and mimic factors round-trip exactly; a rotation reads back

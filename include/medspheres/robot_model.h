@@ -18,6 +18,7 @@
 #include <Eigen/Core>
 #include <Eigen/Geometry>
 
+#include "medspheres/planner_setup.h"
 #include "medspheres/sphere_set.h"
 
 namespace medspheres {
@@ -74,6 +75,9 @@ struct RobotModel {
   /// Provenance kept verbatim (URDF path, mesh sha256s, options, per-link statistics),
   /// JSON object text.
   std::string metadata_json;
+  /// Tool frames, default configuration and self-collision matrix (planner_setup.h); none
+  /// for a model that was not baked with them.
+  std::optional<PlannerSetup> planner;
 
   /// The link or joint of that name, or nullptr. Linear in the number of links/joints.
   const Link* find_link(const std::string& name) const;
@@ -93,7 +97,9 @@ const char* joint_type_name(JointType type);
 ///   zero; limits have lower <= upper;
 /// - a mimic joint moves, names an existing moving joint other than itself, and following
 ///   mimic sources from it never comes back to it;
-/// - every sphere is valid (validate_sphere_set).
+/// - every sphere is valid (validate_sphere_set);
+/// - the planner setup, when present, names links and joints of the model
+///   (validate_planner_setup).
 /// \param source the robot file's name (or "robot model"), first in every message.
 /// \throws InputError "<source>: joint "j2": ..." naming the link or joint and the problem.
 void validate_robot_model(const RobotModel& model, const std::string& source);

@@ -16,6 +16,7 @@
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/evaluate_set_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
 #include "py_common.h"
 
@@ -23,11 +24,22 @@ namespace medspheres::python {
 
 namespace {
 
-// What bake_robot returns: the baked model (per-link inner and outer sets) and its rows.
+// What bake_robot returns: the baked model (per-link inner and outer sets, the planner
+// setup for the set chosen) and its rows; the solids and request to set up another set.
 struct RobotBake {
   RobotBakeResult result;
   std::string urdf;
+  std::vector<LinkSolid> solids;
+  PlannerRequest planner;
+  formats::SphereChoice choice = formats::SphereChoice::kOuter;  // of result.model.planner
 };
+
+// The model's planner setup made for \p choice, when it was made for another.
+void plan_for(RobotBake& b, formats::SphereChoice choice) {
+  if (b.result.model.planner && b.choice == choice) return;
+  b.result.model.planner = make_planner_setup(b.result.model, b.solids, choice, b.planner);
+  b.choice = choice;
+}
 
 py::dict stats_dict(const LinkBakeStats& s) {
   py::dict d;
@@ -48,14 +60,15 @@ py::dict stats_dict(const LinkBakeStats& s) {
   return d;
 }
 
-void write_outputs(const RobotBake& b, const std::string& out,
-                   const std::vector<std::string>& names, const std::string& set) {
+void write_outputs(RobotBake& b, const std::string& out, const std::vector<std::string>& names,
+                   const std::string& set) {
   const std::vector<formats::SphereFormat> chosen = formats::robot_output_formats(names);
   const std::optional<formats::SphereChoice> choice = formats::parse_set_choice(set);
   formats::check_output_dir(out);
   py::gil_scoped_release release;
-  formats::write_robot_outputs(out, chosen, b.result.model,
-                               formats::robot_output_choice(choice, b.result.model), b.urdf);
+  const formats::SphereChoice c = formats::robot_output_choice(choice, b.result.model);
+  plan_for(b, c);
+  formats::write_robot_outputs(out, chosen, b.result.model, c, b.urdf);
 }
 
 struct RobotArgs {
@@ -70,6 +83,7 @@ struct RobotArgs {
   BakeFlags flags;
   bool measure, outer;
   std::map<std::string, std::vector<Sphere>> cover_start;
+  PlannerRequest planner;
 };
 
 // cover_start of bake_robot: None, a per-link sphere file's path, or {link: spheres}
@@ -95,9 +109,10 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   options.jobs = a.jobs;
   options.outer = a.outer;
   options.outer_start = a.cover_start;
+  validate(a.planner.self_collision);
+  const std::optional<formats::SphereChoice> set = formats::parse_set_choice(a.set);
   if (a.output) {
     formats::robot_output_formats(a.formats);
-    formats::parse_set_choice(a.set);
     formats::check_output_dir(*a.output);
   }
   UrdfReadOptions read;
@@ -105,10 +120,15 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   read.from_visual = a.from_visual;
   RobotBake out;
   out.urdf = urdf;
+  out.planner = a.planner;
+  out.planner.self_collision.threads = a.jobs;
   {
     py::gil_scoped_release release;
     const UrdfRobot robot = read_urdf(urdf, read);
-    out.result = bake_robot(robot, load_link_solids(robot), options);
+    check_planner_request(robot.model, out.planner);
+    out.solids = load_link_solids(robot);
+    out.result = bake_robot(robot, out.solids, options);
+    plan_for(out, formats::robot_output_choice(set, out.result.model));
   }
   if (!out.result.unused_outer_start.empty()) {
     std::string links;
@@ -174,12 +194,23 @@ void register_robot(py::module_& m) {
           "One dict per link (the rows of the robot command's summary).")
       .def_property_readonly("seconds", [](const RobotBake& b) { return b.result.seconds; })
       .def_property_readonly("name", [](const RobotBake& b) { return b.result.model.name; })
+      .def_property_readonly(
+          "planner",
+          [](const RobotBake& b) {
+            const py::object file = json_loads(robot_to_json(b.result.model));
+            return py::object(file["planner"]);
+          },
+          "The planner setup the files carry, as the robot file's \"planner\" object: "
+          "tool_frames (and tool_frames_from), locked_joints, default_positions (and "
+          "default_from), self_collision: samples, seed, threshold, margin, srdf, buffer "
+          "{link: metres}, pairs [[link1, link2, class, skipped(, reason)]] (docs/"
+          "self-collision.md).")
       .def(
           "to_json", [](const RobotBake& b) { return robot_to_json(b.result.model); },
           "The medspheres robot file's JSON text.")
       .def(
           "save",
-          [](const RobotBake& b, const py::object& output, const std::vector<std::string>& formats,
+          [](RobotBake& b, const py::object& output, const std::vector<std::string>& formats,
              const std::string& set) { write_outputs(b, path_of(output), formats, set); },
           py::arg("output"), py::arg("formats") = std::vector<std::string>{},
           py::arg("set") = "auto",
@@ -198,7 +229,10 @@ void register_robot(py::module_& m) {
          bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
          const py::object& cover, std::uint64_t seed, const std::string& solid,
          int robust_resolution, const py::object& robust_thickness, bool measure, bool outer,
-         const py::object& cover_start) {
+         const py::object& cover_start, const std::vector<std::string>& tool_frames,
+         const py::object& srdf, bool self_collision, std::size_t self_collision_samples,
+         unsigned self_collision_seed, double self_collision_threshold,
+         double self_collision_margin) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -220,6 +254,13 @@ void register_robot(py::module_& m) {
         a.measure = measure;
         a.outer = outer;
         a.cover_start = link_spheres_arg(cover_start);
+        a.planner.tool_frames = tool_frames;
+        if (!srdf.is_none()) a.planner.srdf = path_of(srdf);
+        a.planner.sample = self_collision;
+        a.planner.self_collision.samples = self_collision_samples;
+        a.planner.self_collision.seed = self_collision_seed;
+        a.planner.self_collision.threshold = self_collision_threshold;
+        a.planner.self_collision.margin = self_collision_margin;
         return bake_robot_py(path_of(urdf), a);
       },
       py::arg("urdf"), py::arg("output") = py::none(), py::kw_only(),
@@ -233,7 +274,12 @@ void register_robot(py::module_& m) {
       py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed,
       py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
       py::arg("robust_thickness") = py::none(), py::arg("measure") = true, py::arg("outer") = true,
-      py::arg("cover_start") = py::none(),
+      py::arg("cover_start") = py::none(), py::arg("tool_frames") = std::vector<std::string>{},
+      py::arg("srdf") = py::none(), py::arg("self_collision") = true,
+      py::arg("self_collision_samples") = SelfCollisionOptions{}.samples,
+      py::arg("self_collision_seed") = SelfCollisionOptions{}.seed,
+      py::arg("self_collision_threshold") = SelfCollisionOptions{}.threshold,
+      py::arg("self_collision_margin") = SelfCollisionOptions{}.margin,
       "Bakes every link of a URDF robot, as `medspheres robot URDF -o OUTPUT` does, and "
       "returns a RobotBake (per-link arrays, stats); with `output`, also writes the "
       "planners' files there (see RobotBake.save).\n\n"

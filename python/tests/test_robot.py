@@ -38,7 +38,9 @@ def test_bake_robot_without_output_and_save(arm, tmp_path):
     assert all(len(sets["outer"]) == 0 for sets in baked.links.values())
     assert baked.links["upper"]["inner"].shape[1] == 4
     baked.save(tmp_path / "out", formats=["curobo"], set="inner")
-    assert [p.name for p in (tmp_path / "out").iterdir()] == ["arm.curobo.yml"]
+    # cuRobo v2's configuration, v1's, and the spheres alone.
+    assert sorted(p.name for p in (tmp_path / "out").iterdir()) == [
+        "arm.curobo.yml", "arm.curobo_spheres.yml", "arm.curobo_v1.yml"]
     doc = medspheres.load(tmp_path / "out" / "arm.curobo.yml")
     assert np.array_equal(doc.links["upper"], baked.links["upper"]["inner"])
 
@@ -59,6 +61,10 @@ def test_bake_robot_without_output_and_save(arm, tmp_path):
          ["--dilate", "--max-protrusion", "nan"]),
         ({"solid": "robst"}, ["--solid", "robst"]),
         ({"robust_thickness": -0.5}, ["--robust-thickness", "-0.5"]),
+        ({"self_collision_samples": 0}, ["--self-collision-samples", "0"]),
+        ({"self_collision_threshold": 1.5}, ["--self-collision-threshold", "1.5"]),
+        ({"self_collision_margin": -0.01}, ["--self-collision-margin", "-0.01"]),
+        ({"tool_frames": ["nope"]}, ["--tool-frame", "nope"]),
     ],
 )
 def test_bad_robot_options_raise_the_clis_message(cli, arm, tmp_path, kwargs, flags):
@@ -182,3 +188,60 @@ def test_bake_robot_cover_start_equals_cli(cli, arm, tmp_path):
     with pytest.warns(UserWarning, match="nope"):
         medspheres.bake_robot(arm, spheres_per_link=6,
                               cover_start={"nope": doc.links["upper"], **dict(doc.links)})
+
+
+def test_bake_robot_planner_setup_equals_cli(cli, arm, tmp_path):
+    """Tool frames, the self-collision matrix and the default configuration: the same files as
+    the robot command's flags, and RobotBake.planner as the robot file's "planner"."""
+    ours_dir, theirs_dir = tmp_path / "py", tmp_path / "cli"
+    baked = medspheres.bake_robot(arm, ours_dir, spheres_per_link=6, tool_frames=["hand"],
+                                  self_collision_samples=300, self_collision_seed=3)
+    cli("robot", arm, "-o", theirs_dir, "--spheres-per-link", "6", "-q", "--tool-frame", "hand",
+        "--self-collision-samples", "300", "--self-collision-seed", "3")
+    for name in ["arm.curobo.yml", "arm.curobo_v1.yml", "arm.curobo_spheres.yml", "arm.xrdf",
+                 "arm.srdf", "arm.self_collision.txt"]:
+        assert (ours_dir / name).read_bytes() == (theirs_dir / name).read_bytes(), name
+    planner = baked.planner
+    assert planner["tool_frames"] == ["hand"] and planner["tool_frames_from"] == "option"
+    matrix = planner["self_collision"]
+    assert matrix["samples"] == 300 and matrix["seed"] == 3
+    links = list(baked.links)
+    # every pair of links with spheres once, [link1, link2, class, skipped]
+    with_spheres = [l for l in links if len(baked.links[l]["outer"])]
+    assert len(matrix["pairs"]) == len(with_spheres) * (len(with_spheres) - 1) // 2
+    assert {p[2] for p in matrix["pairs"]} <= {"adjacent", "always", "never", "sphere_only",
+                                                "default", "checked"}
+    assert set(planner["default_positions"]) == {"j1"}
+    # Without the matrix: adjacent pairs only, the zero pose unchecked.
+    plain = medspheres.bake_robot(arm, spheres_per_link=6, self_collision=False)
+    assert plain.planner["default_from"] == "zero_unchecked"
+    assert plain.planner["self_collision"]["samples"] == 0
+
+
+def test_bake_robot_srdf_pairs_and_end_effectors(cli, arm, tmp_path):
+    """srdf=: its disabled pairs skipped as given (their reasons kept), its end effectors the
+    tool frames; the same files as the robot command's --srdf; a pair naming no link refused."""
+    srdf = tmp_path / "arm_given.srdf"
+    srdf.write_text('<robot name="arm">\n'
+                    '  <end_effector name="tool" parent_link="upper" group="g"/>\n'
+                    '  <disable_collisions link1="base" link2="hand" reason="User"/>\n'
+                    '</robot>\n')
+    ours_dir, theirs_dir = tmp_path / "py", tmp_path / "cli"
+    baked = medspheres.bake_robot(arm, ours_dir, spheres_per_link=6, srdf=srdf,
+                                  self_collision_samples=200)
+    cli("robot", arm, "-o", theirs_dir, "--spheres-per-link", "6", "-q", "--srdf", srdf,
+        "--self-collision-samples", "200")
+    for name in ["arm.curobo.yml", "arm.xrdf", "arm.srdf", "arm.self_collision.txt"]:
+        assert (ours_dir / name).read_bytes() == (theirs_dir / name).read_bytes(), name
+    planner = baked.planner
+    assert planner["tool_frames"] == ["upper"] and planner["tool_frames_from"] == "srdf"
+    given = [p for p in planner["self_collision"]["pairs"] if p[2] == "given"]
+    assert [sorted(p[:2]) for p in given] == [["base", "hand"]]
+    assert given[0][3] is True and given[0][4] == "User"
+    written = (ours_dir / "arm.srdf").read_text()
+    assert 'reason="User"' in written and "base" in written
+
+    bad = tmp_path / "bad.srdf"
+    bad.write_text('<robot name="arm"><disable_collisions link1="base" link2="nope"/></robot>')
+    with pytest.raises(medspheres.InputError, match="nope"):
+        medspheres.bake_robot(arm, spheres_per_link=6, srdf=bad)

@@ -11,6 +11,7 @@
 #include "batch_driver.h"
 #include "medspheres/batch/batch_cache.h"
 #include "medspheres/error.h"
+#include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/mesh/mesh_io.h"
@@ -42,6 +43,7 @@ std::size_t planner_spheres(const RobotModel& model, formats::SphereChoice choic
 // A robot read and baked into \p out; its files are kept in \p files.
 RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, const RobotJob& job,
                                 std::map<std::string, std::string>& files) {
+  check_planner_request(robot.model, job.planner);
   const std::vector<LinkSolid> solids = load_link_solids(robot);
   RobotFileResult r;
   r.bake = bake_robot(robot, solids, job.bake);
@@ -52,6 +54,9 @@ RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, 
   }
   r.choice = formats::robot_output_choice(job.set, r.bake.model);
   r.spheres = planner_spheres(r.bake.model, r.choice);
+  PlannerRequest planner = job.planner;
+  planner.self_collision.threads = job.bake.jobs;
+  r.bake.model.planner = make_planner_setup(r.bake.model, solids, r.choice, planner, &r.planner);
   files = formats::robot_output_files(chosen_formats(job), r.bake.model, r.choice, robot.path);
   formats::write_output_folder(out, files);
   return r;
@@ -85,8 +90,8 @@ std::map<std::string, std::string> inverse(const std::map<std::string, std::stri
 }
 
 // \p files with the paths their robot file records (metadata "urdf" and each part's
-// "source", robot_bake.h) renamed by \p names; what names does not hold is kept. The other
-// files record no path.
+// "source", robot_bake.h) and the cuRobo configurations' urdf_path renamed by \p names;
+// what names does not hold is kept. The other files record no path.
 std::map<std::string, std::string> renamed(std::map<std::string, std::string> files,
                                            const std::map<std::string, std::string>& names) {
   auto rename = [&names](nlohmann::ordered_json& value) {
@@ -94,11 +99,14 @@ std::map<std::string, std::string> renamed(std::map<std::string, std::string> fi
     const auto it = names.find(value.get<std::string>());
     if (it != names.end()) value = it->second;
   };
+  const auto ends_with = [](const std::string& name, const std::string& suffix) {
+    return name.size() >= suffix.size() &&
+           name.compare(name.size() - suffix.size(), suffix.size(), suffix) == 0;
+  };
   for (auto& [name, text] : files) {
-    const std::string suffix = ".robot.json";
-    if (name.size() < suffix.size() ||
-        name.compare(name.size() - suffix.size(), suffix.size(), suffix) != 0)
-      continue;
+    if (ends_with(name, ".curobo.yml") || ends_with(name, ".curobo_v1.yml"))
+      text = formats::curobo_yaml_with_urdf_path(text, names, name);
+    if (!ends_with(name, ".robot.json")) continue;
     nlohmann::ordered_json meta = nlohmann::ordered_json::parse(robot_json_metadata(text, name));
     if (meta.contains("urdf")) rename(meta["urdf"]);
     if (meta.contains("links") && meta["links"].is_object())
@@ -218,6 +226,8 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
   t += "\nset=" + std::string(!job.set                                    ? "auto"
                               : *job.set == formats::SphereChoice::kInner ? "inner"
                                                                           : "outer");
+  t += "\n" + planner_request_text(job.planner);
+  if (!job.planner.srdf.empty()) t += "srdf_sha256=" + file_sha256(job.planner.srdf) + "\n";
   return sha256_hex(t + "\noptions=" + job.options_json + "\n");
 }
 

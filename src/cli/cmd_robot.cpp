@@ -17,8 +17,10 @@
 #include "medspheres/error.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
+#include "medspheres/formats/self_collision_report.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
+#include "medspheres/number_text.h"
 #include "medspheres/options/bake_flags.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
@@ -48,6 +50,10 @@ struct RobotArgs {
   bool no_outer = false;
   std::string cover_start;  ///< a per-link sphere file the outer sets start from
   std::string set = "auto";
+  std::vector<std::string> tool_frames;
+  std::string srdf;
+  bool no_self_collision = false;
+  SelfCollisionOptions self_collision;
   bool resolution_given = false;
   bool quiet = false;
 };
@@ -126,6 +132,31 @@ void print_summary(const RobotBakeResult& r, const std::string& out) {
             << "wrote " << out << "\n";
 }
 
+std::string joined(const std::vector<std::string>& names) {
+  std::string out;
+  for (const std::string& n : names) out += (out.empty() ? "" : ", ") + n;
+  return out.empty() ? "none" : out;
+}
+
+// Where the tool frames and the default configuration came from, and the matrix's classes.
+void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run) {
+  std::cout << "tool frames: " << joined(s.tool_frames) << " ("
+            << tool_frames_from_text(s.tool_frames_from) << ")\n";
+  if (!s.locked_joints.empty())
+    std::cout << "locked joints (the gripper's): " << joined(s.locked_joints) << "\n";
+  std::cout << "default configuration: " << default_from_text(s.default_from) << "\n";
+  if (!s.self_collision || s.self_collision->samples == 0) return;
+  std::cout << "self-collision matrix: " << s.self_collision->samples << " samples, "
+            << number_text(run.seconds, 3) << " s, " << run.solids.mesh_queries
+            << " exact mesh queries; pairs:";
+  for (const auto& [kind, n] : formats::pair_class_counts(*s.self_collision))
+    std::cout << " " << pair_class_name(kind) << " " << n.first;
+  std::cout << "\n";
+  for (const auto& [a, b] : run.default_pairs)
+    std::cout << "medspheres: warning: " << a << " and " << b
+              << " touch at the default configuration\n";
+}
+
 // The options of the run as the robot file's provenance ("options" in its metadata): every
 // flag that changes the spheres, as given (lengths as written, before L is resolved).
 std::string options_json(const RobotArgs& a) {
@@ -154,6 +185,13 @@ std::string options_json(const RobotArgs& a) {
   o["cover_start"] = a.cover_start.empty() ? nlohmann::ordered_json(nullptr)
                                            : nlohmann::ordered_json(a.cover_start);
   o["set"] = a.set;
+  o["tool_frame"] = a.tool_frames;
+  o["srdf"] = a.srdf.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(a.srdf);
+  o["self_collision"] = !a.no_self_collision;
+  o["self_collision_samples"] = a.self_collision.samples;
+  o["self_collision_seed"] = a.self_collision.seed;
+  o["self_collision_threshold"] = a.self_collision.threshold;
+  o["self_collision_margin"] = a.self_collision.margin;
   return o.dump();
 }
 
@@ -179,6 +217,11 @@ RobotJob robot_job(const RobotArgs& a) {
   job.read.from_visual = a.from_visual;
   job.options_json = options_json(a);
   if (!a.cover_start.empty()) job.bake.outer_start = start_spheres(a);
+  job.planner.tool_frames = a.tool_frames;
+  job.planner.srdf = a.srdf;
+  job.planner.sample = !a.no_self_collision;
+  job.planner.self_collision = a.self_collision;
+  validate(job.planner.self_collision);
   return job;
 }
 
@@ -222,6 +265,7 @@ int run_robot(const RobotArgs& a) {
     print_summary(r.bake, a.out);
     std::cout << "the planner formats carry each link's "
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
+    print_planner_summary(*r.bake.model.planner, r.planner);
   }
   return kExitOk;
 }
@@ -277,6 +321,27 @@ Runner register_robot(CLI::App& app) {
                   "planner's own set that need not cover, become each link's certified covering "
                   "set of at most as many spheres, tightened; links it lacks are baked to "
                   "their budget");
+  sub->add_option("--tool-frame", a->tool_frames,
+                  "A link the planner files report (repeatable; the first is the primary end "
+                  "effector; default: the SRDF's end effectors, else per branch the link that "
+                  "carries the gripper)");
+  sub->add_option("--srdf", a->srdf,
+                  "An SRDF whose disabled pairs are taken as given and whose end effectors "
+                  "are the tool frames");
+  sub->add_flag("--no-self-collision", a->no_self_collision,
+                "Skip the self-collision matrix (only adjacent pairs skipped; the default "
+                "configuration not checked)");
+  sub->add_option("--self-collision-samples", a->self_collision.samples,
+                  "Configurations the matrix samples")
+      ->capture_default_str();
+  sub->add_option("--self-collision-seed", a->self_collision.seed, "Seed of those samples")
+      ->capture_default_str();
+  sub->add_option("--self-collision-threshold", a->self_collision.threshold,
+                  "Share of samples in which a pair collides for it to count as always colliding")
+      ->capture_default_str();
+  sub->add_option("--self-collision-margin", a->self_collision.margin,
+                  "Metres: a pair whose solids never come this close is never colliding")
+      ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
   add_batch_flags(*sub, a->batch, robot_batch(RobotJob{}));
   return [a, sub] {

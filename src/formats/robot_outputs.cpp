@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "medspheres/error.h"
+#include "medspheres/formats/self_collision_report.h"
 #include "medspheres/io.h"
 
 namespace medspheres::formats {
@@ -178,14 +179,29 @@ std::map<std::string, std::string> robot_output_files(const std::vector<SphereFo
   WriteOptions options;
   options.urdf_text = doc.urdf_text;
   options.urdf_source = urdf;
+  options.urdf_path = fs::absolute(urdf).lexically_normal().string();
   const std::string stem = file_stem(model.name);
   std::map<std::string, std::string> files;
   for (const SphereFormat f : chosen) {
-    if (f == SphereFormat::kSph)
+    if (f == SphereFormat::kSph) {
       add_sph_files(doc, format_file(f, stem), files);
-    else
+    } else if (f == SphereFormat::kCurobo) {
+      // v2's configuration, v1's, and the spheres alone for a configuration of one's own.
+      for (const auto& [layout, suffix] :
+           {std::pair{CuroboLayout::kV2, ".curobo.yml"},
+            std::pair{CuroboLayout::kV1, ".curobo_v1.yml"},
+            std::pair{CuroboLayout::kSpheres, ".curobo_spheres.yml"}}) {
+        options.curobo = layout;
+        files[stem + suffix] = sphere_document_text(doc, f, options);
+      }
+    } else {
       files[format_file(f, stem)] = sphere_document_text(doc, f, options);
+    }
   }
+  const bool robot_file =
+      std::find(chosen.begin(), chosen.end(), SphereFormat::kRobot) != chosen.end();
+  if (robot_file && model.planner && model.planner->self_collision)
+    files[stem + ".self_collision.txt"] = self_collision_report(model, doc.links);
   return files;
 }
 

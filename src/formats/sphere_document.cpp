@@ -7,11 +7,11 @@
 #include "medspheres/error.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/foam_json.h"
+#include "medspheres/formats/planner_options.h"
 #include "medspheres/formats/sph_file.h"
 #include "medspheres/formats/spherized_urdf.h"
 #include "medspheres/formats/srdf_spheres.h"
 #include "medspheres/formats/xrdf.h"
-#include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
 #include "medspheres/robot_file.h"
 #include "xml_text.h"
@@ -216,21 +216,6 @@ RobotSpheres per_link(const SphereDocument& doc, const WriteOptions& options) {
   return {LinkSphereList{options.link, doc.set->spheres}};
 }
 
-// Each joint's default position for XRDF: 0, moved into the joint's limits when it has
-// some (lower < upper) that exclude 0.
-std::vector<double> default_positions(const RobotModel& model,
-                                      const std::vector<std::string>& joints) {
-  std::vector<double> out;
-  for (const std::string& name : joints) {
-    const Joint* j = model.find_joint(name);
-    double q = 0.0;
-    if (j && j->limits && j->limits->lower < j->limits->upper)
-      q = std::clamp(q, j->limits->lower, j->limits->upper);
-    out.push_back(q);
-  }
-  return out;
-}
-
 std::string robot_name(const SphereDocument& doc, const WriteOptions& options) {
   if (!options.robot_name.empty()) return options.robot_name;
   return doc.robot_name.empty() ? "robot" : doc.robot_name;
@@ -256,22 +241,13 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
     case SphereFormat::kCurobo: {
       const RobotSpheres spheres = per_link(doc, options);
       CuroboOptions o;
-      if (doc.model) {
-        o.base_link = doc.model->root_link;
-        o.self_collision_ignore = adjacent_sphere_links(*doc.model, spheres);
-      }
+      if (doc.model) o = curobo_options(*doc.model, spheres, options.curobo, options.urdf_path);
+      o.layout = options.curobo;
       return curobo_yaml_text(spheres, o);
     }
     case SphereFormat::kXrdf: {
       const RobotSpheres spheres = per_link(doc, options);
-      XrdfOptions o;
-      if (doc.model) {
-        o.joint_names = KinematicTree(*doc.model).joint_names();
-        o.default_positions = default_positions(*doc.model, o.joint_names);
-        o.tool_frames = leaf_links(*doc.model);
-        o.self_collision_ignore = adjacent_sphere_links(*doc.model, spheres);
-      }
-      return xrdf_text(spheres, o);
+      return xrdf_text(spheres, doc.model ? xrdf_options(*doc.model, spheres) : XrdfOptions{});
     }
     case SphereFormat::kUrdf: {
       const bool given = !options.urdf_text.empty();
@@ -281,8 +257,12 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
       return spherize_urdf(given ? options.urdf_text : doc.urdf_text, per_link(doc, options),
                            given ? options.urdf_source : "the input URDF");
     }
-    case SphereFormat::kSrdf:
-      return srdf_spheres_text(per_link(doc, options), robot_name(doc, options));
+    case SphereFormat::kSrdf: {
+      const RobotSpheres spheres = per_link(doc, options);
+      return srdf_spheres_text(
+          spheres, robot_name(doc, options),
+          doc.model ? srdf_disabled_pairs(*doc.model, spheres) : std::vector<DisabledCollision>{});
+    }
     case SphereFormat::kFoam:
       if (doc.set || !options.link.empty()) return foam_mesh_json(single_set(doc, options));
       return foam_robot_json(doc.links);

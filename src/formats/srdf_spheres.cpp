@@ -17,7 +17,8 @@ void add_sphere(tinyxml2::XMLElement& parent, const Eigen::Vector3d& center, dou
 
 }  // namespace
 
-std::string srdf_spheres_text(const RobotSpheres& spheres, const std::string& robot_name) {
+std::string srdf_spheres_text(const RobotSpheres& spheres, const std::string& robot_name,
+                              const std::vector<DisabledCollision>& disabled) {
   validate_robot_spheres(spheres, "SRDF");
   tinyxml2::XMLDocument doc;
   doc.InsertEndChild(doc.NewDeclaration());
@@ -30,6 +31,7 @@ std::string srdf_spheres_text(const RobotSpheres& spheres, const std::string& ro
     if (l.spheres.empty()) add_sphere(*a, Eigen::Vector3d::Zero(), 0.0);  // srdfdom: none
     for (const Sphere& s : l.spheres) add_sphere(*a, s.center, s.radius);
   }
+  add_srdf_disabled_collisions(*robot, disabled);
   return xml_to_text(doc);
 }
 

@@ -1,10 +1,10 @@
 #include "medspheres/formats/xrdf.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include "medspheres/error.h"
 #include "medspheres/io.h"
-#include "number_text.h"
 #include "yaml_spheres.h"
 
 namespace medspheres::formats {
@@ -12,9 +12,8 @@ namespace medspheres::formats {
 namespace {
 
 void emit_repeated(YAML::Emitter& out, const char* key, double value, std::size_t n) {
-  out << YAML::Key << key << YAML::Value << YAML::Flow << YAML::BeginSeq;
-  for (std::size_t i = 0; i < n; ++i) out << exact_number_text(value);
-  out << YAML::EndSeq;
+  out << YAML::Key << key << YAML::Value;
+  emit_yaml_floats(out, std::vector<double>(n, value));
 }
 
 }  // namespace
@@ -23,7 +22,7 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
   validate_robot_spheres(spheres, "XRDF");
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "xrdf";
-  out << YAML::Key << "format_version" << YAML::Value << "1.0";
+  out << YAML::Key << "format_version" << YAML::Value << yaml_float_text(1.0);
   if (!options.joint_names.empty()) {
     out << YAML::Key << "cspace" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "joint_names" << YAML::Value << YAML::Flow << options.joint_names;
@@ -31,14 +30,16 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
                   options.joint_names.size());
     emit_repeated(out, "jerk_limits", options.jerk_limit, options.joint_names.size());
     out << YAML::EndMap;
-    if (!options.default_positions.empty() &&
-        options.default_positions.size() != options.joint_names.size())
-      throw std::invalid_argument("xrdf_text: default_positions and joint_names differ in size");
+    std::vector<std::pair<std::string, double>> defaults = options.default_positions;
+    if (defaults.empty())
+      for (const std::string& j : options.joint_names) defaults.emplace_back(j, 0.0);
+    for (const std::string& j : options.joint_names)
+      if (std::find_if(defaults.begin(), defaults.end(),
+                       [&](const auto& d) { return d.first == j; }) == defaults.end())
+        throw std::invalid_argument("xrdf_text: no default position for the joint " + j);
     out << YAML::Key << "default_joint_positions" << YAML::Value << YAML::Flow << YAML::BeginMap;
-    for (std::size_t i = 0; i < options.joint_names.size(); ++i)
-      out << YAML::Key << options.joint_names[i] << YAML::Value
-          << exact_number_text(options.default_positions.empty() ? 0.0
-                                                                 : options.default_positions[i]);
+    for (const auto& [joint, q] : defaults)
+      out << YAML::Key << joint << YAML::Value << yaml_float_text(q);
     out << YAML::EndMap;
   }
   if (!options.tool_frames.empty())
@@ -54,6 +55,10 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
   out << YAML::Key << "geometry" << YAML::Value << options.geometry_name;
   out << YAML::Key << "ignore" << YAML::Value;
   emit_yaml_link_lists(out, options.self_collision_ignore);
+  if (!options.self_collision_buffer.empty()) {
+    out << YAML::Key << "buffer_distance" << YAML::Value;
+    emit_yaml_number_map(out, options.self_collision_buffer);
+  }
   out << YAML::EndMap << YAML::EndMap;
   return yaml_emitter_text(out);
 }

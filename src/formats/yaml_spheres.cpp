@@ -66,15 +66,26 @@ RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& so
   return out;
 }
 
+std::string yaml_float_text(double v) {
+  std::string t = exact_number_text(v);
+  if (t.find_first_of("in") != std::string::npos)  // inf, nan
+    return t[0] == '-' ? "-.inf" : (t[0] == 'n' ? ".nan" : ".inf");
+  const std::size_t e = t.find('e');
+  std::string mantissa = t.substr(0, e), exponent = e == std::string::npos ? "" : t.substr(e);
+  if (mantissa.find('.') == std::string::npos) mantissa += ".0";
+  if (!exponent.empty() && exponent[1] != '-' && exponent[1] != '+') exponent.insert(1, "+");
+  return mantissa + exponent;
+}
+
 void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres) {
   out << YAML::BeginMap;
   for (const LinkSphereList& l : spheres) {
     out << YAML::Key << l.link << YAML::Value << YAML::BeginSeq;
     for (const Sphere& s : l.spheres) {
       out << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value << YAML::Flow
-          << YAML::BeginSeq << exact_number_text(s.center.x()) << exact_number_text(s.center.y())
-          << exact_number_text(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
-          << exact_number_text(s.radius) << YAML::EndMap;
+          << YAML::BeginSeq << yaml_float_text(s.center.x()) << yaml_float_text(s.center.y())
+          << yaml_float_text(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
+          << yaml_float_text(s.radius) << YAML::EndMap;
     }
     out << YAML::EndSeq;
   }
@@ -90,6 +101,20 @@ void emit_yaml_link_lists(YAML::Emitter& out, const LinkPairLists& lists) {
   for (const auto& [link, others] : lists)
     out << YAML::Key << link << YAML::Value << YAML::Flow << others;
   out << YAML::EndMap;
+}
+
+void emit_yaml_number_map(YAML::Emitter& out,
+                          const std::vector<std::pair<std::string, double>>& values) {
+  out << (values.empty() ? YAML::Flow : YAML::Block) << YAML::BeginMap;
+  for (const auto& [name, v] : values)
+    out << YAML::Key << name << YAML::Value << yaml_float_text(v);
+  out << YAML::EndMap;
+}
+
+void emit_yaml_floats(YAML::Emitter& out, const std::vector<double>& values) {
+  out << YAML::Flow << YAML::BeginSeq;
+  for (double v : values) out << yaml_float_text(v);
+  out << YAML::EndSeq;
 }
 
 std::string yaml_emitter_text(const YAML::Emitter& out) {

@@ -3,6 +3,8 @@
 // {center: [x, y, z], radius: r}, read and written through yaml-cpp.
 
 #include <string>
+#include <utility>
+#include <vector>
 
 #include <yaml-cpp/yaml.h>
 
@@ -35,12 +37,25 @@ auto read_yaml(const std::string& text, const std::string& source, Read&& read) 
 RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& source,
                                     const std::string& where);
 
+/// \p v as a YAML float that every YAML 1.1 reader (PyYAML, which cuRobo and Isaac use)
+/// reads as a float, and reads back to the same double: the shortest exact digits with a
+/// '.' in the mantissa and a signed exponent ("0.5", "15.0", "1.0e-05", "-2.5e+20").
+/// PyYAML's float pattern needs the '.': it reads "1e-05" as text and "15" as an integer.
+std::string yaml_float_text(double v);
+
 /// Writes the mapping link -> list of {center: [x, y, z], radius: r}, each sphere on one
-/// line in flow style, numbers in their shortest exact form.
+/// line in flow style, numbers as yaml_float_text.
 void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres);
 
 /// Writes a mapping link -> [links] (flow lists), `{}` when empty.
 void emit_yaml_link_lists(YAML::Emitter& out, const LinkPairLists& lists);
+
+/// Writes a mapping name -> yaml_float_text(value), in \p values' order, `{}` when empty.
+void emit_yaml_number_map(YAML::Emitter& out,
+                          const std::vector<std::pair<std::string, double>>& values);
+
+/// Writes a flow list of yaml_float_text(value).
+void emit_yaml_floats(YAML::Emitter& out, const std::vector<double>& values);
 
 /// The emitter's text, with a final newline. \throws std::logic_error if it failed.
 std::string yaml_emitter_text(const YAML::Emitter& out);

@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
+#include <optional>
 #include <stdexcept>
 
 #include <nlohmann/json.hpp>
@@ -166,6 +168,103 @@ Joint read_joint(const Json& j, std::size_t index, const std::string& source) {
   return joint;
 }
 
+std::vector<std::string> read_names(const Reader& r, const char* key) {
+  std::vector<std::string> out;
+  if (!r.has(key)) return out;
+  const Json& v = r.at(key);
+  if (!v.is_array()) r.fail(std::string("\"") + key + "\" is not a list of names");
+  for (const Json& e : v) {
+    if (!e.is_string())
+      r.fail(std::string("\"") + key + "\" holds a value that is not a name: " + e.dump());
+    out.push_back(e.get<std::string>());
+  }
+  return out;
+}
+
+std::map<std::string, double> read_number_map(const Reader& r, const char* key) {
+  std::map<std::string, double> out;
+  if (!r.has(key)) return out;
+  const Json& v = r.at(key);
+  if (!v.is_object()) r.fail(std::string("\"") + key + "\" is not an object of numbers");
+  for (const auto& [name, x] : v.items()) {
+    if (!x.is_number() || !std::isfinite(x.get<double>()))
+      r.fail(std::string("\"") + key + "\" of \"" + name +
+             "\" is not a finite number: " + x.dump());
+    out[name] = x.get<double>();
+  }
+  return out;
+}
+
+// One pair: [link1, link2, class, ignored] or [link1, link2, "given", ignored, reason].
+LinkPairClass read_pair(const Reader& r, const Json& p) {
+  const auto bad = [&] {
+    r.fail("a pair is not [link1, link2, class, ignored(, reason)]: " + p.dump());
+  };
+  if (!p.is_array() || p.size() < 4 || p.size() > 5 || !p[0].is_string() || !p[1].is_string() ||
+      !p[2].is_string() || !p[3].is_boolean() || (p.size() == 5 && !p[4].is_string()))
+    bad();
+  const std::optional<PairClass> kind = parse_pair_class(p[2].get<std::string>());
+  if (!kind) r.fail("a pair's class \"" + p[2].get<std::string>() + "\" is unknown: " + p.dump());
+  return {p[0].get<std::string>(), p[1].get<std::string>(), *kind, p[3].get<bool>(),
+          p.size() == 5 ? p[4].get<std::string>() : std::string()};
+}
+
+SelfCollisionMatrix read_matrix(const Json& j, const std::string& source) {
+  const Reader r(j, source, "planner self_collision");
+  SelfCollisionMatrix m;
+  const double samples = r.number("samples", 0.0);
+  if (samples < 0 || samples != std::floor(samples)) r.fail("\"samples\" is not a count");
+  m.samples = static_cast<std::size_t>(samples);
+  const double seed = r.number("seed", 0.0);
+  if (seed < 0 || seed > 4294967295.0 || seed != std::floor(seed)) r.fail("\"seed\" is not a seed");
+  m.seed = static_cast<unsigned>(seed);
+  m.threshold = r.number("threshold", 0.0);
+  m.margin = r.number("margin", 0.0);
+  m.srdf = r.text("srdf", false);
+  m.buffer = read_number_map(r, "buffer");
+  if (r.has("pairs")) {
+    if (!r.at("pairs").is_array()) r.fail("\"pairs\" is not a list");
+    for (const Json& p : r.at("pairs")) m.pairs.push_back(read_pair(r, p));
+  }
+  return m;
+}
+
+PlannerSetup read_planner(const Json& j, const std::string& source) {
+  const Reader r(j, source, "planner");
+  PlannerSetup s;
+  s.tool_frames = read_names(r, "tool_frames");
+  s.tool_frames_from = r.text("tool_frames_from", false);
+  s.locked_joints = read_names(r, "locked_joints");
+  s.default_positions = read_number_map(r, "default_positions");
+  s.default_from = r.text("default_from", false);
+  if (r.has("self_collision")) s.self_collision = read_matrix(r.at("self_collision"), source);
+  return s;
+}
+
+Json planner_json(const PlannerSetup& s) {
+  Json o = Json::object();
+  o["tool_frames"] = s.tool_frames;
+  o["tool_frames_from"] = s.tool_frames_from;
+  o["locked_joints"] = s.locked_joints;
+  o["default_positions"] = Json::object();
+  for (const auto& [joint, q] : s.default_positions) o["default_positions"][joint] = q;
+  o["default_from"] = s.default_from;
+  if (s.self_collision) {
+    const SelfCollisionMatrix& m = *s.self_collision;
+    Json c = {{"samples", m.samples},  {"seed", m.seed}, {"threshold", m.threshold},
+              {"margin", m.margin},    {"srdf", m.srdf}, {"buffer", Json::object()},
+              {"pairs", Json::array()}};
+    for (const auto& [link, b] : m.buffer) c["buffer"][link] = b;
+    for (const LinkPairClass& p : m.pairs) {
+      Json e = {p.link1, p.link2, pair_class_name(p.kind), p.ignored};
+      if (p.kind == PairClass::kGiven) e.push_back(p.reason);
+      c["pairs"].push_back(std::move(e));
+    }
+    o["self_collision"] = std::move(c);
+  }
+  return o;
+}
+
 void check_header(const Json& doc, const std::string& source) {
   if (!doc.is_object()) throw InputError(source, "the top level is not a JSON object");
   const auto format = doc.find("format");
@@ -229,10 +328,12 @@ Json joint_json(const Joint& j) {
   return o;
 }
 
-// Indented JSON with every list of numbers on one line (a sphere, a vector).
+// Indented JSON with every list of numbers, names or flags on one line (a sphere, a vector,
+// a pair of links).
 void dump_readable(const Json& v, int indent, std::string& out) {
-  const bool flat_list =
-      v.is_array() && std::all_of(v.begin(), v.end(), [](const Json& e) { return e.is_number(); });
+  const bool flat_list = v.is_array() && std::all_of(v.begin(), v.end(), [](const Json& e) {
+                           return e.is_number() || e.is_string() || e.is_boolean();
+                         });
   if ((!v.is_object() && !v.is_array()) || flat_list || v.empty()) {
     out += v.dump();
     return;
@@ -274,6 +375,7 @@ RobotModel parse_robot(const std::string& json_text, const std::string& source) 
     if (!doc.at("metadata").is_object()) top.fail("\"metadata\" is not a JSON object");
     model.metadata_json = doc.at("metadata").dump();
   }
+  if (top.has("planner")) model.planner = read_planner(doc.at("planner"), source);
   validate_robot_model(model, source);
   return model;
 }
@@ -303,6 +405,7 @@ std::string robot_to_json(const RobotModel& model) {
   Json joints = Json::array();
   for (const Joint& j : model.joints) joints.push_back(joint_json(j));
   doc["joints"] = std::move(joints);
+  if (model.planner) doc["planner"] = planner_json(*model.planner);
   doc["metadata"] = object_from_text(model.metadata_json, "RobotModel::metadata_json");
   std::string out;
   dump_readable(doc, 0, out);

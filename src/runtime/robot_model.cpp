@@ -159,6 +159,7 @@ void validate_robot_model(const RobotModel& model, const std::string& source) {
   check_links(model, source);
   check_tree(model, source);
   check_mimics(model, source);
+  if (model.planner) validate_planner_setup(model, *model.planner, source);
 }
 
 }  // namespace medspheres

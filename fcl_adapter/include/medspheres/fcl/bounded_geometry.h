@@ -27,6 +27,7 @@
 #include <cstddef>
 #include <memory>
 #include <string>
+#include <vector>
 
 #include <fcl/geometry/bvh/BVH_model.h>
 #include <fcl/math/bv/OBBRSS.h>
@@ -35,6 +36,7 @@
 #include "medspheres/robot_model.h"
 #include "medspheres/sphere_set.h"
 #include "medspheres/sphere_tree.h"
+#include "medspheres/triangle_mesh.h"
 
 namespace medspheres::fcl {
 
@@ -53,6 +55,24 @@ struct BoundedGeometryOptions {
   bool surface_points = true;
   double surface_point_spacing = 0.0;
 };
+
+/// FCL's exact mesh of \p mesh (in its own frame) with bounding volumes BV, finished
+/// (endModel()). A mesh without triangles gives an empty model.
+template <class BV>
+std::shared_ptr<::fcl::BVHModel<BV>> make_bvh_model(const TriangleMesh& mesh) {
+  auto model = std::make_shared<::fcl::BVHModel<BV>>();
+  std::vector<::fcl::Triangle> tris;
+  tris.reserve(mesh.triangles.size());
+  for (const auto& t : mesh.triangles) tris.emplace_back(t[0], t[1], t[2]);
+  model->beginModel(static_cast<int>(tris.size()), static_cast<int>(mesh.vertices.size()));
+  model->addSubModel(mesh.vertices, tris);
+  model->endModel();
+  return model;
+}
+
+/// FCL's exact mesh of \p mesh (in its own frame), finished (endModel()), as BoundedGeometry
+/// takes it. \throws std::invalid_argument for a mesh without triangles.
+std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh);
 
 /// True when \p json (a sphere-set file's metadata, or a link's outer_certificate_json)
 /// records a certified cover: "certified": true at the top level or in "stats".

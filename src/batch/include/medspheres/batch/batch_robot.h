@@ -10,11 +10,12 @@
 /// elsewhere is found: the SHA-256 of the URDF's bytes and its relative path, every mesh
 /// file it references by its path relative to the URDF's folder (below that relative path)
 /// with its SHA-256, every field of the job that changes the files (request, budget, outer
-/// sets, from_visual, formats, set, the recorded options) and the tool's version. An entry
-/// is every output file in one MessagePack map {"links", "spheres", "files": {name:
-/// bytes}}, written atomically, its robot file naming the URDF and meshes by those relative
-/// paths; a copy from the entry names them as read (the files are those a bake writes). An
-/// entry that does not read as one is a miss and is overwritten by the next store.
+/// sets, from_visual, formats, set, the planner request with its SRDF's SHA-256, the
+/// recorded options) and the tool's version. An entry is every output file in one
+/// MessagePack map {"links", "spheres", "files": {name: bytes}}, written atomically, its
+/// robot file naming the URDF and meshes by those relative paths; a copy from the entry
+/// names them as read (the files are those a bake writes). An entry that does not read as
+/// one is a miss and is overwritten by the next store.
 ///
 /// Determinism: a batch bakes with request.record_seconds false, so the files carry no
 /// times; a cached copy, a rerun and any split into shards give the same bytes.
@@ -28,6 +29,7 @@
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_bake/robot_planner_setup.h"
 
 namespace medspheres {
 
@@ -43,10 +45,13 @@ struct RobotJob {
   /// A JSON object recorded as the model's metadata "options" (how the run was asked
   /// for); empty: none.
   std::string options_json;
+  /// Tool frames, self-collision matrix and default configuration (robot_planner_setup.h).
+  PlannerRequest planner;
 };
 
 struct RobotFileResult {
-  RobotBakeResult bake;
+  RobotBakeResult bake;      ///< its model carries the planner setup
+  SelfCollisionRun planner;  ///< the matrix's run (empty with planner.sample false)
   formats::SphereChoice choice = formats::SphereChoice::kInner;  ///< the planner formats' set
   std::size_t spheres = 0;  ///< of that set, all links (robot_spheres)
 };

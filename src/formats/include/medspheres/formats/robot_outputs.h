@@ -3,9 +3,13 @@
 /// The files a robot bake writes into its output folder (what `medspheres robot -o DIR`
 /// and the Python module's bake_robot write): one file per chosen format, named after the
 /// robot (robot.json, curobo.yml, xrdf, spherized.urdf, srdf, foam.json; .sph holds one
-/// set, so it gets a folder "sph" with one file per link). The folder is replaced as a
-/// whole: the files are written to a fresh folder beside it, which is then moved into
-/// place, so a failure leaves the old folder untouched.
+/// set, so it gets a folder "sph" with one file per link). The curobo format writes three
+/// files: curobo.yml (cuRobo v2's configuration), curobo_v1.yml (v1's) and
+/// curobo_spheres.yml (the spheres alone, at the top level, for a configuration of one's
+/// own to name by path). Beside the robot file, a model with a self-collision matrix also
+/// gets self_collision.txt (self_collision_report.h), the matrix for people. The folder is replaced
+/// as a whole: the files are written to a fresh folder beside it, which is then moved into place,
+/// so a failure leaves the old folder untouched.
 ///
 /// Errors: InputError named by the fields "format" and "set", or by the folder.
 

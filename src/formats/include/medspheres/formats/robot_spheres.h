@@ -37,15 +37,9 @@ RobotSpheres robot_spheres(const RobotModel& model, SphereChoice choice = Sphere
 /// \throws InputError "<source>: link "x": ..." naming the link and the problem.
 void validate_robot_spheres(const RobotSpheres& spheres, const std::string& source);
 
-/// Link pairs a planner should not test against each other, keyed by the upper link:
-/// every link of \p spheres with the nearest link above it in \p model's tree that also has
-/// spheres (links without spheres between them, such as a flange frame, are skipped). Keys
-/// and lists in the model's link order; links of \p spheres that \p model lacks are left out.
+/// Link pairs a planner should not test against each other, keyed by one link of each pair:
+/// key -> the other links.
 using LinkPairLists = std::vector<std::pair<std::string, std::vector<std::string>>>;
-LinkPairLists adjacent_sphere_links(const RobotModel& model, const RobotSpheres& spheres);
-
-/// The links of \p model that are no joint's parent (the tool frames), in link order.
-std::vector<std::string> leaf_links(const RobotModel& model);
 
 /// The entry for \p link, or nullptr.
 const LinkSphereList* find_link_spheres(const RobotSpheres& spheres, const std::string& link);

@@ -17,6 +17,9 @@
 /// A plain ".json" that is read is recognised by its content (robot file, sphere-set file,
 /// or foam's list or database); written, it is a sphere-set file.
 ///
+/// A document with a robot model writes the planner keys of its PlannerSetup (or the
+/// default one) into the cuRobo, XRDF and SRDF files (planner_options.h).
+///
 /// Conversion: a per-link file written to a one-set format takes the link that
 /// WriteOptions::link names (or its only link); a one-set file written to a per-link
 /// format becomes that one link. foam output is foam's one-mesh list for a one-set input
@@ -29,6 +32,7 @@
 #include <string>
 #include <vector>
 
+#include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/robot_model.h"
 #include "medspheres/sphere_set.h"
@@ -72,6 +76,10 @@ struct WriteOptions {
   std::string urdf_text;  ///< the URDF a spherized URDF is made from
   std::string urdf_source = "--urdf";  ///< its name in error messages (its path)
   std::string robot_name;              ///< the SRDF's robot name (default: the input's, or "robot")
+  /// Which cuRobo file the curobo format writes (v2's configuration by default).
+  CuroboLayout curobo = CuroboLayout::kV2;
+  /// A cuRobo configuration's urdf_path (of a robot model's document); not written when empty.
+  std::string urdf_path;
 };
 
 /// Reads \p path as \p format (nullopt: from the extension and, for ".json", the content).

@@ -1,0 +1,374 @@
+// The self-collision matrix of the robot command (docs/self-collision.md), one table per
+// robot: the Unitree G1 of ../shared (when present), the coarse arm (tests/support/
+// coarse_arm.h: a Panda-like chain of coarse meshes with a mimic gripper), generated arms
+// (tests/support/generated_arms.h) and any --urdf given.
+//
+// Rows: "medspheres", the robot command's defaults (covering sets of --spheres-per-link
+// spheres, the matrix from --samples seeded configurations, its tool frames and default
+// configuration); for the G1 also "curobo", cuRobo's shipped configuration of the G1 (its
+// spheres, self_collision_ignore and self_collision_buffer, links the URDF lacks left out,
+// its cspace default_joint_position as its default configuration), judged in the same run
+// by the same code.
+// Columns:
+//   samples, s        the matrix's samples and wall clock (--threads pairs at once);
+//   adj alw nev sph def chk giv   pairs per class (curobo: skipped pairs under "giv",
+//                     the others under "chk");
+//   pen@def           pairs of checked links whose spheres overlap (their buffers applied)
+//                     at the row's default configuration, and the deepest overlap (mm);
+//   FP cfg, FP pairs  over --eval other seeded configurations: configurations where some
+//                     checked pair's spheres collide and no pair of solids does, and the
+//                     (configuration, pair) cases where a checked pair's spheres collide
+//                     and its solids do not;
+//   FN cfg, FN pairs  configurations where some checked pair's solids collide and no
+//                     checked pair's spheres do, and the (configuration, pair) cases where
+//                     a checked pair's solids collide and its spheres do not;
+//   skipped hits      (configuration, pair) cases where the solids of a pair the row skips
+//                     collide (adjacent and always-colliding pairs of the medspheres
+//                     matrix excepted): what skipping costs.
+// The evaluation's configurations hold the medspheres row's locked joints (the gripper's) at
+// their default, as a planner given its files holds them; the other joints are uniform
+// within their limits.
+// The solids: each link's exact geometry (LinkSolids: certified sphere bounds, FCL's exact
+// mesh distance where they leave it open); "collide" means touching. Pairs judged: every
+// two links with geometry in both rows' sets, except the medspheres matrix's adjacent and
+// always-colliding pairs, the same for both rows.
+//
+// Usage: bench_self_collision [--urdf FILE]... [--samples N] [--eval N] [--seed S]
+//          [--spheres-per-link K] [--arms N] [--threads T] [--cache DIR] [--no-g1]
+//          [--no-coarse-arm]
+#include <algorithm>
+#include <chrono>
+#include <cstdio>
+#include <cstdlib>
+#include <filesystem>
+#include <map>
+#include <set>
+#include <string>
+#include <vector>
+
+#include <yaml-cpp/yaml.h>
+
+#include "bench_args.h"
+#include "medspheres/batch/batch_robot.h"
+#include "medspheres/error.h"
+#include "medspheres/fcl/robot_bounds.h"
+#include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/formats/self_collision_report.h"
+#include "medspheres/forward_kinematics.h"
+#include "medspheres/io.h"
+#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/robot_bake/robot_planner_setup.h"
+#include "medspheres/robot_file.h"
+#include "support/coarse_arm.h"
+#include "support/generated_arms.h"
+
+namespace {
+
+namespace fs = std::filesystem;
+using namespace medspheres;
+using Poses = std::vector<Eigen::Isometry3d>;
+
+struct Options {
+  std::vector<std::string> urdfs;
+  std::size_t samples = 10000;
+  std::size_t eval = 10000;
+  unsigned seed = 1;
+  std::size_t spheres_per_link = kDefaultSpheresPerLink;
+  int arms = 2;
+  int threads = 2;
+  std::string cache;
+  bool g1 = true;
+  bool coarse_arm = true;
+  std::size_t top = 0;  // pairs named per row
+};
+
+// A robot baked as the robot command bakes it (cached under the batch cache's key).
+struct Baked {
+  std::string name;
+  RobotModel model;
+  std::vector<LinkSolid> solids;
+};
+
+Baked bake(const std::string& urdf, const Options& o) {
+  const UrdfRobot robot = read_urdf(urdf);
+  Baked b;
+  b.name = robot.model.name;
+  b.solids = load_link_solids(robot);
+  RobotJob job;
+  job.bake.budget.per_link = o.spheres_per_link;
+  job.bake.jobs = o.threads;
+  job.bake.request.measure = false;
+  const fs::path cached = fs::path(o.cache) / (robot_cache_key(robot, file_sha256(urdf), job,
+                                                               fs::path(urdf).filename().string()) +
+                                               ".robot.json");
+  if (!o.cache.empty() && fs::exists(cached)) {
+    b.model = load_robot(cached.string());
+    return b;
+  }
+  b.model = bake_robot(robot, b.solids, job.bake).model;
+  if (!o.cache.empty()) {
+    fs::create_directories(o.cache);
+    save_robot(b.model, cached.string());
+  }
+  return b;
+}
+
+// One row's planner: its spheres with their buffers, the pairs it checks, its default.
+struct Planner {
+  std::string row;
+  PlannerSpheres spheres;
+  std::set<std::pair<std::size_t, std::size_t>> checked;  // link indices, a < b
+  std::map<std::string, double> default_positions;
+  std::vector<std::string> locked_joints;  // held at their default while planning
+  std::map<PairClass, std::size_t> classes;
+  std::size_t samples = 0;
+  double seconds = 0.0;
+};
+
+using LinkPair = std::pair<std::size_t, std::size_t>;
+
+// The pair of the two links' indices, smaller first.
+LinkPair ordered(const RobotModel& m, const std::string& a, const std::string& b);
+
+std::size_t index_of(const RobotModel& m, const std::string& name) {
+  for (std::size_t i = 0; i < m.links.size(); ++i)
+    if (m.links[i].name == name) return i;
+  return m.links.size();
+}
+
+LinkPair ordered(const RobotModel& m, const std::string& a, const std::string& b) {
+  const std::size_t i = index_of(m, a), j = index_of(m, b);
+  return {std::min(i, j), std::max(i, j)};
+}
+
+Planner medspheres_planner(const Baked& b, const Options& o,
+                           std::set<std::pair<std::size_t, std::size_t>>& judged) {
+  PlannerRequest r;
+  r.self_collision.samples = o.samples;
+  r.self_collision.seed = o.seed;
+  r.self_collision.threads = o.threads;
+  SelfCollisionRun run;
+  const PlannerSetup s =
+      make_planner_setup(b.model, b.solids, formats::SphereChoice::kOuter, r, &run);
+  Planner p{"medspheres",
+            PlannerSpheres(b.model, formats::robot_spheres(b.model), s.self_collision->buffer),
+            {},
+            s.default_positions,
+            s.locked_joints,
+            {},
+            o.samples,
+            run.seconds};
+  for (const auto& [kind, n] : formats::pair_class_counts(*s.self_collision))
+    p.classes[kind] = n.first;
+  for (const LinkPairClass& q : s.self_collision->pairs) {
+    const LinkPair pair = ordered(b.model, q.link1, q.link2);
+    if (!q.ignored) p.checked.insert(pair);
+    if (q.kind != PairClass::kAdjacent && q.kind != PairClass::kAlways) judged.insert(pair);
+  }
+  std::printf("  medspheres: tool frames");
+  for (const std::string& t : s.tool_frames) std::printf(" %s", t.c_str());
+  std::printf("; default configuration: %s\n", default_from_text(s.default_from).c_str());
+  return p;
+}
+
+// cuRobo's shipped G1 configuration, restricted to the links of the URDF.
+Planner curobo_planner(const Baked& b, const std::string& yml) {
+  const YAML::Node k = YAML::LoadFile(yml)["kinematics"];
+  formats::RobotSpheres spheres;
+  for (formats::LinkSphereList& l : formats::load_curobo_yaml(yml))
+    if (index_of(b.model, l.link) < b.model.links.size()) spheres.push_back(std::move(l));
+  std::map<std::string, double> buffer;
+  for (const auto& kv : k["self_collision_buffer"])
+    buffer[kv.first.as<std::string>()] = kv.second.as<double>();
+  Planner p{"curobo", PlannerSpheres(b.model, spheres, buffer), {}, {}, {}, {}, 0, 0.0};
+  std::set<std::pair<std::string, std::string>> skip;
+  for (const auto& kv : k["self_collision_ignore"])
+    for (const auto& other : kv.second)
+      skip.insert(std::minmax(kv.first.as<std::string>(), other.as<std::string>()));
+  for (std::size_t a = 0; a < spheres.size(); ++a)
+    for (std::size_t c = a + 1; c < spheres.size(); ++c) {
+      const LinkPair pair = ordered(b.model, spheres[a].link, spheres[c].link);
+      if (skip.count(std::minmax(spheres[a].link, spheres[c].link)))
+        ++p.classes[PairClass::kGiven];
+      else
+        p.checked.insert(pair), ++p.classes[PairClass::kChecked];
+    }
+  const auto names = k["cspace"]["joint_names"].as<std::vector<std::string>>();
+  const auto q = k["cspace"]["default_joint_position"].as<std::vector<double>>();
+  for (std::size_t i = 0; i < names.size(); ++i)
+    if (b.model.find_joint(names[i])) p.default_positions[names[i]] = q[i];
+  return p;
+}
+
+struct Tally {
+  std::size_t pen_pairs = 0;
+  double pen_max = 0.0;
+  std::size_t fp_cfg = 0, fp_pairs = 0, fn_cfg = 0, fn_pairs = 0, skipped_hits = 0;
+  std::map<LinkPair, std::size_t> fp_by_pair;       // the configurations where only it is FP
+  std::map<LinkPair, std::size_t> skipped_by_pair;  // the configurations where it is a hit
+};
+
+Tally judge(const Baked& b, const LinkSolids& solids, const Planner& p,
+            const std::set<std::pair<std::size_t, std::size_t>>& judged,
+            const std::vector<Poses>& eval, const std::vector<std::vector<char>>& truth) {
+  Tally t;
+  const KinematicTree tree(b.model);
+  std::map<std::string, double> q0;
+  for (const std::string& j : tree.joint_names()) {
+    const auto it = p.default_positions.find(j);
+    q0[j] = it == p.default_positions.end() ? 0.0 : it->second;
+  }
+  const Poses X0 = tree.link_poses(q0);
+  for (const auto& [a, c] : p.checked) {
+    const double pen = p.spheres.penetration(X0, a, c);
+    if (pen > 0) ++t.pen_pairs, t.pen_max = std::max(t.pen_max, pen);
+  }
+  const std::vector<std::pair<std::size_t, std::size_t>> pairs(judged.begin(), judged.end());
+  for (std::size_t s = 0; s < eval.size(); ++s) {
+    bool any_solid = false, any_checked_solid = false;
+    std::vector<LinkPair> colliding;  // checked pairs whose spheres collide
+    for (std::size_t k = 0; k < pairs.size(); ++k) {
+      const bool solid = truth[s][k];
+      any_solid = any_solid || solid;
+      if (!p.checked.count(pairs[k])) {
+        t.skipped_hits += solid;
+        if (solid) ++t.skipped_by_pair[pairs[k]];
+        continue;
+      }
+      const bool sphere = p.spheres.collide(eval[s], pairs[k].first, pairs[k].second);
+      if (sphere) colliding.push_back(pairs[k]);
+      any_checked_solid = any_checked_solid || solid;
+      t.fp_pairs += sphere && !solid;
+      t.fn_pairs += solid && !sphere;
+    }
+    // The row's checked pairs that are not judged (adjacent or always colliding ones it
+    // checks) count too: the planner reports the configuration in collision.
+    for (const LinkPair& c : p.checked)
+      if (!judged.count(c) && p.spheres.collide(eval[s], c.first, c.second)) colliding.push_back(c);
+    const bool any_sphere = !colliding.empty();
+    t.fp_cfg += any_sphere && !any_solid;
+    if (any_sphere && !any_solid && colliding.size() == 1) ++t.fp_by_pair[colliding[0]];
+    t.fn_cfg += any_checked_solid && !any_sphere;
+  }
+  (void)solids;
+  return t;
+}
+
+void print_row(const Planner& p, const Tally& t, std::size_t eval) {
+  const auto n = [&](PairClass k) {
+    const auto it = p.classes.find(k);
+    return it == p.classes.end() ? std::size_t{0} : it->second;
+  };
+  std::printf(
+      "%-11s %7zu %6.2f %4zu %4zu %4zu %4zu %4zu %4zu %4zu %4zu/%-6.1f %6zu %6zu %8zu %6zu %8zu "
+      "%8zu\n",
+      p.row.c_str(), p.samples, p.seconds, n(PairClass::kAdjacent), n(PairClass::kAlways),
+      n(PairClass::kNever), n(PairClass::kSphereOnly), n(PairClass::kDefault),
+      n(PairClass::kChecked), n(PairClass::kGiven), t.pen_pairs, 1e3 * t.pen_max, eval, t.fp_cfg,
+      t.fp_pairs, t.fn_cfg, t.fn_pairs, t.skipped_hits);
+}
+
+void run_robot(const std::string& urdf, const std::string& curobo_yml, const Options& o) {
+  const auto t0 = std::chrono::steady_clock::now();
+  const Baked b = bake(urdf, o);
+  std::printf("\n%s (%s; %zu spheres a link, baked or read in %.1f s)\n", b.name.c_str(),
+              urdf.c_str(), o.spheres_per_link,
+              std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+  std::set<std::pair<std::size_t, std::size_t>> judged;
+  std::vector<Planner> rows;
+  rows.push_back(medspheres_planner(b, o, judged));
+  if (!curobo_yml.empty()) rows.push_back(curobo_planner(b, curobo_yml));
+  // The evaluation's configurations and, per pair judged, whether the solids collide.
+  const LinkSolids solids(b.model, b.solids);
+  const KinematicTree tree(b.model);
+  // The locked joints (the gripper's) held at their default, as the planner holds them.
+  std::vector<Eigen::VectorXd> qs =
+      medspheres::fcl::sample_configurations(b.model, tree, o.eval, o.seed + 7919);
+  const std::vector<std::string>& names = tree.joint_names();
+  for (const std::string& j : rows[0].locked_joints) {
+    const std::size_t k = std::find(names.begin(), names.end(), j) - names.begin();
+    for (Eigen::VectorXd& q : qs) q[k] = rows[0].default_positions.at(j);
+  }
+  std::vector<Poses> eval(qs.size());
+  std::vector<std::vector<char>> truth(qs.size());
+  const std::vector<std::pair<std::size_t, std::size_t>> pairs(judged.begin(), judged.end());
+#pragma omp parallel for schedule(dynamic, 16) num_threads(o.threads)
+  for (std::size_t s = 0; s < qs.size(); ++s) {
+    eval[s] = tree.link_poses(qs[s]);
+    for (const auto& [a, c] : pairs)
+      truth[s].push_back(solids.has(a) && solids.has(c) && solids.within(eval[s], a, c, 0.0));
+  }
+  std::printf("%-11s %7s %6s %4s %4s %4s %4s %4s %4s %4s %11s %6s %6s %8s %6s %8s %8s\n", "planner",
+              "samples", "s", "adj", "alw", "nev", "sph", "def", "chk", "giv", "pen@def/mm", "eval",
+              "FP cfg", "FP pairs", "FN cfg", "FN pairs", "skip hit");
+  std::vector<Tally> tallies;
+  for (const Planner& p : rows) {
+    tallies.push_back(judge(b, solids, p, judged, eval, truth));
+    print_row(p, tallies.back(), o.eval);
+  }
+  if (o.top == 0) return;
+  const auto print_top = [&](const std::map<LinkPair, std::size_t>& counts, const char* what,
+                             const std::string& row) {
+    std::vector<std::pair<std::size_t, LinkPair>> top;
+    for (const auto& [pair, n] : counts) top.emplace_back(n, pair);
+    std::sort(top.rbegin(), top.rend());
+    std::printf("  %s: %s:", row.c_str(), what);
+    for (std::size_t k = 0; k < top.size() && k < o.top; ++k)
+      std::printf(" %s-%s %zu;", b.model.links[top[k].second.first].name.c_str(),
+                  b.model.links[top[k].second.second].name.c_str(), top[k].first);
+    std::printf("\n");
+  };
+  for (std::size_t r = 0; r < rows.size(); ++r) {
+    print_top(tallies[r].fp_by_pair, "false-positive configurations with one pair's spheres alone",
+              rows[r].row);
+    print_top(tallies[r].skipped_by_pair, "skipped pairs whose solids collide", rows[r].row);
+  }
+}
+
+}  // namespace
+
+int main(int argc, char** argv) {
+  Options o;
+  const char* xdg = std::getenv("XDG_CACHE_HOME");
+  const char* home = std::getenv("HOME");
+  o.cache = xdg ? std::string(xdg) + "/medspheres/bench_self_collision"
+                : std::string(home ? home : ".") + "/.cache/medspheres/bench_self_collision";
+  medspheres::bench::Args args("bench_self_collision",
+                               "The self-collision matrix: classes, time, default configuration, "
+                               "false positives and negatives against the exact solids");
+  args.app().add_option("--urdf", o.urdfs, "Another robot (repeatable)");
+  args.add("--samples", o.samples, "Configurations the matrix samples");
+  args.add("--eval", o.eval,
+           "Other configurations the false positives and negatives are counted over");
+  args.add("--seed", o.seed, "Seed of the matrix's samples (the evaluation's: seed + 7919)");
+  args.add("--spheres-per-link", o.spheres_per_link, "Covering set budget per link");
+  args.add("--arms", o.arms, "Generated arms (seeds 1..N, 6 joints)");
+  args.add("--threads", o.threads, "Pairs at once");
+  args.add("--cache", o.cache, "Folder of cached bakes ('' for none)");
+  args.add("--top", o.top, "Name the pairs that alone make the most false-positive configurations");
+  args.app().add_flag(
+      "--no-g1", [&](std::int64_t) { o.g1 = false; }, "Leave out the G1");
+  args.app().add_flag(
+      "--no-coarse-arm", [&](std::int64_t) { o.coarse_arm = false; }, "Leave out the coarse arm");
+  args.parse(argc, argv);
+  try {
+    const fs::path g1 = fs::path(MEDSPHERES_SOURCE_DIR) / "../shared/robots/unitree_g1";
+    if (o.g1 && fs::exists(g1 / "g1_29dof_rev_1_0.urdf"))
+      run_robot((g1 / "g1_29dof_rev_1_0.urdf").string(), (g1 / "curobo_unitree_g1.yml").string(),
+                o);
+    const fs::path dir = fs::temp_directory_path() / "medspheres_bench_self_collision";
+    fs::create_directories(dir);
+    if (o.coarse_arm) run_robot(medspheres::test::write_coarse_arm(dir / "coarse_arm"), "", o);
+    for (int seed = 1; seed <= o.arms; ++seed) {
+      const fs::path urdf = dir / ("generated_arm_" + std::to_string(seed) + ".urdf");
+      medspheres::write_file_atomically(
+          urdf.string(), medspheres::test::generated_arm_urdf(static_cast<unsigned>(seed), 6));
+      run_robot(urdf.string(), "", o);
+    }
+    for (const std::string& u : o.urdfs) run_robot(u, "", o);
+  } catch (const medspheres::Error& e) {
+    std::fprintf(stderr, "bench_self_collision: %s\n", e.what());
+    return 2;
+  }
+  return 0;
+}

@@ -1,0 +1,39 @@
+#pragma once
+/// \file
+/// The planner keys of the cuRobo, XRDF and SRDF files of a robot model: its PlannerSetup
+/// (planner_setup.h; the default one when the model has none), restricted to the links of
+/// the spheres written.
+/// - tool frames: listed_tool_frames (the chosen ones first);
+/// - self_collision_ignore: the matrix's skipped pairs whose two links both have spheres,
+///   keyed by the first link, both in model link order;
+/// - self_collision_buffer: every link with spheres (0 where the matrix has none);
+/// - cspace: every actuated joint at its default position; cuRobo's lock_joints and the
+///   joints XRDF's cspace leaves out are the setup's locked joints;
+/// - SRDF: one <disable_collisions> per skipped pair, with its reason (srdf_reason).
+
+#include <string>
+#include <vector>
+
+#include "medspheres/formats/curobo_yaml.h"
+#include "medspheres/formats/robot_spheres.h"
+#include "medspheres/formats/srdf_disabled_collisions.h"
+#include "medspheres/formats/xrdf.h"
+#include "medspheres/planner_setup.h"
+#include "medspheres/robot_model.h"
+
+namespace medspheres::formats {
+
+/// The model's setup, or the default one for the links of \p spheres.
+PlannerSetup planner_setup_for(const RobotModel& model, const RobotSpheres& spheres);
+
+/// cuRobo's options in \p layout; \p urdf_path is written as urdf_path when not empty.
+CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& spheres,
+                             CuroboLayout layout, const std::string& urdf_path);
+
+XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres);
+
+/// The skipped pairs (every one, links with spheres or not), with their reasons.
+std::vector<DisabledCollision> srdf_disabled_pairs(const RobotModel& model,
+                                                   const RobotSpheres& spheres);
+
+}  // namespace medspheres::formats

@@ -1,0 +1,111 @@
+// The planner keys of a robot model's files (planner_options.h).
+#include "medspheres/formats/planner_options.h"
+
+#include <algorithm>
+#include <map>
+#include <set>
+
+#include "medspheres/forward_kinematics.h"
+
+namespace medspheres::formats {
+
+namespace {
+
+std::vector<bool> spheres_flags(const RobotModel& model, const RobotSpheres& spheres) {
+  std::vector<bool> out;
+  for (const Link& l : model.links) out.push_back(find_link_spheres(spheres, l.name) != nullptr);
+  return out;
+}
+
+// The skipped pairs between links with spheres, keyed by the earlier link (model order).
+LinkPairLists ignore_lists(const RobotModel& model, const RobotSpheres& spheres,
+                           const PlannerSetup& setup) {
+  std::map<std::string, std::size_t> order;
+  for (std::size_t i = 0; i < model.links.size(); ++i) order[model.links[i].name] = i;
+  std::map<std::size_t, std::vector<std::size_t>> by_first;
+  if (setup.self_collision)
+    for (const LinkPairClass& p : setup.self_collision->pairs) {
+      if (!p.ignored || !find_link_spheres(spheres, p.link1) ||
+          !find_link_spheres(spheres, p.link2))
+        continue;
+      const auto [a, b] = std::minmax(order.at(p.link1), order.at(p.link2));
+      by_first[a].push_back(b);
+    }
+  LinkPairLists out;
+  for (auto& [a, list] : by_first) {
+    std::sort(list.begin(), list.end());
+    std::vector<std::string> names;
+    for (std::size_t b : list) names.push_back(model.links[b].name);
+    out.emplace_back(model.links[a].name, std::move(names));
+  }
+  return out;
+}
+
+std::vector<std::pair<std::string, double>> buffers(const RobotSpheres& spheres,
+                                                    const PlannerSetup& setup) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const LinkSphereList& l : spheres) {
+    double b = 0.0;
+    if (setup.self_collision) {
+      const auto it = setup.self_collision->buffer.find(l.link);
+      if (it != setup.self_collision->buffer.end()) b = it->second;
+    }
+    out.emplace_back(l.link, b);
+  }
+  return out;
+}
+
+}  // namespace
+
+PlannerSetup planner_setup_for(const RobotModel& model, const RobotSpheres& spheres) {
+  return planner_setup_or_default(model, spheres_flags(model, spheres));
+}
+
+CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& spheres,
+                             CuroboLayout layout, const std::string& urdf_path) {
+  const PlannerSetup setup = planner_setup_for(model, spheres);
+  CuroboOptions o;
+  o.layout = layout;
+  o.base_link = model.root_link;
+  o.urdf_path = urdf_path;
+  o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
+  o.self_collision_ignore = ignore_lists(model, spheres, setup);
+  o.self_collision_buffer = buffers(spheres, setup);
+  const KinematicTree tree(model);
+  for (const std::string& j : tree.joint_names()) {
+    o.joint_names.push_back(j);
+    o.default_positions.push_back(setup.default_positions.at(j));
+  }
+  for (const std::string& j : setup.locked_joints)
+    o.lock_joints.emplace_back(j, setup.default_positions.at(j));
+  return o;
+}
+
+XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres) {
+  const PlannerSetup setup = planner_setup_for(model, spheres);
+  XrdfOptions o;
+  const std::set<std::string> locked(setup.locked_joints.begin(), setup.locked_joints.end());
+  const KinematicTree tree(model);
+  for (const std::string& j : tree.joint_names()) {
+    if (!locked.count(j)) o.joint_names.push_back(j);
+    o.default_positions.emplace_back(j, setup.default_positions.at(j));
+  }
+  o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
+  o.self_collision_ignore = ignore_lists(model, spheres, setup);
+  o.self_collision_buffer = buffers(spheres, setup);
+  return o;
+}
+
+std::vector<DisabledCollision> srdf_disabled_pairs(const RobotModel& model,
+                                                   const RobotSpheres& spheres) {
+  const PlannerSetup setup = planner_setup_for(model, spheres);
+  std::vector<DisabledCollision> out;
+  if (!setup.self_collision) return out;
+  for (const LinkPairClass& p : setup.self_collision->pairs)
+    if (p.ignored)
+      out.push_back(
+          {p.link1, p.link2, p.kind == PairClass::kGiven ? p.reason : srdf_reason(p.kind)});
+  return out;
+}
+
+}  // namespace medspheres::formats

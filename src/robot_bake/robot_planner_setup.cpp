@@ -1,0 +1,107 @@
+// A baked robot's planner setup (robot_planner_setup.h).
+#include "medspheres/robot_bake/robot_planner_setup.h"
+
+#include "medspheres/error.h"
+#include "medspheres/formats/srdf_disabled_collisions.h"
+#include "medspheres/io.h"
+#include "medspheres/number_text.h"
+
+namespace medspheres {
+
+namespace {
+
+// The tool frames and how they were chosen.
+std::vector<std::string> tool_frames(const RobotModel& model, const PlannerRequest& r,
+                                     const std::string& srdf_text, std::string& from) {
+  for (const std::string& t : r.tool_frames)
+    if (!model.find_link(t))
+      throw InputError::option(ErrorKind::kOutOfRange, "tool_frame", t,
+                               "\"" + t + "\" is no link of the robot \"" + model.name + "\"");
+  if (!r.tool_frames.empty()) {
+    from = "option";
+    return r.tool_frames;
+  }
+  if (!srdf_text.empty()) {
+    std::vector<std::string> ends = formats::parse_srdf_end_effector_links(srdf_text, r.srdf);
+    for (const std::string& t : ends)
+      if (!model.find_link(t))
+        throw InputError::option(
+            ErrorKind::kOutOfRange, "srdf", r.srdf,
+            "its end effector's parent_link \"" + t + "\" is no link of the robot");
+    if (!ends.empty()) {
+      from = "srdf";
+      return ends;
+    }
+  }
+  return default_tool_frames(model, &from);
+}
+
+}  // namespace
+
+// The SRDF's text ("" without one), its unreadable file named by the option.
+std::string srdf_text_of(const PlannerRequest& r) {
+  if (r.srdf.empty()) return "";
+  try {
+    return read_text_file(r.srdf);
+  } catch (const InputError& e) {
+    throw e.with_field("srdf");
+  }
+}
+
+std::string planner_request_text(const PlannerRequest& r) {
+  std::string t = "planner tool_frames=";
+  for (const std::string& f : r.tool_frames) t += f + ",";
+  t += "\nsrdf=" + r.srdf + "\nsample=" + (r.sample ? "1" : "0") +
+       "\nsamples=" + std::to_string(r.self_collision.samples) +
+       "\nseed=" + std::to_string(r.self_collision.seed) +
+       "\nthreshold=" + exact_number_text(r.self_collision.threshold) +
+       "\nmargin=" + exact_number_text(r.self_collision.margin) + "\n";
+  return t;
+}
+
+void check_planner_request(const RobotModel& model, const PlannerRequest& r) {
+  validate(r.self_collision);
+  const std::string srdf_text = srdf_text_of(r);
+  std::string from;
+  tool_frames(model, r, srdf_text, from);
+  if (!srdf_text.empty())
+    check_disabled_pairs(model, formats::parse_srdf_disabled_collisions(srdf_text, r.srdf));
+}
+
+PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkSolid>& solids,
+                                formats::SphereChoice carried, const PlannerRequest& r,
+                                SelfCollisionRun* run_out) {
+  validate(r.self_collision);
+  const std::string srdf_text = srdf_text_of(r);
+  PlannerSetup s;
+  s.tool_frames = tool_frames(model, r, srdf_text, s.tool_frames_from);
+  s.locked_joints = finger_joints(model, s.tool_frames);
+  const std::map<std::string, double> zero = clamped_zero(model);
+  std::map<std::string, double> locked;
+  for (const std::string& j : s.locked_joints) locked[j] = zero.at(j);
+  const formats::RobotSpheres spheres = formats::robot_spheres(model, carried);
+  if (!r.sample) {
+    std::vector<bool> has;
+    for (const Link& l : model.links) has.push_back(formats::find_link_spheres(spheres, l.name));
+    RobotModel bare = model;
+    bare.planner.reset();
+    const PlannerSetup d = planner_setup_or_default(bare, has);
+    s.default_positions = zero;
+    s.default_from = "zero_unchecked";
+    s.self_collision = d.self_collision;
+    return s;
+  }
+  const std::vector<formats::DisabledCollision> given =
+      srdf_text.empty() ? std::vector<formats::DisabledCollision>{}
+                        : formats::parse_srdf_disabled_collisions(srdf_text, r.srdf);
+  SelfCollisionRun run = compute_self_collision(model, LinkSolids(model, solids), spheres, locked,
+                                                given, r.self_collision);
+  if (!r.srdf.empty()) run.matrix.srdf = r.srdf;
+  s.default_positions = run.default_positions;
+  s.default_from = run.default_from;
+  s.self_collision = run.matrix;
+  if (run_out) *run_out = std::move(run);
+  return s;
+}
+
+}  // namespace medspheres

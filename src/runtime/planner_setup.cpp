@@ -1,0 +1,363 @@
+// The planner setup's plain-data helpers: default tool frames, finger joints, the clamped zero
+// pose, adjacency, the default setup and its validation (planner_setup.h).
+#include "medspheres/planner_setup.h"
+
+#include <algorithm>
+#include <cmath>
+#include <map>
+#include <set>
+#include <string>
+
+#include "medspheres/error.h"
+#include "medspheres/robot_model.h"
+
+namespace medspheres {
+
+namespace {
+
+constexpr const char* kClassNames[] = {"adjacent", "always",  "never", "sphere_only",
+                                       "default",  "checked", "given"};
+
+bool is_finger(const Joint& j) {
+  return j.type != JointType::kFixed && (j.type == JointType::kPrismatic || j.mimic.has_value());
+}
+
+bool moves_arm(const Joint& j) {
+  return j.type != JointType::kFixed && !is_finger(j);
+}
+
+// The tree by link index: each link's child joints, and each link's parent joint (or null).
+struct Tree {
+  std::vector<std::vector<const Joint*>> children;
+  std::vector<const Joint*> parent;
+
+  explicit Tree(const RobotModel& m) : children(m.links.size()), parent(m.links.size(), nullptr) {
+    for (const Joint& j : m.joints) {
+      const std::size_t p = index(m, j.parent), c = index(m, j.child);
+      children[p].push_back(&j);
+      parent[c] = &j;
+    }
+  }
+  static std::size_t index(const RobotModel& m, const std::string& link) {
+    for (std::size_t i = 0; i < m.links.size(); ++i)
+      if (m.links[i].name == link) return i;
+    throw std::invalid_argument("planner setup: no link \"" + link + "\"");
+  }
+};
+
+// The links below \p from (itself included) reached through joints \p follow accepts.
+template <class Follow>
+std::vector<std::size_t> reach(const RobotModel& m, const Tree& t, std::size_t from,
+                               Follow&& follow) {
+  std::vector<std::size_t> out{from};
+  for (std::size_t k = 0; k < out.size(); ++k)
+    for (const Joint* j : t.children[out[k]])
+      if (follow(*j)) out.push_back(Tree::index(m, j->child));
+  return out;
+}
+
+bool has_finger_child(const Tree& t, std::size_t link) {
+  return std::any_of(t.children[link].begin(), t.children[link].end(),
+                     [](const Joint* j) { return is_finger(*j); });
+}
+
+[[noreturn]] void fail(const std::string& source, const std::string& problem) {
+  throw InputError(source, "planner: " + problem);
+}
+
+}  // namespace
+
+const char* pair_class_name(PairClass kind) {
+  return kClassNames[static_cast<int>(kind)];
+}
+
+std::optional<PairClass> parse_pair_class(const std::string& name) {
+  for (int k = 0; k <= static_cast<int>(PairClass::kGiven); ++k)
+    if (name == kClassNames[k]) return static_cast<PairClass>(k);
+  return std::nullopt;
+}
+
+const char* srdf_reason(PairClass kind) {
+  switch (kind) {
+    case PairClass::kAdjacent:
+      return "Adjacent";
+    case PairClass::kAlways:
+      return "Always";
+    case PairClass::kNever:
+    case PairClass::kSphereOnly:
+      return "Never";
+    case PairClass::kGiven:
+      return "User";
+    case PairClass::kDefault:
+    case PairClass::kChecked:
+      break;
+  }
+  return "";
+}
+
+std::vector<std::string> default_tool_frames(const RobotModel& model, std::string* from) {
+  const Tree t(model);
+  std::vector<bool> is_tool(model.links.size(), false), by_gripper(model.links.size(), false);
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    if (t.parent[l] != nullptr && !moves_arm(*t.parent[l])) continue;
+    // A branch's end (or the root of a robot whose arm joints are none): below it, only
+    // fixed and finger joints. Any arm joint reachable from the root has its parent link
+    // reached through non-arm joints, so the root is an end exactly when there is none.
+    const auto non_arm = [](const Joint& j) { return !moves_arm(j); };
+    bool end = true;
+    for (std::size_t b : reach(model, t, l, non_arm))
+      for (const Joint* j : t.children[b]) end = end && !moves_arm(*j);
+    if (!end) continue;
+    std::size_t tool = l;
+    bool gripper = false;
+    for (std::size_t r :
+         reach(model, t, l, [](const Joint& j) { return j.type == JointType::kFixed; }))
+      if (has_finger_child(t, r) && (!gripper || r < tool)) {
+        tool = r;
+        gripper = true;
+      }
+    is_tool[tool] = true;
+    by_gripper[tool] = gripper;
+  }
+  std::vector<std::string> out;
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    if (!is_tool[l]) continue;
+    if (out.empty() && from)
+      *from = by_gripper[l] ? "gripper" : (t.parent[l] == nullptr ? "root" : "branch");
+    out.push_back(model.links[l].name);
+  }
+  return out;
+}
+
+std::vector<std::string> finger_joints(const RobotModel& model,
+                                       const std::vector<std::string>& tool_frames) {
+  const Tree t(model);
+  std::set<std::string> names;
+  for (const std::string& tool : tool_frames)
+    for (std::size_t l :
+         reach(model, t, Tree::index(model, tool), [](const Joint& j) { return !moves_arm(j); }))
+      for (const Joint* j : t.children[l])
+        if (is_finger(*j) && !j->mimic) names.insert(j->name);
+  std::vector<std::string> out;
+  for (const Joint& j : model.joints)
+    if (names.count(j.name)) out.push_back(j.name);
+  return out;
+}
+
+std::map<std::string, double> clamped_zero(const RobotModel& model) {
+  std::map<std::string, double> out;
+  for (const Joint& j : model.joints) {
+    if (j.type == JointType::kFixed || j.mimic) continue;
+    double q = 0.0;
+    if (j.type != JointType::kContinuous && j.limits && j.limits->lower < j.limits->upper)
+      q = std::clamp(q, j.limits->lower, j.limits->upper);
+    out[j.name] = q;
+  }
+  return out;
+}
+
+std::vector<std::size_t> rigid_bodies(const RobotModel& model) {
+  const Tree t(model);
+  std::vector<std::size_t> body(model.links.size());
+  // Up through fixed joints to the body's top link, then the body's first link.
+  std::vector<std::size_t> top(model.links.size());
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    std::size_t r = l;
+    while (t.parent[r] != nullptr && t.parent[r]->type == JointType::kFixed)
+      r = Tree::index(model, t.parent[r]->parent);
+    top[l] = r;
+  }
+  std::map<std::size_t, std::size_t> first;  // top -> first link in model order
+  for (std::size_t l = 0; l < model.links.size(); ++l) first.emplace(top[l], l);
+  for (std::size_t l = 0; l < model.links.size(); ++l) body[l] = first.at(top[l]);
+  return body;
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> adjacent_link_pairs(
+    const RobotModel& model, const std::vector<bool>& has_geometry) {
+  if (has_geometry.size() != model.links.size())
+    throw std::invalid_argument("adjacent_link_pairs: has_geometry is not one flag per link");
+  const Tree t(model);
+  const std::vector<std::size_t> body = rigid_bodies(model);
+  const auto parent = [&](std::size_t l) { return Tree::index(model, t.parent[l]->parent); };
+  std::set<std::pair<std::size_t, std::size_t>> out;
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    if (!has_geometry[l]) continue;
+    // Up through fixed joints: a link with geometry there carries l rigidly (a rigid pair,
+    // not a joint's), and the body's moving joint is that link's.
+    std::size_t w = l;
+    bool carried = false;
+    while (!carried && t.parent[w] != nullptr && t.parent[w]->type == JointType::kFixed) {
+      w = parent(w);
+      carried = has_geometry[w];
+    }
+    if (carried || t.parent[w] == nullptr) continue;
+    // Across the moving joint, up to the nearest link with geometry, or to a link without
+    // it whose rigid body has some (those links stand for it).
+    for (std::size_t a = parent(w);; a = parent(a)) {
+      if (has_geometry[a]) {
+        out.insert(std::minmax(a, l));
+        break;
+      }
+      bool found = false;
+      for (std::size_t x = 0; x < model.links.size(); ++x)
+        if (body[x] == body[a] && has_geometry[x]) {
+          out.insert(std::minmax(x, l));
+          found = true;
+        }
+      if (found || t.parent[a] == nullptr) break;
+    }
+  }
+  return {out.begin(), out.end()};
+}
+
+std::vector<std::pair<std::size_t, std::size_t>> rigid_link_pairs(
+    const RobotModel& model, const std::vector<bool>& has_geometry) {
+  if (has_geometry.size() != model.links.size())
+    throw std::invalid_argument("rigid_link_pairs: has_geometry is not one flag per link");
+  const std::vector<std::size_t> body = rigid_bodies(model);
+  std::vector<std::pair<std::size_t, std::size_t>> out;
+  for (std::size_t a = 0; a < model.links.size(); ++a)
+    for (std::size_t b = a + 1; b < model.links.size(); ++b)
+      if (has_geometry[a] && has_geometry[b] && body[a] == body[b]) out.emplace_back(a, b);
+  return out;
+}
+
+PlannerSetup planner_setup_or_default(const RobotModel& model,
+                                      const std::vector<bool>& has_spheres) {
+  if (model.planner) return *model.planner;
+  if (has_spheres.size() != model.links.size())
+    throw std::invalid_argument("planner_setup_or_default: has_spheres is not one flag per link");
+  PlannerSetup s;
+  s.tool_frames = default_tool_frames(model, &s.tool_frames_from);
+  s.locked_joints = finger_joints(model, s.tool_frames);
+  s.default_positions = clamped_zero(model);
+  s.default_from = "zero_unchecked";
+  const std::vector<bool>& geometry = has_spheres;
+  SelfCollisionMatrix m;
+  const auto adjacent = adjacent_link_pairs(model, geometry);
+  const auto rigid = rigid_link_pairs(model, geometry);
+  for (std::size_t a = 0; a < model.links.size(); ++a)
+    for (std::size_t b = a + 1; b < model.links.size(); ++b) {
+      if (!geometry[a] || !geometry[b]) continue;
+      const bool adj = std::binary_search(adjacent.begin(), adjacent.end(), std::pair{a, b}) ||
+                       std::binary_search(rigid.begin(), rigid.end(), std::pair{a, b});
+      m.pairs.push_back({model.links[a].name, model.links[b].name,
+                         adj ? PairClass::kAdjacent : PairClass::kChecked, adj, ""});
+    }
+  for (std::size_t a = 0; a < model.links.size(); ++a)
+    if (geometry[a]) m.buffer[model.links[a].name] = 0.0;
+  s.self_collision = std::move(m);
+  return s;
+}
+
+std::vector<std::string> listed_tool_frames(const RobotModel& model,
+                                            const std::vector<std::string>& tool_frames,
+                                            const std::vector<bool>& has_spheres) {
+  if (has_spheres.size() != model.links.size())
+    throw std::invalid_argument("listed_tool_frames: has_spheres is not one flag per link");
+  const Tree t(model);
+  // The links on a path from the root to a tool frame or a link with spheres.
+  std::vector<bool> in_tree(model.links.size(), false);
+  const auto add_path = [&](std::size_t l) {
+    for (;;) {
+      if (in_tree[l]) return;
+      in_tree[l] = true;
+      if (t.parent[l] == nullptr) return;
+      l = Tree::index(model, t.parent[l]->parent);
+    }
+  };
+  for (const std::string& f : tool_frames) add_path(Tree::index(model, f));
+  for (std::size_t l = 0; l < model.links.size(); ++l)
+    if (has_spheres[l]) add_path(l);
+  // Dangling actuated joints: their child links outside the tree. The lowest ones' children
+  // are listed; each one's path takes in the dangling joints above it.
+  std::vector<bool> dangling(model.links.size(), false);
+  for (std::size_t l = 0; l < model.links.size(); ++l)
+    dangling[l] = !in_tree[l] && t.parent[l] != nullptr && t.parent[l]->type != JointType::kFixed &&
+                  !t.parent[l]->mimic;
+  std::vector<bool> has_dangling_below(model.links.size(), false);
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    if (!dangling[l]) continue;
+    for (const Joint* j = t.parent[l]; j != nullptr;) {
+      const std::size_t p = Tree::index(model, j->parent);
+      has_dangling_below[p] = true;
+      j = t.parent[p];
+    }
+  }
+  std::vector<std::string> out = tool_frames;
+  for (std::size_t l = 0; l < model.links.size(); ++l)
+    if (dangling[l] && !has_dangling_below[l]) out.push_back(model.links[l].name);
+  return out;
+}
+
+std::string tool_frames_from_text(const std::string& from) {
+  static const std::map<std::string, std::string> text = {
+      {"option", "as given"},
+      {"srdf", "the SRDF's end effectors"},
+      {"gripper", "per branch, the link that carries the gripper"},
+      {"branch", "per branch, the last link an arm joint moves"},
+      {"root", "the root link: the robot has no arm joint"}};
+  const auto it = text.find(from);
+  return it == text.end() ? from : it->second;
+}
+
+std::string default_from_text(const std::string& from) {
+  static const std::map<std::string, std::string> text = {
+      {"zero", "the zero pose clamped into the limits, free"},
+      {"sample", "the free configuration nearest to the zero pose (the zero pose is not free)"},
+      {"zero_buffered",
+       "the zero pose clamped into the limits, free once self-collision buffers shrink the "
+       "spheres of the links that touch there (no free configuration was found)"},
+      {"zero_not_free", "the zero pose clamped into the limits, NOT free: no free one was found"},
+      {"zero_unchecked", "the zero pose clamped into the limits (not checked)"}};
+  const auto it = text.find(from);
+  return it == text.end() ? from : it->second;
+}
+
+std::vector<std::pair<std::string, std::string>> ignored_pairs(const SelfCollisionMatrix& m) {
+  std::vector<std::pair<std::string, std::string>> out;
+  for (const LinkPairClass& p : m.pairs)
+    if (p.ignored) out.emplace_back(p.link1, p.link2);
+  return out;
+}
+
+void validate_planner_setup(const RobotModel& model, const PlannerSetup& setup,
+                            const std::string& source) {
+  for (const std::string& t : setup.tool_frames)
+    if (!model.find_link(t)) fail(source, "the tool frame \"" + t + "\" is no link of the robot");
+  std::set<std::string> actuated;
+  for (const Joint& j : model.joints)
+    if (j.type != JointType::kFixed && !j.mimic) actuated.insert(j.name);
+  for (const std::string& j : setup.locked_joints)
+    if (!actuated.count(j)) fail(source, "the locked joint \"" + j + "\" is no actuated joint");
+  for (const auto& [j, q] : setup.default_positions) {
+    if (!actuated.count(j))
+      fail(source, "the default position names \"" + j + "\", no actuated joint");
+    if (!std::isfinite(q)) fail(source, "the default position of \"" + j + "\" is not finite");
+  }
+  for (const std::string& j : actuated)
+    if (!setup.default_positions.count(j))
+      fail(source, "joint \"" + j + "\" has no default position");
+  if (!setup.self_collision) return;
+  const SelfCollisionMatrix& m = *setup.self_collision;
+  std::set<std::pair<std::string, std::string>> seen;
+  for (const LinkPairClass& p : m.pairs) {
+    const std::string who = "the pair (\"" + p.link1 + "\", \"" + p.link2 + "\")";
+    if (!model.find_link(p.link1) || !model.find_link(p.link2))
+      fail(source, who + " names a link the robot does not have");
+    if (p.link1 == p.link2) fail(source, who + " names one link twice");
+    if (!seen.insert(std::minmax(p.link1, p.link2)).second) fail(source, who + " is listed twice");
+  }
+  for (const auto& [link, b] : m.buffer) {
+    if (!model.find_link(link))
+      fail(source, "the buffer names \"" + link + "\", no link of the robot");
+    if (!std::isfinite(b)) fail(source, "the buffer of \"" + link + "\" is not finite");
+  }
+  if (!(m.threshold >= 0.0 && m.threshold <= 1.0))
+    fail(source, "the threshold " + std::to_string(m.threshold) + " is not in [0, 1]");
+  if (!std::isfinite(m.margin) || m.margin < 0.0)
+    fail(source, "the margin " + std::to_string(m.margin) + " is not finite and >= 0");
+}
+
+}  // namespace medspheres
