@@ -28,14 +28,28 @@
 //   header states); the tally counts the links where that bound alone exceeds a third of
 //   the grown set's (the target is out of reach there), how many links can meet the target
 //   at all, and the median of the cover's max protrusion over the bound.
+//   spheretree (spheretree_run.h): given its build folder (--spheretree-bin DIR, or the
+//   environment's SPHERETREE_BIN), each cover row gets two more at the same K: `st`, the
+//   spheres of spheretree's medial method with foam's settings, and `st+`, the same grown to
+//   cover as cuRobo's `grown` row. --spheretree-cache DIR keeps its runs (tens of seconds
+//   each) for the next run of the bench. Without the folder these rows are skipped.
+//   At the end, one line per mesh and K: the cover, spheretree's grown set and cuRobo's
+//   grown set (protrusion and excess), the bound and the cover's protrusion over it, and
+//   the seconds; then how many meet each target. Every certified set (cover, grown, tight,
+//   st+) must stick out at least the bound: a set below it fails the bench (exit 1).
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
-// cores.
+// cores; the cover at most spheretree's grown set on both protrusion and excess on 90% of
+// the meshes and links, never more than 5% worse on either; its protrusion at most 1.5
+// times the bound on 80% of the links.
 #include <sys/resource.h>
+#include <unistd.h>
 
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
+#include <cstdlib>
 #include <filesystem>
+#include <optional>
 #include <sstream>
 #include <string>
 #include <vector>
@@ -50,6 +64,7 @@
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "spheretree_run.h"
 #include "support/shared_meshes.h"
 
 namespace {
@@ -139,21 +154,101 @@ void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   r.bound_cpu = cpu_seconds() - t.cpu;
 }
 
+// The naive fix that makes a set cover: every radius grown by the certificate's upper bound
+// on the largest uncovered distance, plus 1e-9 L (cuRobo's and spheretree's sets).
+std::vector<Sphere> grown_to_cover(const TriangleMesh& mesh, std::vector<Sphere> spheres,
+                                   int threads) {
+  CoverCertificateOptions co;
+  co.threads = threads;
+  const CoverCertificate c = certify_cover(mesh, spheres, co);
+  const double L = mesh.bounds().sizes().maxCoeff();
+  for (Sphere& s : spheres) s.radius += c.certified ? 0.0 : c.worst_bound + 1e-9 * L;
+  return spheres;
+}
+
+// One mesh at one K, for the summary: the cover and the peers' sets grown to cover.
+struct Comparison {
+  std::string name;
+  std::size_t k = 0;
+  bool link = false;  // a G1 link at cuRobo's count
+  Row cover;
+  std::optional<Row> spheretree, curobo;
+  std::string spheretree_error;
+};
+std::vector<Comparison> comparisons;
+
+// Certified sets that stick out less than the bound at their K (a broken bound).
+std::vector<std::string> below_bound;
+std::size_t bound_checks = 0;
+
+// Every certified set sticks out at least the bound (both % of L; slack 1e-7 % of L, the
+// bound's own rounding slack being a few 1e-9 L).
+void check_bound(const std::string& name, std::size_t k, const char* method, const Row& r,
+                 double bound) {
+  if (!r.certified || bound < 0) return;
+  ++bound_checks;
+  if (r.protrusion + 1e-7 < bound) {
+    char line[256];
+    std::snprintf(line, sizeof line, "%s K=%zu %s: protrusion %.6f%%L below the bound %.6f%%L",
+                  name.c_str(), k, method, r.protrusion, bound);
+    below_bound.push_back(line);
+  }
+}
+
+// spheretree's build folder (empty: no spheretree rows), its cache and its scratch folder.
+std::string spheretree_bin, spheretree_cache, spheretree_work;
+
+// spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
+// or nothing when spheretree made no set (the reason in \p error).
+std::optional<Row> spheretree_rows(const std::string& name, const FitEvaluator& fit, std::size_t K,
+                                   std::size_t samples, int threads, std::string& error) {
+  if (spheretree_bin.empty()) return std::nullopt;
+  const TriangleMesh& mesh = fit.query().mesh();
+  const bench::SpheretreeRun run =
+      bench::run_spheretree(spheretree_bin, mesh, K, spheretree_cache, spheretree_work);
+  if (!run.error.empty()) {
+    error = run.error;
+    std::printf("%-34s %3zu st     failed: %s\n", name.c_str(), K, run.error.c_str());
+    return std::nullopt;
+  }
+  SphereSet made;
+  made.spheres = run.spheres;
+  Row r = measure(fit, made, nullptr, samples, threads);
+  r.seconds = run.seconds, r.cpu = run.cpu;
+  print(name, K, "st", r);
+  made.spheres = grown_to_cover(mesh, run.spheres, threads);
+  Row g = measure(fit, made, nullptr, samples, threads);
+  g.seconds = run.seconds, g.cpu = run.cpu;
+  print(name, K, "st+", g);
+  return g;
+}
+
+// The cover at K, its bound and the spheretree rows beside it; recorded for the summary.
+Comparison cover_rows(const std::string& name, const FitEvaluator& fit, std::size_t K,
+                      std::size_t samples, int threads) {
+  CoverOptions o;
+  o.threads = threads;
+  const Stopwatch t;
+  const CoverResult c = bake_cover(fit.query(), K, o);
+  Comparison cmp;
+  cmp.name = name, cmp.k = K;
+  cmp.cover = measure(fit, c.spheres, &t, samples, threads);
+  add_bound(fit, K, threads, cmp.cover);
+  print(name, K, "cover", cmp.cover);
+  check_bound(name, K, "cover", cmp.cover, cmp.cover.bound);
+  cmp.spheretree = spheretree_rows(name, fit, K, samples, threads, cmp.spheretree_error);
+  if (cmp.spheretree) check_bound(name, K, "st+", *cmp.spheretree, cmp.cover.bound);
+  return cmp;
+}
+
 void run_mesh(const std::string& name, const std::string& path, const std::vector<int>& ks,
               const std::string& methods, std::size_t samples, int threads) {
   const LoadedMesh loaded = load_mesh(path);
   const FitEvaluator fit(loaded.mesh, threads);
   for (int k : ks) {
     const std::size_t K = static_cast<std::size_t>(k);
-    if (methods.find("cover") != std::string::npos) {
-      CoverOptions o;
-      o.threads = threads;
-      const Stopwatch t;
-      const CoverResult c = bake_cover(fit.query(), K, o);
-      Row r = measure(fit, c.spheres, &t, samples, threads);
-      add_bound(fit, K, threads, r);
-      print(name, K, "cover", r);
-    }
+    if (methods.find("cover") != std::string::npos)
+      comparisons.push_back(cover_rows(name, fit, K, samples, threads));
     if (methods.find("sd") == std::string::npos && methods.find("splus") == std::string::npos)
       continue;
     BakeOptions bo;
@@ -209,8 +304,8 @@ struct CuroboTally {
 };
 
 // cuRobo's spheres for the link as shipped; the same grown by the largest uncovered distance
-// (the certificate's upper bound on it, plus 1e-9 L: the naive fix that makes them cover);
-// and bake_cover at cuRobo's count.
+// (grown_to_cover: the naive fix that makes them cover); cuRobo's set through tighten_cover;
+// and the cover at cuRobo's count (with spheretree's rows when asked for).
 void run_curobo(const std::string& name, const std::string& path,
                 const formats::RobotSpheres& curobo, std::size_t samples, int threads,
                 CuroboTally& tally) {
@@ -221,16 +316,12 @@ void run_curobo(const std::string& name, const std::string& path,
   }
   const LoadedMesh loaded = load_mesh(path);
   const FitEvaluator fit(loaded.mesh, threads);
-  const double L = loaded.report.largest_side();
   const std::size_t K = link->spheres.size();
   SphereSet shipped;
   shipped.spheres = link->spheres;
   print(name, K, "cuRobo", measure(fit, shipped, nullptr, samples, threads));
-  CoverCertificateOptions co;
-  co.threads = threads;
-  const CoverCertificate c = certify_cover(loaded.mesh, shipped.spheres, co);
-  SphereSet grown = shipped;
-  for (Sphere& s : grown.spheres) s.radius += c.certified ? 0.0 : c.worst_bound + 1e-9 * L;
+  SphereSet grown;
+  grown.spheres = grown_to_cover(loaded.mesh, shipped.spheres, threads);
   const Row g = measure(fit, grown, nullptr, samples, threads);
   print(name, K, "grown", g);
   CoverOptions o;
@@ -243,11 +334,13 @@ void run_curobo(const std::string& name, const std::string& path,
   tally.tight_excess_lower += tr.excess < g.excess;
   tally.tight_protrusion_no_higher += tr.protrusion <= g.protrusion;
   tally.tight_over_grown.push_back(tr.excess / g.excess);
-  const Stopwatch t;
-  const CoverResult cover = bake_cover(fit.query(), K, o);
-  Row r = measure(fit, cover.spheres, &t, samples, threads);
-  add_bound(fit, K, threads, r);
-  print(name, K, "cover", r);
+  Comparison cmp = cover_rows(name, fit, K, samples, threads);
+  const Row& r = cmp.cover;
+  check_bound(name, K, "grown", g, r.bound);
+  check_bound(name, K, "tight", tr, r.bound);
+  cmp.link = true;
+  cmp.curobo = g;
+  comparisons.push_back(cmp);
   ++tally.links;
   tally.bound_above_third += r.bound > g.protrusion / 3.0;
   tally.closed += r.bound_closed;
@@ -255,6 +348,96 @@ void run_curobo(const std::string& name, const std::string& path,
   if (r.bound > 0) tally.cover_over_bound.push_back(r.protrusion / r.bound);
   tally.protrusion_third += r.protrusion <= g.protrusion / 3.0;
   tally.excess_half += r.excess <= g.excess / 2.0;
+}
+
+// "prot exc" of a row, or dashes.
+std::string pair_text(const std::optional<Row>& r) {
+  char t[64];
+  if (r)
+    std::snprintf(t, sizeof t, "%7.2f %8.2f", r->protrusion, r->excess);
+  else
+    std::snprintf(t, sizeof t, "%7s %8s", "-", "-");
+  return t;
+}
+
+// One line per mesh and K: the cover, spheretree's and cuRobo's grown sets, the bound and the
+// cover's protrusion over it, the seconds.
+void print_summary() {
+  std::printf("\n%-34s %3s | %-31s | %-16s %8s %3s | %-16s | %6s %5s\n", "", "", "medspheres cover",
+              "spheretree st+", "", "", "cuRobo grown", "bound", "");
+  std::printf("%-34s %3s | %7s %8s %7s %6s | %7s %8s %8s %3s | %7s %8s | %6s %5s\n", "mesh", "K",
+              "prot%L", "excess%", "sec", "cpu", "prot%L", "excess%", "sec", "n", "prot%L",
+              "excess%", "lb%L", "ratio");
+  for (const Comparison& c : comparisons) {
+    const Row& r = c.cover;
+    char st_sec[32] = "       -", st_n[16] = "  -";
+    if (c.spheretree) {
+      std::snprintf(st_sec, sizeof st_sec, "%8.1f", c.spheretree->seconds);
+      std::snprintf(st_n, sizeof st_n, "%3zu", c.spheretree->spheres);
+    }
+    char ratio[16] = "    -";
+    if (r.bound > 0) std::snprintf(ratio, sizeof ratio, "%5.2f", r.protrusion / r.bound);
+    std::printf("%-34s %3zu | %7.2f %8.2f %7.3f %6.3f | %s %s %s | %s | %6.2f %s\n", c.name.c_str(),
+                c.k, r.protrusion, r.excess, r.seconds, r.cpu, pair_text(c.spheretree).c_str(),
+                st_sec, st_n, pair_text(c.curobo).c_str(), r.bound, ratio);
+  }
+}
+
+// The cover against spheretree's grown set on \p which meshes: how many at most on both
+// (protrusion and excess), how many more than 5% worse on either, and the worst ratios.
+void print_peer_tally(const char* which, bool links) {
+  int n = 0, both = 0, worse = 0, failed = 0;
+  double worst_p = 0, worst_e = 0;
+  std::string worse_list;
+  for (const Comparison& c : comparisons) {
+    if (c.link != links) continue;
+    if (!c.spheretree) {
+      failed += !c.spheretree_error.empty();
+      continue;
+    }
+    ++n;
+    const double p = c.cover.protrusion / c.spheretree->protrusion;
+    const double e = c.cover.excess / c.spheretree->excess;
+    both += c.cover.certified && p <= 1.0 && e <= 1.0;
+    worst_p = std::max(worst_p, p), worst_e = std::max(worst_e, e);
+    if (p > 1.05 || e > 1.05) {
+      ++worse;
+      char t[128];
+      std::snprintf(t, sizeof t, " %s K=%zu (%.2fx, %.2fx)", c.name.c_str(), c.k, p, e);
+      worse_list += t;
+    }
+  }
+  if (n == 0 && failed == 0) return;
+  std::printf(
+      "%s: cover certified and at most spheretree's grown set on both protrusion and excess on "
+      "%d of %d (%.0f%%); more than 5%% worse on either on %d; largest ratios %.2f "
+      "(protrusion), %.2f (excess); spheretree made no set on %d%s%s\n",
+      which, both, n, n ? 100.0 * both / n : 0.0, worse, worst_p, worst_e, failed,
+      worse ? "; worse:" : "", worse_list.c_str());
+}
+
+// The cover's protrusion over the bound on \p which meshes, and the seconds.
+void print_bound_tally(const char* which, bool links) {
+  int n = 0, within = 0, slow = 0, certified = 0;
+  double slowest = 0;
+  std::vector<double> q;
+  for (const Comparison& c : comparisons) {
+    if (c.link != links) continue;
+    ++n;
+    certified += c.cover.certified;
+    slow += c.cover.seconds > 1.0;
+    slowest = std::max(slowest, c.cover.seconds);
+    if (c.cover.bound <= 0) continue;
+    q.push_back(c.cover.protrusion / c.cover.bound);
+    within += q.back() <= 1.5;
+  }
+  if (n == 0) return;
+  std::sort(q.begin(), q.end());
+  std::printf(
+      "%s: %d covers, certified %d; protrusion <= 1.5 x the bound on %d (%.0f%%; ratio median "
+      "%.2f, range %.2f to %.2f); over 1 s on %d (slowest %.2f s)\n",
+      which, n, certified, within, 100.0 * within / n, median_of(q), q.empty() ? 0.0 : q.front(),
+      q.empty() ? 0.0 : q.back(), slow, slowest);
 }
 
 }  // namespace
@@ -268,7 +451,9 @@ int main(int argc, char** argv) {
   int threads = 2;
   app.add_option("--k", ks, "Budgets")->delimiter(',');
   app.add_option("--only", only, "Only meshes whose name contains this");
-  app.add_option("--methods", methods, "Any of cover, sd, splus, comma-separated");
+  app.add_option("--methods", methods,
+                 "Any of cover, sd, splus, curobo, comma-separated (curobo: the G1 links at "
+                 "cuRobo's counts; the other methods then run on the classic meshes)");
   app.add_flag("--no-classic", no_classic, "Skip the shared classic meshes");
   app.add_flag("--no-g1", no_g1, "Skip the G1 links");
   app.add_option("--samples", samples, "Monte-Carlo points per set");
@@ -280,6 +465,16 @@ int main(int argc, char** argv) {
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,
                  "cuRobo configuration for the G1 comparison (methods: curobo)");
+  if (const char* bin = std::getenv("SPHERETREE_BIN")) spheretree_bin = bin;
+  app.add_option("--spheretree-bin", spheretree_bin,
+                 "spheretree's build folder, holding makeTreeMedial (default: $SPHERETREE_BIN); "
+                 "none: no spheretree rows");
+  app.add_option("--spheretree-cache", spheretree_cache,
+                 "Keep spheretree's runs here and reuse them");
+  spheretree_work = (std::filesystem::temp_directory_path() /
+                     ("bench_budget_spheretree." + std::to_string(::getpid())))
+                        .string();
+  app.add_option("--spheretree-work", spheretree_work, "spheretree's scratch folder");
   CLI11_PARSE(app, argc, argv);
   const bool curobo = methods.find("curobo") != std::string::npos;
   formats::RobotSpheres curobo_spheres;
@@ -306,7 +501,7 @@ int main(int argc, char** argv) {
     try {
       if (curobo && name.rfind("g1/", 0) == 0)
         run_curobo(name, path, curobo_spheres, samples, threads, tally);
-      else if (!curobo)
+      else if (!curobo || name.rfind("g1/", 0) != 0)
         run_mesh(name, path, ks, methods, samples, threads);
     } catch (const std::exception& e) {
       std::printf("%-34s failed: %s\n", name.c_str(), e.what());
@@ -350,5 +545,15 @@ int main(int argc, char** argv) {
         tally.links - tally.bound_above_third_closed - open_above,
         100.0 * (tally.links - tally.bound_above_third) / tally.links);
   }
-  return 0;
+  if (!comparisons.empty()) {
+    print_summary();
+    print_peer_tally("classic meshes", false);
+    print_peer_tally("G1 links at cuRobo's counts", true);
+    print_bound_tally("classic meshes", false);
+    print_bound_tally("G1 links at cuRobo's counts", true);
+  }
+  std::printf("bound <= protrusion of every certified set: %zu checked, %zu below\n", bound_checks,
+              below_bound.size());
+  for (const std::string& b : below_bound) std::printf("  BELOW THE BOUND: %s\n", b.c_str());
+  return below_bound.empty() ? 0 : 1;
 }
