@@ -1,3 +1,4 @@
+#include <algorithm>
 #include <filesystem>
 #include <regex>
 #include <set>
@@ -520,6 +521,65 @@ TEST_CASE("cuRobo loader contract: buffers, ignore, lock_joints", "[formats]") {
   const YAML::Node k = curobo_file(none, CuroboLayout::kV2)["robot_cfg"]["kinematics"];
   REQUIRE(k["self_collision_ignore"].IsMap());
   CHECK(k["self_collision_ignore"].size() == 0);
+}
+
+// The pairs of \p spheres (link -> [{center, radius}]) that \p ignore leaves checked, and the
+// largest threshold r1 + r2 + buffer1 + buffer2 over their sphere pairs (cuRobo's test: two
+// spheres collide when their centres are nearer than it).
+static std::pair<std::size_t, double> checked_pairs(const YAML::Node& spheres,
+                                                    const YAML::Node& ignore,
+                                                    const YAML::Node& buffer) {
+  const Names links = keys(spheres);
+  std::size_t checked = 0;
+  double threshold = -1e300;
+  for (std::size_t i = 0; i < links.size(); ++i)
+    for (std::size_t j = i + 1; j < links.size(); ++j) {
+      bool skipped = false;
+      for (const auto& [a, b] : {std::pair{links[i], links[j]}, std::pair{links[j], links[i]}})
+        if (ignore[a])
+          for (const std::string& n : ignore[a].as<Names>()) skipped |= n == b;
+      if (skipped) continue;
+      ++checked;
+      for (const YAML::Node& s1 : spheres[links[i]])
+        for (const YAML::Node& s2 : spheres[links[j]])
+          threshold = std::max(threshold, s1["radius"].as<double>() + s2["radius"].as<double>() +
+                                              buffer[links[i]].as<double>() +
+                                              buffer[links[j]].as<double>());
+    }
+  return {checked, threshold};
+}
+
+TEST_CASE("cuRobo loader contract: with every pair skipped, one pair checked that cannot touch",
+          "[formats]") {
+  // cuRobo's loaders divide by the number of checked sphere pairs: a robot whose every pair
+  // is skipped must still give them one, and it must never collide.
+  medspheres::RobotModel all = planned_arm();
+  for (auto& p : all.planner->self_collision->pairs) p.ignored = true;
+  for (CuroboLayout layout : {CuroboLayout::kV2, CuroboLayout::kV1}) {
+    const YAML::Node k = curobo_file(all, layout)["robot_cfg"]["kinematics"];
+    const auto [checked, threshold] = checked_pairs(
+        k["collision_spheres"], k["self_collision_ignore"], k["self_collision_buffer"]);
+    CHECK(checked == 1);
+    CHECK(threshold <= -0.01 + 1e-12);
+  }
+  const SphereDocument doc = robot_document(all, SphereChoice::kOuter, "", "arm");
+  const YAML::Node x = YAML::Load(sphere_document_text(doc, SphereFormat::kXrdf));
+  const std::string group = x["collision"]["geometry"].as<std::string>();
+  const auto [checked, threshold] =
+      checked_pairs(x["geometry"][group]["spheres"], x["self_collision"]["ignore"],
+                    x["self_collision"]["buffer_distance"]);
+  CHECK(checked == 1);
+  CHECK(threshold <= -0.01 + 1e-12);
+  // The SRDF still disables every pair.
+  CHECK(
+      parse_srdf_disabled_collisions(sphere_document_text(doc, SphereFormat::kSrdf), "f").size() ==
+      all.planner->self_collision->pairs.size());
+  // With one pair checked already, nothing changes.
+  const YAML::Node k = curobo_file(planned_arm(), CuroboLayout::kV2)["robot_cfg"]["kinematics"];
+  CHECK(k["self_collision_buffer"]["base"].as<double>() == -0.0125);
+  CHECK(
+      checked_pairs(k["collision_spheres"], k["self_collision_ignore"], k["self_collision_buffer"])
+          .first == 1);
 }
 
 TEST_CASE("cuRobo loader contract: cspace in v2's and v1's names", "[formats]") {

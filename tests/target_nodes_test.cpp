@@ -1,7 +1,7 @@
-// Walks of a sphere tree against a ProximityTarget (src/runtime/traversal_target.h): nodes
-// bounded by boxes (TargetNode::box_half) give the answers of the same nodes bounded by
-// their RSS alone, and of brute force over the cells; a walk run inside another walk's
-// target keeps its own node stack, so the outer walk's answers do not change.
+// Walks of a sphere tree against a ProximityTarget (src/runtime/traversal/traversal_target.h):
+// nodes bounded by boxes (TargetNode::box_half) give the answers of the same nodes bounded by their
+// RSS alone, and of brute force over the cells; a walk run inside another walk's target keeps its
+// own node stack, so the outer walk's answers do not change.
 
 #include <algorithm>
 #include <cstddef>

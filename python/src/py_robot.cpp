@@ -166,9 +166,8 @@ py::object evaluate_robot_py(const py::object& urdf, const py::handle& spheres, 
   return result["links"];
 }
 
-}  // namespace
-
-void register_robot(py::module_& m) {
+// RobotBake: what bake_robot returns.
+void register_robot_bake(py::module_& m) {
   py::class_<RobotBake>(m, "RobotBake", "A baked robot: every link's inner and outer sets.")
       .def_property_readonly(
           "links",
@@ -217,7 +216,12 @@ void register_robot(py::module_& m) {
           "Writes the robot command's files into the folder `output` (replaced as a whole): "
           "`formats` among robot, curobo, xrdf, urdf, srdf, foam, sph (default: all); `set` "
           "the set the planner formats carry: 'auto' (outer when baked), 'inner', 'outer'.");
+}
 
+}  // namespace
+
+void register_robot(py::module_& m) {
+  register_robot_bake(m);
   const BakeOptions d;
   m.def(
       "bake_robot",

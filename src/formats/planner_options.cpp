@@ -55,6 +55,40 @@ std::vector<std::pair<std::string, double>> buffers(const RobotSpheres& spheres,
   return out;
 }
 
+double largest_radius(const RobotSpheres& spheres, const std::string& link) {
+  double r = 0.0;
+  if (const LinkSphereList* l = find_link_spheres(spheres, link))
+    for (const Sphere& s : l->spheres) r = std::max(r, s.radius);
+  return r;
+}
+
+// cuRobo's loaders divide by the number of sphere pairs they check (v2
+// self_collision_params.py:110, v1 cuda_robot_generator.py:925), so they refuse a robot whose
+// every pair of links is skipped (ZeroDivisionError). Such a robot's files check one pair
+// that cannot touch instead: its first link's buffer is minus the pair's two largest radii
+// and the other link's buffer, less 1 cm, so each of its sphere pairs' thresholds (r1 + r2 +
+// buffer1 + buffer2, whatever collision_sphere_buffer adds) is below -1 cm. The first link's
+// other pairs stay skipped, so its buffer changes nothing else.
+void check_one_untouchable_pair(LinkPairLists& ignore,
+                                std::vector<std::pair<std::string, double>>& buffer,
+                                const RobotSpheres& spheres) {
+  std::size_t skipped = 0;
+  for (const auto& entry : ignore) skipped += entry.second.size();
+  const std::size_t links = buffer.size();
+  if (links < 2 || skipped < links * (links - 1) / 2 || ignore.empty()) return;
+  const std::string a = ignore.front().first;
+  const std::string b = ignore.front().second.front();
+  ignore.front().second.erase(ignore.front().second.begin());
+  if (ignore.front().second.empty()) ignore.erase(ignore.begin());
+  double other = 0.0;
+  for (const auto& [link, value] : buffer)
+    if (link == b) other = value;
+  for (auto& [link, value] : buffer)
+    if (link == a)
+      value =
+          -(largest_radius(spheres, a) + largest_radius(spheres, b) + std::max(0.0, other)) - 0.01;
+}
+
 }  // namespace
 
 PlannerSetup planner_setup_for(const RobotModel& model, const RobotSpheres& spheres) {
@@ -71,6 +105,7 @@ CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& sphere
   o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
   o.self_collision_ignore = ignore_lists(model, spheres, setup);
   o.self_collision_buffer = buffers(spheres, setup);
+  check_one_untouchable_pair(o.self_collision_ignore, o.self_collision_buffer, spheres);
   const KinematicTree tree(model);
   for (const std::string& j : tree.joint_names()) {
     o.joint_names.push_back(j);
@@ -93,6 +128,7 @@ XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres) {
   o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
   o.self_collision_ignore = ignore_lists(model, spheres, setup);
   o.self_collision_buffer = buffers(spheres, setup);
+  check_one_untouchable_pair(o.self_collision_ignore, o.self_collision_buffer, spheres);
   return o;
 }
 

@@ -58,7 +58,8 @@ void grow_box(const BuildInput& input, int item, const Eigen::Matrix3d& axes, Ei
 // size of the child's bounding volume: a pair traversal opens a node about as often as
 // its volume comes near the other tree's, and then tests its items. On dilated sphere
 // sets, where large interior spheres sit among many small surface ones, this visits up
-// to a fifth fewer node pairs than the cut at the mean.
+// to a fifth fewer node pairs than the cut at the mean (a one-off comparison with that cut,
+// docs/benchmarks.md).
 int cheapest_cut(const BuildInput& input, const std::vector<std::pair<double, int>>& keyed,
                  const Eigen::Matrix3d& axes, int min_side, std::vector<double>& suffix) {
   const int n = static_cast<int>(keyed.size());

@@ -8,7 +8,7 @@
 
 #include "bvh_build.h"
 #include "medspheres/min_enclosing_ball.h"
-#include "sphere_tree_layout.h"
+#include "traversal/sphere_tree_layout.h"
 
 namespace medspheres {
 namespace detail {

@@ -7,6 +7,8 @@
 /// - self_collision_ignore: the matrix's skipped pairs whose two links both have spheres,
 ///   keyed by the first link, both in model link order;
 /// - self_collision_buffer: every link with spheres (0 where the matrix has none);
+/// - when every pair is skipped, one pair is left out of the ignore lists, made unable to
+///   touch by a negative buffer (cuRobo's loaders divide by the number of checked pairs);
 /// - cspace: every actuated joint at its default position; cuRobo's lock_joints and the
 ///   joints XRDF's cspace leaves out are the setup's locked joints;
 /// - SRDF: one <disable_collisions> per skipped pair, with its reason (srdf_reason).
