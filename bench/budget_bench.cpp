@@ -39,7 +39,7 @@
 //   grown set (protrusion and excess), the bound and the cover's protrusion over it, and
 //   the seconds; then how many meet each target. Every certified set (cover, grown, tight,
 //   st+) must stick out at least the bound: a set below it fails the bench (exit 1).
-//   On a machine shared with other work, run it with OMP_WAIT_POLICY=passive: OpenMP's
+//   It starts itself again with OMP_WAIT_POLICY=passive when that is unset: OpenMP's
 //   threads otherwise spin at every barrier, and the volume stage's many short parallel loops
 //   then cost the cover rows several times their work (the bunny at K = 8, --threads 2, at a
 //   load average of 16: 17.0 s wall and 1.63 CPU seconds, against 1.83 s and 0.16 passive).
@@ -62,6 +62,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_args.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/cover/cover.h"
@@ -205,7 +206,8 @@ void check_bound(const std::string& name, std::size_t k, const char* method, con
 
 // spheretree's build folder (empty: no spheretree rows), its cache and its scratch folder.
 std::string spheretree_bin, spheretree_cache, spheretree_work;
-bool spheretree_cached_only = false;  // --spheretree-cached-only
+bool spheretree_cached_only = false;                                // --spheretree-cached-only
+double protrusion_allowance = CoverOptions().protrusion_allowance;  // --protrusion-allowance
 
 // spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
 // or nothing when spheretree made no set (the reason in \p error).
@@ -238,6 +240,7 @@ Comparison cover_rows(const std::string& name, const FitEvaluator& fit, std::siz
                       std::size_t samples, int threads) {
   CoverOptions o;
   o.threads = threads;
+  o.protrusion_allowance = protrusion_allowance;
   const Stopwatch t;
   const CoverResult c = bake_cover(fit.query(), K, o);
   Comparison cmp;
@@ -457,6 +460,7 @@ void print_bound_tally(const char* which, bool links) {
 }  // namespace
 
 int main(int argc, char** argv) {
+  medspheres::bench::restart_with_passive_openmp(argv);
   CLI::App app{"Sphere sets to a small budget: covers, S_D and S+"};
   std::vector<int> ks = {2, 4, 8, 16, 32, 64};
   std::string only, methods = "cover,sd,splus";
@@ -476,6 +480,8 @@ int main(int argc, char** argv) {
                  "Depth grid cells along L of the lower bound (cover rows)");
   app.add_option("--lb-refine", bound_refine, "Refinement queries of the lower bound");
   app.add_option("--lb-candidates", bound_candidates, "Candidate witnesses of the lower bound");
+  app.add_option("--protrusion-allowance", protrusion_allowance,
+                 "The cover's volume stage may raise the largest protrusion by this fraction");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,

@@ -66,16 +66,19 @@ double volume_of(const MeshQuery& query, const Elements& e, const CoverOptions& 
   return static_cast<double>(e.size() - e.surface) * cell * cell * cell;
 }
 
-// The volume flow from \p c with the protrusion \p cap; then each element to the ball that
-// must grow least to hold it, the balls shrunk, the empty ones dropped.
-Clustering volume_stage(const MeshQuery& query, const Elements& e, Clustering c, double cap,
-                        int threads) {
+// The volume flow from \p c with the protrusion \p cap, on the patches \p flow_elements (each
+// the ball that holds its elements, so a patch held holds them; at most max(4000, 60 K)
+// of them against up to 40,000 elements and the interior points: the flow costs that much
+// less); then each element of \p e to the ball that must grow least to hold it, the balls
+// shrunk to what their elements need, the empty ones dropped.
+Clustering volume_stage(const MeshQuery& query, const Elements& e, const Elements& flow_elements,
+                        Clustering c, double cap, int threads) {
   detail::drop_empty(c);
   detail::FlowOptions fo;
   fo.cap = cap;
   fo.iterations = kFlowIterations;
   fo.threads = threads;
-  c.balls = detail::volume_flow(query, e, std::move(c.balls), fo);
+  c.balls = detail::volume_flow(query, flow_elements, std::move(c.balls), fo);
   detail::hold_all(e, c, threads);
   detail::shrink(e, c);
   detail::drop_empty(c);
@@ -115,11 +118,11 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
                        detail::largest_protrusion(query, p.clustering.balls, threads);
     // The flow's penalties aim at the cap without certainty: while it overshoots, at most
     // twice more with the aim lowered by the first overshoot, then by twice it.
-    Clustering v = volume_stage(query, e, p.clustering, cap, threads);
+    Clustering v = volume_stage(query, e, fine, p.clustering, cap, threads);
     const double over = detail::largest_protrusion(query, v.balls, threads);
     for (int retry = 1; retry <= 2 && detail::largest_protrusion(query, v.balls, threads) > cap;
          ++retry)
-      v = volume_stage(query, e, p.clustering, cap * std::pow(cap / over, retry), threads);
+      v = volume_stage(query, e, fine, p.clustering, cap * std::pow(cap / over, retry), threads);
     if (detail::largest_protrusion(query, v.balls, threads) <= cap) results.push_back(std::move(v));
   }
   results.insert(results.begin(), std::move(p.clustering));
@@ -237,7 +240,9 @@ CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& sta
   detail::shrink(e, c);
   if (options.volume_descent) {
     const double cap = detail::largest_protrusion(query, c.balls, threads);
-    Clustering v = volume_stage(query, e, c, cap, threads);
+    const Elements fine =
+        detail::make_patches(e, start_balls.size(), kFinePatchFloor, query.mesh().bounds().min());
+    Clustering v = volume_stage(query, e, fine, c, cap, threads);
     if (detail::union_volume(v.balls) < detail::union_volume(c.balls) &&
         detail::largest_protrusion(query, v.balls, threads) <= cap)
       c = std::move(v);

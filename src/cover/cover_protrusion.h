@@ -18,7 +18,8 @@ struct ProtrusionStage {
 
 // At most \p budget balls holding every element of \p e: the threshold start over the
 // patches \p fine, then minimax rounds (at most \p rounds), then for budgets up to
-// kMoveBudget split and exchange moves; each kept while the largest protrusion falls.
+// kMoveBudget split and exchange moves, each kept while the largest protrusion falls; for
+// budgets up to kSpreadBudget the same from the spread start too, the lower P kept.
 ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
                                  std::size_t budget, int rounds, int threads);
 

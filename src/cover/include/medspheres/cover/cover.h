@@ -18,12 +18,14 @@
 ///    at which a greedy set cover picks at most K candidates holding every patch at
 ///    protrusion <= t. Then minimax rounds on the elements (at most `rounds`): each element
 ///    goes to the ball whose protrusion grows least to hold it, then each centre moves
-///    (pattern search) to where its ball sticks out least. For K <= 16, split and exchange
+///    (pattern search) to where its ball sticks out least. For K <= 64, split and exchange
 ///    moves follow: the ball that protrudes most is split in two (filling the budget, or in
 ///    exchange for the ball whose elements the others take at the least protrusion), then
-///    two minimax rounds; each move kept while P falls.
+///    two minimax rounds; each move kept while P falls (at most 6; 3 above K = 16). For
+///    K <= 16 the same rounds and moves also run from K farthest-point centres on the
+///    surface, and the result of lower P is kept.
 /// 3. Volume stage (volume_descent): all balls move and resize at once, by gradient steps,
-///    down the union's volume plus penalties that keep the elements held and each
+///    down the union's volume plus penalties that keep the patches of step 2 held and each
 ///    protrusion within (1 + protrusion_allowance) P; each element then goes to the ball
 ///    that must grow least to hold it, and balls shrink to what no other ball holds. The
 ///    penalties aim at the cap without certainty: while some ball protrudes beyond it, the
@@ -75,7 +77,7 @@ struct CoverOptions {
   bool volume_descent = true;           ///< step 3, the volume stage
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
   /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2).
-  double protrusion_allowance = 0.25;
+  double protrusion_allowance = 0.03;
 };
 
 struct CoverStats {
