@@ -470,6 +470,34 @@ Verdict RobotChecker::check(const double* q, Mode mode,
   return v;
 }
 
+void RobotChecker::check_bounds(const double* q, std::size_t n, Verdict* out,
+                                std::vector<UndecidedPair>* undecided, int threads) const {
+  if (n == 0) return;
+  const Impl& m = *impl_;
+  const std::size_t dof = m.layout.dof;
+  for (std::size_t i = 0; i < n; ++i) m.validate(q + i * dof, i);
+  const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
+#pragma omp parallel num_threads(thread_count(threads))
+  {
+    detail::Workspace w = m.workspace();
+#pragma omp for schedule(dynamic, 4)
+    for (long k = 0; k < blocks; ++k) {
+      const std::size_t first = std::size_t(k) * detail::kLanes;
+      fill_block(w.q, q, first, n, dof);
+      const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
+      for (std::size_t l = 0; l < std::size_t(detail::kLanes); ++l) {
+        w.pairs[l] = l < count ? &undecided[first + l] : nullptr;
+        if (l < count) undecided[first + l].clear();
+      }
+      const detail::Block b = m.run(w, (1u << count) - 1, Mode::bounds, true);
+      for (std::size_t l = 0; l < count; ++l) {
+        out[first + l] = verdict_of(b, int(l));
+        if (out[first + l] != Verdict::undecided) undecided[first + l].clear();
+      }
+    }
+  }
+}
+
 std::size_t RobotChecker::edge_steps(const double* q0, const double* q1, double resolution) const {
   if (!std::isfinite(resolution) || resolution <= 0.0)
     throw std::invalid_argument("robot checker: the edge resolution must be finite and > 0");
