@@ -9,7 +9,8 @@
 // with --fine-spheres per link (both cached as bench_robot's bakes are).
 //
 // Usage: bench_checker [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
-//                      [--planner-spheres K] [--fine-spheres K] [--cache DIR] [--srdf F] ...
+//                      [--planner-spheres K] [--fine-spheres K] [--cache DIR] [--srdf F]
+//                      [--fallback-report] ...
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,6 +22,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "robot_bench_check.h"
 #include "robot_bench_exact.h"
+#include "robot_bench_fallback.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
 #include "robot_bench_setup.h"
@@ -38,6 +40,7 @@ struct Options : mb::RobotBenchOptions {
   bool fcl_loop = true;
   bool all_cores = true;
   int repeats = 3;
+  bool fallback_report = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -52,6 +55,8 @@ Options parse(int argc, char** argv) {
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
   app.add_flag("!--no-fcl-loop", o.fcl_loop, "Leave out the loop of FCL calls");
   app.add_flag("!--one-thread", o.all_cores, "Leave out the rows on every core");
+  app.add_flag("--fallback-report", o.fallback_report,
+               "Instead of the table: where the certified checker's fallback goes, pair by pair");
   args.parse(argc, argv);
   return o;
 }
@@ -110,6 +115,17 @@ int run(const Options& o) {
       "%zu configurations (seed %u), margin %.4g m; reference: %zu within the margin (%.1f s); "
       "exact (FCL, meshes and octree): %zu, %.1f us per configuration\n",
       configs.size(), o.seed, o.margin, truth, reference_seconds, colliding, in.exact_micros);
+  if (o.fallback_report) {
+    medspheres::check::CheckerOptions co;
+    co.margin = in.margin;
+    co.disabled = in.disabled;
+    co.self = in.self;
+    const mf::CertifiedChecker certified(
+        planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
+        objects, co);
+    mb::print_fallback_report(in, certified);
+    return 0;
+  }
   mb::print_checker_rows(in);
   return 0;
 }

@@ -66,13 +66,21 @@ CertifiedChecker::CertifiedChecker(
   }
 }
 
-// One configuration: the bounds, then, as robot_collide does, decide() on every pair they
-// left undecided (the links' sphere trees, surface points included), stopping at the first
-// certainly colliding one; only when none is do the meshes settle() the pairs still open.
+// One configuration: the bounds, then settle_pairs() on the pairs they left undecided.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
   std::vector<check::UndecidedPair> pairs;
   const check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
   if (v != check::Verdict::undecided) return v;
+  return settle_pairs(q, pairs, stats);
+}
+
+// A configuration the bounds left undecided, with the pairs they left open: as robot_collide
+// does, decide() on every pair (the links' sphere trees, surface points included), stopping
+// at the first certainly colliding one; only when none is do the meshes settle() the pairs
+// still open.
+check::Verdict CertifiedChecker::settle_pairs(const double* q,
+                                              const std::vector<check::UndecidedPair>& pairs,
+                                              FallbackStats& stats) const {
   ++stats.configurations;
   const Eigen::Map<const Eigen::VectorXd> qv(q,
                                              static_cast<Eigen::Index>(checker_.num_positions()));
@@ -116,15 +124,25 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
   checker_.check(q, n, check::Mode::bounds, out, threads);
-  std::vector<std::size_t> open;
-  for (std::size_t i = 0; i < n; ++i)
-    if (out[i] == check::Verdict::undecided) open.push_back(i);
+  // The undecided configurations again, eight to a block, now with their undecided pairs.
   const std::size_t dof = checker_.num_positions();
+  std::vector<std::size_t> open;
+  std::vector<double> rows;
+  for (std::size_t i = 0; i < n; ++i)
+    if (out[i] == check::Verdict::undecided) {
+      open.push_back(i);
+      rows.insert(rows.end(), q + i * dof, q + (i + 1) * dof);
+    }
+  std::vector<check::Verdict> again(open.size());
+  std::vector<std::vector<check::UndecidedPair>> pairs(open.size());
+  checker_.check_bounds(rows.data(), open.size(), again.data(), pairs.data(), threads);
   std::vector<FallbackStats> each(open.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
-    const std::size_t i = open[std::size_t(k)];
-    out[i] = settle(q + i * dof, each[std::size_t(k)]);
+    const std::size_t j = std::size_t(k);
+    out[open[j]] = again[j] == check::Verdict::undecided
+                       ? settle_pairs(rows.data() + j * dof, pairs[j], each[j])
+                       : again[j];
   }
   if (stats)
     for (const FallbackStats& s : each) *stats += s;

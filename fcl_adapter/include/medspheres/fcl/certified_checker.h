@@ -86,6 +86,8 @@ class CertifiedChecker {
                    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
                    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds);
   check::Verdict settle(const double* q, FallbackStats& stats) const;
+  check::Verdict settle_pairs(const double* q, const std::vector<check::UndecidedPair>& pairs,
+                              FallbackStats& stats) const;
 
   check::RobotChecker checker_;
   RobotBounds bounds_;
