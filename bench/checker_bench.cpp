@@ -6,10 +6,12 @@
 // scene's octree (bench_robot's `exact` row, here timed in one pass) by a row's.
 //
 // The levels: the planner's sets baked with --planner-spheres per link, the fine sets
-// with --fine-spheres per link (both cached as bench_robot's bakes are).
+// with --fine-spheres per link, and with --tree-spheres the certified fallback's sphere
+// trees (all cached as bench_robot's bakes are).
 //
 // Usage: bench_checker [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
-//                      [--planner-spheres K] [--fine-spheres K] [--cache DIR] [--srdf F]
+//                      [--planner-spheres K] [--fine-spheres K] [--tree-spheres K] [--cache DIR]
+//                      [--srdf F]
 //                      [--fallback-report] ...
 #include <cstdio>
 #include <cstdlib>
@@ -35,6 +37,7 @@ namespace mf = medspheres::fcl;
 struct Options : mb::RobotBenchOptions {
   std::size_t planner_spheres = 8;
   std::size_t fine_spheres = 32;
+  std::size_t tree_spheres = 0;
   double edge_length = 0.5;
   double resolution = 0.02;
   bool fcl_loop = true;
@@ -50,6 +53,8 @@ Options parse(int argc, char** argv) {
   o.add_to(args);
   args.add("--planner-spheres", o.planner_spheres, "The planner's level: spheres per link");
   args.add("--fine-spheres", o.fine_spheres, "The fine level: spheres per link");
+  args.add("--tree-spheres", o.tree_spheres,
+           "The certified fallback's sphere trees: spheres per link (0: the fine sets)");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
@@ -68,6 +73,8 @@ int run(const Options& o) {
   source.spheres_per_link = o.planner_spheres;
   const mb::BenchRobot planner =
       o.planner_spheres == o.fine_spheres ? fine : mb::load_bench_robot(source);
+  source.spheres_per_link = o.tree_spheres;
+  const mb::BenchRobot trees = o.tree_spheres > 0 ? mb::load_bench_robot(source) : mb::BenchRobot{};
   const mb::BenchScene scene = mb::make_scene(o.seed, o.meshes, 1.0);
   const std::vector<const ::fcl::CollisionObjectd*> objects = scene.pointers();
   std::size_t by_default = 0;
@@ -85,9 +92,11 @@ int run(const Options& o) {
       fine.triangles);
   std::printf("planner sets: %s\nfine sets: %s\n", planner.spheres_from.c_str(),
               fine.spheres_from.c_str());
+  if (o.tree_spheres > 0) std::printf("tree sets: %s\n", trees.spheres_from.c_str());
   mb::CheckerBenchInput in;
   in.planner = &planner;
   in.fine = &fine;
+  in.trees = o.tree_spheres > 0 ? &trees : nullptr;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -122,7 +131,7 @@ int run(const Options& o) {
     co.self = in.self;
     const mf::CertifiedChecker certified(
         planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
-        objects, co);
+        objects, co, {}, in.trees ? &trees.model : nullptr);
     mb::print_fallback_report(in, certified);
     return 0;
   }

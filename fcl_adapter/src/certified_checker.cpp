@@ -45,18 +45,26 @@ CertifiedChecker::CertifiedChecker(
     const RobotModel& planner, const RobotModel* fine,
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, const check::CheckerOptions& options,
-    const BoundedGeometryOptions& bounds)
-    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, bounds) {}
+    const BoundedGeometryOptions& bounds, const RobotModel* trees)
+    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, bounds,
+                       trees) {}
 
 CertifiedChecker::CertifiedChecker(
     const RobotModel& planner, const RobotModel* fine,
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
-    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds)
+    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds,
+    const RobotModel* trees)
     : checker_(make_checker(planner, fine, converted, options, bounds)),
-      bounds_(fine ? *fine : planner, meshes, options.disabled, bounds),
+      bounds_(trees  ? *trees
+              : fine ? *fine
+                     : planner,
+              meshes, options.disabled, bounds),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
+  if (bounds_.kinematics().joint_names() != checker_.joint_names())
+    throw InputError("certified checker",
+                     "the sphere trees' model is not the planner's robot (its joints differ)");
   for (const std::string& link : checker_.links()) {
     std::size_t g = 0;
     while (g < bounds_.geometries().size() && bounds_.geometries()[g].link() != link) ++g;
@@ -154,14 +162,21 @@ check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, 
   const check::Verdict v =
       checker_.check_edge(q0, q1, resolution, check::Mode::bounds, &open_t, checked);
   if (v != check::Verdict::undecided) return v;
+  // The undecided samples' pairs in one check_bounds batch, then each settled in order.
   const std::size_t dof = checker_.num_positions();
-  std::vector<double> q(dof);
+  std::vector<double> q(open_t.size() * dof);
+  for (std::size_t k = 0; k < open_t.size(); ++k)
+    for (std::size_t j = 0; j < dof; ++j) q[k * dof + j] = q0[j] + open_t[k] * (q1[j] - q0[j]);
+  std::vector<check::Verdict> again(open_t.size());
+  std::vector<std::vector<check::UndecidedPair>> pairs(open_t.size());
+  checker_.check_bounds(q.data(), open_t.size(), again.data(), pairs.data(), 1);
   FallbackStats s;
   bool undecided = false;
   check::Verdict out = check::Verdict::free;
-  for (double t : open_t) {
-    for (std::size_t j = 0; j < dof; ++j) q[j] = q0[j] + t * (q1[j] - q0[j]);
-    const check::Verdict w = settle(q.data(), s);
+  for (std::size_t k = 0; k < open_t.size(); ++k) {
+    const check::Verdict w = again[k] == check::Verdict::undecided
+                                 ? settle_pairs(q.data() + k * dof, pairs[k], s)
+                                 : again[k];
     if (w == check::Verdict::colliding) {
       out = w;
       break;

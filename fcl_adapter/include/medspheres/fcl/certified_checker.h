@@ -15,7 +15,10 @@
 /// wholly inside another without surface contact.
 ///
 /// Inputs: the planner's model and optionally the fine one (same robot; their covering
-/// sets must carry a certificate unless BoundedGeometryOptions::allow_uncertified), the
+/// sets must carry a certificate unless BoundedGeometryOptions::allow_uncertified),
+/// optionally a third model of the same robot whose sets become the links' sphere trees
+/// of decide() (a larger cover and inner set than the fine one, baked once: tighter bounds
+/// that spare mesh queries; default the fine sets, else the planner's), the
 /// exact meshes by link name (link frame), and the scene as FCL objects in W (converted by
 /// scene_from_fcl for the spheres; kept as they are for the fallback). Self pairs: as
 /// RobotChecker's, with options.disabled.
@@ -57,11 +60,12 @@ class CertifiedChecker {
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene,
                    const check::CheckerOptions& options = {},
-                   const BoundedGeometryOptions& bounds = {});
+                   const BoundedGeometryOptions& bounds = {}, const RobotModel* trees = nullptr);
 
   /// The spheres-only and bounds modes without a fallback.
   const check::RobotChecker& spheres() const noexcept { return checker_; }
-  /// The fallback's geometries (the fine sets when given, else the planner's, with meshes).
+  /// The fallback's geometries (the trees' sets when given, else the fine sets when given,
+  /// else the planner's; with the meshes).
   const RobotBounds& fallback() const noexcept { return bounds_; }
 
   /// Verdicts of \p n configurations (rows of spheres().num_positions()), \p threads as
@@ -84,7 +88,8 @@ class CertifiedChecker {
   CertifiedChecker(const RobotModel& planner, const RobotModel* fine,
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
-                   const check::CheckerOptions& options, const BoundedGeometryOptions& bounds);
+                   const check::CheckerOptions& options, const BoundedGeometryOptions& bounds,
+                   const RobotModel* trees);
   check::Verdict settle(const double* q, FallbackStats& stats) const;
   check::Verdict settle_pairs(const double* q, const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
