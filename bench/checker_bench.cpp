@@ -10,7 +10,9 @@
 // trees (all cached as bench_robot's bakes are).
 //
 // Usage: bench_checker [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
-//                      [--planner-spheres K] [--fine-spheres K] [--tree-spheres K] [--cache DIR]
+//                      [--planner-spheres K] [--fine-spheres K] [--tree-spheres K] [--order-samples
+//                      N]
+//                      [--cache DIR]
 //                      [--srdf F]
 //                      [--fallback-report] ...
 #include <cstdio>
@@ -38,6 +40,7 @@ struct Options : mb::RobotBenchOptions {
   std::size_t planner_spheres = 8;
   std::size_t fine_spheres = 32;
   std::size_t tree_spheres = 0;
+  std::size_t order_samples = 0;
   double edge_length = 0.5;
   double resolution = 0.02;
   bool fcl_loop = true;
@@ -55,6 +58,9 @@ Options parse(int argc, char** argv) {
   args.add("--fine-spheres", o.fine_spheres, "The fine level: spheres per link");
   args.add("--tree-spheres", o.tree_spheres,
            "The certified fallback's sphere trees: spheres per link (0: the fine sets)");
+  args.add("--order-samples", o.order_samples,
+           "The certified fallback's pair order and witnesses, learnt from this many "
+           "configurations (0: none)");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
@@ -97,6 +103,7 @@ int run(const Options& o) {
   in.planner = &planner;
   in.fine = &fine;
   in.trees = o.tree_spheres > 0 ? &trees : nullptr;
+  in.order_samples = o.order_samples;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -129,9 +136,13 @@ int run(const Options& o) {
     co.margin = in.margin;
     co.disabled = in.disabled;
     co.self = in.self;
+    mf::FallbackOptions fallback;
+    fallback.trees = in.trees ? &trees.model : nullptr;
+    fallback.order.samples = o.order_samples;
+    fallback.order.margin = o.margin;
     const mf::CertifiedChecker certified(
         planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
-        objects, co, {}, in.trees ? &trees.model : nullptr);
+        objects, co, fallback);
     mb::print_fallback_report(in, certified);
     return 0;
   }

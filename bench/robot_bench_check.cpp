@@ -216,9 +216,18 @@ void print_checker_rows(const CheckerBenchInput& in) {
   o.self = in.self;
   const auto t0 = Clock::now();
   const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
-  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o, {},
-                                        in.trees ? &in.trees->model : nullptr);
+  fcl::FallbackOptions fallback;
+  fallback.trees = in.trees ? &in.trees->model : nullptr;
+  fallback.order.samples = in.order_samples;
+  fallback.order.margin = in.margin;
+  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
+                                        fallback);
   const double build = seconds_since(t0);
+  std::printf(
+      "\ncertified fallback: %zu witnesses, %zu of %zu self pairs seen colliding in %zu "
+      "samples\n",
+      certified.fallback().witnesses().size(), certified.fallback().seen_colliding(),
+      certified.fallback().self_pairs().size(), in.order_samples);
   const check::RobotChecker& spheres = certified.spheres();
   const check::GridStats g = spheres.grid();
   std::printf(
@@ -289,8 +298,9 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.note = note;
     rows.push_back(r);
   }
-  if (in.trees) {
-    // The same without the trees' sets: the fine sets as the sphere trees.
+  if (in.trees || in.order_samples > 0) {
+    // The same without the trees' sets and the learnt order: the fine sets as the sphere
+    // trees, the bounds' order, no witnesses.
     const fcl::CertifiedChecker without(in.planner->model, fine, in.fine->meshes, in.scene, o);
     Row r{"check/c-", 1};
     fcl::FallbackStats stats;
@@ -303,7 +313,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.colliding = colliding_of(v);
     char note[160];
     std::snprintf(note, sizeof note,
-                  "as check/c, the fine sets as the sphere trees: %zu pairs, %zu to the meshes",
+                  "as check/c, the fine sets as the trees, no order: %zu pairs, %zu to the meshes",
                   stats.pairs, stats.meshes);
     r.note = note;
     rows.push_back(r);

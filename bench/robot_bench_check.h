@@ -21,6 +21,8 @@ struct CheckerBenchInput {
   const BenchRobot* fine = nullptr;     ///< the fine sets, with the meshes (may equal planner)
   /// The certified fallback's sphere trees (CertifiedChecker's `trees`); null: the fine sets.
   const BenchRobot* trees = nullptr;
+  /// The fallback's learnt pair order and witnesses (FallbackOptions::order.samples).
+  std::size_t order_samples = 0;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;

@@ -188,8 +188,10 @@ TEST_CASE("certified checker: finer sphere trees give the same certified verdict
   const RobotModel trees = test::capsule_arm(24);
   const double margin = 0.01;
   const mf::CertifiedChecker plain(arm, &fine, world().meshes, world().scene(), options(margin));
-  const mf::CertifiedChecker finer(arm, &fine, world().meshes, world().scene(), options(margin), {},
-                                   &trees);
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  const mf::CertifiedChecker finer(arm, &fine, world().meshes, world().scene(), options(margin),
+                                   fallback);
   const std::vector<double> q = test::capsule_arm_configs(300, 21);
   std::vector<Verdict> a(300), b(300);
   mf::FallbackStats sa, sb;
@@ -204,7 +206,31 @@ TEST_CASE("certified checker: finer sphere trees give the same certified verdict
   CHECK(sb.meshes < sa.meshes);
   RobotModel other = trees;
   other.joints[2].name = "renamed";
-  CHECK_THROWS_WITH(mf::CertifiedChecker(arm, &fine, world().meshes, world().scene(),
-                                         options(margin), {}, &other),
-                    Catch::Contains("joints differ"));
+  fallback.trees = &other;
+  CHECK_THROWS_WITH(
+      mf::CertifiedChecker(arm, &fine, world().meshes, world().scene(), options(margin), fallback),
+      Catch::Contains("joints differ"));
+}
+
+TEST_CASE("certified checker: a learnt pair order and witnesses change no verdict",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const double margin = 0.01;
+  const mf::CertifiedChecker plain(arm, &fine, world().meshes, world().scene(), options(margin));
+  mf::FallbackOptions fallback;
+  fallback.order.samples = 400;
+  fallback.order.margin = margin;
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, world().scene(), options(margin),
+                                    fallback);
+  REQUIRE(!learnt.fallback().witnesses().empty());
+  const std::vector<double> q = test::capsule_arm_configs(300, 23);
+  std::vector<Verdict> a(300), b(300);
+  mf::FallbackStats sa, sb;
+  plain.check(q.data(), a.size(), a.data(), 1, &sa);
+  learnt.check(q.data(), b.size(), b.data(), 1, &sb);
+  CHECK(a == b);
+  CHECK(sb.configurations == sa.configurations);
+  CHECK(sb.configurations > 0);
+  // The witnesses settle some configurations before any pair's walk.
+  CHECK(sb.pairs < sa.pairs);
 }

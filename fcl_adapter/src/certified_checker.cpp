@@ -1,5 +1,6 @@
 #include "medspheres/fcl/certified_checker.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <omp.h>
@@ -45,21 +46,19 @@ CertifiedChecker::CertifiedChecker(
     const RobotModel& planner, const RobotModel* fine,
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, const check::CheckerOptions& options,
-    const BoundedGeometryOptions& bounds, const RobotModel* trees)
-    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, bounds,
-                       trees) {}
+    const FallbackOptions& fallback)
+    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, fallback) {}
 
 CertifiedChecker::CertifiedChecker(
     const RobotModel& planner, const RobotModel* fine,
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
-    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds,
-    const RobotModel* trees)
-    : checker_(make_checker(planner, fine, converted, options, bounds)),
-      bounds_(trees  ? *trees
-              : fine ? *fine
-                     : planner,
-              meshes, options.disabled, bounds),
+    const check::CheckerOptions& options, const FallbackOptions& fallback)
+    : checker_(make_checker(planner, fine, converted, options, fallback.bounds)),
+      bounds_(fallback.trees ? *fallback.trees
+              : fine         ? *fine
+                             : planner,
+              meshes, options.disabled, fallback.bounds, fallback.order),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
   if (bounds_.kinematics().joint_names() != checker_.joint_names())
@@ -72,6 +71,37 @@ CertifiedChecker::CertifiedChecker(
       throw InputError(link, "the fallback's model has no sets for this link");
     geometry_of_.push_back(g);
   }
+  const std::size_t G = bounds_.geometries().size();
+  rank_.assign(G * G, bounds_.self_pairs().size());
+  for (std::size_t k = 0; k < bounds_.self_pairs().size(); ++k) {
+    const auto [a, b] = bounds_.self_pairs()[k];
+    rank_[std::min(a, b) * G + std::max(a, b)] = k;
+  }
+  witnesses_of_.resize(G * G);
+  for (std::size_t k = 0; k < bounds_.witnesses().size(); ++k) {
+    const SelfWitness& w = bounds_.witnesses()[k];
+    witnesses_of_[std::min(w.a, w.b) * G + std::max(w.a, w.b)].push_back(k);
+  }
+}
+
+// The pairs in the order decide() takes them: as robot_collide, the self pairs seen
+// colliding most often first (their rank), then the scene, then the other self pairs
+// (the bounds' order kept among equals).
+std::vector<check::UndecidedPair> CertifiedChecker::ordered(
+    const std::vector<check::UndecidedPair>& pairs) const {
+  const std::size_t G = bounds_.geometries().size(), seen = bounds_.seen_colliding();
+  auto key = [&](const check::UndecidedPair& p) {
+    if (!p.self) return seen;
+    const std::size_t a = geometry_of_[p.link], b = geometry_of_[p.other];
+    const std::size_t r = rank_[std::min(a, b) * G + std::max(a, b)];
+    return r < seen ? r : seen + 1;
+  };
+  std::vector<check::UndecidedPair> out = pairs;
+  std::stable_sort(out.begin(), out.end(),
+                   [&](const check::UndecidedPair& x, const check::UndecidedPair& y) {
+                     return key(x) < key(y);
+                   });
+  return out;
 }
 
 // One configuration: the bounds, then settle_pairs() on the pairs they left undecided.
@@ -96,8 +126,16 @@ check::Verdict CertifiedChecker::settle_pairs(const double* q,
   const double margin = checker_.options().margin;
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
   auto object = [&](const check::UndecidedPair& p) { return scene_[scene_source_[p.other]]; };
+  const std::size_t G = g.size();
+  for (const check::UndecidedPair& p : pairs)
+    if (p.self) {
+      const std::size_t a = geometry_of_[p.link], b = geometry_of_[p.other];
+      for (std::size_t w : witnesses_of_[std::min(a, b) * G + std::max(a, b)])
+        if (witness_holds(bounds_.witnesses()[w], X, margin)) return check::Verdict::colliding;
+    }
   std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
-  for (const check::UndecidedPair& p : pairs) {
+  const std::vector<check::UndecidedPair> in_order = ordered(pairs);
+  for (const check::UndecidedPair& p : in_order) {
     ++stats.pairs;
     const std::size_t a = geometry_of_[p.link];
     const CollideResult r =
