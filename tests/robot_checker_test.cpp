@@ -219,6 +219,42 @@ TEST_CASE("bounds mode: colliding only where the inner sets are, free only where
   CHECK(counts[2] > 0);
 }
 
+TEST_CASE("bounds with pairs: check()'s verdicts, and each configuration's undecided pairs",
+          "[check]") {
+  // check_bounds runs eight configurations to a block; each lane's pairs must be those of
+  // its configuration checked alone (a lane reading another lane's bits would differ).
+  const RobotModel arm = test::capsule_arm(5), fine = test::capsule_arm(9);
+  const check::RobotChecker checker(arm, test_scene().scene, options(0.01), &fine);
+  const std::vector<double> q = test::capsule_arm_configs(301, 16);
+  const std::size_t n = q.size() / checker.num_positions();
+  for (int threads : {1, 2}) {
+    std::vector<Verdict> v(n);
+    std::vector<std::vector<check::UndecidedPair>> pairs(n);
+    checker.check_bounds(q.data(), n, v.data(), pairs.data(), threads);
+    CHECK(v == run(checker, q, Mode::bounds));
+    std::size_t undecided = 0, lanes_beyond_first = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::vector<check::UndecidedPair> one;
+      REQUIRE(checker.check(q.data() + i * checker.num_positions(), Mode::bounds, &one) == v[i]);
+      REQUIRE(one.size() == pairs[i].size());
+      for (std::size_t k = 0; k < one.size(); ++k) {
+        CHECK(one[k].link == pairs[i][k].link);
+        CHECK(one[k].other == pairs[i][k].other);
+        CHECK(one[k].self == pairs[i][k].self);
+      }
+      if (v[i] == Verdict::undecided) {
+        ++undecided;
+        CHECK_FALSE(pairs[i].empty());
+        lanes_beyond_first += i % 8 != 0;
+      } else {
+        CHECK(pairs[i].empty());
+      }
+    }
+    CHECK(undecided > 10);
+    CHECK(lanes_beyond_first > 5);
+  }
+}
+
 TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contact", "[check]") {
   const RobotModel arm = test::capsule_arm(5);
   const RobotModel fine = test::capsule_arm(9);

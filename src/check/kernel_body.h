@@ -479,7 +479,7 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   if (b.sink && b.bounds)
     for (int k = 0; k < robot.links + robot.pairs; ++k)
       for (int lane = 0; lane < kHalf; ++lane)
-        if (b.pending[k] & open >> lane & 1)
+        if (b.pending[k] & open & 1u << lane)
           k < robot.links ? b.sink(b, lane, k, -1)
                           : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
                                    static_cast<int>(robot.pair_b[k - robot.links]));

@@ -138,6 +138,9 @@ struct RobotChecker::Impl {
                                     "\" is not finite or beyond 1e6");
   }
 
+  // check() and check_bounds() (with `undecided`) of n configurations.
+  void batch(const double* q, std::size_t n, Mode mode, Verdict* out,
+             std::vector<UndecidedPair>* undecided, int threads) const;
   // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real).
   detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs) const;
   // One edge in rake order (robot_checker.h); `checked` counts the samples run.
@@ -428,31 +431,44 @@ void fill_block(std::vector<double>& q, const double* rows, std::size_t first, s
 
 }  // namespace
 
+// Blocks of kLanes configurations, run in parallel; with `undecided`, the double pass for
+// every lane and each configuration's undecided pairs.
+void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdict* out,
+                               std::vector<UndecidedPair>* undecided, int threads) const {
+  if (n == 0) return;
+  const std::size_t dof = layout.dof;
+  for (std::size_t i = 0; i < n; ++i) validate(q + i * dof, i);
+  const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
+  const int chunk = undecided ? 4 : 16;
+#pragma omp parallel num_threads(thread_count(threads))
+  {
+    detail::Workspace w = workspace();
+#pragma omp for schedule(dynamic, chunk)
+    for (long k = 0; k < blocks; ++k) {
+      const std::size_t first = std::size_t(k) * detail::kLanes;
+      fill_block(w.q, q, first, n, dof);
+      const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
+      if (undecided)
+        for (std::size_t l = 0; l < std::size_t(detail::kLanes); ++l) {
+          w.pairs[l] = l < count ? &undecided[first + l] : nullptr;
+          if (l < count) undecided[first + l].clear();
+        }
+      const detail::Block b = run(w, (1u << count) - 1, mode, undecided != nullptr);
+      for (std::size_t l = 0; l < count; ++l) {
+        out[first + l] = verdict_of(b, int(l));
+        if (undecided && out[first + l] != Verdict::undecided) undecided[first + l].clear();
+      }
+    }
+  }
+}
+
 void RobotChecker::validate(const double* q, std::size_t n) const {
   for (std::size_t i = 0; i < n; ++i) impl_->validate(q + i * impl_->layout.dof, i);
 }
 
 void RobotChecker::check(const double* q, std::size_t n, Mode mode, Verdict* out,
                          int threads) const {
-  if (n == 0) return;
-  const Impl& m = *impl_;
-  const std::size_t dof = m.layout.dof;
-  for (std::size_t i = 0; i < n; ++i) m.validate(q + i * dof, i);
-  const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
-#pragma omp parallel num_threads(thread_count(threads))
-  {
-    detail::Workspace w = m.workspace();
-#pragma omp for schedule(dynamic, 16)
-    for (long k = 0; k < blocks; ++k) {
-      const std::size_t first = std::size_t(k) * detail::kLanes;
-      fill_block(w.q, q, first, n, dof);
-      const unsigned lanes =
-          n - first >= detail::kLanes ? (1u << detail::kLanes) - 1 : (1u << (n - first)) - 1;
-      const detail::Block b = m.run(w, lanes, mode, false);
-      for (int l = 0; l < detail::kLanes && first + std::size_t(l) < n; ++l)
-        out[first + std::size_t(l)] = verdict_of(b, l);
-    }
-  }
+  impl_->batch(q, n, mode, out, nullptr, threads);
 }
 
 Verdict RobotChecker::check(const double* q, Mode mode,
@@ -468,6 +484,11 @@ Verdict RobotChecker::check(const double* q, Mode mode,
   if (undecided && v == Verdict::undecided)
     undecided->insert(undecided->end(), pairs.begin(), pairs.end());
   return v;
+}
+
+void RobotChecker::check_bounds(const double* q, std::size_t n, Verdict* out,
+                                std::vector<UndecidedPair>* undecided, int threads) const {
+  impl_->batch(q, n, Mode::bounds, out, undecided, threads);
 }
 
 std::size_t RobotChecker::edge_steps(const double* q0, const double* q1, double resolution) const {
