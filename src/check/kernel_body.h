@@ -23,12 +23,14 @@
 // spheres, farther than margin + allowance from everything: a shortcut that never changes
 // an answer.
 //
-// Precision: the frames are posed in doubles. The float pass then runs every test on
-// frames rounded to floats, with `slack` (robot_checker.cpp's float_slack: more than any
-// float posed point's distance from its double twin plus the float tests' own rounding):
-// a test is certain when its float value clears its threshold by the slack, unsure
-// otherwise. A lane whose verdict rests on an unsure test is checked again by the double
-// pass (slack 0: the documented tests, exactly), so every verdict is the double one.
+// Precision: the float pass poses the frames in floats (each joint's transform in
+// doubles, rounded to floats, the chain's products in floats) and runs every test on them
+// with `slack` (robot_checker.cpp's float_slack: more than any float posed point's
+// distance from its double twin, which grows with the chain's depth, plus the float tests'
+// own rounding): a test is certain when its float value clears its threshold by the
+// slack, unsure otherwise. A lane whose verdict rests on an unsure test is checked again
+// by the double pass (the frames of its half posed in doubles, slack 0: the documented
+// tests, exactly), so every verdict is the double one.
 
 namespace medspheres::check::detail {
 namespace {
@@ -76,48 +78,67 @@ void sincos(VD x, VD& s, VD& c) {
   c = (cr * keep + sr * swap) * sign_c;
 }
 
-// X_WF of every moving frame for the lanes of half h (frame 0, W itself, is left as the
-// caller set it).
+// The transform X_PF of step s for the lanes of half h, in doubles: rows of R, then p.
+void step_transform(const FrameStep& s, const Block& b, int h, VD rel[12]) {
+  const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
+  if (s.prismatic) {
+    for (int e = 0; e < 9; ++e) rel[e] = splat(s.P[e]);
+    for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]) + q * splat(s.v[k]);
+    return;
+  }
+  VD sn, cs;
+  sincos(q, sn, cs);
+  for (int e = 0; e < 9; ++e) rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
+  for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]);
+}
+
+// out = X_WP rel (frames of V::W lanes, stored as 12 rows of W), or rel when the parent
+// is W itself.
+template <class V>
+void compose(const typename V::T* in, bool parent_is_world, const V rel[12], typename V::T* out) {
+  constexpr int W = V::W;
+  if (parent_is_world) {
+    for (int e = 0; e < 12; ++e) store(out + e * W, rel[e]);
+    return;
+  }
+  V p[12];
+  for (int e = 0; e < 12; ++e) p[e] = load(in + e * W);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      store(out + (3 * r + c) * W,
+            (p[3 * r] * rel[c] + p[3 * r + 1] * rel[3 + c]) + p[3 * r + 2] * rel[6 + c]);
+    store(out + (9 + r) * W,
+          ((p[3 * r] * rel[9] + p[3 * r + 1] * rel[10]) + p[3 * r + 2] * rel[11]) + p[9 + r]);
+  }
+}
+
+// X_WF of every moving frame for the lanes of half h, in doubles (frame 0, W itself, is
+// left as the caller set it).
 void pose_frames(const KernelRobot& robot, const Block& b, int h) {
   double* frames = b.frames + h * robot.frames * 12 * kHalf;
   for (int i = 0; i < robot.steps; ++i) {
     const FrameStep& s = robot.step[i];
-    const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
     VD rel[12];
-    if (s.prismatic) {
-      for (int e = 0; e < 9; ++e) rel[e] = splat(s.P[e]);
-      for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]) + q * splat(s.v[k]);
-    } else {
-      VD sn, cs;
-      sincos(q, sn, cs);
-      for (int e = 0; e < 9; ++e)
-        rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
-      for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]);
-    }
-    double* out = frames + s.frame * 12 * kHalf;
-    if (s.parent == 0) {
-      for (int e = 0; e < 12; ++e) store(out + e * kHalf, rel[e]);
-      continue;
-    }
-    const double* in = frames + s.parent * 12 * kHalf;
-    VD p[12];
-    for (int e = 0; e < 12; ++e) p[e] = load(in + e * kHalf);
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c)
-        store(out + (3 * r + c) * kHalf,
-              (p[3 * r] * rel[c] + p[3 * r + 1] * rel[3 + c]) + p[3 * r + 2] * rel[6 + c]);
-      store(out + (9 + r) * kHalf,
-            ((p[3 * r] * rel[9] + p[3 * r + 1] * rel[10]) + p[3 * r + 2] * rel[11]) + p[9 + r]);
-    }
+    step_transform(s, b, h, rel);
+    compose<VD>(frames + s.parent * 12 * kHalf, s.parent == 0, rel, frames + s.frame * 12 * kHalf);
   }
 }
 
-// The frames of both halves rounded to floats, kLanes lanes side by side.
-void frames_to_float(const KernelRobot& robot, Block& b) {
-  const double* lo = b.frames;
-  const double* hi = b.frames + robot.frames * 12 * kHalf;
-  for (int e = 0; e < robot.frames * 12; ++e)
-    store(b.frames_f + e * kLanes, to_float(load(lo + e * kHalf), load(hi + e * kHalf)));
+// X_WF of every moving frame for all kLanes lanes, in floats: each step's transform in
+// doubles (as pose_frames computes it), rounded to floats, then the chain's products in
+// floats. Their distance from the double frames grows with the chain's depth; the float
+// tests' slack covers it (robot_checker.cpp, float_slack).
+void pose_frames_float(const KernelRobot& robot, const Block& b) {
+  for (int i = 0; i < robot.steps; ++i) {
+    const FrameStep& s = robot.step[i];
+    VD lo[12], hi[12];
+    step_transform(s, b, 0, lo);
+    step_transform(s, b, 1, hi);
+    VF rel[12];
+    for (int e = 0; e < 12; ++e) rel[e] = to_float(lo[e], hi[e]);
+    compose<VF>(b.frames_f + s.parent * 12 * kLanes, s.parent == 0, rel,
+                b.frames_f + s.frame * 12 * kLanes);
+  }
 }
 
 // ---- The tests, in either precision (V: VD or VF).
@@ -488,14 +509,13 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   b.undecided = undecided | (b.undecided & open) << shift;
 }
 
+// The float pass poses the frames in floats; the double pass poses them again in doubles
+// for the halves that hold a lane to check again.
 void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
   b.colliding = b.undecided = b.rechecked = 0;
-  const unsigned half_lanes[2] = {b.lanes & 0xFu, b.lanes >> kHalf & 0xFu};
-  for (int h = 0; h < 2; ++h)
-    if (half_lanes[h]) pose_frames(robot, b, h);
   unsigned recheck = b.lanes;
   if (b.floats) {
-    frames_to_float(robot, b);
+    pose_frames_float(robot, b);
     Pass<float> p;
     p.frames = b.frames_f;
     p.posed = b.posed_f;
@@ -513,7 +533,9 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
   }
   for (int h = 0; h < 2; ++h) {
     const unsigned lanes = recheck >> (h * kHalf) & 0xFu;
-    if (lanes) run_doubles(robot, scene, b, h, lanes);
+    if (!lanes) continue;
+    pose_frames(robot, b, h);
+    run_doubles(robot, scene, b, h, lanes);
   }
   b.undecided &= ~b.colliding;
 }
