@@ -197,6 +197,34 @@ void lane_point(const typename V::T* posed_set, int i, int lane, double* p) {
   for (int k = 0; k < 3; ++k) p[k] = double(posed_set[(3 * i + k) * V::W + lane]);
 }
 
+// The point (x, y, z) in cell units of the field (ux, uy, uz); returns the lanes inside it
+// (0 <= u < n on every axis).
+template <class V>
+unsigned grid_cell(const GridView<typename V::T>& g, V x, V y, V z, V& ux, V& uy, V& uz) {
+  using T = typename V::T;
+  ux = (x - splat(g.origin[0])) * splat(g.inverse_side);
+  uy = (y - splat(g.origin[1])) * splat(g.inverse_side);
+  uz = (z - splat(g.origin[2])) * splat(g.inverse_side);
+  const V zero = splat(T(0));
+  return le_bits(zero, ux) & le_bits(zero, uy) & le_bits(zero, uz) &
+         ~le_bits(splat(T(g.n[0])), ux) & ~le_bits(splat(T(g.n[1])), uy) &
+         ~le_bits(splat(T(g.n[2])), uz);
+}
+
+// Asks for the field's cells of points first .. first + n - 1 of a posed set, so that the
+// look-ups that follow overlap their memory latency (no effect on any answer).
+template <class V>
+void prefetch_points(const GridView<typename V::T>& g, const typename V::T* set, int first, int n) {
+  if (g.field == nullptr) return;
+  constexpr int W = V::W;
+  for (int i = first; i < first + n; ++i) {
+    V ux, uy, uz;
+    const unsigned inside = grid_cell(g, load(set + 3 * i * W), load(set + (3 * i + 1) * W),
+                                      load(set + (3 * i + 2) * W), ux, uy, uz);
+    if (inside) prefetch_cells(g, ux, uy, uz, inside);
+  }
+}
+
 // The lanes in which the point (x, y, z) is certainly farther than `far` from every
 // element (returned), and those in which it is certainly within `near` of one (`hit`):
 // inside the field, by its cell's bounds at the centre and |p - centre|; outside, by the
@@ -206,14 +234,9 @@ template <class V>
 unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z, typename V::T far,
                    typename V::T near, unsigned& hit) {
   using T = typename V::T;
-  const V ux = (x - splat(g.origin[0])) * splat(g.inverse_side),
-          uy = (y - splat(g.origin[1])) * splat(g.inverse_side),
-          uz = (z - splat(g.origin[2])) * splat(g.inverse_side);
+  V ux, uy, uz;
+  const unsigned inside = grid_cell(g, x, y, z, ux, uy, uz);
   const V zero = splat(T(0));
-  // 0 <= u < n on every axis.
-  const unsigned inside = le_bits(zero, ux) & le_bits(zero, uy) & le_bits(zero, uz) &
-                          ~le_bits(splat(T(g.n[0])), ux) & ~le_bits(splat(T(g.n[1])), uy) &
-                          ~le_bits(splat(T(g.n[2])), uz);
   const T reach = far + g.pad;
   unsigned clear = 0;
   hit = 0;
@@ -268,6 +291,7 @@ unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned nee
   const LinkLayout& l = c.robot.link[link];
   const typename V::T* set = posed(c, link, slot);
   const int begin = static_cast<int>(l.begin[slot]);
+  prefetch_points<V>(c.sp.grid, set, 0, static_cast<int>(l.count[slot]));
   unsigned hit = 0;
   for (int i = 0; i < static_cast<int>(l.count[slot]) && (need & ~hit); ++i) {
     const double rq = double(c.sp.r[begin + i]) + add;
@@ -369,7 +393,8 @@ unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
 template <class V>
 void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
   const KernelRobot& robot = c.robot;
-  for (int link = 0; link < robot.links; ++link) posed(c, link, kBoundSlot);
+  for (int link = 0; link < robot.links; ++link)
+    prefetch_points<V>(c.sp.grid, posed(c, link, kBoundSlot), 0, 1);
   for (int link = 0; link < robot.links; ++link)
     near[link] = static_cast<unsigned char>(scene_near(c, link, open));
   for (int k = 0; k < robot.pairs; ++k)
