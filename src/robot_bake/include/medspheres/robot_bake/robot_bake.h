@@ -109,6 +109,12 @@ struct RobotBakeOptions {
   /// Links of the robot without meshed parts, and names that are no link of the robot, are
   /// not used (RobotBakeResult::unused_outer_start). Needs `outer`.
   std::map<std::string, std::vector<Sphere>> outer_start;
+  /// With request.solid kAuto: a link whose closed mesh is a thin shell (is_thin_shell,
+  /// filled_solid.h) gets its inner set baked on its filled solid: the set lies inside the
+  /// filled solid (its balls may sit in the cavity), records "inner_solid": "filled", and
+  /// its nerr is of the filled solid. Its outer set is certified on the real surface as
+  /// always, and certified queries use the inner set of no such link (BoundedGeometry).
+  bool fill_thin_shells = true;
 };
 
 struct RobotBakeResult {
