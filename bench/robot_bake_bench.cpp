@@ -7,10 +7,10 @@
 // Then every meshed link's shell fraction (filled_solid.h) and, for each link whose inner
 // set was baked on its filled solid, the nerr of the same budget's inner set of its real
 // (winding-number) solid beside, baked again here. Target: nerr at most 0.3 against the filled
-// solid at 32 spheres. --no-fill bakes every inner set on the real solid
-// (RobotBakeOptions::fill_thin_shells).
+// solid at 32 spheres. --fill bakes them on the filled solid (RobotBakeOptions::
+// fill_thin_shells, as `robot --fill`); without it no link is filled.
 //
-// Usage: bench_robot_bake [URDF] [--package PKG=DIR]... [--jobs N] [--no-fill]
+// Usage: bench_robot_bake [URDF] [--package PKG=DIR]... [--jobs N] [--fill]
 //   URDF defaults to ../shared/robots/unitree_g1/g1_29dof_rev_1_0.urdf when present.
 #include <sys/resource.h>
 
@@ -86,12 +86,12 @@ int main(int argc, char** argv) {
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/g1_29dof_rev_1_0.urdf";
   std::vector<std::string> packages;
   int jobs = 0;
-  bool no_fill = false;
+  bool fill = false;
   CLI::App app{"Bake every link of a robot with the robot command's defaults"};
   app.add_option("urdf", urdf, "Robot description")->capture_default_str();
   app.add_option("--package", packages, "PKG=DIR for package:// (repeatable)");
   app.add_option("--jobs", jobs, "Links baked at once (0: one per core)")->capture_default_str();
-  app.add_flag("--no-fill", no_fill, "bake no inner set on a filled solid");
+  app.add_flag("--fill", fill, "bake thin shells' inner sets on their filled solid");
   CLI11_PARSE(app, argc, argv);
   if (!std::filesystem::exists(urdf)) {
     std::fprintf(stderr, "no robot at %s (give a URDF)\n", urdf.c_str());
@@ -108,7 +108,7 @@ int main(int argc, char** argv) {
   RobotBakeOptions options;
   options.jobs = jobs;
   options.budget.per_link = kDefaultSpheresPerLink;  // the robot command's default
-  options.fill_thin_shells = !no_fill;
+  options.fill_thin_shells = fill;
   const RobotBakeResult result = bake_robot(robot, solids, options);
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();

@@ -8,6 +8,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/mesh/filled_solid.h"
@@ -142,6 +143,7 @@ TEST_CASE("filled solid: a robot's thin-shelled link", "[filled][robot]") {
   RobotBakeOptions options;
   options.budget.per_link = 32;
   options.request.record_seconds = false;
+  options.fill_thin_shells = true;
   const RobotBakeResult after = bake_robot(robot, solids, options);
   options.fill_thin_shells = false;
   const RobotBakeResult before = bake_robot(robot, solids, options);
@@ -155,6 +157,12 @@ TEST_CASE("filled solid: a robot's thin-shelled link", "[filled][robot]") {
   CHECK(s.nerr <= 0.3);  // the target at 32 spheres
   CHECK(before.links[0].nerr > 0.5);
   CHECK(s.spheres <= 32);
+  CHECK(s.inner_filled);
+  CHECK_FALSE(before.links[0].inner_filled);
+  const nlohmann::json meta = nlohmann::json::parse(after.model.metadata_json);
+  CHECK(meta["links"]["cup"]["inner_solid"] == "filled");
+  CHECK_FALSE(
+      nlohmann::json::parse(before.model.metadata_json)["links"]["cup"].contains("inner_solid"));
 
   // Every inner ball lies inside the filled solid; some sit in the cavity, outside the
   // cup's material.

@@ -220,11 +220,12 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   const auto inner_solid = job.outcome.record.extra_strings.find(fcl::kInnerSolidKey);
   const auto fraction = job.outcome.record.extra_stats.find("shell_fraction");
   if (inner_solid != job.outcome.record.extra_strings.end() &&
-      fraction != job.outcome.record.extra_stats.end())
+      fraction != job.outcome.record.extra_stats.end()) {
+    stats.inner_filled = true;
     stats.note += std::string(stats.note.empty() ? "" : "; ") +
                   "filled solid (a thin shell: " + number_text(fraction->second, 3) +
                   " of its volume)";
-  else if (job.outcome.solid == SolidKind::kRobust)
+  } else if (job.outcome.solid == SolidKind::kRobust)
     stats.note += std::string(stats.note.empty() ? "" : "; ") + "robust solid" +
                   (job.outcome.robust_thickness_escalated
                        ? ", walls thickened to " + number_text(job.outcome.robust_thickness, 3) +
@@ -278,6 +279,7 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"baked_as", s.baked_as},
                      {"note", s.note}};
     if (!record_seconds) links[s.link].erase("bake_seconds");
+    if (s.inner_filled) links[s.link][fcl::kInnerSolidKey] = fcl::kInnerSolidFilled;
   }
   j["links"] = links;
   return j.dump();

@@ -13,10 +13,11 @@
 /// solid it is closed and outward wound, contains the mesh's surface and lies within
 /// r + sqrt(3) h of it (r, h: RobustSolid::wall_radius, cell).
 ///
-/// When it is used (is_thin_shell): when the mesh's own solid fills less than
-/// kThinShellFraction of the filled solid's volume. On the Unitree G1 the four wrist roll
-/// and yaw links (0.09) and the pelvis contour (0.06) are thin shells; every other link
-/// fills at least 0.28 of its filled solid (docs/robots.md, "Thin shells").
+/// When it is used (is_thin_shell, by `robot --fill`): when the mesh's own solid fills less
+/// than kThinShellFraction of the filled solid's volume (shell_fraction). On the Unitree G1
+/// the four wrist roll and yaw links (0.079 to 0.082), the pelvis contour (0.050) and the
+/// logo (0.053) are thin shells; every other link fills at least 0.24 of its filled solid
+/// (docs/robots.md, "Thin shells").
 ///
 /// Contract. An inner set baked on the filled solid lies inside the filled solid, not
 /// inside the thin real material: its balls may sit in the cavity. It bounds the filled
