@@ -6,10 +6,15 @@
 // scene's octree (bench_robot's `exact` row, here timed in one pass) by a row's.
 //
 // The levels: the planner's sets baked with --planner-spheres per link, the fine sets
-// with --fine-spheres per link (both cached as bench_robot's bakes are).
+// with --fine-spheres per link, and with --tree-spheres the certified fallback's sphere
+// trees (all cached as bench_robot's bakes are).
 //
 // Usage: bench_checker [URDF | --robot coarse-arm] [--configs N] [--seed S] [--margin M]
-//                      [--planner-spheres K] [--fine-spheres K] [--cache DIR] [--srdf F] ...
+//                      [--planner-spheres K] [--fine-spheres K] [--tree-spheres K] [--order-samples
+//                      N]
+//                      [--cache DIR]
+//                      [--srdf F]
+//                      [--fallback-report] ...
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
@@ -21,6 +26,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "robot_bench_check.h"
 #include "robot_bench_exact.h"
+#include "robot_bench_fallback.h"
 #include "robot_bench_robot.h"
 #include "robot_bench_scene.h"
 #include "robot_bench_setup.h"
@@ -33,11 +39,14 @@ namespace mf = medspheres::fcl;
 struct Options : mb::RobotBenchOptions {
   std::size_t planner_spheres = 8;
   std::size_t fine_spheres = 32;
+  std::size_t tree_spheres = 0;
+  std::size_t order_samples = 0;
   double edge_length = 0.5;
   double resolution = 0.02;
   bool fcl_loop = true;
   bool all_cores = true;
   int repeats = 3;
+  bool fallback_report = false;
 };
 
 Options parse(int argc, char** argv) {
@@ -47,11 +56,18 @@ Options parse(int argc, char** argv) {
   o.add_to(args);
   args.add("--planner-spheres", o.planner_spheres, "The planner's level: spheres per link");
   args.add("--fine-spheres", o.fine_spheres, "The fine level: spheres per link");
+  args.add("--tree-spheres", o.tree_spheres,
+           "The certified fallback's sphere trees: spheres per link (0: the fine sets)");
+  args.add("--order-samples", o.order_samples,
+           "The certified fallback's pair order and witnesses, learnt from this many "
+           "configurations (0: none)");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
   app.add_flag("!--no-fcl-loop", o.fcl_loop, "Leave out the loop of FCL calls");
   app.add_flag("!--one-thread", o.all_cores, "Leave out the rows on every core");
+  app.add_flag("--fallback-report", o.fallback_report,
+               "Instead of the table: where the certified checker's fallback goes, pair by pair");
   args.parse(argc, argv);
   return o;
 }
@@ -63,6 +79,8 @@ int run(const Options& o) {
   source.spheres_per_link = o.planner_spheres;
   const mb::BenchRobot planner =
       o.planner_spheres == o.fine_spheres ? fine : mb::load_bench_robot(source);
+  source.spheres_per_link = o.tree_spheres;
+  const mb::BenchRobot trees = o.tree_spheres > 0 ? mb::load_bench_robot(source) : mb::BenchRobot{};
   const mb::BenchScene scene = mb::make_scene(o.seed, o.meshes, 1.0);
   const std::vector<const ::fcl::CollisionObjectd*> objects = scene.pointers();
   std::size_t by_default = 0;
@@ -80,9 +98,12 @@ int run(const Options& o) {
       fine.triangles);
   std::printf("planner sets: %s\nfine sets: %s\n", planner.spheres_from.c_str(),
               fine.spheres_from.c_str());
+  if (o.tree_spheres > 0) std::printf("tree sets: %s\n", trees.spheres_from.c_str());
   mb::CheckerBenchInput in;
   in.planner = &planner;
   in.fine = &fine;
+  in.trees = o.tree_spheres > 0 ? &trees : nullptr;
+  in.order_samples = o.order_samples;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -110,6 +131,21 @@ int run(const Options& o) {
       "%zu configurations (seed %u), margin %.4g m; reference: %zu within the margin (%.1f s); "
       "exact (FCL, meshes and octree): %zu, %.1f us per configuration\n",
       configs.size(), o.seed, o.margin, truth, reference_seconds, colliding, in.exact_micros);
+  if (o.fallback_report) {
+    medspheres::check::CheckerOptions co;
+    co.margin = in.margin;
+    co.disabled = in.disabled;
+    co.self = in.self;
+    mf::FallbackOptions fallback;
+    fallback.trees = in.trees ? &trees.model : nullptr;
+    fallback.order.samples = o.order_samples;
+    fallback.order.margin = o.margin;
+    const mf::CertifiedChecker certified(
+        planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
+        objects, co, fallback);
+    mb::print_fallback_report(in, certified);
+    return 0;
+  }
   mb::print_checker_rows(in);
   return 0;
 }

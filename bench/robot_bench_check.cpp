@@ -216,8 +216,18 @@ void print_checker_rows(const CheckerBenchInput& in) {
   o.self = in.self;
   const auto t0 = Clock::now();
   const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
-  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o);
+  fcl::FallbackOptions fallback;
+  fallback.trees = in.trees ? &in.trees->model : nullptr;
+  fallback.order.samples = in.order_samples;
+  fallback.order.margin = in.margin;
+  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
+                                        fallback);
   const double build = seconds_since(t0);
+  std::printf(
+      "\ncertified fallback: %zu witnesses, %zu of %zu self pairs seen colliding in %zu "
+      "samples\n",
+      certified.fallback().witnesses().size(), certified.fallback().seen_colliding(),
+      certified.fallback().self_pairs().size(), in.order_samples);
   const check::RobotChecker& spheres = certified.spheres();
   const check::GridStats g = spheres.grid();
   std::printf(
@@ -286,6 +296,45 @@ void print_checker_rows(const CheckerBenchInput& in) {
                   stats.pairs, stats.meshes,
                   static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
     r.note = note;
+    rows.push_back(r);
+  }
+  if (in.trees || in.order_samples > 0) {
+    // The same without the trees' sets and the learnt order: the fine sets as the sphere
+    // trees, the bounds' order, no witnesses.
+    const fcl::CertifiedChecker without(in.planner->model, fine, in.fine->meshes, in.scene, o);
+    Row r{"check/c-", 1};
+    fcl::FallbackStats stats;
+    r.micros = best_micros(in.repeats, false,
+                           [&] {
+                             stats = {};
+                             without.check(q.data(), n, v.data(), 1, &stats);
+                           }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "as check/c, the fine sets as the trees, no order: %zu pairs, %zu to the meshes",
+                  stats.pairs, stats.meshes);
+    r.note = note;
+    rows.push_back(r);
+  }
+  {
+    // The certified mode as it ran before check_bounds(): the bounds batch, then each
+    // undecided configuration alone (its bounds again, one to a block, then its pairs).
+    Row r{"check/c1", 1};
+    fcl::FallbackStats stats;
+    const std::size_t dof = spheres.num_positions();
+    r.micros = best_micros(in.repeats, false,
+                           [&] {
+                             stats = {};
+                             spheres.check(q.data(), n, check::Mode::bounds, v.data(), 1);
+                             for (std::size_t i = 0; i < n; ++i)
+                               if (v[i] == Verdict::undecided)
+                                 v[i] = certified.check(q.data() + i * dof, &stats);
+                           }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    r.note = "as check/c, each undecided configuration's bounds again alone";
     rows.push_back(r);
   }
   if (in.fcl_loop) {

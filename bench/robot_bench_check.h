@@ -19,6 +19,10 @@ namespace medspheres::bench {
 struct CheckerBenchInput {
   const BenchRobot* planner = nullptr;  ///< the planner's sets (K per link)
   const BenchRobot* fine = nullptr;     ///< the fine sets, with the meshes (may equal planner)
+  /// The certified fallback's sphere trees (CertifiedChecker's `trees`); null: the fine sets.
+  const BenchRobot* trees = nullptr;
+  /// The fallback's learnt pair order and witnesses (FallbackOptions::order.samples).
+  std::size_t order_samples = 0;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;

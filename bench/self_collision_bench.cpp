@@ -33,9 +33,18 @@
 // two links with geometry in both rows' sets, except the medspheres matrix's adjacent and
 // always-colliding pairs, the same for both rows.
 //
+// What-ifs on the medspheres row: --link NAME=K bakes link NAME to K spheres (the others to
+// --spheres-per-link); --buffer NAME=M adds M metres to its self-collision buffer (negative:
+// its spheres shrink and no longer cover, so false negatives may appear). Diagnostics:
+// --gaps N tallies, for each row's N pairs that alone make the most false-positive
+// configurations, the evaluation's configurations by the pair's mesh gap and how many of
+// them its spheres report; --ideal D (repeatable) counts the false-positive configurations
+// of an ideal planner that checks the medspheres row's pairs and reports a pair exactly when
+// its solids are within D, the least a cover sticking out by D / 2 everywhere can reach.
+//
 // Usage: bench_self_collision [--urdf FILE]... [--samples N] [--eval N] [--seed S]
-//          [--spheres-per-link K] [--arms N] [--threads T] [--cache DIR] [--no-g1]
-//          [--no-coarse-arm]
+//          [--spheres-per-link K] [--link NAME=K]... [--buffer NAME=M]... [--gaps N]
+//          [--ideal D]... [--arms N] [--threads T] [--cache DIR] [--no-g1] [--no-coarse-arm]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
@@ -79,8 +88,27 @@ struct Options {
   std::string cache;
   bool g1 = true;
   bool coarse_arm = true;
-  std::size_t top = 0;  // pairs named per row
+  std::size_t top = 0;                    // pairs named per row
+  std::size_t gaps = 0;                   // pairs whose gaps are tallied, per row
+  std::vector<double> ideal;              // margins of the ideal planner, metres
+  std::vector<std::string> link_budgets;  // NAME=K
+  std::vector<std::string> buffers;       // NAME=M, added to the medspheres row's
 };
+
+// NAME=VALUE options as (NAME, VALUE).
+std::vector<std::pair<std::string, double>> name_values(const std::vector<std::string>& texts,
+                                                        const std::string& option) {
+  std::vector<std::pair<std::string, double>> out;
+  for (const std::string& text : texts) {
+    const std::size_t eq = text.find('=');
+    char* end = nullptr;
+    const double v = eq == std::string::npos ? 0.0 : std::strtod(text.c_str() + eq + 1, &end);
+    if (eq == std::string::npos || end == text.c_str() + eq + 1 || *end != '\0')
+      throw InputError(option, "expected NAME=VALUE, got '" + text + "'");
+    out.emplace_back(text.substr(0, eq), v);
+  }
+  return out;
+}
 
 // A robot baked as the robot command bakes it (cached under the batch cache's key).
 struct Baked {
@@ -96,6 +124,8 @@ Baked bake(const std::string& urdf, const Options& o) {
   b.solids = load_link_solids(robot);
   RobotJob job;
   job.bake.budget.per_link = o.spheres_per_link;
+  for (const auto& [link, k] : name_values(o.link_budgets, "--link"))
+    job.bake.budget.links[link] = static_cast<std::size_t>(k);
   job.bake.jobs = o.threads;
   job.bake.request.measure = false;
   const fs::path cached = fs::path(o.cache) / (robot_cache_key(robot, file_sha256(urdf), job,
@@ -150,8 +180,14 @@ Planner medspheres_planner(const Baked& b, const Options& o,
   SelfCollisionRun run;
   const PlannerSetup s =
       make_planner_setup(b.model, b.solids, formats::SphereChoice::kOuter, r, &run);
+  std::map<std::string, double> buffer = s.self_collision->buffer;
+  for (const auto& [link, m] : name_values(o.buffers, "--buffer")) {
+    if (!buffer.count(link))
+      throw InputError("--buffer", "no link with spheres named '" + link + "' in " + b.name);
+    buffer[link] += m;
+  }
   Planner p{"medspheres",
-            PlannerSpheres(b.model, formats::robot_spheres(b.model), s.self_collision->buffer),
+            PlannerSpheres(b.model, formats::robot_spheres(b.model), buffer),
             {},
             s.default_positions,
             s.locked_joints,
@@ -254,6 +290,65 @@ Tally judge(const Baked& b, const LinkSolids& solids, const Planner& p,
   return t;
 }
 
+// For the row's top `o.gaps` pairs of one-pair false positives: over the evaluation's
+// configurations where the pair's solids do not collide, how many have them within 1, 2,
+// 5, 10, 20, 40 mm and farther, and in how many of each the row's spheres collide. A
+// covering set reports a collision wherever the gap is below the two links' protrusions
+// there, so the first columns bound what any cover of that tightness can reach.
+void print_gaps(const Baked& b, const LinkSolids& solids, const Planner& p, const Tally& t,
+                const std::vector<Poses>& eval, std::size_t n) {
+  const double ds[] = {0.001, 0.002, 0.005, 0.01, 0.02, 0.04};
+  constexpr int kBins = 7;
+  std::vector<std::pair<std::size_t, LinkPair>> top;
+  for (const auto& [pair, count] : t.fp_by_pair) top.emplace_back(count, pair);
+  std::sort(top.rbegin(), top.rend());
+  for (std::size_t k = 0; k < top.size() && k < n; ++k) {
+    const auto [a, c] = top[k].second;
+    std::size_t all[kBins] = {0}, fp[kBins] = {0};
+    for (const Poses& X : eval) {
+      if (solids.within(X, a, c, 0.0)) continue;
+      int bin = kBins - 1;
+      while (bin > 0 && solids.within(X, a, c, ds[bin - 1])) --bin;
+      ++all[bin];
+      fp[bin] += p.spheres.collide(X, a, c);
+    }
+    std::printf("  %s: gaps of %s-%s (<=1 <=2 <=5 <=10 <=20 <=40 >40 mm): configurations",
+                p.row.c_str(), b.model.links[a].name.c_str(), b.model.links[c].name.c_str());
+    for (int i = 0; i < kBins; ++i) std::printf(" %zu", all[i]);
+    std::printf("; spheres collide in");
+    for (int i = 0; i < kBins; ++i) std::printf(" %zu", fp[i]);
+    std::printf("\n");
+  }
+}
+
+// False-positive configurations of an ideal planner that checks the row's pairs and reports
+// a pair exactly when its solids are within d: what a cover sticking out by d/2 everywhere,
+// and no more, would give. The least any cover of that tightness can reach.
+void print_ideal(const LinkSolids& solids, const Planner& p,
+                 const std::set<std::pair<std::size_t, std::size_t>>& judged,
+                 const std::vector<Poses>& eval, const std::vector<std::vector<char>>& truth,
+                 const std::vector<double>& margins, int threads) {
+  const std::vector<LinkPair> pairs(judged.begin(), judged.end());
+  std::printf(
+      "  %s: ideal planner on its checked pairs (reports a pair when its solids are "
+      "within d): FP cfg",
+      p.row.c_str());
+  for (const double d : margins) {
+    std::size_t fp = 0;
+#pragma omp parallel for schedule(dynamic, 16) num_threads(threads) reduction(+ : fp)
+    for (std::size_t s = 0; s < eval.size(); ++s) {
+      if (std::find(truth[s].begin(), truth[s].end(), 1) != truth[s].end()) continue;
+      bool near = false;
+      for (std::size_t k = 0; k < pairs.size() && !near; ++k)
+        near =
+            p.checked.count(pairs[k]) && solids.within(eval[s], pairs[k].first, pairs[k].second, d);
+      fp += near;
+    }
+    std::printf(" %g mm: %zu;", 1e3 * d, fp);
+  }
+  std::printf("\n");
+}
+
 void print_row(const Planner& p, const Tally& t, std::size_t eval) {
   const auto n = [&](PairClass k) {
     const auto it = p.classes.find(k);
@@ -306,6 +401,9 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
     tallies.push_back(judge(b, solids, p, judged, eval, truth));
     print_row(p, tallies.back(), o.eval);
   }
+  if (!o.ideal.empty()) print_ideal(solids, rows[0], judged, eval, truth, o.ideal, o.threads);
+  for (std::size_t r = 0; r < rows.size() && o.gaps > 0; ++r)
+    print_gaps(b, solids, rows[r], tallies[r], eval, o.gaps);
   if (o.top == 0) return;
   const auto print_top = [&](const std::map<LinkPair, std::size_t>& counts, const char* what,
                              const std::string& row) {
@@ -342,10 +440,21 @@ int main(int argc, char** argv) {
            "Other configurations the false positives and negatives are counted over");
   args.add("--seed", o.seed, "Seed of the matrix's samples (the evaluation's: seed + 7919)");
   args.add("--spheres-per-link", o.spheres_per_link, "Covering set budget per link");
+  args.app().add_option("--link", o.link_budgets, "NAME=K: K spheres for link NAME (repeatable)");
+  args.app().add_option("--buffer", o.buffers,
+                        "NAME=M: add M metres to link NAME's self-collision buffer in the "
+                        "medspheres row (negative: the spheres shrink and no longer cover)");
   args.add("--arms", o.arms, "Generated arms (seeds 1..N, 6 joints)");
   args.add("--threads", o.threads, "Pairs at once");
   args.add("--cache", o.cache, "Folder of cached bakes ('' for none)");
   args.add("--top", o.top, "Name the pairs that alone make the most false-positive configurations");
+  args.add("--gaps", o.gaps,
+           "Tally the mesh gaps of the pairs that alone make the most false-positive "
+           "configurations (this many per row)");
+  args.app().add_option("--ideal", o.ideal,
+                        "Margin d (metres, repeatable): false-positive configurations of a "
+                        "planner reporting the medspheres row's pairs when their solids are "
+                        "within d");
   args.app().add_flag(
       "--no-g1", [&](std::int64_t) { o.g1 = false; }, "Leave out the G1");
   args.app().add_flag(

@@ -181,3 +181,56 @@ TEST_CASE("certified checker: a covering set without a certificate is refused", 
   CHECK_THROWS_WITH(mf::CertifiedChecker(arm, nullptr, world().meshes, world().scene()),
                     Catch::Contains("l3"));
 }
+
+TEST_CASE("certified checker: finer sphere trees give the same certified verdicts, fewer meshes",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const RobotModel trees = test::capsule_arm(24);
+  const double margin = 0.01;
+  const mf::CertifiedChecker plain(arm, &fine, world().meshes, world().scene(), options(margin));
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  const mf::CertifiedChecker finer(arm, &fine, world().meshes, world().scene(), options(margin),
+                                   fallback);
+  const std::vector<double> q = test::capsule_arm_configs(300, 21);
+  std::vector<Verdict> a(300), b(300);
+  mf::FallbackStats sa, sb;
+  plain.check(q.data(), a.size(), a.data(), 1, &sa);
+  finer.check(q.data(), b.size(), b.data(), 1, &sb);
+  // Both are certified and decide every configuration, so they agree (and the first test
+  // case holds the plain checker to FCL's exact answer).
+  CHECK(std::count(b.begin(), b.end(), Verdict::undecided) == 0);
+  CHECK(a == b);
+  CHECK(sb.configurations == sa.configurations);
+  CHECK(sb.configurations > 0);
+  CHECK(sb.meshes < sa.meshes);
+  RobotModel other = trees;
+  other.joints[2].name = "renamed";
+  fallback.trees = &other;
+  CHECK_THROWS_WITH(
+      mf::CertifiedChecker(arm, &fine, world().meshes, world().scene(), options(margin), fallback),
+      Catch::Contains("joints differ"));
+}
+
+TEST_CASE("certified checker: a learnt pair order and witnesses change no verdict",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const double margin = 0.01;
+  const mf::CertifiedChecker plain(arm, &fine, world().meshes, world().scene(), options(margin));
+  mf::FallbackOptions fallback;
+  fallback.order.samples = 400;
+  fallback.order.margin = margin;
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, world().scene(), options(margin),
+                                    fallback);
+  REQUIRE(!learnt.fallback().witnesses().empty());
+  const std::vector<double> q = test::capsule_arm_configs(300, 23);
+  std::vector<Verdict> a(300), b(300);
+  mf::FallbackStats sa, sb;
+  plain.check(q.data(), a.size(), a.data(), 1, &sa);
+  learnt.check(q.data(), b.size(), b.data(), 1, &sb);
+  CHECK(a == b);
+  CHECK(sb.configurations == sa.configurations);
+  CHECK(sb.configurations > 0);
+  // The witnesses settle some configurations before any pair's walk.
+  CHECK(sb.pairs < sa.pairs);
+}

@@ -219,6 +219,42 @@ TEST_CASE("bounds mode: colliding only where the inner sets are, free only where
   CHECK(counts[2] > 0);
 }
 
+TEST_CASE("bounds with pairs: check()'s verdicts, and each configuration's undecided pairs",
+          "[check]") {
+  // check_bounds runs eight configurations to a block; each lane's pairs must be those of
+  // its configuration checked alone (a lane reading another lane's bits would differ).
+  const RobotModel arm = test::capsule_arm(5), fine = test::capsule_arm(9);
+  const check::RobotChecker checker(arm, test_scene().scene, options(0.01), &fine);
+  const std::vector<double> q = test::capsule_arm_configs(301, 16);
+  const std::size_t n = q.size() / checker.num_positions();
+  for (int threads : {1, 2}) {
+    std::vector<Verdict> v(n);
+    std::vector<std::vector<check::UndecidedPair>> pairs(n);
+    checker.check_bounds(q.data(), n, v.data(), pairs.data(), threads);
+    CHECK(v == run(checker, q, Mode::bounds));
+    std::size_t undecided = 0, lanes_beyond_first = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      std::vector<check::UndecidedPair> one;
+      REQUIRE(checker.check(q.data() + i * checker.num_positions(), Mode::bounds, &one) == v[i]);
+      REQUIRE(one.size() == pairs[i].size());
+      for (std::size_t k = 0; k < one.size(); ++k) {
+        CHECK(one[k].link == pairs[i][k].link);
+        CHECK(one[k].other == pairs[i][k].other);
+        CHECK(one[k].self == pairs[i][k].self);
+      }
+      if (v[i] == Verdict::undecided) {
+        ++undecided;
+        CHECK_FALSE(pairs[i].empty());
+        lanes_beyond_first += i % 8 != 0;
+      } else {
+        CHECK(pairs[i].empty());
+      }
+    }
+    CHECK(undecided > 10);
+    CHECK(lanes_beyond_first > 5);
+  }
+}
+
 TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contact", "[check]") {
   const RobotModel arm = test::capsule_arm(5);
   const RobotModel fine = test::capsule_arm(9);
@@ -363,4 +399,60 @@ TEST_CASE("float tests: the verdicts of the double tests, also at 1e-12 of conta
     disagree += brute_force(arm, qi, 0.01) != (v[i] == Verdict::colliding);
   }
   CHECK(disagree == 0);
+}
+
+TEST_CASE("float tests: a chain of 30 joints, the verdicts of the double tests at 1e-12 of contact",
+          "[check]") {
+  // Forward kinematics runs in floats, and its distance from the double frames grows with
+  // the chain's depth: the slack grows with it, so a long chain must still give the double
+  // verdicts, in both modes, on both paths.
+  const int n = 30;
+  RobotModel snake;
+  snake.name = "snake";
+  snake.root_link = "s0";
+  for (int i = 0; i <= n; ++i) {
+    const test::CapsuleLink l{"s" + std::to_string(i), 0.02, 0.03, pose_of({0, 0, 0.04})};
+    Link link;
+    link.name = l.name;
+    link.spheres.outer = test::capsule_set(l, 4, true);
+    link.spheres.inner = test::capsule_set(l, 4, false);
+    snake.links.push_back(link);
+  }
+  for (int i = 1; i <= n; ++i) {
+    Joint j;
+    j.name = "j" + std::to_string(i);
+    j.type = JointType::kRevolute;
+    j.parent = "s" + std::to_string(i - 1);
+    j.child = "s" + std::to_string(i);
+    j.origin = pose_of({0, 0, 0.08}, 0.0, 0.0, 0.7 * i);
+    j.axis = i % 2 ? Eigen::Vector3d(1, 0, 0) : Eigen::Vector3d(0, 1, 0);
+    j.limits = JointLimits{-0.6, 0.6, 2.0, 10.0};
+    snake.joints.push_back(j);
+  }
+  std::mt19937 rng(5);
+  std::uniform_real_distribution<double> angle(-0.6, 0.6);
+  std::vector<double> q(std::size_t(400) * n);
+  for (double& x : q) x = angle(rng);
+  check::CheckerOptions with, without, scalar;
+  with.margin = without.margin = scalar.margin = 0.01;
+  without.float_tests = false;
+  scalar.simd = check::Simd::scalar;
+  const check::RobotChecker floats(snake, test_scene().scene, with);
+  const check::RobotChecker doubles(snake, test_scene().scene, without);
+  const check::RobotChecker floats_scalar(snake, test_scene().scene, scalar);
+  q = near_contact(doubles, q);
+  REQUIRE(q.size() >= std::size_t(n) * (400 + 2 * 50));  // contacts to bisect
+  for (Mode mode : {Mode::spheres, Mode::bounds}) {
+    const std::vector<Verdict> a = run(floats, q, mode), b = run(doubles, q, mode);
+    std::size_t differ = 0, colliding = 0;
+    for (std::size_t i = 0; i < a.size(); ++i) {
+      differ += a[i] != b[i];
+      colliding += b[i] == Verdict::colliding;
+    }
+    INFO("mode " << int(mode));
+    CHECK(differ == 0);
+    CHECK(colliding > 0);
+    CHECK(colliding < a.size());
+    CHECK(run(floats_scalar, q, mode) == a);
+  }
 }

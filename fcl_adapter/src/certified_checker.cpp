@@ -1,5 +1,6 @@
 #include "medspheres/fcl/certified_checker.h"
 
+#include <algorithm>
 #include <stdexcept>
 
 #include <omp.h>
@@ -45,18 +46,24 @@ CertifiedChecker::CertifiedChecker(
     const RobotModel& planner, const RobotModel* fine,
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, const check::CheckerOptions& options,
-    const BoundedGeometryOptions& bounds)
-    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, bounds) {}
+    const FallbackOptions& fallback)
+    : CertifiedChecker(planner, fine, meshes, scene, scene_from_fcl(scene), options, fallback) {}
 
 CertifiedChecker::CertifiedChecker(
     const RobotModel& planner, const RobotModel* fine,
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
-    const check::CheckerOptions& options, const BoundedGeometryOptions& bounds)
-    : checker_(make_checker(planner, fine, converted, options, bounds)),
-      bounds_(fine ? *fine : planner, meshes, options.disabled, bounds),
+    const check::CheckerOptions& options, const FallbackOptions& fallback)
+    : checker_(make_checker(planner, fine, converted, options, fallback.bounds)),
+      bounds_(fallback.trees ? *fallback.trees
+              : fine         ? *fine
+                             : planner,
+              meshes, options.disabled, fallback.bounds, fallback.order),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
+  if (bounds_.kinematics().joint_names() != checker_.joint_names())
+    throw InputError("certified checker",
+                     "the sphere trees' model is not the planner's robot (its joints differ)");
   for (const std::string& link : checker_.links()) {
     std::size_t g = 0;
     while (g < bounds_.geometries().size() && bounds_.geometries()[g].link() != link) ++g;
@@ -64,15 +71,54 @@ CertifiedChecker::CertifiedChecker(
       throw InputError(link, "the fallback's model has no sets for this link");
     geometry_of_.push_back(g);
   }
+  const std::size_t G = bounds_.geometries().size();
+  rank_.assign(G * G, bounds_.self_pairs().size());
+  for (std::size_t k = 0; k < bounds_.self_pairs().size(); ++k) {
+    const auto [a, b] = bounds_.self_pairs()[k];
+    rank_[std::min(a, b) * G + std::max(a, b)] = k;
+  }
+  witnesses_of_.resize(G * G);
+  for (std::size_t k = 0; k < bounds_.witnesses().size(); ++k) {
+    const SelfWitness& w = bounds_.witnesses()[k];
+    witnesses_of_[std::min(w.a, w.b) * G + std::max(w.a, w.b)].push_back(k);
+  }
 }
 
-// One configuration: the bounds, then, as robot_collide does, decide() on every pair they
-// left undecided (the links' sphere trees, surface points included), stopping at the first
-// certainly colliding one; only when none is do the meshes settle() the pairs still open.
+// The pairs in the order decide() takes them: as robot_collide, the self pairs seen
+// colliding most often first (their rank), then the scene, then the other self pairs
+// (the bounds' order kept among equals).
+std::vector<check::UndecidedPair> CertifiedChecker::ordered(
+    const std::vector<check::UndecidedPair>& pairs) const {
+  const std::size_t G = bounds_.geometries().size(), seen = bounds_.seen_colliding();
+  auto key = [&](const check::UndecidedPair& p) {
+    if (!p.self) return seen;
+    const std::size_t a = geometry_of_[p.link], b = geometry_of_[p.other];
+    const std::size_t r = rank_[std::min(a, b) * G + std::max(a, b)];
+    return r < seen ? r : seen + 1;
+  };
+  std::vector<check::UndecidedPair> out = pairs;
+  std::stable_sort(out.begin(), out.end(),
+                   [&](const check::UndecidedPair& x, const check::UndecidedPair& y) {
+                     return key(x) < key(y);
+                   });
+  return out;
+}
+
+// One configuration: the bounds, then settle_pairs() on the pairs they left undecided.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
   std::vector<check::UndecidedPair> pairs;
   const check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
   if (v != check::Verdict::undecided) return v;
+  return settle_pairs(q, pairs, stats);
+}
+
+// A configuration the bounds left undecided, with the pairs they left open: as robot_collide
+// does, decide() on every pair (the links' sphere trees, surface points included), stopping
+// at the first certainly colliding one; only when none is do the meshes settle() the pairs
+// still open.
+check::Verdict CertifiedChecker::settle_pairs(const double* q,
+                                              const std::vector<check::UndecidedPair>& pairs,
+                                              FallbackStats& stats) const {
   ++stats.configurations;
   const Eigen::Map<const Eigen::VectorXd> qv(q,
                                              static_cast<Eigen::Index>(checker_.num_positions()));
@@ -80,8 +126,16 @@ check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) c
   const double margin = checker_.options().margin;
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
   auto object = [&](const check::UndecidedPair& p) { return scene_[scene_source_[p.other]]; };
+  const std::size_t G = g.size();
+  for (const check::UndecidedPair& p : pairs)
+    if (p.self) {
+      const std::size_t a = geometry_of_[p.link], b = geometry_of_[p.other];
+      for (std::size_t w : witnesses_of_[std::min(a, b) * G + std::max(a, b)])
+        if (witness_holds(bounds_.witnesses()[w], X, margin)) return check::Verdict::colliding;
+    }
   std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
-  for (const check::UndecidedPair& p : pairs) {
+  const std::vector<check::UndecidedPair> in_order = ordered(pairs);
+  for (const check::UndecidedPair& p : in_order) {
     ++stats.pairs;
     const std::size_t a = geometry_of_[p.link];
     const CollideResult r =
@@ -116,15 +170,25 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
   checker_.check(q, n, check::Mode::bounds, out, threads);
-  std::vector<std::size_t> open;
-  for (std::size_t i = 0; i < n; ++i)
-    if (out[i] == check::Verdict::undecided) open.push_back(i);
+  // The undecided configurations again, eight to a block, now with their undecided pairs.
   const std::size_t dof = checker_.num_positions();
+  std::vector<std::size_t> open;
+  std::vector<double> rows;
+  for (std::size_t i = 0; i < n; ++i)
+    if (out[i] == check::Verdict::undecided) {
+      open.push_back(i);
+      rows.insert(rows.end(), q + i * dof, q + (i + 1) * dof);
+    }
+  std::vector<check::Verdict> again(open.size());
+  std::vector<std::vector<check::UndecidedPair>> pairs(open.size());
+  checker_.check_bounds(rows.data(), open.size(), again.data(), pairs.data(), threads);
   std::vector<FallbackStats> each(open.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
-    const std::size_t i = open[std::size_t(k)];
-    out[i] = settle(q + i * dof, each[std::size_t(k)]);
+    const std::size_t j = std::size_t(k);
+    out[open[j]] = again[j] == check::Verdict::undecided
+                       ? settle_pairs(rows.data() + j * dof, pairs[j], each[j])
+                       : again[j];
   }
   if (stats)
     for (const FallbackStats& s : each) *stats += s;
@@ -136,14 +200,21 @@ check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, 
   const check::Verdict v =
       checker_.check_edge(q0, q1, resolution, check::Mode::bounds, &open_t, checked);
   if (v != check::Verdict::undecided) return v;
+  // The undecided samples' pairs in one check_bounds batch, then each settled in order.
   const std::size_t dof = checker_.num_positions();
-  std::vector<double> q(dof);
+  std::vector<double> q(open_t.size() * dof);
+  for (std::size_t k = 0; k < open_t.size(); ++k)
+    for (std::size_t j = 0; j < dof; ++j) q[k * dof + j] = q0[j] + open_t[k] * (q1[j] - q0[j]);
+  std::vector<check::Verdict> again(open_t.size());
+  std::vector<std::vector<check::UndecidedPair>> pairs(open_t.size());
+  checker_.check_bounds(q.data(), open_t.size(), again.data(), pairs.data(), 1);
   FallbackStats s;
   bool undecided = false;
   check::Verdict out = check::Verdict::free;
-  for (double t : open_t) {
-    for (std::size_t j = 0; j < dof; ++j) q[j] = q0[j] + t * (q1[j] - q0[j]);
-    const check::Verdict w = settle(q.data(), s);
+  for (std::size_t k = 0; k < open_t.size(); ++k) {
+    const check::Verdict w = again[k] == check::Verdict::undecided
+                                 ? settle_pairs(q.data() + k * dof, pairs[k], s)
+                                 : again[k];
     if (w == check::Verdict::colliding) {
       out = w;
       break;

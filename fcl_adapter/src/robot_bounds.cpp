@@ -61,12 +61,6 @@ std::vector<Sphere> link_balls(const RobotBounds& robot, const std::vector<::fcl
   return out;
 }
 
-// Whether the witness's two spheres are certainly within margin at the poses X.
-bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& X, double margin) {
-  return balls_within({X[w.a] * w.in_a.center, w.in_a.radius},
-                      {X[w.b] * w.in_b.center, w.in_b.radius}, margin);
-}
-
 // Greedy cover: item k holds in the samples holds[k]; each step takes the item holding in
 // the most samples not yet covered (ties: the earlier item), while it adds at least
 // min_gain (>= 1) of them, up to max_count items. Marks what it takes in covered.
@@ -100,6 +94,11 @@ std::vector<std::vector<std::size_t>> witness_holds_in(
 }
 
 }  // namespace
+
+bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& X, double margin) {
+  return balls_within({X[w.a] * w.in_a.center, w.in_a.radius},
+                      {X[w.b] * w.in_b.center, w.in_b.radius}, margin);
+}
 
 std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
                                                    const KinematicTree& tree, std::size_t n,

@@ -4,9 +4,10 @@
 // the rest of the library.
 //
 // A block is checked in two precisions (robot_checker.h, "precision"): forward kinematics
-// in doubles, four lanes at a time (two halves); then every test in floats, eight lanes at
-// once, each answer three-valued (certain either way, or unsure within `slack` of its
-// threshold); then the lanes left unsure again in doubles with the documented tests.
+// and every test in floats, eight lanes at once, each answer three-valued (certain either
+// way, or unsure within `slack` of its threshold); then the lanes left unsure again in
+// doubles with the documented tests, forward kinematics included, four lanes at a time
+// (two halves).
 
 #include <cstdint>
 

@@ -23,12 +23,14 @@
 // spheres, farther than margin + allowance from everything: a shortcut that never changes
 // an answer.
 //
-// Precision: the frames are posed in doubles. The float pass then runs every test on
-// frames rounded to floats, with `slack` (robot_checker.cpp's float_slack: more than any
-// float posed point's distance from its double twin plus the float tests' own rounding):
-// a test is certain when its float value clears its threshold by the slack, unsure
-// otherwise. A lane whose verdict rests on an unsure test is checked again by the double
-// pass (slack 0: the documented tests, exactly), so every verdict is the double one.
+// Precision: the float pass poses the frames in floats (each joint's transform in
+// doubles, rounded to floats, the chain's products in floats) and runs every test on them
+// with `slack` (robot_checker.cpp's float_slack: more than any float posed point's
+// distance from its double twin, which grows with the chain's depth, plus the float tests'
+// own rounding): a test is certain when its float value clears its threshold by the
+// slack, unsure otherwise. A lane whose verdict rests on an unsure test is checked again
+// by the double pass (the frames of its half posed in doubles, slack 0: the documented
+// tests, exactly), so every verdict is the double one.
 
 namespace medspheres::check::detail {
 namespace {
@@ -76,48 +78,67 @@ void sincos(VD x, VD& s, VD& c) {
   c = (cr * keep + sr * swap) * sign_c;
 }
 
-// X_WF of every moving frame for the lanes of half h (frame 0, W itself, is left as the
-// caller set it).
+// The transform X_PF of step s for the lanes of half h, in doubles: rows of R, then p.
+void step_transform(const FrameStep& s, const Block& b, int h, VD rel[12]) {
+  const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
+  if (s.prismatic) {
+    for (int e = 0; e < 9; ++e) rel[e] = splat(s.P[e]);
+    for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]) + q * splat(s.v[k]);
+    return;
+  }
+  VD sn, cs;
+  sincos(q, sn, cs);
+  for (int e = 0; e < 9; ++e) rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
+  for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]);
+}
+
+// out = X_WP rel (frames of V::W lanes, stored as 12 rows of W), or rel when the parent
+// is W itself.
+template <class V>
+void compose(const typename V::T* in, bool parent_is_world, const V rel[12], typename V::T* out) {
+  constexpr int W = V::W;
+  if (parent_is_world) {
+    for (int e = 0; e < 12; ++e) store(out + e * W, rel[e]);
+    return;
+  }
+  V p[12];
+  for (int e = 0; e < 12; ++e) p[e] = load(in + e * W);
+  for (int r = 0; r < 3; ++r) {
+    for (int c = 0; c < 3; ++c)
+      store(out + (3 * r + c) * W,
+            (p[3 * r] * rel[c] + p[3 * r + 1] * rel[3 + c]) + p[3 * r + 2] * rel[6 + c]);
+    store(out + (9 + r) * W,
+          ((p[3 * r] * rel[9] + p[3 * r + 1] * rel[10]) + p[3 * r + 2] * rel[11]) + p[9 + r]);
+  }
+}
+
+// X_WF of every moving frame for the lanes of half h, in doubles (frame 0, W itself, is
+// left as the caller set it).
 void pose_frames(const KernelRobot& robot, const Block& b, int h) {
   double* frames = b.frames + h * robot.frames * 12 * kHalf;
   for (int i = 0; i < robot.steps; ++i) {
     const FrameStep& s = robot.step[i];
-    const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
     VD rel[12];
-    if (s.prismatic) {
-      for (int e = 0; e < 9; ++e) rel[e] = splat(s.P[e]);
-      for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]) + q * splat(s.v[k]);
-    } else {
-      VD sn, cs;
-      sincos(q, sn, cs);
-      for (int e = 0; e < 9; ++e)
-        rel[e] = (splat(s.P[e]) + cs * splat(s.C[e])) + sn * splat(s.S[e]);
-      for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.u[k]);
-    }
-    double* out = frames + s.frame * 12 * kHalf;
-    if (s.parent == 0) {
-      for (int e = 0; e < 12; ++e) store(out + e * kHalf, rel[e]);
-      continue;
-    }
-    const double* in = frames + s.parent * 12 * kHalf;
-    VD p[12];
-    for (int e = 0; e < 12; ++e) p[e] = load(in + e * kHalf);
-    for (int r = 0; r < 3; ++r) {
-      for (int c = 0; c < 3; ++c)
-        store(out + (3 * r + c) * kHalf,
-              (p[3 * r] * rel[c] + p[3 * r + 1] * rel[3 + c]) + p[3 * r + 2] * rel[6 + c]);
-      store(out + (9 + r) * kHalf,
-            ((p[3 * r] * rel[9] + p[3 * r + 1] * rel[10]) + p[3 * r + 2] * rel[11]) + p[9 + r]);
-    }
+    step_transform(s, b, h, rel);
+    compose<VD>(frames + s.parent * 12 * kHalf, s.parent == 0, rel, frames + s.frame * 12 * kHalf);
   }
 }
 
-// The frames of both halves rounded to floats, kLanes lanes side by side.
-void frames_to_float(const KernelRobot& robot, Block& b) {
-  const double* lo = b.frames;
-  const double* hi = b.frames + robot.frames * 12 * kHalf;
-  for (int e = 0; e < robot.frames * 12; ++e)
-    store(b.frames_f + e * kLanes, to_float(load(lo + e * kHalf), load(hi + e * kHalf)));
+// X_WF of every moving frame for all kLanes lanes, in floats: each step's transform in
+// doubles (as pose_frames computes it), rounded to floats, then the chain's products in
+// floats. Their distance from the double frames grows with the chain's depth; the float
+// tests' slack covers it (robot_checker.cpp, float_slack).
+void pose_frames_float(const KernelRobot& robot, const Block& b) {
+  for (int i = 0; i < robot.steps; ++i) {
+    const FrameStep& s = robot.step[i];
+    VD lo[12], hi[12];
+    step_transform(s, b, 0, lo);
+    step_transform(s, b, 1, hi);
+    VF rel[12];
+    for (int e = 0; e < 12; ++e) rel[e] = to_float(lo[e], hi[e]);
+    compose<VF>(b.frames_f + s.parent * 12 * kLanes, s.parent == 0, rel,
+                b.frames_f + s.frame * 12 * kLanes);
+  }
 }
 
 // ---- The tests, in either precision (V: VD or VF).
@@ -176,6 +197,34 @@ void lane_point(const typename V::T* posed_set, int i, int lane, double* p) {
   for (int k = 0; k < 3; ++k) p[k] = double(posed_set[(3 * i + k) * V::W + lane]);
 }
 
+// The point (x, y, z) in cell units of the field (ux, uy, uz); returns the lanes inside it
+// (0 <= u < n on every axis).
+template <class V>
+unsigned grid_cell(const GridView<typename V::T>& g, V x, V y, V z, V& ux, V& uy, V& uz) {
+  using T = typename V::T;
+  ux = (x - splat(g.origin[0])) * splat(g.inverse_side);
+  uy = (y - splat(g.origin[1])) * splat(g.inverse_side);
+  uz = (z - splat(g.origin[2])) * splat(g.inverse_side);
+  const V zero = splat(T(0));
+  return le_bits(zero, ux) & le_bits(zero, uy) & le_bits(zero, uz) &
+         ~le_bits(splat(T(g.n[0])), ux) & ~le_bits(splat(T(g.n[1])), uy) &
+         ~le_bits(splat(T(g.n[2])), uz);
+}
+
+// Asks for the field's cells of points first .. first + n - 1 of a posed set, so that the
+// look-ups that follow overlap their memory latency (no effect on any answer).
+template <class V>
+void prefetch_points(const GridView<typename V::T>& g, const typename V::T* set, int first, int n) {
+  if (g.field == nullptr) return;
+  constexpr int W = V::W;
+  for (int i = first; i < first + n; ++i) {
+    V ux, uy, uz;
+    const unsigned inside = grid_cell(g, load(set + 3 * i * W), load(set + (3 * i + 1) * W),
+                                      load(set + (3 * i + 2) * W), ux, uy, uz);
+    if (inside) prefetch_cells(g, ux, uy, uz, inside);
+  }
+}
+
 // The lanes in which the point (x, y, z) is certainly farther than `far` from every
 // element (returned), and those in which it is certainly within `near` of one (`hit`):
 // inside the field, by its cell's bounds at the centre and |p - centre|; outside, by the
@@ -185,14 +234,9 @@ template <class V>
 unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z, typename V::T far,
                    typename V::T near, unsigned& hit) {
   using T = typename V::T;
-  const V ux = (x - splat(g.origin[0])) * splat(g.inverse_side),
-          uy = (y - splat(g.origin[1])) * splat(g.inverse_side),
-          uz = (z - splat(g.origin[2])) * splat(g.inverse_side);
+  V ux, uy, uz;
+  const unsigned inside = grid_cell(g, x, y, z, ux, uy, uz);
   const V zero = splat(T(0));
-  // 0 <= u < n on every axis.
-  const unsigned inside = le_bits(zero, ux) & le_bits(zero, uy) & le_bits(zero, uz) &
-                          ~le_bits(splat(T(g.n[0])), ux) & ~le_bits(splat(T(g.n[1])), uy) &
-                          ~le_bits(splat(T(g.n[2])), uz);
   const T reach = far + g.pad;
   unsigned clear = 0;
   hit = 0;
@@ -247,6 +291,7 @@ unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned nee
   const LinkLayout& l = c.robot.link[link];
   const typename V::T* set = posed(c, link, slot);
   const int begin = static_cast<int>(l.begin[slot]);
+  prefetch_points<V>(c.sp.grid, set, 0, static_cast<int>(l.count[slot]));
   unsigned hit = 0;
   for (int i = 0; i < static_cast<int>(l.count[slot]) && (need & ~hit); ++i) {
     const double rq = double(c.sp.r[begin + i]) + add;
@@ -348,7 +393,8 @@ unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
 template <class V>
 void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
   const KernelRobot& robot = c.robot;
-  for (int link = 0; link < robot.links; ++link) posed(c, link, kBoundSlot);
+  for (int link = 0; link < robot.links; ++link)
+    prefetch_points<V>(c.sp.grid, posed(c, link, kBoundSlot), 0, 1);
   for (int link = 0; link < robot.links; ++link)
     near[link] = static_cast<unsigned char>(scene_near(c, link, open));
   for (int k = 0; k < robot.pairs; ++k)
@@ -479,7 +525,7 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   if (b.sink && b.bounds)
     for (int k = 0; k < robot.links + robot.pairs; ++k)
       for (int lane = 0; lane < kHalf; ++lane)
-        if (b.pending[k] & open >> lane & 1)
+        if (b.pending[k] & open & 1u << lane)
           k < robot.links ? b.sink(b, lane, k, -1)
                           : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
                                    static_cast<int>(robot.pair_b[k - robot.links]));
@@ -488,14 +534,13 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   b.undecided = undecided | (b.undecided & open) << shift;
 }
 
+// The float pass poses the frames in floats; the double pass poses them again in doubles
+// for the halves that hold a lane to check again.
 void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
   b.colliding = b.undecided = b.rechecked = 0;
-  const unsigned half_lanes[2] = {b.lanes & 0xFu, b.lanes >> kHalf & 0xFu};
-  for (int h = 0; h < 2; ++h)
-    if (half_lanes[h]) pose_frames(robot, b, h);
   unsigned recheck = b.lanes;
   if (b.floats) {
-    frames_to_float(robot, b);
+    pose_frames_float(robot, b);
     Pass<float> p;
     p.frames = b.frames_f;
     p.posed = b.posed_f;
@@ -513,7 +558,9 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
   }
   for (int h = 0; h < 2; ++h) {
     const unsigned lanes = recheck >> (h * kHalf) & 0xFu;
-    if (lanes) run_doubles(robot, scene, b, h, lanes);
+    if (!lanes) continue;
+    pose_frames(robot, b, h);
+    run_doubles(robot, scene, b, h, lanes);
   }
   b.undecided &= ~b.colliding;
 }

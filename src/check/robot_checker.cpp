@@ -3,6 +3,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <memory>
 #include <stdexcept>
 
 #include <omp.h>
@@ -37,8 +38,10 @@ KernelFn choose_kernel(Simd simd) {
 
 // One thread's buffers for the kernel.
 struct Workspace {
-  std::vector<double> frames, posed, q;
-  std::vector<float> frames_f, posed_f;
+  std::vector<double> frames, q;
+  std::vector<float> frames_f;
+  std::unique_ptr<double[]> posed;
+  std::unique_ptr<float[]> posed_f;
   std::vector<unsigned char> flags, pending, unsure;
   std::vector<UndecidedPair>* pairs[kLanes] = {};
 };
@@ -112,9 +115,13 @@ struct RobotChecker::Impl {
         for (int l = 0; l < detail::kHalf; ++l)
           w.frames[h * frames * detail::kHalf + e * detail::kHalf + l] = 1.0;  // frame 0: W
     w.frames_f.assign(frames * detail::kLanes, 0.0f);
+    for (int e : {0, 4, 8})
+      for (int l = 0; l < detail::kLanes; ++l) w.frames_f[e * detail::kLanes + l] = 1.0f;
+    // The posed points are written before they are read (posed_flag): left uninitialised,
+    // so that a workspace for one configuration or one edge costs no fill of its size.
     const std::size_t points = layout.x.size() + layout.links.size();
-    w.posed.assign(points * 3 * detail::kHalf, 0.0);
-    w.posed_f.assign(points * 3 * detail::kLanes, 0.0f);
+    w.posed.reset(new double[points * 3 * detail::kHalf]);
+    w.posed_f.reset(new float[points * 3 * detail::kLanes]);
     w.flags.assign(layout.links.size() * detail::kSlots, 0);
     w.pending.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.unsure.assign(layout.links.size() + layout.pair_a.size(), 0);
@@ -138,6 +145,9 @@ struct RobotChecker::Impl {
                                     "\" is not finite or beyond 1e6");
   }
 
+  // check() and check_bounds() (with `undecided`) of n configurations.
+  void batch(const double* q, std::size_t n, Mode mode, Verdict* out,
+             std::vector<UndecidedPair>* undecided, int threads) const;
   // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real).
   detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs) const;
   // One edge in rake order (robot_checker.h); `checked` counts the samples run.
@@ -209,8 +219,8 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.slack = slack;
   b.frames = w.frames.data();
   b.frames_f = w.frames_f.data();
-  b.posed = w.posed.data();
-  b.posed_f = w.posed_f.data();
+  b.posed = w.posed.get();
+  b.posed_f = w.posed_f.get();
   b.posed_flag = w.flags.data();
   b.pending = w.pending.data();
   b.unsure = w.unsure.data();
@@ -300,13 +310,34 @@ std::vector<double> float_ranges(const RobotModel& model, const detail::RobotLay
   return out;
 }
 
-// The float tests' slack: 2^-16 (1 + E), E bounding every coordinate and distance they
-// handle (the robot's reach with its prismatic joints at float_ranges, the scene, the
-// grid's corners). A float posed point lies within 12 u E of its double twin (u = 2^-24:
-// the frame's and the point's rounding to floats, then three products and three sums), a
-// float squared distance compared with a float threshold errs by at most 14 u E more, and
-// the grid's float cell look-up by 10 u E: every certain float answer holds in doubles
-// while the slack exceeds 2 (12 + 14 + 10) u E = 72 u E; it is 256 u (1 + E).
+// The longest chain of moving frames from W (steps are ordered parents first).
+int chain_depth(const detail::RobotLayout& layout) {
+  std::vector<int> depth(static_cast<std::size_t>(layout.frames), 0);
+  int deepest = 0;
+  for (const detail::FrameStep& s : layout.steps) {
+    const int d = depth[static_cast<std::size_t>(s.parent)] + 1;
+    depth[static_cast<std::size_t>(s.frame)] = d;
+    deepest = std::max(deepest, d);
+  }
+  return deepest;
+}
+
+// The float tests' slack: 2^-16 (1 + E) (1 + d / 4), E bounding every coordinate and
+// distance they handle (the robot's reach with its prismatic joints at float_ranges, the
+// scene, the grid's corners), d the longest chain of moving frames; u = 2^-24.
+// - Float forward kinematics against the double one (both start from each joint's
+//   transform in doubles): rounding a rotation to floats moves it by at most sqrt(3) u
+//   (Frobenius norm), a float product of two frames rounds by at most gamma_3 |A| |B|
+//   per entry (at most 9.1 u in norm for rotations), so the rotations of chain step k
+//   differ by e_k <= (1 + 2u) e_(k-1) + 11 u, e_d <= 12 u d; the translations by
+//   f_k <= f_(k-1) + e_(k-1) |t_k| + u |t_k| + 4.01 u (1.74 |t_k| + |p_(k-1)|), with
+//   sum |t_k| and |p| at most E: f_d <= (17 d + 9) u E. A posed point x (|x| <= E) then
+//   lies within e_d |x| + f_d <= (29 d + 9) u E of the point posed on the double frame.
+// - That frame's posed point lies within 12 u E of its double twin (three products and
+//   three sums), a float squared distance compared with a float threshold errs by at most
+//   14 u E more, and the grid's float cell look-up by 10 u E.
+// Every certain float answer holds in doubles while the slack exceeds twice the sum,
+// 2 (12 + 14 + 10 + 29 d + 9) u E = (90 + 58 d) u E; it is (256 + 64 d) u (1 + E).
 float float_slack(const detail::RobotLayout& layout, const Scene& scene,
                   const detail::SceneGrid& grid, const std::vector<double>& range) {
   double reach = layout.extent;
@@ -322,7 +353,7 @@ float float_slack(const detail::RobotLayout& layout, const Scene& scene,
   if (!grid.empty())
     for (int k = 0; k < 3; ++k)
       e = std::max(e, std::abs(grid.origin()[k]) + grid.dims()[k] * grid.cell_side());
-  const double slack = std::ldexp(1.0 + e, -16);
+  const double slack = std::ldexp(1.0 + e, -16) * (1.0 + chain_depth(layout) / 4.0);
   return std::nextafter(static_cast<float>(slack), std::numeric_limits<float>::infinity());
 }
 
@@ -428,31 +459,44 @@ void fill_block(std::vector<double>& q, const double* rows, std::size_t first, s
 
 }  // namespace
 
+// Blocks of kLanes configurations, run in parallel; with `undecided`, the double pass for
+// every lane and each configuration's undecided pairs.
+void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdict* out,
+                               std::vector<UndecidedPair>* undecided, int threads) const {
+  if (n == 0) return;
+  const std::size_t dof = layout.dof;
+  for (std::size_t i = 0; i < n; ++i) validate(q + i * dof, i);
+  const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
+  const int chunk = undecided ? 4 : 16;
+#pragma omp parallel num_threads(thread_count(threads))
+  {
+    detail::Workspace w = workspace();
+#pragma omp for schedule(dynamic, chunk)
+    for (long k = 0; k < blocks; ++k) {
+      const std::size_t first = std::size_t(k) * detail::kLanes;
+      fill_block(w.q, q, first, n, dof);
+      const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
+      if (undecided)
+        for (std::size_t l = 0; l < std::size_t(detail::kLanes); ++l) {
+          w.pairs[l] = l < count ? &undecided[first + l] : nullptr;
+          if (l < count) undecided[first + l].clear();
+        }
+      const detail::Block b = run(w, (1u << count) - 1, mode, undecided != nullptr);
+      for (std::size_t l = 0; l < count; ++l) {
+        out[first + l] = verdict_of(b, int(l));
+        if (undecided && out[first + l] != Verdict::undecided) undecided[first + l].clear();
+      }
+    }
+  }
+}
+
 void RobotChecker::validate(const double* q, std::size_t n) const {
   for (std::size_t i = 0; i < n; ++i) impl_->validate(q + i * impl_->layout.dof, i);
 }
 
 void RobotChecker::check(const double* q, std::size_t n, Mode mode, Verdict* out,
                          int threads) const {
-  if (n == 0) return;
-  const Impl& m = *impl_;
-  const std::size_t dof = m.layout.dof;
-  for (std::size_t i = 0; i < n; ++i) m.validate(q + i * dof, i);
-  const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
-#pragma omp parallel num_threads(thread_count(threads))
-  {
-    detail::Workspace w = m.workspace();
-#pragma omp for schedule(dynamic, 16)
-    for (long k = 0; k < blocks; ++k) {
-      const std::size_t first = std::size_t(k) * detail::kLanes;
-      fill_block(w.q, q, first, n, dof);
-      const unsigned lanes =
-          n - first >= detail::kLanes ? (1u << detail::kLanes) - 1 : (1u << (n - first)) - 1;
-      const detail::Block b = m.run(w, lanes, mode, false);
-      for (int l = 0; l < detail::kLanes && first + std::size_t(l) < n; ++l)
-        out[first + std::size_t(l)] = verdict_of(b, l);
-    }
-  }
+  impl_->batch(q, n, mode, out, nullptr, threads);
 }
 
 Verdict RobotChecker::check(const double* q, Mode mode,
@@ -468,6 +512,11 @@ Verdict RobotChecker::check(const double* q, Mode mode,
   if (undecided && v == Verdict::undecided)
     undecided->insert(undecided->end(), pairs.begin(), pairs.end());
   return v;
+}
+
+void RobotChecker::check_bounds(const double* q, std::size_t n, Verdict* out,
+                                std::vector<UndecidedPair>* undecided, int threads) const {
+  impl_->batch(q, n, Mode::bounds, out, undecided, threads);
 }
 
 std::size_t RobotChecker::edge_steps(const double* q0, const double* q1, double resolution) const {

@@ -15,7 +15,8 @@
 /// wholly inside another without surface contact.
 ///
 /// Inputs: the planner's model and optionally the fine one (same robot; their covering
-/// sets must carry a certificate unless BoundedGeometryOptions::allow_uncertified), the
+/// sets must carry a certificate unless BoundedGeometryOptions::allow_uncertified),
+/// optionally the sphere trees' model (FallbackOptions::trees), the
 /// exact meshes by link name (link frame), and the scene as FCL objects in W (converted by
 /// scene_from_fcl for the spheres; kept as they are for the fallback). Self pairs: as
 /// RobotChecker's, with options.disabled.
@@ -51,17 +52,32 @@ struct FallbackStats {
   }
 };
 
+/// How the fallback is built. None of it changes a verdict, only what it costs.
+struct FallbackOptions {
+  BoundedGeometryOptions bounds;  ///< of the links' BoundedGeometry
+  /// A third model of the same robot whose sets become the links' sphere trees of decide()
+  /// (a larger cover and inner set than the fine one, baked once: tighter bounds that
+  /// spare mesh queries). Null: the fine sets when given, else the planner's.
+  const RobotModel* trees = nullptr;
+  /// samples > 0: the pairs and witnesses of RobotBounds' SelfPairOrder (robot_bounds.h,
+  /// learnt at construction from seeded configurations at order.margin, which should be
+  /// the checker's margin): the fallback tests the witnesses of a configuration's
+  /// undecided self pairs first, then decides its pairs in robot_collide's order (the
+  /// self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
+  SelfPairOrder order;
+};
+
 class CertifiedChecker {
  public:
   CertifiedChecker(const RobotModel& planner, const RobotModel* fine,
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene,
-                   const check::CheckerOptions& options = {},
-                   const BoundedGeometryOptions& bounds = {});
+                   const check::CheckerOptions& options = {}, const FallbackOptions& fallback = {});
 
   /// The spheres-only and bounds modes without a fallback.
   const check::RobotChecker& spheres() const noexcept { return checker_; }
-  /// The fallback's geometries (the fine sets when given, else the planner's, with meshes).
+  /// The fallback's geometries (the trees' sets when given, else the fine sets when given,
+  /// else the planner's; with the meshes).
   const RobotBounds& fallback() const noexcept { return bounds_; }
 
   /// Verdicts of \p n configurations (rows of spheres().num_positions()), \p threads as
@@ -84,14 +100,21 @@ class CertifiedChecker {
   CertifiedChecker(const RobotModel& planner, const RobotModel* fine,
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
-                   const check::CheckerOptions& options, const BoundedGeometryOptions& bounds);
+                   const check::CheckerOptions& options, const FallbackOptions& fallback);
   check::Verdict settle(const double* q, FallbackStats& stats) const;
+  std::vector<check::UndecidedPair> ordered(const std::vector<check::UndecidedPair>& pairs) const;
+  check::Verdict settle_pairs(const double* q, const std::vector<check::UndecidedPair>& pairs,
+                              FallbackStats& stats) const;
 
   check::RobotChecker checker_;
   RobotBounds bounds_;
   std::vector<const ::fcl::CollisionObjectd*> scene_;
   std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
   std::vector<std::size_t> geometry_of_;   // checker link -> index in bounds_.geometries()
+  // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
+  // decide() (FallbackOptions::order), and the indices of its witnesses.
+  std::vector<std::size_t> rank_;
+  std::vector<std::vector<std::size_t>> witnesses_of_;
 };
 
 }  // namespace medspheres::fcl

@@ -60,6 +60,10 @@ struct SelfWitness {
   Sphere in_a, in_b;
 };
 
+/// Whether the witness's two spheres are certainly within \p margin of each other (by
+/// balls_within) at the poses \p X (RobotBounds::poses, indexed by geometry).
+bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& X, double margin);
+
 class RobotBounds {
  public:
   /// Links with both sets empty have no geometry and are left out. \p meshes: exact meshes

@@ -122,6 +122,13 @@ class RobotChecker {
   void check(const double* q, std::size_t n, Mode mode, Verdict* out, int threads = 1) const;
   /// One configuration; in Mode::bounds, the pairs left undecided when it is undecided.
   Verdict check(const double* q, Mode mode, std::vector<UndecidedPair>* undecided = nullptr) const;
+  /// Mode::bounds for \p n configurations (rows as above) with the pairs each leaves
+  /// undecided: undecided[i] (cleared first) receives those of configuration i when out[i]
+  /// is undecided, as the one-configuration check() gives them. Every test runs in doubles
+  /// (the same verdicts as check()'s), eight configurations to a block: for the few
+  /// configurations that check() left undecided, cheaper than one check() each.
+  void check_bounds(const double* q, std::size_t n, Verdict* out,
+                    std::vector<UndecidedPair>* undecided, int threads = 1) const;
 
   /// \p n edges from q0[i] to q1[i] (rows as above); returns the configurations checked.
   std::size_t check_edges(const double* q0, const double* q1, std::size_t n, double resolution,
