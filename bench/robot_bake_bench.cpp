@@ -4,12 +4,18 @@
 // certificate and max protrusion in mm (the URDF's metres), the seconds of the link's bake and of
 // its cover) and the total wall clock and CPU time of the process (user + system: the work,
 // whatever the load of the machine). Target: the Unitree G1 (40 links) in at most 10 s on 2 cores.
+// Then every meshed link's shell fraction (filled_solid.h) and, for each link whose inner
+// set was baked on its filled solid, the nerr of the same budget's inner set of its real
+// (winding-number) solid beside, baked again here. Target: nerr at most 0.3 against the filled
+// solid at 32 spheres. --fill bakes them on the filled solid (RobotBakeOptions::
+// fill_thin_shells, as `robot --fill`); without it no link is filled.
 //
-// Usage: bench_robot_bake [URDF] [--package PKG=DIR]... [--jobs N]
+// Usage: bench_robot_bake [URDF] [--package PKG=DIR]... [--jobs N] [--fill]
 //   URDF defaults to ../shared/robots/unitree_g1/g1_29dof_rev_1_0.urdf when present.
 #include <sys/resource.h>
 
 #include <chrono>
+#include <cmath>
 #include <cstdio>
 #include <filesystem>
 #include <string>
@@ -18,6 +24,8 @@
 
 #include <CLI/CLI.hpp>
 
+#include "medspheres/mesh/filled_solid.h"
+#include "medspheres/mesh/mesh_report.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
@@ -32,6 +40,44 @@ double cpu_seconds() {
          1e-6 * static_cast<double>(u.ru_utime.tv_usec + u.ru_stime.tv_usec);
 }
 
+// Every meshed link's shell fraction (filled_solid.h); for those baked on their filled
+// solid, the nerr of the same budget's inner set of the real (winding-number) solid beside.
+void thin_shells(const std::vector<medspheres::LinkSolid>& solids,
+                 const medspheres::RobotBakeResult& result, const medspheres::BakeRequest& base) {
+  using namespace medspheres;
+  std::printf(
+      "\nShell fractions (thin below %.2f: the inner set fills the filled solid; target: "
+      "nerr <= 0.3 against it at 32 spheres)\n",
+      kThinShellFraction);
+  std::printf("%-28s %8s %7s %9s %9s %s\n", "link", "fraction", "spheres", "nerr real", "nerr fill",
+              "target");
+  double test_cpu = 0.0;
+  std::size_t tested = 0;
+  for (std::size_t i = 0; i < result.links.size(); ++i) {
+    const LinkBakeStats& s = result.links[i];
+    const LinkSolid& solid = solids[i];
+    if (solid.parts.empty() || !s.baked_as.empty()) continue;
+    const TriangleMesh mesh = solid.parts.size() == 1 ? solid.parts[0].mesh : solid.placed_mesh();
+    const MeshReport report = analyze_mesh(mesh);
+    const double cpu0 = cpu_seconds();
+    const double fraction = shell_fraction(mesh, report, s.link);
+    test_cpu += cpu_seconds() - cpu0;
+    ++tested;
+    if (s.note.find("filled solid") == std::string::npos) {
+      std::printf("%-28s %8.3f\n", s.link.c_str(), fraction);
+      continue;
+    }
+    BakeRequest real = base;
+    real.solid = SolidKind::kWinding;
+    real.max_spheres = s.budget;
+    const BakeOutcome before = bake_mesh(mesh, report, real, s.link);
+    std::printf("%-28s %8.3f %7zu %9.4f %9.4f %s\n", s.link.c_str(), fraction, s.spheres,
+                before.volume ? before.volume->nerr : std::nan(""), s.nerr,
+                s.nerr <= 0.3 && s.spheres <= kDefaultSpheresPerLink ? "met" : "MISSED");
+  }
+  std::printf("the thin-shell test (shell_fraction) of %zu meshes: %.3f s CPU\n", tested, test_cpu);
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -40,10 +86,12 @@ int main(int argc, char** argv) {
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/g1_29dof_rev_1_0.urdf";
   std::vector<std::string> packages;
   int jobs = 0;
+  bool fill = false;
   CLI::App app{"Bake every link of a robot with the robot command's defaults"};
   app.add_option("urdf", urdf, "Robot description")->capture_default_str();
   app.add_option("--package", packages, "PKG=DIR for package:// (repeatable)");
   app.add_option("--jobs", jobs, "Links baked at once (0: one per core)")->capture_default_str();
+  app.add_flag("--fill", fill, "bake thin shells' inner sets on their filled solid");
   CLI11_PARSE(app, argc, argv);
   if (!std::filesystem::exists(urdf)) {
     std::fprintf(stderr, "no robot at %s (give a URDF)\n", urdf.c_str());
@@ -60,6 +108,7 @@ int main(int argc, char** argv) {
   RobotBakeOptions options;
   options.jobs = jobs;
   options.budget.per_link = kDefaultSpheresPerLink;  // the robot command's default
+  options.fill_thin_shells = fill;
   const RobotBakeResult result = bake_robot(robot, solids, options);
   const double total =
       std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
@@ -90,5 +139,6 @@ int main(int argc, char** argv) {
       "read URDF and meshes %.3f s, bake %.3f s, end to end %.3f s wall; CPU %.3f s (user + "
       "system)\n",
       load_seconds, result.seconds, total, cpu_seconds());
+  thin_shells(solids, result, options.request);
   return 0;
 }

@@ -141,6 +141,16 @@ bool records_certified_cover(const std::string& json) {
   return stats != j.end() && stats->is_object() && json_true(*stats, "certified");
 }
 
+bool records_filled_inner(const std::string& json) {
+  const nlohmann::json j = nlohmann::json::parse(json, nullptr, false);
+  if (!j.is_object()) return false;
+  const auto stats = j.find("stats");
+  if (stats == j.end() || !stats->is_object()) return false;
+  const auto solid = stats->find(kInnerSolidKey);
+  return solid != stats->end() && solid->is_string() &&
+         solid->get<std::string>() == kInnerSolidFilled;
+}
+
 BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer,
                                  std::shared_ptr<const MeshModel> mesh,
                                  const BoundedGeometryOptions& options)
@@ -173,9 +183,12 @@ BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const
     throw InputError(link_, "the mesh is not a finished triangle model (endModel())");
   SphereTreeOptions inner_tree = options.tree;
   inner_tree.allow_points = true;
-  inner_ = mesh_ && options.surface_points
-               ? SphereTree(with_surface_points(link_, inner, *mesh_, options.surface_point_spacing,
-                                                surface_points_),
+  // Balls of the filled solid may sit in the link's cavity, outside its material: with the
+  // mesh, only its surface points bound the real solid from inside.
+  const bool filled = mesh_ && records_filled_inner(inner.metadata_json);
+  inner_ = mesh_ && (options.surface_points || filled)
+               ? SphereTree(with_surface_points(link_, filled ? SphereSet{} : inner, *mesh_,
+                                                options.surface_point_spacing, surface_points_),
                             inner_tree)
                : SphereTree(inner, options.tree);
   outer_ = SphereTree(outer, options.tree);

@@ -220,6 +220,7 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
   for (const auto& [link, spheres] : job.bake.outer_start)
     t += "outer_start=" + link + " " + spheres_text(spheres) + "\n";
   t += std::string("outer=") + (job.bake.outer ? "1" : "0") +
+       "\nfill=" + (job.bake.fill_thin_shells ? "1" : "0") +
        "\nfrom_visual=" + (job.read.from_visual ? "1" : "0") + "\nformats=";
   for (formats::SphereFormat f : chosen_formats(job))
     t += std::string(formats::sphere_format_name(f)) + ",";

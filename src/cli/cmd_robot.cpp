@@ -48,6 +48,7 @@ struct RobotArgs {
   SolidFlags solid;
   bool no_measure = false;
   bool no_outer = false;
+  bool fill = false;
   std::string cover_start;  ///< a per-link sphere file the outer sets start from
   std::string set = "auto";
   std::vector<std::string> tool_frames;
@@ -182,6 +183,7 @@ std::string options_json(const RobotArgs& a) {
   o["robust_thickness"] = optional(a.solid.robust_thickness);
   o["measure"] = !a.no_measure;
   o["outer"] = !a.no_outer;
+  o["fill"] = a.fill;
   o["cover_start"] = a.cover_start.empty() ? nlohmann::ordered_json(nullptr)
                                            : nlohmann::ordered_json(a.cover_start);
   o["set"] = a.set;
@@ -210,6 +212,7 @@ RobotJob robot_job(const RobotArgs& a) {
   job.bake.budget = robot_budget(budget_flags(a), job.bake.request, a.resolution_given);
   job.bake.jobs = a.batch.jobs;
   job.bake.outer = !a.no_outer;
+  job.bake.fill_thin_shells = a.fill;
   check_threads(a.batch.jobs);
   job.formats = formats::robot_output_formats(a.formats);
   job.set = formats::parse_set_choice(a.set);
@@ -316,6 +319,10 @@ Runner register_robot(CLI::App& app) {
   sub->add_flag("--no-outer", a->no_outer,
                 "Bake inner sets only (default: also a certified covering set per link, which "
                 "the planner formats then carry)");
+  sub->add_flag("--fill", a->fill,
+                "Bake the inner set of a link whose solid is a thin shell (less than 0.2 of its "
+                "filled solid's volume) on its filled solid, its cavity filled; its covering "
+                "set stays on the real surface (docs/robots.md, Thin shells)");
   sub->add_option("--cover-start", a->cover_start,
                   "A per-link sphere file (cuRobo, XRDF, ...; link frames) whose spheres, a "
                   "planner's own set that need not cover, become each link's certified covering "

@@ -16,7 +16,9 @@
 
 #include <nlohmann/json.hpp>
 
+#include "filled_inner.h"
 #include "medspheres/error.h"
+#include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/mesh/cover_certificate_json.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/mesh/threads.h"
@@ -118,8 +120,8 @@ std::string outer_certificate_json(const CoverResult& cover, bool moved, double 
   return j.dump();
 }
 
-void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads,
-             bool outer) {
+void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads, bool outer,
+             bool fill) {
   const Clock::time_point start = Clock::now();
   try {
     BakeRequest request = base;
@@ -135,7 +137,9 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
     // checked before it is built, as bake_mesh(mesh, ...) would.
     validate(request);
     const FitEvaluator fit(mesh, threads);
-    job.outcome = bake_mesh(fit, report, request, name, sha);
+    std::optional<BakeOutcome> filled;
+    if (fill) filled = bake_filled_inner(mesh, report, request, name, sha);
+    job.outcome = filled ? std::move(*filled) : bake_mesh(fit, report, request, name, sha);
     if (outer) {
       const Clock::time_point cover_start = Clock::now();
       job.outer = bake_outer(fit, report, request, job, name, sha);
@@ -152,7 +156,7 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
 // call at a time. After a failure only jobs of a lower index than the lowest failure so far
 // still run, so the lowest failing job is always known, whatever the order of completion.
 void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
-              const BakeRequest& request, bool outer, int workers,
+              const BakeRequest& request, bool outer, bool fill, int workers,
               const std::function<void(std::size_t)>& done) {
   const int per_bake = std::max(1, thread_count(request.medial.threads) / workers);
   std::vector<std::size_t> order(jobs.size());
@@ -168,7 +172,7 @@ void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
       const std::size_t j = order[k];
       if (j > lowest_failed) continue;
       run_job(jobs[j], solids[jobs[j].link], request,
-              workers == 1 ? request.medial.threads : per_bake, outer);
+              workers == 1 ? request.medial.threads : per_bake, outer, fill);
       std::lock_guard<std::mutex> lock(report);
       if (jobs[j].error) lowest_failed = std::min<std::size_t>(lowest_failed, j);
       done(j);
@@ -213,7 +217,15 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   }
   stats.seconds = own ? job.seconds : 0.0;
   stats.outer_seconds = own ? job.outer_seconds : 0.0;
-  if (job.outcome.solid == SolidKind::kRobust)
+  const auto inner_solid = job.outcome.record.extra_strings.find(fcl::kInnerSolidKey);
+  const auto fraction = job.outcome.record.extra_stats.find("shell_fraction");
+  if (inner_solid != job.outcome.record.extra_strings.end() &&
+      fraction != job.outcome.record.extra_stats.end()) {
+    stats.inner_filled = true;
+    stats.note += std::string(stats.note.empty() ? "" : "; ") +
+                  "filled solid (a thin shell: " + number_text(fraction->second, 3) +
+                  " of its volume)";
+  } else if (job.outcome.solid == SolidKind::kRobust)
     stats.note += std::string(stats.note.empty() ? "" : "; ") + "robust solid" +
                   (job.outcome.robust_thickness_escalated
                        ? ", walls thickened to " + number_text(job.outcome.robust_thickness, 3) +
@@ -267,6 +279,7 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"baked_as", s.baked_as},
                      {"note", s.note}};
     if (!record_seconds) links[s.link].erase("bake_seconds");
+    if (s.inner_filled) links[s.link][fcl::kInnerSolidKey] = fcl::kInnerSolidFilled;
   }
   j["links"] = links;
   return j.dump();
@@ -364,7 +377,8 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
   };
   const int workers = static_cast<int>(
       std::min<std::size_t>(jobs.size(), static_cast<std::size_t>(thread_count(options.jobs))));
-  run_jobs(jobs, solids, options.request, options.outer, std::max(1, workers), finish_links);
+  run_jobs(jobs, solids, options.request, options.outer, options.fill_thin_shells,
+           std::max(1, workers), finish_links);
 
   for (const BakeJob& job : jobs) {  // in link order: the first failing link is reported
     if (!job.error) continue;

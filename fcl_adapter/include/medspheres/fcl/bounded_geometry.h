@@ -79,6 +79,18 @@ std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh);
 /// Malformed or empty text is not certified.
 bool records_certified_cover(const std::string& json);
 
+/// True when \p json (an inner set's metadata) records an inner set of a link's filled
+/// solid (filled_solid.h: "stats": {"inner_solid": "filled"}, as `medspheres robot` bakes
+/// thin-shelled links): its balls lie in the link closed with its cavity filled, not in
+/// its thin material. BoundedGeometry with a mesh then bounds the solid from inside by the
+/// mesh's surface points alone (whatever options.surface_points says); without a mesh the
+/// balls are used as given, and the inner bounds are those of the filled solid.
+bool records_filled_inner(const std::string& json);
+
+/// The stats key and value of records_filled_inner.
+inline constexpr const char* kInnerSolidKey = "inner_solid";
+inline constexpr const char* kInnerSolidFilled = "filled";
+
 class BoundedGeometry {
  public:
   /// \p link names the geometry in messages. The outer set's certificate is read from

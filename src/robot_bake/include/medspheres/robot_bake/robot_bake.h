@@ -87,6 +87,9 @@ struct LinkBakeStats {
   std::size_t outer_start = 0;  ///< the spheres its outer set started from (0: baked)
   std::string baked_as;         ///< the link whose bake it reuses; empty for its own
   std::string note;             ///< "no collision geometry" and the like
+  /// Its inner set was baked on its filled solid (RobotBakeOptions::fill_thin_shells); the
+  /// robot's metadata then records "inner_solid": "filled" for the link.
+  bool inner_filled = false;
 };
 
 /// Called once per link as its spheres are ready (in completion order, one call at a
@@ -109,6 +112,16 @@ struct RobotBakeOptions {
   /// Links of the robot without meshed parts, and names that are no link of the robot, are
   /// not used (RobotBakeResult::unused_outer_start). Needs `outer`.
   std::map<std::string, std::vector<Sphere>> outer_start;
+  /// With request.solid kAuto: a link whose mesh is a thin shell (is_thin_shell,
+  /// filled_solid.h) gets its inner set baked on its filled solid: the set lies inside the
+  /// filled solid (its balls may sit in the cavity), records "inner_solid": "filled" (in
+  /// its SphereSet's metadata and the link's entry of the robot's), and its nerr is of the
+  /// filled solid. Its outer set is certified on the real surface as always. A
+  /// BoundedGeometry built from the set with the link's mesh does not use its balls; the
+  /// robot file keeps only the robot's metadata, which RobotBounds and RobotChecker do not
+  /// read: their inner bounds of such a link are those of the filled solid. Off by
+  /// default for that reason (`robot --fill`).
+  bool fill_thin_shells = false;
 };
 
 struct RobotBakeResult {
