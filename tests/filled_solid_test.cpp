@@ -4,12 +4,15 @@
 // the cup's real surface, and certified queries bound the real solid by its surface points.
 #include <cmath>
 #include <random>
+#include <regex>
 #include <string>
 #include <vector>
 
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
+#include "medspheres/check/robot_checker.h"
+#include "medspheres/check/scene.h"
 #include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/mesh/filled_solid.h"
 #include "medspheres/mesh/mesh_generators.h"
@@ -18,6 +21,7 @@
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_file.h"
 #include "support/mesh_writers.h"
 #include "support/random_points.h"
 #include "support/temp_dir.h"
@@ -204,4 +208,58 @@ TEST_CASE("filled solid: a robot's thin-shelled link", "[filled][robot]") {
       "cup", before.model.links[0].spheres, medspheres::fcl::make_mesh_model(mesh));
   CHECK(real_inner.inner().num_spheres() ==
         mesh.vertices.size() + before.model.links[0].spheres.inner.size());
+}
+
+TEST_CASE("filled solid: the mark survives the robot file, and certified checks heed it",
+          "[filled][robot]") {
+  TempDir dir;
+  const TriangleMesh mesh = cup();
+  dir.write("cup.stl", test::to_stl_binary(mesh));
+  const std::string urdf = dir.write("cup.urdf", R"(<?xml version="1.0"?>
+<robot name="cup"><link name="cup">
+  <collision><geometry><mesh filename="cup.stl"/></geometry></collision>
+</link></robot>
+)");
+  const UrdfRobot robot = read_urdf(urdf);
+  RobotBakeOptions options;
+  options.budget.per_link = 32;
+  options.fill_thin_shells = true;
+  const RobotBakeResult baked = bake_robot(robot, load_link_solids(robot), options);
+  const RobotModel loaded = parse_robot(robot_to_json(baked.model), "cup.robot.json");
+  REQUIRE(loaded.links[0].spheres.inner_filled);
+  RobotModel unmarked = loaded;
+  unmarked.links[0].spheres.inner_filled = false;
+  CHECK_FALSE(parse_robot(robot_to_json(unmarked), "x").links[0].spheres.inner_filled);
+  CHECK_THROWS_WITH(parse_robot(std::regex_replace(robot_to_json(baked.model),
+                                                   std::regex("\"filled\""), "\"hollow\""),
+                                "cup.robot.json"),
+                    Catch::Contains("cup.robot.json") && Catch::Contains("inner_solid"));
+
+  // Without a mesh the filled balls are left out: the link has no inner bounds.
+  CHECK(medspheres::fcl::BoundedGeometry::from_link("cup", loaded.links[0].spheres)
+            .inner()
+            .num_spheres() == 0);
+  CHECK(medspheres::fcl::BoundedGeometry::from_link("cup", unmarked.links[0].spheres)
+            .inner()
+            .num_spheres() == unmarked.links[0].spheres.inner.size());
+
+  // A ball in the cavity, about a filled inner ball's centre, 5 mm clear of the material
+  // (so the covering balls, which stick out into the cavity, do not prove it free): the
+  // unmarked robot claims a collision, the marked one never does.
+  const MeshQuery real(mesh);
+  const Sphere* deepest = nullptr;
+  double clear = 0.0;
+  for (const Sphere& b : loaded.links[0].spheres.inner.spheres) {
+    const double d = real.closest_point(b.center).distance();
+    if (!real.inside(b.center) && d > clear) clear = d, deepest = &b;
+  }
+  REQUIRE(deepest != nullptr);
+  REQUIRE(clear > 0.02);
+  check::Scene scene;
+  scene.add_sphere(deepest->center, clear - 0.005, "in the cavity");
+  const double q[1] = {0.0};
+  CHECK(check::RobotChecker(unmarked, scene).check(q, check::Mode::bounds) ==
+        check::Verdict::colliding);
+  CHECK(check::RobotChecker(loaded, scene).check(q, check::Mode::bounds) !=
+        check::Verdict::colliding);
 }

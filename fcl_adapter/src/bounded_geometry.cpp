@@ -155,23 +155,24 @@ BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const
                                  std::shared_ptr<const MeshModel> mesh,
                                  const BoundedGeometryOptions& options)
     : BoundedGeometry(std::move(link), inner, outer, records_certified_cover(outer.metadata_json),
-                      std::move(mesh), options) {}
+                      records_filled_inner(inner.metadata_json), std::move(mesh), options) {}
 
 BoundedGeometry BoundedGeometry::from_link(const std::string& link, const LinkSpheres& spheres,
                                            std::shared_ptr<const MeshModel> mesh,
                                            const BoundedGeometryOptions& options) {
   return BoundedGeometry(link, spheres.inner, spheres.outer,
-                         records_certified_cover(spheres.outer_certificate_json), std::move(mesh),
-                         options);
+                         records_certified_cover(spheres.outer_certificate_json),
+                         spheres.inner_filled || records_filled_inner(spheres.inner.metadata_json),
+                         std::move(mesh), options);
 }
 
 BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer,
-                                 bool certified, std::shared_ptr<const MeshModel> mesh,
+                                 bool certified, bool filled, std::shared_ptr<const MeshModel> mesh,
                                  const BoundedGeometryOptions& options)
     : link_(std::move(link)),
       mesh_(std::move(mesh)),
       certified_(certified),
-      exact_balls_(same_balls(inner, outer)) {
+      exact_balls_(!filled && same_balls(inner, outer)) {
   check_set(link_, inner, "inner");
   check_set(link_, outer, "outer");
   if (!certified_ && !options.allow_uncertified)
@@ -183,14 +184,15 @@ BoundedGeometry::BoundedGeometry(std::string link, const SphereSet& inner, const
     throw InputError(link_, "the mesh is not a finished triangle model (endModel())");
   SphereTreeOptions inner_tree = options.tree;
   inner_tree.allow_points = true;
-  // Balls of the filled solid may sit in the link's cavity, outside its material: with the
-  // mesh, only its surface points bound the real solid from inside.
-  const bool filled = mesh_ && records_filled_inner(inner.metadata_json);
+  // Balls of the filled solid may sit in the link's cavity, outside its material: they are
+  // left out, and with the mesh its surface points alone bound the real solid from inside.
+  const SphereSet none;
+  const SphereSet& held = filled ? none : inner;
   inner_ = mesh_ && (options.surface_points || filled)
-               ? SphereTree(with_surface_points(link_, filled ? SphereSet{} : inner, *mesh_,
-                                                options.surface_point_spacing, surface_points_),
+               ? SphereTree(with_surface_points(link_, held, *mesh_, options.surface_point_spacing,
+                                                surface_points_),
                             inner_tree)
-               : SphereTree(inner, options.tree);
+               : SphereTree(held, options.tree);
   outer_ = SphereTree(outer, options.tree);
 }
 

@@ -58,6 +58,10 @@ struct LinkSpheres {
   /// The outer set's coverage certificate, as recorded by the bake (JSON object text;
   /// empty when the outer set is not certified).
   std::string outer_certificate_json;
+  /// The inner set lies in the link's filled solid (a thin shell closed, its cavity filled:
+  /// `medspheres robot --fill`), not in its material: its balls may sit in the cavity, so
+  /// they prove nothing about the material. Certified queries then leave them out.
+  bool inner_filled = false;
 };
 
 struct Link {

@@ -79,12 +79,20 @@ void add_self_pairs(const RobotModel& model, const std::vector<std::string>& nam
       }
 }
 
+// The inner set that bounds a link from inside: none for a filled solid's balls (they may
+// sit in a thin shell's cavity, outside the material) when a covering set stands for the
+// link in the spheres mode.
+const std::vector<Sphere>* held_inner(const LinkSpheres& s) {
+  static const std::vector<Sphere> none;
+  return s.inner_filled && !s.outer.empty() ? &none : &s.inner.spheres;
+}
+
 // A link's sets in its frame (X_FL places the link in the frame), level by level.
 void add_link(const Link& planner, const Link* fine, int frame, const Eigen::Isometry3d& X_FL,
               RobotLayout& out) {
   const std::vector<Sphere>* sets[kLevels] = {
-      &planner.spheres.outer.spheres, &planner.spheres.inner.spheres,
-      fine ? &fine->spheres.outer.spheres : nullptr, fine ? &fine->spheres.inner.spheres : nullptr};
+      &planner.spheres.outer.spheres, held_inner(planner.spheres),
+      fine ? &fine->spheres.outer.spheres : nullptr, fine ? held_inner(fine->spheres) : nullptr};
   LinkLayout l;
   l.frame = frame;
   l.spheres = planner.spheres.outer.empty() ? kInner : kOuter;

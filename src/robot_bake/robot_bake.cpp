@@ -222,6 +222,7 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
   if (inner_solid != job.outcome.record.extra_strings.end() &&
       fraction != job.outcome.record.extra_stats.end()) {
     stats.inner_filled = true;
+    spheres.inner_filled = true;
     stats.note += std::string(stats.note.empty() ? "" : "; ") +
                   "filled solid (a thin shell: " + number_text(fraction->second, 3) +
                   " of its volume)";

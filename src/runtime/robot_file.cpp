@@ -103,6 +103,12 @@ Link read_link(const Json& j, std::size_t index, const std::string& source) {
       r.fail("\"outer_certificate\" is not a JSON object");
     link.spheres.outer_certificate_json = r.at("outer_certificate").dump();
   }
+  if (r.has("inner_solid")) {
+    const std::string solid = r.text("inner_solid");
+    if (solid != "filled")
+      r.fail("\"inner_solid\" is \"" + solid + "\"; the only value is \"filled\"");
+    link.spheres.inner_filled = true;
+  }
   link.note = r.text("note", false);
   return link;
 }
@@ -398,6 +404,7 @@ std::string robot_to_json(const RobotModel& model) {
     if (!l.spheres.outer_certificate_json.empty())
       o["outer_certificate"] = object_from_text(l.spheres.outer_certificate_json,
                                                 "link \"" + l.name + "\" outer certificate");
+    if (l.spheres.inner_filled) o["inner_solid"] = "filled";
     if (!l.note.empty()) o["note"] = l.note;
     links.push_back(std::move(o));
   }

@@ -82,9 +82,10 @@ bool records_certified_cover(const std::string& json);
 /// True when \p json (an inner set's metadata) records an inner set of a link's filled
 /// solid (filled_solid.h: "stats": {"inner_solid": "filled"}, as `medspheres robot` bakes
 /// thin-shelled links): its balls lie in the link closed with its cavity filled, not in
-/// its thin material. BoundedGeometry with a mesh then bounds the solid from inside by the
-/// mesh's surface points alone (whatever options.surface_points says); without a mesh the
-/// balls are used as given, and the inner bounds are those of the filled solid.
+/// its thin material. BoundedGeometry leaves such balls out (so does from_link for
+/// LinkSpheres::inner_filled): with a mesh it bounds the solid from inside by the mesh's
+/// surface points alone (whatever options.surface_points says); without one the link has
+/// no inner bounds, and no pair with it is proven colliding.
 bool records_filled_inner(const std::string& json);
 
 /// The stats key and value of records_filled_inner.
@@ -122,7 +123,8 @@ class BoundedGeometry {
 
  private:
   BoundedGeometry(std::string link, const SphereSet& inner, const SphereSet& outer, bool certified,
-                  std::shared_ptr<const MeshModel> mesh, const BoundedGeometryOptions& options);
+                  bool filled, std::shared_ptr<const MeshModel> mesh,
+                  const BoundedGeometryOptions& options);
 
   std::string link_;
   SphereTree inner_;
