@@ -245,3 +245,53 @@ def test_bake_robot_srdf_pairs_and_end_effectors(cli, arm, tmp_path):
     bad.write_text('<robot name="arm"><disable_collisions link1="base" link2="nope"/></robot>')
     with pytest.raises(medspheres.InputError, match="nope"):
         medspheres.bake_robot(arm, spheres_per_link=6, srdf=bad)
+
+
+def _thin_cup_stl(path, radius=0.5, height=2.0, wall=0.03, slices=48):
+    """A closed cup whose material is a thin wall: its profile revolved about z."""
+    profile = [(0.0, 0.0), (radius, 0.0), (radius, height), (radius - wall, height),
+               (radius - wall, wall), (0.0, wall)]
+    angles = np.linspace(0.0, 2.0 * np.pi, slices, endpoint=False)
+
+    def point(r, z, k):
+        a = angles[k % slices]
+        return (r * np.cos(a), r * np.sin(a), z)
+
+    facets = []
+    for (r0, z0), (r1, z1) in zip(profile, profile[1:]):
+        for k in range(slices):
+            quad = [point(r0, z0, k), point(r1, z1, k), point(r1, z1, k + 1), point(r0, z0, k + 1)]
+            for tri in (quad[:3], [quad[0], quad[2], quad[3]]):
+                if len(set(tri)) == 3:  # the axis collapses half of a quad
+                    facets.append(tri)
+    with open(path, "w") as f:
+        f.write("solid cup\n")
+        for tri in facets:
+            f.write("facet normal 0 0 0\nouter loop\n")
+            for v in tri:
+                f.write("vertex %.17g %.17g %.17g\n" % v)
+            f.write("endloop\nendfacet\n")
+        f.write("endsolid cup\n")
+
+
+def test_bake_robot_fill_equals_cli(cli, tmp_path):
+    """fill=True: a thin-shelled link's inner set on its filled solid, as --fill bakes it, the
+    robot file marking the link; the real solid's inner set barely fills it."""
+    _thin_cup_stl(tmp_path / "cup.stl")
+    urdf = tmp_path / "cup.urdf"
+    urdf.write_text('<robot name="cup"><link name="cup"><collision><geometry>'
+                    '<mesh filename="cup.stl"/></geometry></collision></link></robot>\n')
+    filled = medspheres.bake_robot(urdf, tmp_path / "py", fill=True, formats=["robot"],
+                                   self_collision=False)
+    cli("robot", urdf, "-o", tmp_path / "cli", "--fill", "--format", "robot",
+        "--no-self-collision", "-q")
+    for which in ("inner", "outer"):
+        ours = medspheres.load(tmp_path / "py" / "cup.robot.json", set=which).links["cup"]
+        theirs = medspheres.load(tmp_path / "cli" / "cup.robot.json", set=which).links["cup"]
+        assert ours.tobytes() == theirs.tobytes(), which
+    plain = medspheres.bake_robot(urdf, self_collision=False)
+    ours, theirs = filled.stats[0], plain.stats[0]
+    assert ours["inner_filled"] and not theirs["inner_filled"]
+    assert ours["nerr"] <= 0.3 < 0.5 < theirs["nerr"]
+    for side in ("py", "cli"):
+        assert '"inner_solid": "filled"' in (tmp_path / side / "cup.robot.json").read_text()
