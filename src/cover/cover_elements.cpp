@@ -162,21 +162,8 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_
   return e;
 }
 
-double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
-  if (e.patches()) return (e.centroids[i] - c).norm() + e.reach[i];
-  double m = 0.0;
-  for (int p : e.items[i]) m = std::max(m, (e.points[static_cast<std::size_t>(p)] - c).norm());
-  return m;
-}
-
 double need(const Elements& e, std::size_t i, const Sphere& b) {
   return farthest(e, i, b.center) - b.radius;
-}
-
-bool holds(const Elements& e, std::size_t i, const Sphere& b) {
-  const double reach = b.radius + e.reach[i];
-  if ((e.centroids[i] - b.center).squaredNorm() > reach * reach) return false;
-  return farthest(e, i, b.center) <= b.radius;
 }
 
 // The side of the patch grid: half the element size, coarsened (by 1.25 at a time) until
@@ -330,6 +317,26 @@ void hold_all(const Elements& e, Clustering& c, int threads) {
   hold_members(e, c);
 }
 
+namespace {
+
+// The balls other than j, in order, that may hold one of \p members: a ball holding element i
+// holds its centroid g_i, so |c_j - c_m| <= r_m + |g_i - c_j|; the others are skipped
+// (a relative 1e-9 of slack keeps rounding from dropping one).
+std::vector<std::size_t> may_hold(const Elements& e, const std::vector<Sphere>& balls,
+                                  const std::vector<std::size_t>& members, std::size_t j) {
+  double spread = 0.0;
+  for (std::size_t i : members)
+    spread = std::max(spread, (e.centroids[i] - balls[j].center).norm());
+  std::vector<std::size_t> near;
+  for (std::size_t m = 0; m < balls.size(); ++m)
+    if (m != j && balls[m].radius > 0.0 &&
+        (balls[m].center - balls[j].center).norm() <= (balls[m].radius + spread) * (1.0 + 1e-9))
+      near.push_back(m);
+  return near;
+}
+
+}  // namespace
+
 // Ball j gives up the elements another ball holds (they move to the first such ball) and
 // keeps its centre, its radius shrunk to the farthest point it still holds; a ball left
 // with nothing goes. Every element stays held by its owner throughout.
@@ -341,11 +348,12 @@ void shrink(const Elements& e, Clustering& c) {
     auto members = members_of(c.owner, k);
     for (std::size_t j = 0; j < k; ++j) {
       if (members[j].empty()) continue;
+      const std::vector<std::size_t> near = may_hold(e, c.balls, members[j], j);
       std::vector<std::size_t> keep;
       for (std::size_t i : members[j]) {
         std::size_t other = k;
-        for (std::size_t m = 0; m < k && other == k; ++m)
-          if (m != j && c.balls[m].radius > 0.0 && holds(e, i, c.balls[m])) other = m;
+        for (std::size_t n = 0; n < near.size() && other == k; ++n)
+          if (holds(e, i, c.balls[near[n]])) other = near[n];
         if (other == k) {
           keep.push_back(i);
         } else {

@@ -3,6 +3,7 @@
 // clustering that holds them (balls, and the ball that owns each element), and the
 // operations on both that every stage uses. Derivations in cover_elements.cpp.
 
+#include <algorithm>
 #include <array>
 #include <cstddef>
 #include <vector>
@@ -47,11 +48,21 @@ Elements make_patches(const Elements& e, std::size_t budget, double floor,
                       const Eigen::Vector3d& origin);
 
 // The distance from c to the farthest point of element i (of its ball, for a patch).
-double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c);
+// Inline: the bake's inner loops call it millions of times.
+inline double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
+  if (e.patches()) return (e.centroids[i] - c).norm() + e.reach[i];
+  double m = 0.0;
+  for (int p : e.items[i]) m = std::max(m, (e.points[static_cast<std::size_t>(p)] - c).norm());
+  return m;
+}
 // The growth ball b needs to hold element i.
 double need(const Elements& e, std::size_t i, const Sphere& b);
 // Whether ball b holds element i.
-bool holds(const Elements& e, std::size_t i, const Sphere& b);
+inline bool holds(const Elements& e, std::size_t i, const Sphere& b) {
+  const double reach = b.radius + e.reach[i];
+  if ((e.centroids[i] - b.center).squaredNorm() > reach * reach) return false;
+  return farthest(e, i, b.center) <= b.radius;
+}
 
 // What a ball must hold to hold the elements in \p members: their distinct points (balls
 // of radius 0), or for patches their balls. \p mark: scratch, one per point, all 0.

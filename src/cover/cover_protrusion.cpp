@@ -236,11 +236,18 @@ std::pair<std::size_t, double> cheapest_other(const Elements& e, const Clusterin
                                               const std::vector<double>& depth) {
   const std::size_t j = static_cast<std::size_t>(c.owner[i]);
   std::pair<std::size_t, double> best{j, std::numeric_limits<double>::infinity()};
+  // The farthest point is within |centroid - c| +- reach: skip balls that cannot win, as
+  // assign does.
+  std::vector<double> g(c.balls.size(), std::numeric_limits<double>::infinity());
+  double best_hi = std::numeric_limits<double>::infinity();
   for (std::size_t m = 0; m < c.balls.size(); ++m) {
     if (m == j || !(c.balls[m].radius > 0.0)) continue;
-    // The farthest point is at least |centroid - c| - reach away: skip balls that cannot win.
-    if ((e.centroids[i] - c.balls[m].center).norm() - e.reach[i] - depth[m] >= best.second)
-      continue;
+    g[m] = (e.centroids[i] - c.balls[m].center).norm() - depth[m];
+    best_hi = std::min(best_hi, g[m] + e.reach[i]);
+  }
+  for (std::size_t m = 0; m < c.balls.size(); ++m) {
+    const double lo = g[m] - e.reach[i];
+    if (!(lo <= best_hi) || lo >= best.second) continue;
     const double v = farthest(e, i, c.balls[m].center) - depth[m];
     if (v < best.second) best = {m, v};
   }
