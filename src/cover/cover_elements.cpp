@@ -343,6 +343,9 @@ std::vector<std::size_t> may_hold(const Elements& e, const std::vector<Sphere>& 
 void shrink(const Elements& e, Clustering& c) {
   std::vector<char> mark(e.points.size(), 0);
   const std::size_t k = c.balls.size();
+  // settled[i]: no other ball held element i when its owner last kept it. Balls only
+  // shrink about fixed centres, so it stays so until one grows (then all are checked again).
+  std::vector<char> settled(e.size(), 0);
   for (int pass = 0; pass < 4; ++pass) {
     bool changed = false;
     auto members = members_of(c.owner, k);
@@ -352,10 +355,11 @@ void shrink(const Elements& e, Clustering& c) {
       std::vector<std::size_t> keep;
       for (std::size_t i : members[j]) {
         std::size_t other = k;
-        for (std::size_t n = 0; n < near.size() && other == k; ++n)
+        for (std::size_t n = 0; n < near.size() && other == k && !settled[i]; ++n)
           if (holds(e, i, c.balls[near[n]])) other = near[n];
         if (other == k) {
           keep.push_back(i);
+          settled[i] = 1;
         } else {
           c.owner[i] = static_cast<int>(other);
           members[other].push_back(i);
@@ -368,6 +372,7 @@ void shrink(const Elements& e, Clustering& c) {
       c.balls[j].radius =
           keep.empty() ? 0.0 : holding_radius(atoms_of(e, keep, mark), c.balls[j].center);
       changed = changed || c.balls[j].radius < before;
+      if (c.balls[j].radius > before) std::fill(settled.begin(), settled.end(), 0);
     }
     if (!changed) break;
   }
