@@ -2,6 +2,8 @@
 
 #include <cstdlib>
 
+#include <unistd.h>
+
 #include "support/shared_meshes.h"
 #include "support/temp_dir.h"
 
@@ -52,6 +54,12 @@ std::vector<MeshFile> bench_meshes(const std::string& dir, bool classic_only) {
     for (const test::SharedMesh& m : test::read_manifest(dir))
       if (m.closed && (!classic_only || m.classic())) out.push_back({m.file, m.path});
   return out;
+}
+
+void restart_with_passive_openmp(char** argv) {
+  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
+  setenv("OMP_WAIT_POLICY", "passive", 1);
+  execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
 }
 
 }  // namespace medspheres::bench

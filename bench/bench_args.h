@@ -54,4 +54,11 @@ struct MeshFile {
 /// its order (only the "classic" ones when `classic_only`); nothing from DIR when it is empty.
 std::vector<MeshFile> bench_meshes(const std::string& dir, bool classic_only);
 
+/// Starts the program again with OMP_WAIT_POLICY=passive when it is unset: threads waiting
+/// at OpenMP's barriers then sleep rather than spin, which on a machine shared with other
+/// work would take the cores the others need and inflate the bench's own seconds (the
+/// OpenMP runtime reads the setting when it loads). Returns only when it is already set or
+/// the restart failed.
+void restart_with_passive_openmp(char** argv);
+
 }  // namespace medspheres::bench

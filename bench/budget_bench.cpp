@@ -32,11 +32,17 @@
 //   environment's SPHERETREE_BIN), each cover row gets two more at the same K: `st`, the
 //   spheres of spheretree's medial method with foam's settings, and `st+`, the same grown to
 //   cover as cuRobo's `grown` row. --spheretree-cache DIR keeps its runs (tens of seconds
-//   each) for the next run of the bench. Without the folder these rows are skipped.
+//   each) for the next run of the bench; with --spheretree-cached-only only the meshes and
+//   K the cache holds get the rows (and count in the tallies). Without the folder these rows
+//   are skipped.
 //   At the end, one line per mesh and K: the cover, spheretree's grown set and cuRobo's
 //   grown set (protrusion and excess), the bound and the cover's protrusion over it, and
 //   the seconds; then how many meet each target. Every certified set (cover, grown, tight,
 //   st+) must stick out at least the bound: a set below it fails the bench (exit 1).
+//   It starts itself again with OMP_WAIT_POLICY=passive when that is unset: OpenMP's
+//   threads otherwise spin at every barrier, and the volume stage's many short parallel loops
+//   then cost the cover rows several times their work (the bunny at K = 8, --threads 2, at a
+//   load average of 16: 17.0 s wall and 1.63 CPU seconds, against 1.83 s and 0.16 passive).
 // Targets: every mesh certified at every K >= 2; at most 1 s per link for K <= 64 on 2
 // cores; the cover at most spheretree's grown set on both protrusion and excess on 90% of
 // the meshes and links, never more than 5% worse on either; its protrusion at most 1.5
@@ -56,6 +62,7 @@
 
 #include <CLI/CLI.hpp>
 
+#include "bench_args.h"
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
 #include "medspheres/cover/cover.h"
@@ -139,11 +146,13 @@ void print(const std::string& mesh, std::size_t k, const char* method, const Row
 // The depth grid and the refinement queries of the bound (--lb-resolution, --lb-refine).
 int bound_resolution = CoverLowerBoundOptions{}.resolution;
 std::size_t bound_refine = CoverLowerBoundOptions{}.refine_queries;
+std::size_t bound_candidates = CoverLowerBoundOptions{}.candidates;
 
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
   o.resolution = bound_resolution;
   o.refine_queries = bound_refine;
+  o.candidates = bound_candidates;
   const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
@@ -197,6 +206,8 @@ void check_bound(const std::string& name, std::size_t k, const char* method, con
 
 // spheretree's build folder (empty: no spheretree rows), its cache and its scratch folder.
 std::string spheretree_bin, spheretree_cache, spheretree_work;
+bool spheretree_cached_only = false;                                // --spheretree-cached-only
+double protrusion_allowance = CoverOptions().protrusion_allowance;  // --protrusion-allowance
 
 // spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
 // or nothing when spheretree made no set (the reason in \p error).
@@ -204,8 +215,9 @@ std::optional<Row> spheretree_rows(const std::string& name, const FitEvaluator& 
                                    std::size_t samples, int threads, std::string& error) {
   if (spheretree_bin.empty()) return std::nullopt;
   const TriangleMesh& mesh = fit.query().mesh();
-  const bench::SpheretreeRun run =
-      bench::run_spheretree(spheretree_bin, mesh, K, spheretree_cache, spheretree_work);
+  const bench::SpheretreeRun run = bench::run_spheretree(spheretree_bin, mesh, K, spheretree_cache,
+                                                         spheretree_work, spheretree_cached_only);
+  if (run.skipped) return std::nullopt;
   if (!run.error.empty()) {
     error = run.error;
     std::printf("%-34s %3zu st     failed: %s\n", name.c_str(), K, run.error.c_str());
@@ -228,6 +240,7 @@ Comparison cover_rows(const std::string& name, const FitEvaluator& fit, std::siz
                       std::size_t samples, int threads) {
   CoverOptions o;
   o.threads = threads;
+  o.protrusion_allowance = protrusion_allowance;
   const Stopwatch t;
   const CoverResult c = bake_cover(fit.query(), K, o);
   Comparison cmp;
@@ -419,7 +432,8 @@ void print_peer_tally(const char* which, bool links) {
 // The cover's protrusion over the bound on \p which meshes, and the seconds.
 void print_bound_tally(const char* which, bool links) {
   int n = 0, within = 0, slow = 0, certified = 0;
-  double slowest = 0;
+  int slow_cpu = 0;
+  double slowest = 0, slowest_cpu = 0;
   std::vector<double> q;
   for (const Comparison& c : comparisons) {
     if (c.link != links) continue;
@@ -427,6 +441,8 @@ void print_bound_tally(const char* which, bool links) {
     certified += c.cover.certified;
     slow += c.cover.seconds > 1.0;
     slowest = std::max(slowest, c.cover.seconds);
+    slow_cpu += c.cover.cpu > 1.0;
+    slowest_cpu = std::max(slowest_cpu, c.cover.cpu);
     if (c.cover.bound <= 0) continue;
     q.push_back(c.cover.protrusion / c.cover.bound);
     within += q.back() <= 1.5;
@@ -435,14 +451,16 @@ void print_bound_tally(const char* which, bool links) {
   std::sort(q.begin(), q.end());
   std::printf(
       "%s: %d covers, certified %d; protrusion <= 1.5 x the bound on %d (%.0f%%; ratio median "
-      "%.2f, range %.2f to %.2f); over 1 s on %d (slowest %.2f s)\n",
+      "%.2f, range %.2f to %.2f); over 1 s on %d (slowest %.2f s), over 1 CPU second on %d "
+      "(most %.2f)\n",
       which, n, certified, within, 100.0 * within / n, median_of(q), q.empty() ? 0.0 : q.front(),
-      q.empty() ? 0.0 : q.back(), slow, slowest);
+      q.empty() ? 0.0 : q.back(), slow, slowest, slow_cpu, slowest_cpu);
 }
 
 }  // namespace
 
 int main(int argc, char** argv) {
+  medspheres::bench::restart_with_passive_openmp(argv);
   CLI::App app{"Sphere sets to a small budget: covers, S_D and S+"};
   std::vector<int> ks = {2, 4, 8, 16, 32, 64};
   std::string only, methods = "cover,sd,splus";
@@ -461,6 +479,9 @@ int main(int argc, char** argv) {
   app.add_option("--lb-resolution", bound_resolution,
                  "Depth grid cells along L of the lower bound (cover rows)");
   app.add_option("--lb-refine", bound_refine, "Refinement queries of the lower bound");
+  app.add_option("--lb-candidates", bound_candidates, "Candidate witnesses of the lower bound");
+  app.add_option("--protrusion-allowance", protrusion_allowance,
+                 "The cover's volume stage may raise the largest protrusion by this fraction");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,
@@ -471,6 +492,8 @@ int main(int argc, char** argv) {
                  "none: no spheretree rows");
   app.add_option("--spheretree-cache", spheretree_cache,
                  "Keep spheretree's runs here and reuse them");
+  app.add_flag("--spheretree-cached-only", spheretree_cached_only,
+               "spheretree rows only where the cache holds its run (no new runs)");
   spheretree_work = (std::filesystem::temp_directory_path() /
                      ("bench_budget_spheretree." + std::to_string(::getpid())))
                         .string();

@@ -91,12 +91,6 @@ void RobotBenchOptions::add_to(Args& args) {
   app.add_flag("!--no-self", self, "Robot against the scene only");
 }
 
-void restart_with_passive_openmp(char** argv) {
-  if (std::getenv("OMP_WAIT_POLICY") != nullptr) return;
-  setenv("OMP_WAIT_POLICY", "passive", 1);
-  execv("/proc/self/exe", argv);  // returns only on failure: go on as we are
-}
-
 int run_robot_bench(const char* bench, const std::string& generated, const std::string& cache_dir,
                     std::string& urdf, const std::function<int()>& run) {
   const GeneratedRobot robot(generated, cache_dir);

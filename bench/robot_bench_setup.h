@@ -61,12 +61,6 @@ class GeneratedRobot {
   std::string urdf_;
 };
 
-/// Starts the program again with OMP_WAIT_POLICY=passive when it is unset: the checker's
-/// rows on every core then sleep rather than spin while they wait, which on a machine
-/// shared with other work would take the cores the others need (the OpenMP runtime reads
-/// the setting when it loads). Returns only when it is already set or the restart failed.
-void restart_with_passive_openmp(char** argv);
-
 /// What main() of bench_robot and bench_checker does around their run: \p urdf replaced by
 /// the robot \p generated names (GeneratedRobot, in \p cache_dir) when it names one, then
 /// \p run; 2 with a message naming \p bench for a missing robot file or an InputError, else

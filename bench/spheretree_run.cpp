@@ -108,7 +108,8 @@ std::string run(const std::string& program, const std::vector<std::string>& args
 }  // namespace
 
 SpheretreeRun run_spheretree(const std::string& bin_dir, const TriangleMesh& mesh, std::size_t k,
-                             const std::string& cache_dir, const std::string& work_dir) {
+                             const std::string& cache_dir, const std::string& work_dir,
+                             bool cached_only) {
   const Eigen::Vector3d centre = mesh.bounds().center();
   const std::string obj = obj_text(mesh, centre);
   const std::vector<std::string> options = foam_options(k);
@@ -125,6 +126,10 @@ SpheretreeRun run_spheretree(const std::string& bin_dir, const TriangleMesh& mes
     if (out.error.empty())
       out.spheres =
           level_one(read_text(cached.string() + ".sph"), cached.string() + ".sph", centre);
+    return out;
+  }
+  if (cached_only) {
+    out.skipped = true;
     return out;
   }
   fs::create_directories(work_dir);

@@ -23,14 +23,17 @@ struct SpheretreeRun {
   double seconds = 0.0;         ///< wall clock of makeTreeMedial
   double cpu = 0.0;             ///< its user + system CPU seconds
   bool cached = false;          ///< read back from the cache folder, not run now
+  bool skipped = false;         ///< \p cached_only and not in the cache: neither run nor read
   std::string error;            ///< empty, or why there are no spheres (a crash, no file)
 };
 
 /// makeTreeMedial of \p bin_dir on \p mesh with branch \p k. With a \p cache_dir, the
 /// spheres and seconds of a run are kept there under the hash of the OBJ text and the
 /// options, and read back instead of running again (spheretree takes tens of seconds per
-/// mesh). \p work_dir holds the OBJ, the log and the .sph while it runs.
+/// mesh). \p work_dir holds the OBJ, the log and the .sph while it runs. With
+/// \p cached_only, a run the cache does not hold is skipped (SpheretreeRun::skipped).
 SpheretreeRun run_spheretree(const std::string& bin_dir, const TriangleMesh& mesh, std::size_t k,
-                             const std::string& cache_dir, const std::string& work_dir);
+                             const std::string& cache_dir, const std::string& work_dir,
+                             bool cached_only = false);
 
 }  // namespace medspheres::bench

@@ -113,8 +113,8 @@ TEST_CASE("bake_cover: a bar's budget is used, each ball holding its half", "[co
   CHECK(r2.stats.max_protrusion < 1.05 * two);
 }
 
-TEST_CASE("bake_cover: the volume descent (step 4f) never makes a cover costlier", "[cover]") {
-  // The oracle: the same bake without step 4f. Step 4f keeps its result only when the
+TEST_CASE("bake_cover: the volume stage (step 3) never makes a cover costlier", "[cover]") {
+  // The oracle: the same bake without step 3. Step 3 keeps its result only when the
   // product of the volume outside the solid and the largest protrusion falls, and it keeps
   // every element held, so the cover stays certified and costs at most what it cost
   // without the step (up to the slack of step 5, 1e-9 L per radius). On these solids it

@@ -149,7 +149,6 @@ void validate_cover(const BakeRequest& r) {
 void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& out) {
   CoverOptions options;
   options.threads = r.medial.threads;
-  options.seed = r.seed;
   out.cover = r.cover_start.empty() ? bake_cover(fit.query(), *r.max_spheres, options)
                                     : tighten_cover(fit.query(), r.cover_start, options);
   out.self_intersecting_pairs = fit.self_intersections().count();

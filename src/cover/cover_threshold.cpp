@@ -78,6 +78,13 @@ std::vector<std::size_t> greedy_at(const float* cost, std::size_t candidates, st
 
 }  // namespace
 
+std::vector<std::size_t> greedy_cover_at(const float* cost, std::size_t candidates,
+                                         std::size_t items, std::size_t budget, double t,
+                                         int threads) {
+  std::vector<Words> covers;
+  return greedy_at(cost, candidates, items, budget, t, threads, covers);
+}
+
 ThresholdCover least_threshold_cover(const float* cost, std::size_t candidates, std::size_t items,
                                      std::size_t budget, double hi, int iterations, int threads) {
   ThresholdCover out;

@@ -27,4 +27,8 @@ struct ThresholdCover {
 ThresholdCover least_threshold_cover(const float* cost, std::size_t candidates, std::size_t items,
                                      std::size_t budget, double hi, int iterations, int threads);
 
+std::vector<std::size_t> greedy_cover_at(const float* cost, std::size_t candidates,
+                                         std::size_t items, std::size_t budget, double t,
+                                         int threads);
+
 }  // namespace medspheres

@@ -1,0 +1,460 @@
+// The elements of the covering bake and the clustering that holds them (cover_elements.h).
+//
+// The elements are the pieces of the certificate's own midpoint subdivision, so a ball
+// that holds an element's three computed corners with a margin above the certificate's
+// rounding allowance certifies it (cover.cpp's last step rarely has anything to repair).
+// Interior points join them so that the balls also fill the solid (not certified). Every
+// operation here keeps each element held by its owner.
+#include "cover_elements.h"
+
+#include <algorithm>
+#include <cmath>
+#include <cstdint>
+#include <limits>
+#include <unordered_map>
+
+#include "medspheres/measure/union_volume.h"
+#include "medspheres/min_enclosing_ball.h"
+
+namespace medspheres::detail {
+
+namespace {
+
+constexpr double kElementCap = 40000.0;
+constexpr double kPatchesPerBall = 60.0;
+
+void push_element(Elements& e, int a, int b, int c) {
+  e.items.push_back({a, b, c});
+  const Eigen::Vector3d &pa = e.points[static_cast<std::size_t>(a)],
+                        &pb = e.points[static_cast<std::size_t>(b)],
+                        &pc = e.points[static_cast<std::size_t>(c)];
+  const Eigen::Vector3d g = (pa + pb + pc) / 3.0;
+  e.centroids.push_back(g);
+  e.reach.push_back(std::max({(pa - g).norm(), (pb - g).norm(), (pc - g).norm()}));
+  e.weight.push_back(0.5 * (pb - pa).cross(pc - pa).norm());
+}
+
+// The lattice of midpoint subdivision at depth d: the points w0 a + w1 b + w2 c with
+// weights (n - i - j, i, j) / n, n = 2^d, and its n^2 triangles.
+void subdivide(Elements& e, const Eigen::Vector3d& a, const Eigen::Vector3d& b,
+               const Eigen::Vector3d& c, int d) {
+  const int n = 1 << d;
+  const int base = static_cast<int>(e.points.size());
+  std::vector<int> row_start(static_cast<std::size_t>(n) + 2);
+  for (int i = 0, k = base; i <= n; ++i) {
+    row_start[static_cast<std::size_t>(i)] = k;
+    for (int j = 0; i + j <= n; ++j, ++k) {
+      const double w1 = static_cast<double>(i) / n, w2 = static_cast<double>(j) / n;
+      const double w0 = static_cast<double>(n - i - j) / n;
+      e.points.push_back(a * w0 + b * w1 + c * w2);
+    }
+  }
+  auto at = [&](int i, int j) { return row_start[static_cast<std::size_t>(i)] + j; };
+  for (int i = 0; i < n; ++i)
+    for (int j = 0; i + j < n; ++j) {
+      push_element(e, at(i, j), at(i + 1, j), at(i, j + 1));
+      if (i + j + 1 < n) push_element(e, at(i + 1, j), at(i + 1, j + 1), at(i, j + 1));
+    }
+}
+
+// The centres of the cells of side \p cell of a grid from the corner of \p box.
+std::vector<Eigen::Vector3d> cell_centres(const Eigen::AlignedBox3d& box, double cell) {
+  std::vector<Eigen::Vector3d> grid;
+  for (double x = box.min().x() + 0.5 * cell; x < box.max().x(); x += cell)
+    for (double y = box.min().y() + 0.5 * cell; y < box.max().y(); y += cell)
+      for (double z = box.min().z() + 0.5 * cell; z < box.max().z(); z += cell)
+        grid.emplace_back(x, y, z);
+  return grid;
+}
+
+// The grid cell of side \p cell that holds g (21 bits per axis).
+std::uint64_t cell_key(const Eigen::Vector3d& g, const Eigen::Vector3d& origin, double cell) {
+  std::uint64_t key = 0;
+  for (int a = 0; a < 3; ++a)
+    key = key << 21 |
+          (static_cast<std::uint64_t>(std::max(0.0, std::floor((g[a] - origin[a]) / cell))) &
+           0x1FFFFF);
+  return key;
+}
+
+// The surface elements grouped by the cell (side \p cell) of a grid that holds their
+// centroid; each group becomes one patch, the ball about its points' bounding box that
+// holds them. Interior points stay patches of their own. Patches are numbered by their
+// first element, so the grouping depends on nothing but the elements.
+Elements group_patches(const Elements& e, double cell, const Eigen::Vector3d& origin) {
+  std::unordered_map<std::uint64_t, int> index;
+  std::vector<std::vector<std::size_t>> groups;
+  Elements p;
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    const std::uint64_t key = cell_key(e.centroids[i], origin, cell);
+    const int fresh = static_cast<int>(groups.size());
+    const int g = i < e.surface ? index.emplace(key, fresh).first->second : fresh;
+    if (g == fresh) groups.emplace_back();
+    groups[static_cast<std::size_t>(g)].push_back(i);
+    if (i + 1 == e.surface) p.surface = groups.size();
+  }
+  for (const std::vector<std::size_t>& group : groups) {
+    Eigen::AlignedBox3d box;
+    for (std::size_t i : group)
+      for (int q : e.items[i]) box.extend(e.points[static_cast<std::size_t>(q)]);
+    const Eigen::Vector3d c = box.center();
+    double r = 0.0;
+    for (std::size_t i : group) r = std::max(r, farthest(e, i, c));
+    p.centroids.push_back(c);
+    p.reach.push_back(r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()));
+    double w = 0.0;
+    for (std::size_t i : group) w += e.weight[i];
+    p.weight.push_back(w);
+  }
+  return p;
+}
+
+}  // namespace
+
+Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_resolution,
+                       int threads) {
+  const TriangleMesh& mesh = query.mesh();
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  const double L = box.sizes().maxCoeff();
+  // Element size: about L / (2 + 3 sqrt K), coarsened (by 1.5 at a time) until there are
+  // at most max(2 triangles, kElementCap) elements: beyond that, finer elements cost time
+  // and gain little.
+  std::vector<double> edge(mesh.num_triangles());
+  for (std::size_t t = 0; t < edge.size(); ++t) {
+    const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
+    edge[t] = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
+  }
+  auto depth = [](double length, double size) {
+    int d = 0;
+    while (d < kMaxElementDepth && length > size * (1 << d)) ++d;
+    return d;
+  };
+  double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
+  const double cap = std::max(2.0 * static_cast<double>(mesh.num_triangles()), kElementCap);
+  for (;;) {
+    double count = 0.0;
+    for (double l : edge) count += std::pow(4.0, depth(l, h));
+    if (count <= cap) break;
+    h *= 1.5;
+  }
+  Elements e;
+  e.element_size = h;
+  e.points = mesh.vertices;
+  for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+    const int d = depth(edge[t], h);
+    if (d == 0)
+      push_element(e, mesh.triangles[t][0], mesh.triangles[t][1], mesh.triangles[t][2]);
+    else
+      subdivide(e, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2), d);
+  }
+  e.surface = e.items.size();
+  if (interior_resolution <= 0) return e;
+  const double cell = L / interior_resolution;
+  const std::vector<Eigen::Vector3d> grid = cell_centres(box, cell);
+  const std::vector<double> w = query.winding_numbers(grid, threads);
+  for (std::size_t i = 0; i < grid.size(); ++i) {
+    if (!(w[i] > 0.5)) continue;
+    const int k = static_cast<int>(e.points.size());
+    e.points.push_back(grid[i]);
+    push_element(e, k, k, k);
+    e.weight.back() = cell * cell;
+  }
+  return e;
+}
+
+double need(const Elements& e, std::size_t i, const Sphere& b) {
+  return farthest(e, i, b.center) - b.radius;
+}
+
+// The side of the patch grid: half the element size, coarsened (by 1.25 at a time) until
+// there are at most max(floor, kPatchesPerBall K) surface patches.
+Elements make_patches(const Elements& e, std::size_t budget, double floor,
+                      const Eigen::Vector3d& origin) {
+  const double cap = std::max(floor, kPatchesPerBall * static_cast<double>(budget));
+  std::unordered_map<std::uint64_t, char> seen;
+  for (double cell = 0.5 * e.element_size;; cell *= 1.25) {
+    seen.clear();
+    for (std::size_t i = 0; i < e.surface && static_cast<double>(seen.size()) <= cap; ++i)
+      seen.emplace(cell_key(e.centroids[i], origin, cell), 1);
+    if (static_cast<double>(seen.size()) <= cap) return group_patches(e, cell, origin);
+  }
+}
+
+// Each element to the centre whose farthest point of the element is nearest (ties: lowest
+// index), a Voronoi assignment of whole elements. (Assigning by the growth a ball needs,
+// which favours large balls, gave larger unions on most meshes tried.) The centroid
+// bounds the farthest distance within |g - c| +- reach, which skips most centres.
+// With \p depth (one per ball) the cost of centre j is that distance minus depth[j]: the
+// protrusion ball j would need to hold the element.
+void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int>& owner,
+            int threads, const std::vector<double>& depth) {
+  const long long n = static_cast<long long>(e.size());
+  owner.resize(e.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> lo(balls.size());
+#pragma omp for schedule(static)
+    for (long long ii = 0; ii < n; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      double best_hi = std::numeric_limits<double>::infinity();
+      for (std::size_t j = 0; j < balls.size(); ++j) {
+        const double g =
+            (e.centroids[i] - balls[j].center).norm() - (depth.empty() ? 0.0 : depth[j]);
+        lo[j] = g - e.reach[i];
+        best_hi = std::min(best_hi, g + e.reach[i]);
+      }
+      double best = std::numeric_limits<double>::infinity();
+      int arg = 0;
+      for (std::size_t j = 0; j < balls.size(); ++j) {
+        if (lo[j] > best_hi || lo[j] >= best) continue;
+        const double v = farthest(e, i, balls[j].center) - (depth.empty() ? 0.0 : depth[j]);
+        if (v < best) {
+          best = v;
+          arg = static_cast<int>(j);
+        }
+      }
+      owner[i] = arg;
+    }
+  }
+}
+
+// What a ball must hold to hold the elements in \p members: their distinct points (balls
+// of radius 0), or for patches their balls.
+std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
+                             std::vector<char>& mark) {
+  std::vector<Sphere> atoms;
+  if (e.patches()) {
+    for (std::size_t i : members) atoms.push_back({e.centroids[i], e.reach[i]});
+    return atoms;
+  }
+  for (std::size_t i : members)
+    for (int p : e.items[i])
+      if (!mark[static_cast<std::size_t>(p)]) {
+        mark[static_cast<std::size_t>(p)] = 1;
+        atoms.push_back({e.points[static_cast<std::size_t>(p)], 0.0});
+      }
+  for (std::size_t i : members)
+    for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
+  return atoms;
+}
+
+// The radius that the ball centred at c needs to hold \p atoms.
+double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (const Sphere& a : atoms) r = std::max(r, (a.center - c).norm() + a.radius);
+  return r;
+}
+
+// The radius of a ball centred at c that holds \p atoms: reach_from, raised by 4 ulps so
+// that the rounding of the distances never leaves an atom outside.
+double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
+  return reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+
+// The minimum enclosing ball of the points of the elements in \p members, by a core set:
+// the minimum ball of a subset (first the extreme points along the axes and the
+// diagonals) is the answer once it holds every point; otherwise the farthest points
+// outside join the subset. The subset stays small, so each exact solve is cheap.
+Sphere fit(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark) {
+  const std::vector<Sphere> pts = atoms_of(e, members, mark);
+  std::vector<Sphere> core;
+  static const double kDirections[13][3] = {
+      {1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},
+      {0, 1, 1}, {0, 1, -1}, {1, 1, 1}, {1, 1, -1}, {1, -1, 1}, {-1, 1, 1}};
+  for (const auto& d : kDirections) {
+    const Eigen::Vector3d dir(d[0], d[1], d[2]);
+    const double norm = dir.norm();
+    auto low = [&](std::size_t i) { return pts[i].center.dot(dir) - pts[i].radius * norm; };
+    auto high = [&](std::size_t i) { return pts[i].center.dot(dir) + pts[i].radius * norm; };
+    std::size_t lo = 0, hi = 0;
+    for (std::size_t i = 1; i < pts.size(); ++i) {
+      if (low(i) < low(lo)) lo = i;
+      if (high(i) > high(hi)) hi = i;
+    }
+    core.push_back(pts[lo]);
+    core.push_back(pts[hi]);
+  }
+  for (;;) {
+    const Sphere b = min_enclosing_ball(core);
+    std::vector<std::pair<double, std::size_t>> out;
+    for (std::size_t i = 0; i < pts.size(); ++i) {
+      const double d = (pts[i].center - b.center).norm() + pts[i].radius;
+      if (d > b.radius) out.emplace_back(-d, i);
+    }
+    if (out.empty()) return b;
+    const std::size_t take = std::min<std::size_t>(out.size(), 32);
+    std::partial_sort(out.begin(), out.begin() + static_cast<long>(take), out.end());
+    for (std::size_t k = 0; k < take; ++k) core.push_back(pts[out[k].second]);
+  }
+}
+
+std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k) {
+  std::vector<std::vector<std::size_t>> m(k);
+  for (std::size_t i = 0; i < owner.size(); ++i) m[static_cast<std::size_t>(owner[i])].push_back(i);
+  return m;
+}
+
+double union_volume(const std::vector<Sphere>& balls) {
+  std::vector<Sphere> s;
+  for (const Sphere& b : balls)
+    if (b.radius > 0.0) s.push_back({b.center, b.radius});
+  return measure_union(s).volume;
+}
+
+void hold_members(const Elements& e, Clustering& c) {
+  const auto members = members_of(c.owner, c.balls.size());
+  std::vector<char> mark(e.points.size(), 0);
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    c.balls[j].radius =
+        members[j].empty() ? 0.0 : holding_radius(atoms_of(e, members[j], mark), c.balls[j].center);
+}
+
+void hold_all(const Elements& e, Clustering& c, int threads) {
+  std::vector<double> radii;
+  for (const Sphere& b : c.balls) radii.push_back(b.radius);
+  // The growth ball j needs, far - r_j, is assign's cost with depth r_j.
+  assign(e, c.balls, c.owner, threads, radii);
+  hold_members(e, c);
+}
+
+namespace {
+
+// The balls other than j, in order, that may hold one of \p members: a ball holding element i
+// holds its centroid g_i, so |c_j - c_m| <= r_m + |g_i - c_j|; the others are skipped
+// (a relative 1e-9 of slack keeps rounding from dropping one).
+std::vector<std::size_t> may_hold(const Elements& e, const std::vector<Sphere>& balls,
+                                  const std::vector<std::size_t>& members, std::size_t j) {
+  double spread = 0.0;
+  for (std::size_t i : members)
+    spread = std::max(spread, (e.centroids[i] - balls[j].center).norm());
+  std::vector<std::size_t> near;
+  for (std::size_t m = 0; m < balls.size(); ++m)
+    if (m != j && balls[m].radius > 0.0 &&
+        (balls[m].center - balls[j].center).norm() <= (balls[m].radius + spread) * (1.0 + 1e-9))
+      near.push_back(m);
+  return near;
+}
+
+}  // namespace
+
+// Ball j gives up the elements another ball holds (they move to the first such ball) and
+// keeps its centre, its radius shrunk to the farthest point it still holds; a ball left
+// with nothing goes. Every element stays held by its owner throughout.
+void shrink(const Elements& e, Clustering& c) {
+  std::vector<char> mark(e.points.size(), 0);
+  const std::size_t k = c.balls.size();
+  // settled[i]: no other ball held element i when its owner last kept it. Balls only
+  // shrink about fixed centres, so it stays so until one grows (then all are checked again).
+  std::vector<char> settled(e.size(), 0);
+  for (int pass = 0; pass < 4; ++pass) {
+    bool changed = false;
+    auto members = members_of(c.owner, k);
+    for (std::size_t j = 0; j < k; ++j) {
+      if (members[j].empty()) continue;
+      const std::vector<std::size_t> near = may_hold(e, c.balls, members[j], j);
+      std::vector<std::size_t> keep;
+      for (std::size_t i : members[j]) {
+        std::size_t other = k;
+        for (std::size_t n = 0; n < near.size() && other == k && !settled[i]; ++n)
+          if (holds(e, i, c.balls[near[n]])) other = near[n];
+        if (other == k) {
+          keep.push_back(i);
+          settled[i] = 1;
+        } else {
+          c.owner[i] = static_cast<int>(other);
+          members[other].push_back(i);
+        }
+      }
+      if (keep.size() == members[j].size()) continue;
+      members[j] = keep;
+      const double before = c.balls[j].radius;
+      // The same centre, just large enough for what it keeps.
+      c.balls[j].radius =
+          keep.empty() ? 0.0 : holding_radius(atoms_of(e, keep, mark), c.balls[j].center);
+      changed = changed || c.balls[j].radius < before;
+      if (c.balls[j].radius > before) std::fill(settled.begin(), settled.end(), 0);
+    }
+    if (!changed) break;
+  }
+}
+
+namespace {
+
+// Element i of \p e split at its edge midpoints into \p f, each piece owned by \p owner.
+void split_element(const Elements& e, std::size_t i, int owner, Elements& f,
+                   std::vector<int>& owners) {
+  const std::array<int, 3>& t = e.items[i];
+  auto mid = [&](int u, int v) {
+    f.points.push_back(
+        0.5 * (f.points[static_cast<std::size_t>(u)] + f.points[static_cast<std::size_t>(v)]));
+    return static_cast<int>(f.points.size() - 1);
+  };
+  const int ab = mid(t[0], t[1]), bc = mid(t[1], t[2]), ca = mid(t[2], t[0]);
+  for (const std::array<int, 3>& q :
+       {std::array<int, 3>{t[0], ab, ca}, {ab, t[1], bc}, {ca, bc, t[2]}, {ab, bc, ca}}) {
+    push_element(f, q[0], q[1], q[2]);
+    owners.push_back(owner);
+  }
+}
+
+}  // namespace
+
+// An element binds its ball's radius when its farthest point is within twice its reach of
+// the radius: a piece of it may then be the ball's farthest. Split, the pieces that another
+// ball holds leave (shrink), and the ball shrinks to the farthest piece it keeps. The
+// midpoints are computed from the corners as computed, within a few ulps of the
+// certificate's own lattice points, far below the radius slack the cover adds.
+void refine_binding(Elements& e, Clustering& c, int levels) {
+  for (int level = 0; level < levels; ++level) {
+    std::vector<char> split(e.surface, 0);
+    bool any = false;
+    for (std::size_t i = 0; i < e.surface; ++i) {
+      const Sphere& b = c.balls[static_cast<std::size_t>(c.owner[i])];
+      split[i] = farthest(e, i, b.center) > b.radius - 2.0 * e.reach[i];
+      any = any || split[i];
+    }
+    if (!any) return;
+    Elements f;
+    f.points = e.points;
+    f.element_size = 0.5 * e.element_size;
+    std::vector<int> owners;
+    for (std::size_t i = 0; i < e.size(); ++i) {
+      if (i < e.surface && split[i]) {
+        split_element(e, i, c.owner[i], f, owners);
+      } else {
+        f.items.push_back(e.items[i]);
+        f.centroids.push_back(e.centroids[i]);
+        f.reach.push_back(e.reach[i]);
+        f.weight.push_back(e.weight[i]);
+        owners.push_back(c.owner[i]);
+      }
+      if (i + 1 == e.surface) f.surface = f.items.size();
+    }
+    e = std::move(f);
+    c.owner = std::move(owners);
+    shrink(e, c);
+  }
+}
+
+// The live balls of \p c (radius > 0), their elements renumbered.
+void drop_empty(Clustering& c) {
+  std::vector<int> index(c.balls.size(), -1);
+  std::vector<Sphere> live;
+  for (std::size_t j = 0; j < c.balls.size(); ++j)
+    if (c.balls[j].radius > 0.0)
+      index[j] = static_cast<int>(live.size()), live.push_back(c.balls[j]);
+  for (int& o : c.owner) o = std::max(0, index[static_cast<std::size_t>(o)]);
+  c.balls = std::move(live);
+}
+
+Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vector3d& x,
+            const Probe& px) {
+  const ClosestPoint cp =
+      px.triangle >= 0 ? query.closest_point(y, px.triangle) : query.closest_point(y);
+  const double d = cp.distance();
+  const bool in =
+      px.triangle >= 0 && std::abs(px.depth) > (y - x).norm() ? px.depth > 0.0 : query.inside(y);
+  return {in ? d : -d, cp.triangle, cp.point};
+}
+
+}  // namespace medspheres::detail

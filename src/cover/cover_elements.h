@@ -1,0 +1,119 @@
+#pragma once
+// Private to the covering bake (cover.cpp): what a cover must hold (the elements), the
+// clustering that holds them (balls, and the ball that owns each element), and the
+// operations on both that every stage uses. Derivations in cover_elements.cpp.
+
+#include <algorithm>
+#include <array>
+#include <cstddef>
+#include <vector>
+
+#include <Eigen/Core>
+
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/sphere_set.h"
+
+namespace medspheres::detail {
+
+// The deepest midpoint subdivision of a mesh triangle into elements; the certificate must
+// be allowed at least this depth.
+constexpr int kMaxElementDepth = 5;
+
+// Constraint points and the elements made of them: elements [0, surface) are surface
+// pieces (three point indices), the rest interior points (one index, thrice). Each
+// element's weight is the area it stands for (a piece: its own; an interior point: the
+// square of the interior grid's cell). Patches are elements too, without points: each is
+// the ball (centroid, reach) that holds the points of the elements it stands for, and
+// weighs what they weigh.
+struct Elements {
+  std::vector<Eigen::Vector3d> points;
+  std::vector<std::array<int, 3>> items;  // empty for patches
+  std::vector<Eigen::Vector3d> centroids;
+  std::vector<double> reach;  // largest centroid-corner distance
+  std::vector<double> weight;
+  std::size_t surface = 0;
+  double element_size = 0.0;  // the surface elements' target length
+  bool patches() const { return items.empty(); }
+  std::size_t size() const { return centroids.size(); }
+};
+
+// The surface elements for a budget and a grid of interior points (\p interior_resolution
+// cells along L; 0: none), inside where the winding number exceeds 1/2.
+Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_resolution,
+                       int threads);
+
+// The surface elements grouped into at most about max(floor, 60 budget) patches by the
+// cells of a grid over the box from \p origin; interior points stay patches of their own.
+Elements make_patches(const Elements& e, std::size_t budget, double floor,
+                      const Eigen::Vector3d& origin);
+
+// The distance from c to the farthest point of element i (of its ball, for a patch).
+// Inline: the bake's inner loops call it millions of times.
+inline double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
+  if (e.patches()) return (e.centroids[i] - c).norm() + e.reach[i];
+  double m = 0.0;
+  for (int p : e.items[i]) m = std::max(m, (e.points[static_cast<std::size_t>(p)] - c).norm());
+  return m;
+}
+// The growth ball b needs to hold element i.
+double need(const Elements& e, std::size_t i, const Sphere& b);
+// Whether ball b holds element i.
+inline bool holds(const Elements& e, std::size_t i, const Sphere& b) {
+  const double reach = b.radius + e.reach[i];
+  if ((e.centroids[i] - b.center).squaredNorm() > reach * reach) return false;
+  return farthest(e, i, b.center) <= b.radius;
+}
+
+// What a ball must hold to hold the elements in \p members: their distinct points (balls
+// of radius 0), or for patches their balls. \p mark: scratch, one per point, all 0.
+std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
+                             std::vector<char>& mark);
+// The radius that a ball centred at c needs to hold \p atoms.
+double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
+// reach_from raised by 4 ulps, so that the rounding of distances never leaves an atom out.
+double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
+// The minimum enclosing ball of the points of the elements in \p members.
+Sphere fit(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark);
+
+// The exact volume of the union of the balls of radius > 0.
+double union_volume(const std::vector<Sphere>& balls);
+
+struct Clustering {
+  std::vector<Sphere> balls;
+  std::vector<int> owner;  // per element, the ball that holds it
+};
+
+std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k);
+
+// Each element to the centre whose farthest point of the element is nearest, or with
+// \p depth (one per ball) whose protrusion to hold it, that distance minus depth, is least
+// (ties: lowest index).
+void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int>& owner,
+            int threads, const std::vector<double>& depth = {});
+// Each ball, its centre kept, just large enough for the elements it owns (0: none).
+void hold_members(const Elements& e, Clustering& c);
+// Each element to the ball that must grow least to hold it, then hold_members.
+void hold_all(const Elements& e, Clustering& c, int threads);
+// Each ball gives up the elements another ball holds and shrinks to what it keeps; a ball
+// left with nothing gets radius 0. Every element stays held.
+void shrink(const Elements& e, Clustering& c);
+// The surface elements that bind a ball's radius split in four, then shrink, \p levels
+// times: the balls shrink to where the others' reach ends, at a finer grain than the
+// elements'. \p e gains the split elements. Every element stays held.
+void refine_binding(Elements& e, Clustering& c, int levels);
+// The balls of radius > 0 only, the owners renumbered.
+void drop_empty(Clustering& c);
+
+// The signed distance to the surface (positive inside) at y, near a point x whose own
+// value px is known: the closest-point search starts from x's triangle, and when |y - x|
+// < |px.depth| the segment xy does not meet the surface, so y is on x's side and no
+// winding number is needed. An empty px (triangle -1) asks the winding number.
+struct Probe {
+  double depth = 0.0;
+  int triangle = -1;
+  Eigen::Vector3d closest = Eigen::Vector3d::Zero();  // the nearest point of the surface
+};
+Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vector3d& x,
+            const Probe& px);
+
+}  // namespace medspheres::detail

@@ -1,0 +1,32 @@
+#pragma once
+// Private to the covering bake (cover.cpp): its protrusion stage, which lowers the largest
+// protrusion of the balls. Derivation in cover_protrusion.cpp.
+
+#include <cstddef>
+#include <vector>
+
+#include "cover_elements.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/sphere_set.h"
+
+namespace medspheres::detail {
+
+struct ProtrusionStage {
+  Clustering clustering;  // over the elements
+  int rounds = 0;         // minimax rounds run, over all moves
+};
+
+// At most \p budget balls holding every element of \p e: the threshold start over the
+// patches \p fine, then minimax rounds (at most \p rounds), then for budgets up to
+// kMoveBudget split and exchange moves, each kept while the largest protrusion falls; for
+// budgets up to kSpreadBudget the same from the spread start too, the lower P kept.
+ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
+                                 std::size_t budget, int rounds, int threads);
+
+// One ball: the minimum enclosing ball of the surface elements of \p e, moved inward.
+Clustering one_ball(const MeshQuery& query, const Elements& e, int threads);
+
+// The largest protrusion of the balls of radius > 0 (0 for none).
+double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls, int threads);
+
+}  // namespace medspheres::detail

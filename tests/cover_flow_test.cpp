@@ -1,0 +1,132 @@
+// The covering bake's volume stage and its element refinement, against independent oracles:
+// the exact union volume (measure_union), a direct check that every element lies in the
+// ball that owns it, and the sampled gap of cover_solids.h as a check of coverage.
+#include <algorithm>
+#include <cmath>
+#include <limits>
+#include <vector>
+
+#include <catch2/catch.hpp>
+
+#include "../src/cover/cover_elements.h"
+#include "../src/cover/cover_flow.h"
+#include "medspheres/cover/cover.h"
+#include "medspheres/measure/union_volume.h"
+#include "medspheres/mesh/mesh_generators.h"
+#include "support/cover_solids.h"
+
+using namespace medspheres;
+using detail::Clustering;
+using detail::Elements;
+
+namespace {
+
+// Every element lies in the ball that owns it: its points within the radius.
+bool all_held(const Elements& e, const Clustering& c) {
+  for (std::size_t i = 0; i < e.size(); ++i) {
+    const Sphere& b = c.balls[static_cast<std::size_t>(c.owner[i])];
+    for (int p : e.items[i])
+      if ((e.points[static_cast<std::size_t>(p)] - b.center).norm() > b.radius) return false;
+  }
+  return true;
+}
+
+// A loose cover of \p e by \p k balls: centres spread along the solid's box diagonal, each
+// element to the nearest, each ball 1.2 times as large as its elements need (a centre
+// nearest none is dropped).
+Clustering loose_cover(const Elements& e, const Eigen::AlignedBox3d& box, std::size_t k) {
+  Clustering c;
+  for (std::size_t j = 0; j < k; ++j) {
+    const double t = (static_cast<double>(j) + 0.5) / static_cast<double>(k);
+    c.balls.push_back({box.min() + t * (box.max() - box.min()), 0.0});
+  }
+  detail::assign(e, c.balls, c.owner, 1);
+  detail::hold_members(e, c);
+  for (Sphere& b : c.balls) b.radius *= 1.2;
+  detail::drop_empty(c);  // a centre nearest no element
+  return c;
+}
+
+double surface_area(const Elements& e) {
+  double a = 0.0;
+  for (std::size_t i = 0; i < e.surface; ++i) a += e.weight[i];
+  return a;
+}
+
+}  // namespace
+
+TEST_CASE("volume flow: a loose cover's union falls, every element held after", "[cover][flow]") {
+  for (const test::NamedSolid& solid : test::cover_solids()) {
+    CAPTURE(solid.name);
+    const MeshQuery query(solid.mesh);
+    const Elements e = detail::make_elements(query, 8, 12, 1);
+    Clustering c = loose_cover(e, solid.mesh.bounds(), 8);
+    REQUIRE(all_held(e, c));
+    const double before = measure_union(c.balls).volume;
+    detail::FlowOptions o;
+    o.threads = 1;
+    c.balls = detail::volume_flow(query, e, c.balls, o);
+    for (const Sphere& b : c.balls) REQUIRE(b.center.allFinite());
+    detail::hold_all(e, c, 1);
+    detail::shrink(e, c);
+    detail::drop_empty(c);  // as the volume stage does: a ball left with nothing goes
+    CHECK(all_held(e, c));
+    CHECK(test::sampled_gap(solid.mesh, c.balls) == 0.0);
+    // The loose start leaves room on every solid: a fifth of the union at least.
+    CHECK(measure_union(c.balls).volume < 0.8 * before);
+  }
+}
+
+TEST_CASE("volume flow: the same balls for every thread count", "[cover][flow][threads]") {
+  const TriangleMesh torus = make_torus(1.0, 0.3, 32, 12);
+  const MeshQuery query(torus);
+  const Elements e = detail::make_elements(query, 12, 12, 1);
+  const Clustering c = loose_cover(e, torus.bounds(), 12);
+  detail::FlowOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  one.cap = two.cap = 0.2;
+  test::check_same_spheres(detail::volume_flow(query, e, c.balls, one),
+                           detail::volume_flow(query, e, c.balls, two));
+}
+
+TEST_CASE("refine_binding: balls only shrink, the elements stay held, the area stays",
+          "[cover][flow]") {
+  // Two balls over a box, the second larger and reaching into the first's half: the first
+  // keeps only the elements the second does not hold whole, and its radius is bound by
+  // elements that straddle the second's sphere. Their pieces that the second holds leave,
+  // so the first shrinks.
+  const TriangleMesh box = make_box(Eigen::Vector3d(1.0, 0.5, 0.5), 2);
+  const MeshQuery query(box);
+  Elements e = detail::make_elements(query, 2, 0, 1);
+  const double area = surface_area(e);
+  Clustering c;
+  c.balls = {{Eigen::Vector3d(-0.8, 0.0, 0.0), 0.0}, {Eigen::Vector3d(0.2, 0.0, 0.0), 0.0}};
+  detail::assign(e, c.balls, c.owner, 1);
+  detail::hold_members(e, c);
+  detail::shrink(e, c);
+  REQUIRE(all_held(e, c));
+  const std::vector<Sphere> before = c.balls;
+  const std::size_t elements = e.size();
+  detail::refine_binding(e, c, 3);
+  CHECK(all_held(e, c));
+  CHECK(e.size() > elements);
+  CHECK(surface_area(e) == Approx(area).epsilon(1e-12));
+  for (std::size_t j = 0; j < c.balls.size(); ++j) {
+    CHECK(c.balls[j].center == before[j].center);
+    CHECK(c.balls[j].radius <= before[j].radius);
+  }
+  CHECK(c.balls[0].radius + c.balls[1].radius < before[0].radius + before[1].radius);
+  CHECK(measure_union(c.balls).volume <= measure_union(before).volume);
+  CHECK(test::sampled_gap(box, c.balls) == 0.0);
+}
+
+TEST_CASE("bake_cover rejects a protrusion allowance that is negative or not finite", "[cover]") {
+  const MeshQuery query(make_icosphere(1.0, 1));
+  for (double a :
+       {-0.1, std::numeric_limits<double>::quiet_NaN(), std::numeric_limits<double>::infinity()}) {
+    CoverOptions o;
+    o.protrusion_allowance = a;
+    CHECK_THROWS_AS(bake_cover(query, 4, o), std::invalid_argument);
+  }
+}
