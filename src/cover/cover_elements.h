@@ -82,8 +82,9 @@ struct Clustering {
   std::vector<Sphere> balls;
   std::vector<int> owner;  // per element, the ball that holds it
   // Per element, the last shrink's marks (1: no ball other than its owner held it), valid
-  // while the balls and owners are as that shrink left them; cleared by every operation
-  // here that moves, grows or reassigns (empty: none).
+  // while the balls and owners are as that shrink left them (drop_empty keeps them); every
+  // step that moves or grows a ball or reassigns an element clears them (empty: none), and
+  // refine_binding uses them.
   std::vector<char> settled;
 };
 
