@@ -82,6 +82,15 @@ CertifiedChecker::CertifiedChecker(
     const SelfWitness& w = bounds_.witnesses()[k];
     witnesses_of_[std::min(w.a, w.b) * G + std::max(w.a, w.b)].push_back(k);
   }
+  bool octree = false;
+  for (const ::fcl::CollisionObjectd* o : scene_) {
+    cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
+    octree = octree || cells_.back() != nullptr;
+  }
+  cell_links_.resize(G);
+  for (std::size_t g = 0; octree && g < G; ++g)
+    if (bounds_.geometries()[g].mesh() != nullptr)
+      cell_links_[g] = std::make_unique<const OctreeCells::Link>(bounds_.geometries()[g]);
 }
 
 // The pairs in the order decide() takes them: as robot_collide, the self pairs seen
@@ -149,6 +158,12 @@ check::Verdict CertifiedChecker::settle_pairs(const double* q,
   for (const auto& [p, decided] : open) {
     ++stats.meshes;
     const std::size_t a = geometry_of_[p->link];
+    const OctreeCells* cells = p->self ? nullptr : cells_[scene_source_[p->other]].get();
+    if (cells != nullptr && cell_links_[a] != nullptr) {
+      if (cells->distance(*cell_links_[a], X[a], margin) <= margin)
+        return check::Verdict::colliding;
+      continue;
+    }
     const CollideResult r = p->self
                                 ? settle_pair(decided, g[a], X[a], g[geometry_of_[p->other]],
                                               X[geometry_of_[p->other]], margin)
