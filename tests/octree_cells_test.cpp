@@ -155,10 +155,14 @@ TEST_CASE("octree cells: FCL's verdict and distance at seeded poses and near the
   CHECK(bisected >= 10);
 }
 
-TEST_CASE("octree cells: a link without a mesh and a bad margin are refused", "[check][fcl]") {
+TEST_CASE("octree cells: a link without a mesh, a bad margin and a bad pose are refused",
+          "[check][fcl]") {
   const Fixture f;
   CHECK_THROWS_AS(f.cells.distance(f.covered, f.X_WO, -1.0), std::invalid_argument);
   CHECK_THROWS_AS(f.cells.distance(f.covered, f.X_WO, std::nan("")), std::invalid_argument);
+  Eigen::Isometry3d bad = f.X_WO;
+  bad.translation().x() = std::nan("");
+  CHECK_THROWS_AS(f.cells.distance(f.covered, bad, 0.01), std::invalid_argument);
   const SphereSet inner = test::capsule_set(f.link, 4, false);
   SphereSet outer = test::capsule_set(f.link, 4, true);
   outer.metadata_json = R"({"certified": true})";

@@ -171,6 +171,8 @@ void OctreeCells::candidates(const Link& link, const Eigen::Isometry3d& X_OA, do
 double OctreeCells::distance(const Link& link, const Eigen::Isometry3d& X_WA, double margin) const {
   if (!std::isfinite(margin) || margin < 0.0)
     throw std::invalid_argument("OctreeCells::distance: margin must be finite and >= 0");
+  if (!X_WA.matrix().allFinite())
+    throw std::invalid_argument("OctreeCells::distance: the link's pose is not finite");
   double best = std::nextafter(margin, std::numeric_limits<double>::infinity());
   if (cells_.empty()) return best;
   std::vector<std::uint32_t> near;

@@ -75,7 +75,8 @@ class OctreeCells {
 
   /// FCL's distance between the link's mesh at X_WA and the cells: exact when <= margin
   /// (the smallest box-triangle distance, -1 for a box that a triangle enters, as FCL's
-  /// GJK reports it), otherwise some value > margin. \p margin finite and >= 0.
+  /// GJK reports it), otherwise some value > margin. \p margin finite and >= 0, X_WA
+  /// finite (std::invalid_argument otherwise).
   double distance(const Link& link, const Eigen::Isometry3d& X_WA, double margin) const;
 
  private:
