@@ -30,6 +30,13 @@ check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fi
   return check::RobotChecker(planner, scene.scene, options, fine);
 }
 
+// The learnt order at the checker's margin: learnt at another, its witnesses and pair
+// ranks would fit other contacts (they change no verdict, only the cost).
+SelfPairOrder order_at(SelfPairOrder order, double margin) {
+  order.margin = margin;
+  return order;
+}
+
 int thread_count(int threads) {
   return threads > 0 ? threads : omp_get_max_threads();
 }
@@ -58,7 +65,7 @@ CertifiedChecker::CertifiedChecker(
       bounds_(fallback.trees ? *fallback.trees
               : fine         ? *fine
                              : planner,
-              meshes, options.disabled, fallback.bounds, fallback.order),
+              meshes, options.disabled, fallback.bounds, order_at(fallback.order, options.margin)),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
   if (bounds_.kinematics().joint_names() != checker_.joint_names())

@@ -63,10 +63,10 @@ struct FallbackOptions {
   /// spare mesh queries). Null: the fine sets when given, else the planner's.
   const RobotModel* trees = nullptr;
   /// samples > 0: the pairs and witnesses of RobotBounds' SelfPairOrder (robot_bounds.h,
-  /// learnt at construction from seeded configurations at order.margin, which should be
-  /// the checker's margin): the fallback tests the witnesses of a configuration's
-  /// undecided self pairs first, then decides its pairs in robot_collide's order (the
-  /// self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
+  /// learnt at construction from seeded configurations at the checker's margin,
+  /// CheckerOptions::margin; order.margin is not read): the fallback tests the witnesses of a
+  /// configuration's undecided self pairs first, then decides its pairs in robot_collide's order
+  /// (the self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
   SelfPairOrder order;
 };
 
