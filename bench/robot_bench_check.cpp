@@ -144,9 +144,11 @@ std::size_t spheres_of(const RobotModel& m, bool outer) {
   return n;
 }
 
-// Per edge: spheres only and certified, one thread and every core; and the edges'
-// verdicts against every sample checked as a configuration (spheres only).
-void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certified) {
+// Per edge: spheres only and certified, one thread and every core, and spheres only with
+// the tests in their default order (`unordered`), one thread; and the edges' verdicts
+// against every sample checked as a configuration (spheres only).
+void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certified,
+                 const check::RobotChecker& unordered) {
   const check::RobotChecker& spheres = certified.spheres();
   std::vector<double> q0, q1;
   make_edges(in, q0, q1);
@@ -154,29 +156,35 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
   std::vector<Verdict> v(edges);
   std::printf("\n%-10s %7s %12s %14s %16s %10s  %s\n", "edges", "threads", "us/edge",
               "configs/edge", "configs/s/core", "colliding", "note");
-  for (int certified_mode : {0, 1})
+  for (int certified_mode : {0, 1, 2})  // 2: spheres only, the default order
     for (int threads : {1, 0}) {
-      if (threads != 1 && !in.all_cores) continue;
+      if (threads != 1 && (!in.all_cores || certified_mode == 2)) continue;
       std::size_t checked = 0;
       fcl::FallbackStats stats;
+      const check::RobotChecker& plain = certified_mode == 2 ? unordered : spheres;
       const double micros = best_micros(in.repeats, threads != 1, [&] {
         stats = {};
-        checked = certified_mode ? certified.check_edges(q0.data(), q1.data(), edges, in.resolution,
-                                                         v.data(), threads, &stats)
-                                 : spheres.check_edges(q0.data(), q1.data(), edges, in.resolution,
-                                                       check::Mode::spheres, v.data(), threads);
+        checked = certified_mode == 1
+                      ? certified.check_edges(q0.data(), q1.data(), edges, in.resolution, v.data(),
+                                              threads, &stats)
+                      : plain.check_edges(q0.data(), q1.data(), edges, in.resolution,
+                                          check::Mode::spheres, v.data(), threads);
       });
       const int cores = threads == 1 ? 1 : omp_get_max_threads();
       std::size_t colliding = 0;
       for (Verdict x : v) colliding += x != Verdict::free;
       char note[96] = "";
-      if (certified_mode)
+      if (certified_mode == 1)
         std::snprintf(note, sizeof note, "fallback in %zu samples, %zu pairs to the meshes",
                       stats.configurations, stats.meshes);
+      if (certified_mode == 2) std::snprintf(note, sizeof note, "the tests' default order");
       std::printf("%-10s %7s %12.3f %14.1f %16.3g %10zu  %s\n",
-                  certified_mode ? "check/c" : "check/s", threads == 1 ? "1" : "all",
-                  micros / double(edges), double(checked) / double(edges),
-                  double(checked) / (micros * 1e-6) / cores, colliding, note);
+                  certified_mode == 1   ? "check/c"
+                  : certified_mode == 2 ? "check/s0"
+                                        : "check/s",
+                  threads == 1 ? "1" : "all", micros / double(edges),
+                  double(checked) / double(edges), double(checked) / (micros * 1e-6) / cores,
+                  colliding, note);
     }
   // Every sample of every edge as a configuration.
   std::vector<double> samples;
@@ -238,6 +246,23 @@ void print_checker_rows(const CheckerBenchInput& in) {
       fine ? spheres_of(*fine, true) : 0, fine ? spheres_of(*fine, false) : 0,
       spheres.uses_avx2() ? "AVX2" : "scalar", g.cells, g.cell_side, g.entries, g.elements, build,
       spheres.allowance());
+  {
+    // The learnt order's first tests (check/s; check/s0 runs them in the default order).
+    const check::TestOrder order = spheres.test_order();
+    const std::size_t links = spheres.links().size();
+    const auto pairs = spheres.self_pairs();
+    std::printf("test order (%zu samples): %zu tests, head %zu; first:",
+                spheres.options().order_samples, order.tests.size(), order.head);
+    for (std::size_t t = 0; t < std::min<std::size_t>(4, order.tests.size()); ++t) {
+      const std::size_t k = order.tests[t];
+      if (k < links)
+        std::printf(" %s/scene", spheres.links()[k].c_str());
+      else
+        std::printf(" %s/%s", spheres.links()[pairs[k - links].first].c_str(),
+                    spheres.links()[pairs[k - links].second].c_str());
+    }
+    std::printf("\n");
+  }
   const std::vector<double> q = rows_of(in.configs);
   const std::size_t n = in.configs.size();
   std::vector<Verdict> v(n);
@@ -265,6 +290,22 @@ void print_checker_rows(const CheckerBenchInput& in) {
                double(n);
     r.colliding = colliding_of(v);
     r.note = "as check/s, every test in doubles";
+    rows.push_back(r);
+  }
+  // The same checks with the tests in their default order (each link against the scene,
+  // then each self pair), not the learnt one: the order's gain, side by side.
+  check::CheckerOptions o0 = o;
+  o0.order_samples = 0;
+  const check::RobotChecker unordered(in.planner->model, fcl::scene_from_fcl(in.scene).scene, o0,
+                                      fine);
+  {
+    Row r{"check/s0", 1};
+    r.micros =
+        best_micros(in.repeats, false,
+                    [&] { unordered.check(q.data(), n, check::Mode::spheres, v.data(), 1); }) /
+        double(n);
+    r.colliding = colliding_of(v);
+    r.note = "as check/s, the tests in their default order (order_samples 0)";
     rows.push_back(r);
   }
   {
@@ -353,7 +394,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   std::printf("%-10s %7s %10s %10s %10s %10s %7s %7s  %s\n", "checker", "threads", "us/config",
               "ns/config", "vs exact", "colliding", "missed", "alarms", "note");
   for (const Row& r : rows) print_row(r, in);
-  print_edges(in, certified);
+  print_edges(in, certified, unordered);
 }
 
 }  // namespace medspheres::bench

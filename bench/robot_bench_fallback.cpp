@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <map>
+#include <memory>
 #include <string>
 #include <utility>
 #include <vector>
@@ -12,6 +13,7 @@
 #include <fcl/narrowphase/distance.h>
 
 #include "bench_timing.h"
+#include "medspheres/fcl/scene_from_fcl.h"
 
 namespace medspheres::bench {
 namespace {
@@ -22,6 +24,8 @@ struct PairTally {
   std::size_t undecided = 0;  // configurations in which the bounds left the pair open
   std::size_t trees_colliding = 0, trees_free = 0, meshes = 0, meshes_colliding = 0;
   double tree_micros = 0.0, mesh_micros = 0.0;
+  std::size_t cells = 0;  // octree pairs also settled by OctreeCells
+  double cells_micros = 0.0;
   std::vector<double> mesh_distance;  // settled pairs: FCL's distance (capped above margin)
 };
 
@@ -57,6 +61,16 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
     while (rb.geometries()[g].link() != l) ++g;
     geo.push_back(g);
   }
+  // The checker's scene objects (UndecidedPair::other) as indices in in.scene.
+  const std::vector<std::size_t> source = fcl::scene_from_fcl(in.scene).source;
+  // The checker's octree path (OctreeCells) beside FCL's own octree query.
+  std::vector<std::unique_ptr<const fcl::OctreeCells>> cells;
+  for (const ::fcl::CollisionObjectd* o : in.scene)
+    cells.push_back(fcl::octree_cells_of(*o->collisionGeometry(), o->getTransform()));
+  std::vector<std::unique_ptr<const fcl::OctreeCells::Link>> cell_links;
+  for (const fcl::BoundedGeometry& g : rb.geometries())
+    cell_links.push_back(g.mesh() ? std::make_unique<const fcl::OctreeCells::Link>(g) : nullptr);
+  std::size_t cells_disagree = 0;
   std::map<std::string, PairTally> tally;
   double t_bounds = 0, t_poses = 0, t_trees = 0, t_meshes = 0;
   std::size_t configs = 0, pairs_total = 0, truth_colliding = 0, decided_by_trees = 0,
@@ -82,7 +96,8 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
       PairTally& s = tally[pair_name(c, p)];
       ++s.undecided;
       const std::size_t a = geo[p.link];
-      const auto* o = in.scene[p.other];
+      const std::size_t object = p.self ? 0 : source[p.other];  // index in in.scene
+      const ::fcl::CollisionObjectd* o = p.self ? nullptr : in.scene[object];
       t = thread_cpu_micros();
       const fcl::CollideResult r =
           p.self ? fcl::decide(rb.geometries()[a], X[a], rb.geometries()[geo[p.other]],
@@ -111,6 +126,13 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
       ++s.meshes;
       s.mesh_micros += dm;
       s.meshes_colliding += m.verdict == BoundsVerdict::colliding;
+      if (!p.self && cells[object] && cell_links[a]) {
+        t = thread_cpu_micros();
+        const bool hit = cells[object]->distance(*cell_links[a], X[a], margin) <= margin;
+        s.cells_micros += thread_cpu_micros() - t;
+        ++s.cells;
+        cells_disagree += hit != (m.verdict == BoundsVerdict::colliding);
+      }
       if (m.verdict == BoundsVerdict::free)
         s.mesh_distance.push_back(true_distance(
             rb.geometries()[a], X[a],
@@ -130,6 +152,10 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
       configs, truth_colliding, pairs_total,
       pairs_per_config.empty() ? 0 : pairs_per_config[pairs_per_config.size() / 2],
       pairs_per_config.empty() ? 0 : pairs_per_config.back(), decided_by_trees, to_meshes);
+  std::printf(
+      "octree pairs: FCL's octree query and OctreeCells disagree in %zu (the mesh us column is "
+      "FCL's; cells us: OctreeCells on the same pairs)\n",
+      cells_disagree);
   const double per = configs ? 1.0 / double(configs) : 0.0;
   std::printf(
       "per undecided configuration (us, thread CPU): bounds again %.1f, poses %.1f, sphere trees "
@@ -140,8 +166,8 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
     return a.second.tree_micros + a.second.mesh_micros >
            b.second.tree_micros + b.second.mesh_micros;
   });
-  std::printf("%-52s %6s %6s %6s %6s %6s %9s %9s %8s %8s\n", "pair", "open", "tr/hit", "tr/free",
-              "mesh", "m/hit", "tree us", "mesh us", "free d10", "free d50");
+  std::printf("%-52s %6s %6s %6s %6s %6s %9s %9s %9s %8s %8s\n", "pair", "open", "tr/hit",
+              "tr/free", "mesh", "m/hit", "tree us", "mesh us", "cells us", "free d10", "free d50");
   for (std::size_t k = 0; k < rows.size() && k < 30; ++k) {
     PairTally& s = rows[k].second;
     std::sort(s.mesh_distance.begin(), s.mesh_distance.end());
@@ -150,10 +176,13 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
                  ? -1.0
                  : s.mesh_distance[std::size_t(f * double(s.mesh_distance.size() - 1))];
     };
-    std::printf("%-52s %6zu %6zu %6zu %6zu %6zu %9.1f %9.1f %8.4f %8.4f\n", rows[k].first.c_str(),
-                s.undecided, s.trees_colliding, s.trees_free, s.meshes, s.meshes_colliding,
-                s.undecided ? s.tree_micros / double(s.undecided) : 0.0,
-                s.meshes ? s.mesh_micros / double(s.meshes) : 0.0, pct(0.1), pct(0.5));
+    std::printf(
+        "%-52s %6zu %6zu %6zu %6zu %6zu %9.1f %9.1f %9s %8.4f %8.4f\n", rows[k].first.c_str(),
+        s.undecided, s.trees_colliding, s.trees_free, s.meshes, s.meshes_colliding,
+        s.undecided ? s.tree_micros / double(s.undecided) : 0.0,
+        s.meshes ? s.mesh_micros / double(s.meshes) : 0.0,
+        s.cells ? std::to_string(s.cells_micros / double(s.cells)).substr(0, 7).c_str() : "-",
+        pct(0.1), pct(0.5));
   }
   std::printf("(%zu pairs in all)\n", rows.size());
 }

@@ -5,7 +5,9 @@
 // by the links' sphere trees, settle() by the exact meshes), each timed, and per pair of
 // links (or link and scene object) how often it is undecided, what decided it, how long that
 // took, and how far apart the meshes were when they settled it free (FCL's distance,
-// not pruned at the margin: the 10th and 50th percentiles).
+// not pruned at the margin: the 10th and 50th percentiles). A pair of a link and an
+// octree is settled twice: by FCL's octree query (`mesh us`) and by the checker's
+// OctreeCells (`cells us`); the report counts where their verdicts differ.
 
 #include "medspheres/fcl/certified_checker.h"
 #include "robot_bench_check.h"

@@ -233,4 +233,16 @@ TEST_CASE("certified checker: a learnt pair order and witnesses change no verdic
   CHECK(sb.configurations > 0);
   // The witnesses settle some configurations before any pair's walk.
   CHECK(sb.pairs < sa.pairs);
+  // The order is learnt at the checker's margin, whatever order.margin says: the same
+  // witnesses as RobotBounds learns at that margin, and not those of margin 0.
+  fallback.order.margin = 0.0;
+  const mf::CertifiedChecker unset(arm, &fine, world().meshes, world().scene(), options(margin),
+                                   fallback);
+  fallback.order.margin = margin;
+  const mf::RobotBounds at_margin(fine, world().meshes, options(margin).disabled, {},
+                                  fallback.order);
+  fallback.order.margin = 0.0;
+  const mf::RobotBounds at_zero(fine, world().meshes, options(margin).disabled, {}, fallback.order);
+  CHECK(unset.fallback().witnesses().size() == at_margin.witnesses().size());
+  CHECK(at_zero.witnesses().size() != at_margin.witnesses().size());
 }

@@ -144,6 +144,19 @@ TEST_CASE("SRDF: a lone zero-radius sphere means no spheres, as in srdfdom", "[f
                     Contains("link \"c\" sphere 0"));
 }
 
+TEST_CASE("a link name with a control character is refused by every per-link format", "[formats]") {
+  // XML turns a carriage return in an attribute into a line break: such a name could not
+  // be written and read back as itself.
+  CHECK_THROWS_WITH(parse_srdf_spheres("<robot><link_sphere_approximation link=\"a\rb\">"
+                                       "<sphere center=\"0 0 0\" radius=\"1\"/>"
+                                       "</link_sphere_approximation></robot>",
+                                       "f.srdf"),
+                    Contains("f.srdf") && Contains("control character"));
+  const RobotSpheres tab{{"a\tb", {{{0, 0, 0}, 1.0}}}};
+  CHECK_THROWS_WITH(srdf_spheres_text(tab, "r"), Contains("control character"));
+  CHECK_THROWS_WITH(validate_robot_spheres(tab, "here"), Contains("\"a\tb\""));
+}
+
 TEST_CASE("sph: every level of a spheretree file, unused nodes dropped", "[formats]") {
   // A tree of 3 levels and degree 2 with one unused node on the last level, and the
   // optional auxiliary columns on one line.

@@ -456,3 +456,76 @@ TEST_CASE("float tests: a chain of 30 joints, the verdicts of the double tests a
     CHECK(run(floats_scalar, q, mode) == a);
   }
 }
+
+TEST_CASE("test order: the same verdicts and undecided pairs whatever order the tests run in",
+          "[check]") {
+  // The learnt order runs the tests that collide most often first (and, with a head, some
+  // before the links' bounding spheres meet the scene); a lane leaves only by a certain
+  // collision, so every order must give the default order's verdicts, in floats and in
+  // doubles, on both paths, at 1e-12 of contact, in both modes, for edges too. (Here self
+  // pairs collide in most configurations: the learnt order has a head.)
+  const RobotModel arm = test::capsule_arm(5), fine = test::capsule_arm(9);
+  for (const double margin : {0.0, 0.01}) {
+    check::CheckerOptions fixed = options(margin);
+    fixed.order_samples = 0;
+    const check::RobotChecker reference(arm, test_scene().scene, fixed, &fine);
+    const std::vector<double> q = near_contact(reference, test::capsule_arm_configs(600, 18));
+    const std::vector<Verdict> expected = run(reference, q, Mode::spheres);
+    const std::vector<Verdict> expected_bounds = run(reference, q, Mode::bounds);
+    std::size_t colliding = 0;
+    for (Verdict v : expected) colliding += v == Verdict::colliding;
+    INFO("margin " << margin << ": " << colliding << " of " << expected.size() << " colliding");
+    CHECK(colliding > expected.size() / 10);
+    CHECK(colliding < expected.size());
+    const check::TestOrder none = reference.test_order();
+    CHECK(none.head == 0);
+    for (std::size_t t = 0; t < none.tests.size(); ++t) CHECK(none.tests[t] == t);
+    for (const std::size_t samples : {std::size_t(8), std::size_t(300)})
+      for (const bool floats : {true, false})
+        for (const check::Simd simd : {check::Simd::automatic, check::Simd::scalar}) {
+          check::CheckerOptions o = options(margin);
+          o.order_samples = samples;
+          o.float_tests = floats;
+          o.simd = simd;
+          const check::RobotChecker checker(arm, test_scene().scene, o, &fine);
+          INFO("samples " << samples << ", floats " << floats << ", scalar "
+                          << (simd == check::Simd::scalar));
+          const check::TestOrder learnt = checker.test_order();
+          REQUIRE(learnt.tests.size() == none.tests.size());
+          CHECK(std::is_permutation(learnt.tests.begin(), learnt.tests.end(), none.tests.begin()));
+          if (samples == 300) {
+            CHECK(learnt.tests != none.tests);  // a learnt order to compare
+            CHECK(learnt.head > 0);
+          }
+          CHECK(run(checker, q, Mode::spheres) == expected);
+          CHECK(run(checker, q, Mode::spheres, 2) == expected);
+          CHECK(run(checker, q, Mode::bounds) == expected_bounds);
+          std::vector<Verdict> a(100), b(100);
+          checker.check_edges(q.data(), q.data() + 8, 100, 0.05, Mode::spheres, a.data(), 1);
+          reference.check_edges(q.data(), q.data() + 8, 100, 0.05, Mode::spheres, b.data(), 1);
+          CHECK(a == b);
+        }
+    // The bounds' undecided pairs too (each configuration's pairs are listed in the pairs'
+    // own order, whatever order found them).
+    check::CheckerOptions learnt = options(margin);
+    learnt.order_samples = 300;
+    const check::RobotChecker checker(arm, test_scene().scene, learnt, &fine);
+    const std::size_t n = 400;
+    std::vector<Verdict> va(n), vb(n);
+    std::vector<std::vector<check::UndecidedPair>> pa(n), pb(n);
+    checker.check_bounds(q.data(), n, va.data(), pa.data(), 1);
+    reference.check_bounds(q.data(), n, vb.data(), pb.data(), 1);
+    CHECK(va == vb);
+    std::size_t undecided = 0;
+    for (std::size_t i = 0; i < n; ++i) {
+      undecided += va[i] == Verdict::undecided;
+      REQUIRE(pa[i].size() == pb[i].size());
+      for (std::size_t k = 0; k < pa[i].size(); ++k) {
+        CHECK(pa[i][k].link == pb[i][k].link);
+        CHECK(pa[i][k].other == pb[i][k].other);
+        CHECK(pa[i][k].self == pb[i][k].self);
+      }
+    }
+    CHECK(undecided > 10);
+  }
+}

@@ -30,6 +30,13 @@ check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fi
   return check::RobotChecker(planner, scene.scene, options, fine);
 }
 
+// The learnt order at the checker's margin: learnt at another, its witnesses and pair
+// ranks would fit other contacts (they change no verdict, only the cost).
+SelfPairOrder order_at(SelfPairOrder order, double margin) {
+  order.margin = margin;
+  return order;
+}
+
 int thread_count(int threads) {
   return threads > 0 ? threads : omp_get_max_threads();
 }
@@ -58,7 +65,7 @@ CertifiedChecker::CertifiedChecker(
       bounds_(fallback.trees ? *fallback.trees
               : fine         ? *fine
                              : planner,
-              meshes, options.disabled, fallback.bounds, fallback.order),
+              meshes, options.disabled, fallback.bounds, order_at(fallback.order, options.margin)),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
   if (bounds_.kinematics().joint_names() != checker_.joint_names())
@@ -82,6 +89,15 @@ CertifiedChecker::CertifiedChecker(
     const SelfWitness& w = bounds_.witnesses()[k];
     witnesses_of_[std::min(w.a, w.b) * G + std::max(w.a, w.b)].push_back(k);
   }
+  bool octree = false;
+  for (const ::fcl::CollisionObjectd* o : scene_) {
+    cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
+    octree = octree || cells_.back() != nullptr;
+  }
+  cell_links_.resize(G);
+  for (std::size_t g = 0; octree && g < G; ++g)
+    if (bounds_.geometries()[g].mesh() != nullptr)
+      cell_links_[g] = std::make_unique<const OctreeCells::Link>(bounds_.geometries()[g]);
 }
 
 // The pairs in the order decide() takes them: as robot_collide, the self pairs seen
@@ -149,6 +165,12 @@ check::Verdict CertifiedChecker::settle_pairs(const double* q,
   for (const auto& [p, decided] : open) {
     ++stats.meshes;
     const std::size_t a = geometry_of_[p->link];
+    const OctreeCells* cells = p->self ? nullptr : cells_[scene_source_[p->other]].get();
+    if (cells != nullptr && cell_links_[a] != nullptr) {
+      if (cells->distance(*cell_links_[a], X[a], margin) <= margin)
+        return check::Verdict::colliding;
+      continue;
+    }
     const CollideResult r = p->self
                                 ? settle_pair(decided, g[a], X[a], g[geometry_of_[p->other]],
                                               X[geometry_of_[p->other]], margin)

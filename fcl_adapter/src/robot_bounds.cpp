@@ -6,12 +6,12 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <random>
 #include <set>
 #include <stdexcept>
 #include <string>
 
 #include "medspheres/error.h"
+#include "medspheres/sample_configurations.h"
 #include "medspheres/self_pairs.h"
 
 namespace medspheres::fcl {
@@ -103,19 +103,7 @@ bool witness_holds(const SelfWitness& w, const std::vector<::fcl::Transform3d>& 
 std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
                                                    const KinematicTree& tree, std::size_t n,
                                                    unsigned seed) {
-  std::mt19937 rng(seed);
-  std::vector<std::pair<double, double>> range;
-  for (const std::string& name : tree.joint_names()) {
-    const Joint& j = *model.find_joint(name);
-    const bool limited =
-        j.type != JointType::kContinuous && j.limits && j.limits->lower < j.limits->upper;
-    range.emplace_back(limited ? j.limits->lower : -M_PI, limited ? j.limits->upper : M_PI);
-  }
-  std::vector<Eigen::VectorXd> out(n, Eigen::VectorXd(range.size()));
-  for (Eigen::VectorXd& q : out)
-    for (std::size_t k = 0; k < range.size(); ++k)
-      q[k] = std::uniform_real_distribution<double>(range[k].first, range[k].second)(rng);
-  return out;
+  return medspheres::sample_configurations(model, tree.joint_names(), n, seed);
 }
 
 // Greedy: each step takes the pair certainly colliding in the most samples that no pair

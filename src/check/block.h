@@ -57,6 +57,12 @@ struct KernelRobot {
   int pairs = 0;
   const std::uint32_t *pair_a = nullptr, *pair_b = nullptr;
   bool fine = false;
+  /// The tests in the order they run (the bounds mode: within each level): links + pairs
+  /// entries, k < links link k against the scene, else self pair k - links (test_order.h).
+  const std::uint32_t* order = nullptr;
+  /// The spheres mode runs the links' bounding spheres against the scene after the
+  /// order's first `head` tests (0: before every test).
+  int head = 0;
 };
 
 /// One pass over a block's lanes in one precision: W lanes of T, the frames posed, a
@@ -84,6 +90,9 @@ struct Block {
   bool bounds = false;        // false: spheres only
   bool self = true;
   bool floats = true;  // false: every test in doubles
+  // Learning (spheres mode): per test (KernelRobot::order's indices), the lanes it finds
+  // colliding are counted here, and every test runs in every lane (no verdict then).
+  std::uint32_t* hits = nullptr;
   double margin = 0.0, allowance = 0.0;
   float slack = 0.0f;  // m: the float tests' allowance (robot_checker.cpp)
   // Workspace, sized by the caller.

@@ -13,7 +13,8 @@
 //     cy, cz; 0 in the other lanes).
 // Included by kernel_scalar.cpp and kernel_avx2.cpp only. Everything here is internal to
 // the including file (an unnamed namespace), and it calls no inline function of another
-// file, so that no code built for AVX2 is shared with the scalar build.
+// file but float_sincos.h's template, instantiated on this file's own lane types (so
+// internal to it too): no code built for AVX2 is shared with the scalar build.
 //
 // Modes (robot_checker.h): spheres only, a lane collides when a sphere of the spheres-only
 // set is within the margin of an element or of a sphere of a self pair's other link;
@@ -23,14 +24,16 @@
 // spheres, farther than margin + allowance from everything: a shortcut that never changes
 // an answer.
 //
-// Precision: the float pass poses the frames in floats (each joint's transform in
-// doubles, rounded to floats, the chain's products in floats) and runs every test on them
-// with `slack` (robot_checker.cpp's float_slack: more than any float posed point's
-// distance from its double twin, which grows with the chain's depth, plus the float tests'
-// own rounding): a test is certain when its float value clears its threshold by the
-// slack, unsure otherwise. A lane whose verdict rests on an unsure test is checked again
-// by the double pass (the frames of its half posed in doubles, slack 0: the documented
-// tests, exactly), so every verdict is the double one.
+// Precision: the float pass poses the frames in floats (each revolute joint's angle
+// reduced in doubles, its sine, cosine and transform in floats, the chain's products in
+// floats) and runs every test on them with `slack` (robot_checker.cpp's float_slack:
+// more than any float posed point's distance from its double twin, which grows with the
+// chain's depth, plus the float tests' own rounding): a test is certain when its float
+// value clears its threshold by the slack, unsure otherwise. A lane whose verdict rests
+// on an unsure test is checked again by the double pass (the frames of its half posed in
+// doubles, slack 0: the documented tests, exactly), so every verdict is the double one.
+
+#include "float_sincos.h"
 
 namespace medspheres::check::detail {
 namespace {
@@ -43,13 +46,30 @@ VD round_nearest(VD x) {
   return (x + splat(kRound)) - splat(kRound);
 }
 
-// sin and cos of every lane: Cody and Waite's reduction by pi / 2 (three parts, exact for
-// |x| < 2^26), Cephes' polynomials on [-pi/4, pi/4] (about 1 ulp), then the quadrant's
-// swap and signs as exact arithmetic on 0, 1 and -1 (no per-lane branch).
-void sincos(VD x, VD& s, VD& c) {
+// x reduced by pi / 2 (Cody and Waite's reduction, three parts, exact for |x| < 2^26):
+// r in [-pi/4, pi/4] (a hair more: the quotient's rounding), and the quadrant's selectors,
+// each 0, 1 or -1: sin x = (sin r keep + cos r swap) sign_s, cos x = (cos r keep +
+// sin r swap) sign_c, exact arithmetic on them (no per-lane branch).
+void reduce_quarter(VD x, VD& r, VD& keep, VD& swap, VD& sign_s, VD& sign_c) {
   const VD k = round_nearest(x * splat(0.63661977236758134308));
-  const VD r = ((x - k * splat(1.57079625129699707031)) - k * splat(7.54978941586159635335e-8)) -
-               k * splat(5.39030285815811905290e-15);
+  r = ((x - k * splat(1.57079625129699707031)) - k * splat(7.54978941586159635335e-8)) -
+      k * splat(5.39030285815811905290e-15);
+  // m = k mod 4 in {0, 1, 2, 3}; sin x = (s, c, -s, -c)[m], cos x = (c, -s, -c, s)[m].
+  const VD m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
+  const VD half = round_nearest(m * splat(0.5) - splat(0.25));               // 0, 0, 1, 1
+  swap = m - splat(2.0) * half;                                              // 0, 1, 0, 1
+  const VD hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
+  sign_s = splat(1.0) - splat(2.0) * half;
+  sign_c =
+      splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
+  keep = splat(1.0) - swap;
+}
+
+// sin and cos of every lane: reduce_quarter, then Cephes' polynomials on [-pi/4, pi/4]
+// (about 1 ulp).
+void sincos(VD x, VD& s, VD& c) {
+  VD r, keep, swap, sign_s, sign_c;
+  reduce_quarter(x, r, keep, swap, sign_s, sign_c);
   const VD z = r * r;
   VD ps = splat(1.58962301576546568060e-10);
   ps = ps * z + splat(-2.50507477628578072866e-8);
@@ -65,15 +85,6 @@ void sincos(VD x, VD& s, VD& c) {
   pc = pc * z + splat(4.16666666666665929218e-2);
   const VD sr = r + (r * z) * ps;
   const VD cr = (splat(1.0) - splat(0.5) * z) + (z * z) * pc;
-  // m = k mod 4 in {0, 1, 2, 3}; sin x = (s, c, -s, -c)[m], cos x = (c, -s, -c, s)[m].
-  const VD m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
-  const VD half = round_nearest(m * splat(0.5) - splat(0.25));               // 0, 0, 1, 1
-  const VD swap = m - splat(2.0) * half;                                     // 0, 1, 0, 1
-  const VD hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
-  const VD sign_s = splat(1.0) - splat(2.0) * half;
-  const VD sign_c =
-      splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
-  const VD keep = splat(1.0) - swap;
   s = (sr * keep + cr * swap) * sign_s;
   c = (cr * keep + sr * swap) * sign_c;
 }
@@ -124,18 +135,42 @@ void pose_frames(const KernelRobot& robot, const Block& b, int h) {
   }
 }
 
-// X_WF of every moving frame for all kLanes lanes, in floats: each step's transform in
-// doubles (as pose_frames computes it), rounded to floats, then the chain's products in
-// floats. Their distance from the double frames grows with the chain's depth; the float
-// tests' slack covers it (robot_checker.cpp, float_slack).
-void pose_frames_float(const KernelRobot& robot, const Block& b) {
-  for (int i = 0; i < robot.steps; ++i) {
-    const FrameStep& s = robot.step[i];
+// The transform X_PF of step s for all kLanes lanes, in floats. Revolute: the angle in
+// doubles and reduced by reduce_quarter as sincos does (the same r and quadrant), r
+// rounded to floats, its sine and cosine by float_sincos_reduced (within
+// kFloatSinCosError of the double ones' r), then R = P + cos C + sin S in floats from
+// the constants rounded to floats. Prismatic: step_transform's doubles, rounded.
+void step_transform_float(const FrameStep& s, const Block& b, VF rel[12]) {
+  if (s.prismatic) {
     VD lo[12], hi[12];
     step_transform(s, b, 0, lo);
     step_transform(s, b, 1, hi);
-    VF rel[12];
     for (int e = 0; e < 12; ++e) rel[e] = to_float(lo[e], hi[e]);
+    return;
+  }
+  VD r[2], keep[2], swap[2], sign_s[2], sign_c[2];
+  for (int h = 0; h < 2; ++h) {
+    const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
+    reduce_quarter(q, r[h], keep[h], swap[h], sign_s[h], sign_c[h]);
+  }
+  VF sr, cr;
+  float_sincos_reduced(to_float(r[0], r[1]), sr, cr, [](float x) { return splat(x); });
+  const VF kf = to_float(keep[0], keep[1]), sf = to_float(swap[0], swap[1]);
+  const VF sn = (sr * kf + cr * sf) * to_float(sign_s[0], sign_s[1]);
+  const VF cs = (cr * kf + sr * sf) * to_float(sign_c[0], sign_c[1]);
+  for (int e = 0; e < 9; ++e) rel[e] = (splat(s.Pf[e]) + cs * splat(s.Cf[e])) + sn * splat(s.Sf[e]);
+  for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.uf[k]);
+}
+
+// X_WF of every moving frame for all kLanes lanes, in floats: each step's transform by
+// step_transform_float, then the chain's products in floats. Their distance from the
+// double frames grows with the chain's depth; the float tests' slack covers it
+// (robot_checker.cpp, float_slack).
+void pose_frames_float(const KernelRobot& robot, const Block& b) {
+  for (int i = 0; i < robot.steps; ++i) {
+    const FrameStep& s = robot.step[i];
+    VF rel[12];
+    step_transform_float(s, b, rel);
     compose<VF>(b.frames_f + s.parent * 12 * kLanes, s.parent == 0, rel,
                 b.frames_f + s.frame * 12 * kLanes);
   }
@@ -387,16 +422,23 @@ unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
   return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
 }
 
-// The bounding-sphere tests of every link against the scene and of every self pair, for
-// the lanes `open`, into near[0 .. links + pairs): independent of one another, so run
-// back to back (their look-ups overlap) before any finer test.
+// The bounding-sphere tests of every link against the scene, for the lanes `open`, into
+// near[0 .. links): independent of one another, so run back to back (their look-ups
+// overlap) before any finer test.
 template <class V>
-void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
+void near_links(const Ctx<V>& c, unsigned open, unsigned char* near) {
   const KernelRobot& robot = c.robot;
   for (int link = 0; link < robot.links; ++link)
     prefetch_points<V>(c.sp.grid, posed(c, link, kBoundSlot), 0, 1);
   for (int link = 0; link < robot.links; ++link)
     near[link] = static_cast<unsigned char>(scene_near(c, link, open));
+}
+
+// near_links, then every self pair's bounding spheres into near[links .. links + pairs).
+template <class V>
+void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
+  const KernelRobot& robot = c.robot;
+  near_links(c, open, near);
   for (int k = 0; k < robot.pairs; ++k)
     near[robot.links + k] =
         static_cast<unsigned char>(c.b.self ? pair_near(c, static_cast<int>(robot.pair_a[k]),
@@ -436,11 +478,13 @@ unsigned pair_level(const Ctx<V>& c, int link, int o, int level, unsigned& pendi
 
 // The bounds mode level by level: every pair at the planner's level first (a certain
 // collision found there spares the fine level of every other pair), then the fine level
-// of the pairs still open. p.pending holds per link (scene) and per self pair the lanes
-// still undecided, p.unsure those in which a covering test of the pair was unsure.
-// Returns the open lanes, adds the undecided ones to b.undecided; `unsure`: the open lanes
-// whose verdict may differ in doubles (a pair still pending after an unsure covering test
-// may be free there; an unsure inner test may collide there).
+// of the pairs still open; within a level the pairs in the robot's order (test_order.h:
+// a lane leaves `open` only by a certain collision, and a pair's pending lanes depend on
+// that pair alone, so every order gives the same verdicts and undecided pairs). p.pending holds per
+// link (scene) and per self pair the lanes still undecided, p.unsure those in which a covering test
+// of the pair was unsure. Returns the open lanes, adds the undecided ones to b.undecided; `unsure`:
+// the open lanes whose verdict may differ in doubles (a pair still pending after an unsure covering
+// test may be free there; an unsure inner test may collide there).
 template <class V>
 unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
@@ -449,22 +493,19 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   near_all(c, c.p.lanes, pending);
   for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = 0;
   unsigned open = c.p.lanes, maybe_hit = 0;
-  for (int level = 0; level < (robot.fine ? 2 : 1); ++level) {
-    for (int link = 0; link < robot.links && open; ++link) {
-      unsigned p = pending[link] & open, m = near[link];
-      if (p) open &= ~pair_level(c, link, -1, level, p, m, maybe_hit);
-      pending[link] = static_cast<unsigned char>(p);
-      near[link] = static_cast<unsigned char>(m);
+  for (int level = 0; level < (robot.fine ? 2 : 1); ++level)
+    for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
+      const int k = static_cast<int>(robot.order[t]);
+      if (k >= robot.links && !c.b.self) continue;
+      unsigned p = pending[k] & open, m = near[k];
+      if (p)
+        open &= ~(k < robot.links ? pair_level(c, k, -1, level, p, m, maybe_hit)
+                                  : pair_level(c, static_cast<int>(robot.pair_a[k - robot.links]),
+                                               static_cast<int>(robot.pair_b[k - robot.links]),
+                                               level, p, m, maybe_hit));
+      pending[k] = static_cast<unsigned char>(p);
+      near[k] = static_cast<unsigned char>(m);
     }
-    for (int k = 0; k < robot.pairs && open && c.b.self; ++k) {
-      const int a = static_cast<int>(robot.pair_a[k]), o = static_cast<int>(robot.pair_b[k]);
-      const int s = robot.links + k;
-      unsigned p = pending[s] & open, m = near[s];
-      if (p) open &= ~pair_level(c, a, o, level, p, m, maybe_hit);
-      pending[s] = static_cast<unsigned char>(p);
-      near[s] = static_cast<unsigned char>(m);
-    }
-  }
   unsure = maybe_hit;
   for (int k = 0; k < robot.links + robot.pairs; ++k) {
     unsure |= near[k] & pending[k];
@@ -474,23 +515,38 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   return open;
 }
 
-// The spheres mode: every link against the scene, then every self pair.
+// The spheres mode: the tests (each link against the scene, each self pair) in the
+// robot's order (test_order.h), each in the lanes still open, a self pair's bounding
+// spheres only when it is reached. The links' bounding spheres against the scene
+// (near_links) run after the order's first robot.head tests (those that find most
+// configurations colliding: when they leave no lane open, the look-ups are spared), a
+// head link's own on its turn. Any order gives the same verdicts: a lane leaves `open`
+// only by a certain collision, and every test runs in every other lane. With b.hits
+// (learning), every test runs in every lane and counts the lanes it finds colliding.
 template <class V>
 unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
   unsigned char* near = c.p.pending;
-  near_all(c, c.p.lanes, near);
   unsigned open = c.p.lanes, maybe = 0;
-  for (int link = 0; link < robot.links && open; ++link) {
-    const unsigned need = near[link] & open;
-    if (need) open &= ~set_scene(c, link, robot.link[link].spheres, c.b.margin, need, maybe);
-  }
-  for (int k = 0; k < robot.pairs && open && c.b.self; ++k) {
-    const int a = static_cast<int>(robot.pair_a[k]), o = static_cast<int>(robot.pair_b[k]);
-    const unsigned need = near[robot.links + k] & open;
-    if (need)
-      open &= ~level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
-                            maybe);
+  for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
+    if (t == robot.head) near_links(c, open, near);
+    const int k = static_cast<int>(robot.order[t]);
+    unsigned hit = 0;
+    if (k < robot.links) {
+      const unsigned need = (t < robot.head ? scene_near(c, k, open) : near[k]) & open;
+      if (need) hit = set_scene(c, k, robot.link[k].spheres, c.b.margin, need, maybe);
+    } else if (c.b.self) {
+      const int a = static_cast<int>(robot.pair_a[k - robot.links]),
+                o = static_cast<int>(robot.pair_b[k - robot.links]);
+      const unsigned need = pair_near(c, a, o, open);
+      if (need)
+        hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
+                           maybe);
+    }
+    if (c.b.hits)
+      c.b.hits[k] += static_cast<std::uint32_t>(__builtin_popcount(hit));
+    else
+      open &= ~hit;
   }
   unsure = maybe & open;
   return open;

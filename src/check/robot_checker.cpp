@@ -8,10 +8,14 @@
 
 #include <omp.h>
 
+#include "medspheres/sample_configurations.h"
+
 #include "block.h"
 #include "distance_field.h"
+#include "float_sincos.h"
 #include "robot_layout.h"
 #include "scene_grid.h"
+#include "test_order.h"
 
 namespace medspheres::check {
 namespace detail {
@@ -99,10 +103,11 @@ struct RobotChecker::Impl {
   detail::SphereArrays<float> spheres_f;
   detail::KernelRobot kernel_robot;
   detail::KernelFn kernel = nullptr;
+  std::vector<std::uint32_t> order;  // kernel_robot.order
   double allowance = 0.0;
   float slack = 0.0f;
-  // Per joint position: the largest |q| for which the float tests' slack holds (infinite
-  // for a joint that moves no prismatic joint: rotations are bounded whatever q).
+  // Per joint position: the largest |q| for which the float tests' slack holds
+  // (float_ranges).
   std::vector<double> float_range;
   std::size_t scene_objects = 0;
 
@@ -148,8 +153,12 @@ struct RobotChecker::Impl {
   // check() and check_bounds() (with `undecided`) of n configurations.
   void batch(const double* q, std::size_t n, Mode mode, Verdict* out,
              std::vector<UndecidedPair>* undecided, int threads) const;
-  // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real).
-  detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs) const;
+  // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real); with `hits`, the
+  // spheres mode's learning run (block.h), in doubles.
+  detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs,
+                    std::uint32_t* hits = nullptr) const;
+  // Sets `order` from options.order_samples configurations of `planner`.
+  void learn_order(const RobotModel& planner);
   // One edge in rake order (robot_checker.h); `checked` counts the samples run.
   Verdict edge(detail::Workspace& w, const double* q0, const double* q1, double resolution,
                Mode mode, std::vector<double>* undecided_t, std::size_t& checked) const;
@@ -206,14 +215,15 @@ void record_pair(detail::Block& b, int lane, int link, int other) {
 }  // namespace
 
 detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode mode,
-                                      bool want_pairs) const {
+                                      bool want_pairs, std::uint32_t* hits) const {
   detail::Block b;
   b.q = w.q.data();
   b.lanes = lanes;
   b.bounds = mode == Mode::bounds;
   b.self = options.self;
   // The sink sees the double pass only: a lane the floats decide never reaches it.
-  b.floats = options.float_tests && !want_pairs && floats_hold(w.q);
+  b.floats = options.float_tests && !want_pairs && hits == nullptr && floats_hold(w.q);
+  b.hits = hits;
   b.margin = options.margin;
   b.allowance = allowance;
   b.slack = slack;
@@ -295,19 +305,43 @@ double rounding_allowance(const detail::RobotLayout& layout, const Scene& scene)
 }
 
 // Per joint position, the largest |q| the float tests' slack is computed for: for a joint
-// that moves a prismatic joint, the larger of 1 and its limits' magnitudes; unbounded
-// otherwise (a revolute joint's rotation is bounded whatever q).
+// that moves a prismatic joint, the larger of 1 and its limits' magnitudes; for one that
+// turns a revolute joint, as far as its angle stays below 2^26 (where the reduction by
+// pi / 2 is exact: float_sincos.h's bound needs it); unbounded otherwise.
 std::vector<double> float_ranges(const RobotModel& model, const detail::RobotLayout& layout) {
   std::vector<double> out(layout.dof, std::numeric_limits<double>::infinity());
   for (const detail::FrameStep& s : layout.steps) {
-    if (!s.prismatic) continue;
+    double& range = out[static_cast<std::size_t>(s.source)];
+    if (!s.prismatic) {
+      if (s.multiplier != 0.0)
+        range =
+            std::min(range, (std::ldexp(1.0, 26) - std::abs(s.offset)) / std::abs(s.multiplier));
+      continue;
+    }
     const Joint* j = model.find_joint(layout.joint_names[static_cast<std::size_t>(s.source)]);
-    double range = 1.0;
+    double limit = 1.0;
     if (j != nullptr && j->limits)
-      range = std::max({range, std::abs(j->limits->lower), std::abs(j->limits->upper)});
-    out[static_cast<std::size_t>(s.source)] = range;
+      limit = std::max({limit, std::abs(j->limits->lower), std::abs(j->limits->upper)});
+    range = std::min(range, limit);
   }
   return out;
+}
+
+// The largest |P|_F + |C|_F + |S|_F of a revolute step (Frobenius norms): 1 + 2 sqrt 2
+// for a rotation about a unit axis.
+double largest_rotation_sum(const detail::RobotLayout& layout) {
+  double largest = 0.0;
+  for (const detail::FrameStep& s : layout.steps) {
+    if (s.prismatic) continue;
+    double p = 0.0, c = 0.0, r = 0.0;
+    for (int e = 0; e < 9; ++e) {
+      p += s.P[e] * s.P[e];
+      c += s.C[e] * s.C[e];
+      r += s.S[e] * s.S[e];
+    }
+    largest = std::max(largest, std::sqrt(p) + std::sqrt(c) + std::sqrt(r));
+  }
+  return largest;
 }
 
 // The longest chain of moving frames from W (steps are ordered parents first).
@@ -322,22 +356,32 @@ int chain_depth(const detail::RobotLayout& layout) {
   return deepest;
 }
 
-// The float tests' slack: 2^-16 (1 + E) (1 + d / 4), E bounding every coordinate and
+// The float tests' slack: 2^-16 (1 + E) (1 + K d / 256), E bounding every coordinate and
 // distance they handle (the robot's reach with its prismatic joints at float_ranges, the
-// scene, the grid's corners), d the longest chain of moving frames; u = 2^-24.
-// - Float forward kinematics against the double one (both start from each joint's
-//   transform in doubles): rounding a rotation to floats moves it by at most sqrt(3) u
-//   (Frobenius norm), a float product of two frames rounds by at most gamma_3 |A| |B|
-//   per entry (at most 9.1 u in norm for rotations), so the rotations of chain step k
-//   differ by e_k <= (1 + 2u) e_(k-1) + 11 u, e_d <= 12 u d; the translations by
-//   f_k <= f_(k-1) + e_(k-1) |t_k| + u |t_k| + 4.01 u (1.74 |t_k| + |p_(k-1)|), with
-//   sum |t_k| and |p| at most E: f_d <= (17 d + 9) u E. A posed point x (|x| <= E) then
-//   lies within e_d |x| + f_d <= (29 d + 9) u E of the point posed on the double frame.
+// scene, the grid's corners), d the longest chain of moving frames, K = max(64, 4a +
+// 12.02), a below (a = 36.0 and K = 156 for rotations about unit axes); u = 2^-24.
+// - A step's float transform against its double one: a prismatic step's is the double one
+//   rounded, its rotation within sqrt(3) u (Frobenius norm); a revolute step's rotation
+//   is P + cos C + sin S in floats (the constants rounded, two products, two sums:
+//   gamma_4 of |P| + |C| + |S| per entry) with a float sine and cosine within
+//   kFloatSinCosError (3 u) + 2^-50 of the double ones (float_sincos.h: the same reduced
+//   angle; the double polynomials are within 2^-50), so within 7.02 u (|P| + |C| + |S|)
+//   per entry, 7.02 u s in norm, s = largest_rotation_sum (1 + 2 sqrt 2 for a rotation
+//   about a unit axis). Let a = 9.1 + max(1.74, 7.02 s).
+// - Float forward kinematics against the double one: a float product of two frames rounds
+//   by at most gamma_3 |A| |B| per entry (at most 9.1 u in norm for rotations), so the
+//   rotations of chain step k differ by e_k <= (1 + a u) e_(k-1) + a u (the step's float
+//   rotation has norm <= 1 + a u), e_d <= a u d (1 + a u)^d <= (a + 1) u d for d < 6000;
+//   the translations by f_k <= f_(k-1) + e_(k-1) |t_k| + u |t_k| + 4.01 u (1.74 |t_k| +
+//   |p_(k-1)|), with sum |t_k| and |p| at most E: f_d <= ((a + 5.01) d + 8) u E. A posed
+//   point x (|x| <= E) then lies within e_d |x| + f_d <= ((2a + 6.01) d + 8) u E of the
+//   point posed on the double frame.
 // - That frame's posed point lies within 12 u E of its double twin (three products and
 //   three sums), a float squared distance compared with a float threshold errs by at most
 //   14 u E more, and the grid's float cell look-up by 10 u E.
 // Every certain float answer holds in doubles while the slack exceeds twice the sum,
-// 2 (12 + 14 + 10 + 29 d + 9) u E = (90 + 58 d) u E; it is (256 + 64 d) u (1 + E).
+// 2 (12 + 14 + 10 + 8 + (2a + 6.01) d) u E = (88 + (4a + 12.02) d) u E; it is
+// (256 + K d) u (1 + E) with K >= 4a + 12.02.
 float float_slack(const detail::RobotLayout& layout, const Scene& scene,
                   const detail::SceneGrid& grid, const std::vector<double>& range) {
   double reach = layout.extent;
@@ -353,7 +397,12 @@ float float_slack(const detail::RobotLayout& layout, const Scene& scene,
   if (!grid.empty())
     for (int k = 0; k < 3; ++k)
       e = std::max(e, std::abs(grid.origin()[k]) + grid.dims()[k] * grid.cell_side());
-  const double slack = std::ldexp(1.0 + e, -16) * (1.0 + chain_depth(layout) / 4.0);
+  // In units of u: a revolute step's float rotation per entry of |P| + |C| + |S| (gamma_4
+  // with the sine's growth, and the sine's bound), a, and K.
+  const double entry = 4.01 + std::ldexp(detail::kFloatSinCosError, 24) + 0.01;
+  const double a = 9.1 + std::max(1.74, entry * largest_rotation_sum(layout));
+  const double k = std::max(64.0, 4.0 * a + 12.02);
+  const double slack = std::ldexp(1.0 + e, -16) * (1.0 + k * chain_depth(layout) / 256.0);
   return std::nextafter(static_cast<float>(slack), std::numeric_limits<float>::infinity());
 }
 
@@ -405,6 +454,7 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.fine = l.fine;
   m.float_range = float_ranges(planner, l);
   m.slack = float_slack(l, scene, g, m.float_range);
+  m.learn_order(planner);
 }
 
 RobotChecker::~RobotChecker() = default;
@@ -435,6 +485,12 @@ bool RobotChecker::uses_avx2() const noexcept {
 double RobotChecker::allowance() const noexcept {
   return impl_->allowance;
 }
+TestOrder RobotChecker::test_order() const {
+  TestOrder out;
+  out.tests.assign(impl_->order.begin(), impl_->order.end());
+  out.head = static_cast<std::size_t>(impl_->kernel_robot.head);
+  return out;
+}
 GridStats RobotChecker::grid() const noexcept {
   const detail::SceneGrid& g = *impl_->grid;
   return {g.cell_side(), g.num_cells(), g.num_entries(), g.num_elements()};
@@ -458,6 +514,35 @@ void fill_block(std::vector<double>& q, const double* rows, std::size_t first, s
 }
 
 }  // namespace
+
+// The tests' hits over the sampled configurations, in doubles, every test in every lane;
+// the order by them (test_order.h), and the head of tests run before the links' bounding
+// spheres against the scene. Changes no verdict.
+void RobotChecker::Impl::learn_order(const RobotModel& planner) {
+  const std::size_t tests = layout.links.size() + layout.pair_a.size();
+  std::vector<std::uint32_t> hits(tests, 0);
+  const std::size_t n = options.order_samples, dof = layout.dof;
+  if (n > 0) {
+    order = detail::order_by_hits(hits);  // the default order while learning
+    kernel_robot.order = order.data();
+    std::vector<double> q;
+    for (const Eigen::VectorXd& x : sample_configurations(planner, layout.joint_names, n, 1))
+      q.insert(q.end(), x.data(), x.data() + x.size());
+    detail::Workspace w = workspace();
+    for (std::size_t first = 0; first < n; first += detail::kLanes) {
+      fill_block(w.q, q.data(), first, n, dof);
+      const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
+      run(w, (1u << count) - 1, Mode::spheres, false, hits.data());
+    }
+  }
+  order = detail::order_by_hits(hits);
+  kernel_robot.order = order.data();
+  // The head: the leading tests that each found at least a quarter of the samples
+  // colliding (block.h).
+  int head = 0;
+  while (n > 0 && std::size_t(head) < tests && 4 * std::size_t(hits[order[head]]) >= n) ++head;
+  kernel_robot.head = head;
+}
 
 // Blocks of kLanes configurations, run in parallel; with `undecided`, the double pass for
 // every lane and each configuration's undecided pairs.

@@ -63,6 +63,12 @@ FrameStep moving_step(const KinematicTree::Step& s, int frame, int parent,
   row_major(M * aa, f.P);
   row_major(M * (Eigen::Matrix3d::Identity() - aa), f.C);
   row_major(M * cross, f.S);
+  for (int e = 0; e < 9; ++e) {
+    f.Pf[e] = static_cast<float>(f.P[e]);
+    f.Cf[e] = static_cast<float>(f.C[e]);
+    f.Sf[e] = static_cast<float>(f.S[e]);
+  }
+  for (int k = 0; k < 3; ++k) f.uf[k] = static_cast<float>(f.u[k]);
   return f;
 }
 

@@ -30,6 +30,8 @@ struct FrameStep {
   int source = 0;  // index into q
   double multiplier = 1.0, offset = 0.0;
   double P[9] = {}, C[9] = {}, S[9] = {}, u[3] = {}, v[3] = {};
+  // Revolute: P, C, S and u rounded to floats (the float pass's transform).
+  float Pf[9] = {}, Cf[9] = {}, Sf[9] = {}, uf[3] = {};
 };
 
 struct LinkLayout {

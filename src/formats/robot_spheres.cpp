@@ -1,5 +1,6 @@
 #include "medspheres/formats/robot_spheres.h"
 
+#include <algorithm>
 #include <set>
 
 #include "medspheres/error.h"
@@ -19,6 +20,12 @@ void validate_robot_spheres(const RobotSpheres& spheres, const std::string& sour
   std::set<std::string> seen;
   for (const LinkSphereList& l : spheres) {
     if (l.link.empty()) throw InputError(source, "a link has an empty name");
+    // XML normalises a carriage return, a tab or a line break in an attribute to another
+    // character, so such a name would not survive the SRDF and URDF writers' round trip;
+    // no URDF means one.
+    const auto control = [](unsigned char c) { return c < 0x20 || c == 0x7f; };
+    if (std::any_of(l.link.begin(), l.link.end(), control))
+      throw InputError(source, "link \"" + l.link + "\" has a control character in its name");
     if (!seen.insert(l.link).second)
       throw InputError(source, "link \"" + l.link + "\" is listed twice");
     SphereSet set;

@@ -6,7 +6,9 @@
 /// (covering and inner sets), the fine sets (a larger cover and inner set per link, baked
 /// once), and only for the pairs these leave undecided, decide() of bounded_geometry.h on
 /// the links' BoundedGeometry (their sphere trees, with the meshes' surface points), then,
-/// when no pair is certainly colliding, settle() by the exact meshes (as robot_collide).
+/// when no pair is certainly colliding, settle() by the exact meshes (as robot_collide); a
+/// link's mesh against an fcl::OcTree by OctreeCells (octree_cells.h): FCL's mesh-to-box
+/// distance on the cells near the link, the leaf tests of FCL's own octree query.
 ///
 /// Verdicts: colliding when some link pair is within the margin, free when none is, each
 /// certified (never a missed collision): by the certified covers and the inner sets, and
@@ -33,6 +35,7 @@
 #include <fcl/narrowphase/collision_object.h>
 
 #include "medspheres/check/robot_checker.h"
+#include "medspheres/fcl/octree_cells.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/scene_from_fcl.h"
 
@@ -60,10 +63,10 @@ struct FallbackOptions {
   /// spare mesh queries). Null: the fine sets when given, else the planner's.
   const RobotModel* trees = nullptr;
   /// samples > 0: the pairs and witnesses of RobotBounds' SelfPairOrder (robot_bounds.h,
-  /// learnt at construction from seeded configurations at order.margin, which should be
-  /// the checker's margin): the fallback tests the witnesses of a configuration's
-  /// undecided self pairs first, then decides its pairs in robot_collide's order (the
-  /// self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
+  /// learnt at construction from seeded configurations at the checker's margin,
+  /// CheckerOptions::margin; order.margin is not read): the fallback tests the witnesses of a
+  /// configuration's undecided self pairs first, then decides its pairs in robot_collide's order
+  /// (the self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
   SelfPairOrder order;
 };
 
@@ -115,6 +118,10 @@ class CertifiedChecker {
   // decide() (FallbackOptions::order), and the indices of its witnesses.
   std::vector<std::size_t> rank_;
   std::vector<std::vector<std::size_t>> witnesses_of_;
+  // By index in scene_: the cells of an fcl::OcTree, else null; by geometry: the link as
+  // OctreeCells takes it (null without a mesh or without an octree in the scene).
+  std::vector<std::unique_ptr<const OctreeCells>> cells_;
+  std::vector<std::unique_ptr<const OctreeCells::Link>> cell_links_;
 };
 
 }  // namespace medspheres::fcl

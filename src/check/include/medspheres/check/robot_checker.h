@@ -78,6 +78,13 @@ struct CheckerOptions {
   bool float_tests = true;
   double cell = 0.0;                 ///< m: the scene grid's cell side (0: half the reach)
   std::size_t max_cells = 1u << 22;  ///< the grid's cells at most (the side grows to fit)
+  /// The order of the tests (a link against the scene, a self pair; in the bounds mode
+  /// within each level): at construction, this many configurations drawn within the
+  /// joints' limits (sample_configurations.h, a fixed seed) are checked in the spheres
+  /// mode, and the tests that found them colliding most often run first, so that a
+  /// colliding configuration stops sooner. 0: each link against the scene, then each self
+  /// pair. The verdicts (and undecided pairs) are the same for every order.
+  std::size_t order_samples = 256;
 };
 
 /// A pair left undecided by the bounds: `link` indexes links(); `other` is a link index
@@ -91,6 +98,16 @@ struct UndecidedPair {
 struct GridStats {
   double cell_side = 0.0;
   std::size_t cells = 0, entries = 0, elements = 0;
+};
+
+/// The order the checker runs its tests in (CheckerOptions::order_samples), for reports:
+/// per test, a link index (the link against the scene) or links().size() + k for self
+/// pair k of self_pairs(); `head`: how many of them run before the links' bounding spheres
+/// are tested against the scene (the spheres mode; the leading tests that found at least a
+/// quarter of the samples colliding).
+struct TestOrder {
+  std::vector<std::size_t> tests;
+  std::size_t head = 0;
 };
 
 class RobotChecker {
@@ -112,6 +129,7 @@ class RobotChecker {
   bool uses_avx2() const noexcept;
   double allowance() const noexcept;  ///< m (see the file comment)
   GridStats grid() const noexcept;
+  TestOrder test_order() const;
 
   /// Throws std::invalid_argument (file comment) unless each of the \p n configurations
   /// (rows as below) is finite and within +-1e6.

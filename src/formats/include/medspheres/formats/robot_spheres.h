@@ -33,7 +33,7 @@ enum class SphereChoice {
 /// is empty are left out.
 RobotSpheres robot_spheres(const RobotModel& model, SphereChoice choice = SphereChoice::kOuter);
 
-/// Checks names (non-empty, unique) and spheres (validate_sphere_set).
+/// Checks names (non-empty, unique, no control character) and spheres (validate_sphere_set).
 /// \throws InputError "<source>: link "x": ..." naming the link and the problem.
 void validate_robot_spheres(const RobotSpheres& spheres, const std::string& source);
 
