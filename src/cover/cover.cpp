@@ -65,9 +65,11 @@ double cover_cost(const MeshQuery& query, const std::vector<Sphere>& balls, doub
   return outside * std::max(detail::largest_protrusion(query, balls, threads), 0.0);
 }
 
-// V: the solid's volume, or on an open mesh (the winding solid) the interior points' cells.
-double volume_of(const MeshQuery& query, const Elements& e, const CoverOptions& o) {
-  if (const std::optional<double> v = solid_volume(query.mesh())) return *v;
+// V: the solid's volume \p solid, or on an open mesh (the winding solid, \p solid empty) the
+// interior points' cells.
+double volume_of(const MeshQuery& query, const Elements& e, const CoverOptions& o,
+                 const std::optional<double>& solid) {
+  if (solid) return *solid;
   const double cell = query.mesh().bounds().sizes().maxCoeff() / o.interior_resolution;
   return static_cast<double>(e.size() - e.surface) * cell * cell * cell;
 }
@@ -85,6 +87,7 @@ Clustering volume_stage(const MeshQuery& query, const Elements& e, const Element
   fo.iterations = kFlowIterations;
   fo.threads = threads;
   c.balls = detail::volume_flow(query, flow_elements, std::move(c.balls), fo);
+  c.settled.clear();
   detail::hold_all(e, c, threads);
   detail::shrink(e, c);
   detail::drop_empty(c);
@@ -112,11 +115,12 @@ Candidate refined(Elements e, Clustering c, const CoverOptions& o) {
 // refined. Refining only shrinks balls, so the cap holds after it.
 Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
                  const CoverOptions& options, int threads, CoverStats& s) {
+  const std::optional<double>& solid = s.mesh_volume;
   const Elements fine =
       detail::make_patches(e, budget, kFinePatchFloor, query.mesh().bounds().min());
   s.patches = fine.surface;
   detail::ProtrusionStage p =
-      detail::protrusion_stage(query, e, fine, budget, options.rounds, threads);
+      detail::protrusion_stage(query, e, fine, budget, options.rounds, solid, threads);
   s.rounds_run = p.rounds;
   std::vector<Clustering> results;
   if (options.volume_descent) {
@@ -135,7 +139,7 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
   }
   results.insert(results.begin(), std::move(p.clustering));
   results.push_back(detail::one_ball(query, e, threads));
-  const double volume = options.interior_resolution > 0 ? volume_of(query, e, options) : 0.0;
+  const double volume = options.interior_resolution > 0 ? volume_of(query, e, options, solid) : 0.0;
   const double one = detail::union_volume(results.back().balls);
   std::size_t best = results.size() - 1;
   double least = cover_cost(query, results.back().balls, volume, threads);
@@ -168,9 +172,9 @@ void check_cover_options(std::size_t budget, const CoverOptions& o) {
   check_threads(o.threads);
 }
 
+// s.mesh_volume is already set (solid_volume, once per call).
 void measure(const MeshQuery& query, const std::vector<Sphere>& balls, int threads, CoverStats& s) {
   s.union_volume = measure_union(balls).volume;
-  s.mesh_volume = solid_volume(query.mesh());
   s.excess_volume = s.mesh_volume ? (s.union_volume - *s.mesh_volume) / *s.mesh_volume
                                   : std::numeric_limits<double>::quiet_NaN();
   const std::vector<double> p = sphere_protrusions(query, balls, threads);
@@ -217,6 +221,7 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   CoverStats& s = out.stats;
   s.budget = budget;
   s.largest_side = query.mesh().bounds().sizes().maxCoeff();
+  s.mesh_volume = solid_volume(query.mesh());
   const Elements e = detail::make_elements(query, budget, options.interior_resolution, threads);
   s.elements = e.surface;
   s.interior_points = e.size() - e.surface;
@@ -237,6 +242,7 @@ CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& sta
   CoverStats& s = out.stats;
   s.budget = s.start_spheres = start_balls.size();
   s.largest_side = query.mesh().bounds().sizes().maxCoeff();
+  s.mesh_volume = solid_volume(query.mesh());
   const Elements e = detail::make_elements(query, start_balls.size(), 0, threads);
   s.elements = e.surface;
   // Each element to the ball that must grow least to hold it, each ball then just large

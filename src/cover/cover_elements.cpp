@@ -186,23 +186,36 @@ Elements make_patches(const Elements& e, std::size_t budget, double floor,
 // bounds the farthest distance within |g - c| +- reach, which skips most centres.
 // With \p depth (one per ball) the cost of centre j is that distance minus depth[j]: the
 // protrusion ball j would need to hold the element.
+// The centres are laid out by coordinate and the bounds computed in a loop of their own,
+// which the compiler vectorizes (the bounds are most of assign's work; the same arithmetic).
 void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int>& owner,
             int threads, const std::vector<double>& depth) {
   const long long n = static_cast<long long>(e.size());
+  const std::size_t k = balls.size();
   owner.resize(e.size());
+  std::vector<double> cx(k), cy(k), cz(k), off(k, 0.0);
+  for (std::size_t j = 0; j < k; ++j) {
+    cx[j] = balls[j].center.x(), cy[j] = balls[j].center.y(), cz[j] = balls[j].center.z();
+    if (!depth.empty()) off[j] = depth[j];
+  }
 #pragma omp parallel num_threads(threads)
   {
-    std::vector<double> lo(balls.size());
+    std::vector<double> lo(k);
 #pragma omp for schedule(static)
     for (long long ii = 0; ii < n; ++ii) {
       const std::size_t i = static_cast<std::size_t>(ii);
-      double best_hi = std::numeric_limits<double>::infinity();
-      for (std::size_t j = 0; j < balls.size(); ++j) {
-        const double g =
-            (e.centroids[i] - balls[j].center).norm() - (depth.empty() ? 0.0 : depth[j]);
-        lo[j] = g - e.reach[i];
-        best_hi = std::min(best_hi, g + e.reach[i]);
+      const double gx = e.centroids[i].x(), gy = e.centroids[i].y(), gz = e.centroids[i].z();
+      for (std::size_t j = 0; j < k; ++j) {  // lo[j]: |g - c_j| - depth_j, for now
+        const double dx = gx - cx[j], dy = gy - cy[j], dz = gz - cz[j];
+        lo[j] = std::sqrt(dx * dx + dy * dy + dz * dz) - off[j];
       }
+      // The least of them, in four independent runs (rounding is monotone, so the least
+      // plus the reach is the least of each plus the reach).
+      constexpr double kInf = std::numeric_limits<double>::infinity();
+      double m[4] = {kInf, kInf, kInf, kInf};
+      for (std::size_t j = 0; j < k; ++j) m[j % 4] = std::min(m[j % 4], lo[j]);
+      const double best_hi = std::min(std::min(m[0], m[1]), std::min(m[2], m[3])) + e.reach[i];
+      for (std::size_t j = 0; j < k; ++j) lo[j] -= e.reach[i];
       double best = std::numeric_limits<double>::infinity();
       int arg = 0;
       for (std::size_t j = 0; j < balls.size(); ++j) {
@@ -302,6 +315,7 @@ double union_volume(const std::vector<Sphere>& balls) {
 }
 
 void hold_members(const Elements& e, Clustering& c) {
+  c.settled.clear();
   const auto members = members_of(c.owner, c.balls.size());
   std::vector<char> mark(e.points.size(), 0);
   for (std::size_t j = 0; j < c.balls.size(); ++j)
@@ -340,12 +354,13 @@ std::vector<std::size_t> may_hold(const Elements& e, const std::vector<Sphere>& 
 // Ball j gives up the elements another ball holds (they move to the first such ball) and
 // keeps its centre, its radius shrunk to the farthest point it still holds; a ball left
 // with nothing goes. Every element stays held by its owner throughout.
-void shrink(const Elements& e, Clustering& c) {
+void shrink(const Elements& e, Clustering& c, bool use_marks) {
   std::vector<char> mark(e.points.size(), 0);
   const std::size_t k = c.balls.size();
   // settled[i]: no other ball held element i when its owner last kept it. Balls only
   // shrink about fixed centres, so it stays so until one grows (then all are checked again).
-  std::vector<char> settled(e.size(), 0);
+  std::vector<char>& settled = c.settled;
+  if (!use_marks || settled.size() != e.size()) settled.assign(e.size(), 0);
   for (int pass = 0; pass < 4; ++pass) {
     bool changed = false;
     auto members = members_of(c.owner, k);
@@ -404,8 +419,11 @@ void split_element(const Elements& e, std::size_t i, int owner, Elements& f,
 // ball holds leave (shrink), and the ball shrinks to the farthest piece it keeps. The
 // midpoints are computed from the corners as computed, within a few ulps of the
 // certificate's own lattice points, far below the radius slack the cover adds.
+// Only the pieces are new: an element left whole keeps the last shrink's mark (splitting
+// moves no ball), so that shrink checks only the pieces and the unmarked elements.
 void refine_binding(Elements& e, Clustering& c, int levels) {
   for (int level = 0; level < levels; ++level) {
+    const bool marked = c.settled.size() == e.size();
     std::vector<char> split(e.surface, 0);
     bool any = false;
     for (std::size_t i = 0; i < e.surface; ++i) {
@@ -418,21 +436,25 @@ void refine_binding(Elements& e, Clustering& c, int levels) {
     f.points = e.points;
     f.element_size = 0.5 * e.element_size;
     std::vector<int> owners;
+    std::vector<char> marks;
     for (std::size_t i = 0; i < e.size(); ++i) {
       if (i < e.surface && split[i]) {
         split_element(e, i, c.owner[i], f, owners);
+        marks.resize(owners.size(), 0);
       } else {
         f.items.push_back(e.items[i]);
         f.centroids.push_back(e.centroids[i]);
         f.reach.push_back(e.reach[i]);
         f.weight.push_back(e.weight[i]);
         owners.push_back(c.owner[i]);
+        marks.push_back(marked ? c.settled[i] : 0);
       }
       if (i + 1 == e.surface) f.surface = f.items.size();
     }
     e = std::move(f);
     c.owner = std::move(owners);
-    shrink(e, c);
+    c.settled = std::move(marks);
+    shrink(e, c, true);
   }
 }
 

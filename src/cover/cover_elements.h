@@ -81,6 +81,11 @@ double union_volume(const std::vector<Sphere>& balls);
 struct Clustering {
   std::vector<Sphere> balls;
   std::vector<int> owner;  // per element, the ball that holds it
+  // Per element, the last shrink's marks (1: no ball other than its owner held it), valid
+  // while the balls and owners are as that shrink left them (drop_empty keeps them); every
+  // step that moves or grows a ball or reassigns an element clears them (empty: none), and
+  // refine_binding uses them.
+  std::vector<char> settled;
 };
 
 std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k);
@@ -95,8 +100,10 @@ void hold_members(const Elements& e, Clustering& c);
 // Each element to the ball that must grow least to hold it, then hold_members.
 void hold_all(const Elements& e, Clustering& c, int threads);
 // Each ball gives up the elements another ball holds and shrinks to what it keeps; a ball
-// left with nothing gets radius 0. Every element stays held.
-void shrink(const Elements& e, Clustering& c);
+// left with nothing gets radius 0. Every element stays held. Leaves its marks in
+// c.settled; with \p use_marks it starts from them (when there is one per element), so an
+// element marked is not checked again.
+void shrink(const Elements& e, Clustering& c, bool use_marks = false);
 // The surface elements that bind a ball's radius split in four, then shrink, \p levels
 // times: the balls shrink to where the others' reach ends, at a finer grain than the
 // elements'. \p e gains the split elements. Every element stays held.

@@ -80,6 +80,7 @@ class FarthestAtoms {
 // hold its elements minus its depth; the radius is then the distance to the farthest point.
 void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads,
             double first = 0.25) {
+  c.settled.clear();
   const auto members = members_of(c.owner, c.balls.size());
   const long long k = static_cast<long long>(c.balls.size());
 #pragma omp parallel num_threads(threads)
@@ -130,6 +131,7 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
   for (int round = 0; round < rounds; ++round) {
     ++run;
     assign(e, c.balls, c.owner, threads, depth);
+    c.settled.clear();
     const auto members = members_of(c.owner, c.balls.size());
     for (std::size_t j = 0; j < c.balls.size(); ++j)
       if (members[j].empty()) c.balls[j].radius = 0.0;
@@ -145,16 +147,16 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
 }
 
 // The candidate centres: the points of a grid inside the solid (about kCandidates of them,
-// the grid at most kCandidateGrid points), each with its depth.
+// the grid at most kCandidateGrid points), each with its depth; \p volume: the solid's
+// volume (solid_volume), which sizes the grid.
 struct Candidates {
   std::vector<Eigen::Vector3d> centres;
   std::vector<double> depth;
 };
 
-Candidates candidates(const MeshQuery& query, int threads) {
+Candidates candidates(const MeshQuery& query, const std::optional<double>& volume, int threads) {
   const Eigen::AlignedBox3d box = query.mesh().bounds();
   const double box_volume = box.sizes().prod();
-  const std::optional<double> volume = solid_volume(query.mesh());
   const double cell = std::max(std::cbrt(volume.value_or(box_volume) / kCandidates),
                                std::cbrt(box_volume / kCandidateGrid));
   std::vector<Eigen::Vector3d> points;
@@ -176,8 +178,8 @@ Candidates candidates(const MeshQuery& query, int threads) {
 // hold it; the elements then go to them as in the minimax rounds, each ball as large as its
 // elements need. Empty when no cover is found.
 Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elements& p,
-                           std::size_t budget, int threads) {
-  const Candidates cand = candidates(query, threads);
+                           std::size_t budget, const std::optional<double>& volume, int threads) {
+  const Candidates cand = candidates(query, volume, threads);
   const std::size_t m_count = cand.centres.size(), items = p.size();
   Clustering c;
   if (m_count == 0) return c;
@@ -211,6 +213,7 @@ bool split(const Elements& e, Clustering& c, std::size_t j) {
   for (std::size_t i = 0; i < c.owner.size(); ++i)
     if (c.owner[i] == static_cast<int>(j)) members.push_back(i);
   if (members.size() < 2) return false;
+  c.settled.clear();
   auto farthest_from = [&](const Eigen::Vector3d& x) {
     return *std::max_element(members.begin(), members.end(), [&](std::size_t a, std::size_t b) {
       return (e.centroids[a] - x).squaredNorm() < (e.centroids[b] - x).squaredNorm();
@@ -268,6 +271,7 @@ std::size_t cheapest_removal(const Elements& e, const Clustering& c,
 // Ball \p gone's elements to their cheapest other balls; \p gone is left empty (radius 0).
 void hand_over(const Elements& e, Clustering& c, std::size_t gone,
                const std::vector<double>& depth) {
+  c.settled.clear();
   for (std::size_t i = 0; i < e.size(); ++i) {
     if (c.owner[i] != static_cast<int>(gone)) continue;
     const std::size_t m = cheapest_other(e, c, i, depth).first;
@@ -370,9 +374,10 @@ Clustering one_ball(const MeshQuery& query, const Elements& e, int threads) {
 }
 
 ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
-                                 std::size_t budget, int rounds, int threads) {
+                                 std::size_t budget, int rounds,
+                                 const std::optional<double>& volume, int threads) {
   ProtrusionStage out;
-  Clustering c = threshold_start(query, e, fine, budget, threads);
+  Clustering c = threshold_start(query, e, fine, budget, volume, threads);
   if (c.balls.empty()) c = one_ball(query, e, threads);
   double p = 0.0;
   c = local_search(query, e, std::move(c), budget, rounds, threads, p, out.rounds);
