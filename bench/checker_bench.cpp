@@ -104,6 +104,7 @@ int run(const Options& o) {
   in.fine = &fine;
   in.trees = o.tree_spheres > 0 ? &trees : nullptr;
   in.order_samples = o.order_samples;
+  in.order_seed = o.seed + 1;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -140,6 +141,7 @@ int run(const Options& o) {
     fallback.trees = in.trees ? &trees.model : nullptr;
     fallback.order.samples = o.order_samples;
     fallback.order.margin = o.margin;
+    fallback.order.seed = o.seed + 1;
     const mf::CertifiedChecker certified(
         planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
         objects, co, fallback);

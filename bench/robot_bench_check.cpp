@@ -228,14 +228,15 @@ void print_checker_rows(const CheckerBenchInput& in) {
   fallback.trees = in.trees ? &in.trees->model : nullptr;
   fallback.order.samples = in.order_samples;
   fallback.order.margin = in.margin;
+  fallback.order.seed = in.order_seed;
   const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
                                         fallback);
   const double build = seconds_since(t0);
   std::printf(
       "\ncertified fallback: %zu witnesses, %zu of %zu self pairs seen colliding in %zu "
-      "samples\n",
+      "samples (seed %u)\n",
       certified.fallback().witnesses().size(), certified.fallback().seen_colliding(),
-      certified.fallback().self_pairs().size(), in.order_samples);
+      certified.fallback().self_pairs().size(), in.order_samples, in.order_seed);
   const check::RobotChecker& spheres = certified.spheres();
   const check::GridStats g = spheres.grid();
   std::printf(
@@ -329,12 +330,12 @@ void print_checker_rows(const CheckerBenchInput& in) {
                            }) /
                double(n);
     r.colliding = colliding_of(v);
-    char note[160];
+    char note[192];
     std::snprintf(note, sizeof note,
-                  "certified: %zu configurations (%.2f%%) to the fallback, %zu pairs, %zu to the "
-                  "meshes; %zu undecided",
+                  "certified: %zu configurations (%.2f%%) to the fallback, %zu by witnesses, "
+                  "%zu pairs, %zu to the meshes; %zu undecided",
                   stats.configurations, 100.0 * double(stats.configurations) / double(n),
-                  stats.pairs, stats.meshes,
+                  stats.witnessed, stats.pairs, stats.meshes,
                   static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
     r.note = note;
     rows.push_back(r);

@@ -23,6 +23,9 @@ struct CheckerBenchInput {
   const BenchRobot* trees = nullptr;
   /// The fallback's learnt pair order and witnesses (FallbackOptions::order.samples).
   std::size_t order_samples = 0;
+  /// Their seed (FallbackOptions::order.seed): not the configurations' own, so that the
+  /// witnesses are not learnt on the configurations they are timed on.
+  unsigned order_seed = 2;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;

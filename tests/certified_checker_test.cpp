@@ -104,6 +104,36 @@ double exact_distance(const mf::CertifiedChecker& c, const RobotModel& arm, cons
   return best;
 }
 
+// The link's capsule mesh as an fcl::Convex: FCL's GJK measures the distance between the
+// solids (0 when one lies wholly inside the other), where the meshes' BVH distance measures
+// their surfaces.
+std::shared_ptr<::fcl::Convexd> convex_link(const std::string& name) {
+  for (const test::CapsuleLink& l : test::capsule_arm_links()) {
+    if (l.name != name) continue;
+    const TriangleMesh m = test::capsule_link_mesh(l);
+    auto faces = std::make_shared<std::vector<int>>();
+    for (const auto& t : m.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
+    return std::make_shared<::fcl::Convexd>(
+        std::make_shared<const std::vector<Eigen::Vector3d>>(m.vertices),
+        static_cast<int>(m.triangles.size()), faces);
+  }
+  return nullptr;
+}
+
+// The smallest distance between the solids of the checker's self pairs at q (convex_link).
+double solid_self_distance(const mf::CertifiedChecker& c, const RobotModel& arm, const double* q) {
+  const KinematicTree tree(arm);
+  const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q, 8));
+  const std::vector<std::string>& links = c.spheres().links();
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [a, b] : c.spheres().self_pairs()) {
+    const ::fcl::CollisionObjectd oa(convex_link(links[a]), X[tree.link_index(links[a])]);
+    const ::fcl::CollisionObjectd ob(convex_link(links[b]), X[tree.link_index(links[b])]);
+    best = std::min(best, fcl_distance(oa, ob));
+  }
+  return best;
+}
+
 check::CheckerOptions options(double margin) {
   check::CheckerOptions o;
   o.margin = margin;
@@ -245,4 +275,86 @@ TEST_CASE("certified checker: a learnt pair order and witnesses change no verdic
   const mf::RobotBounds at_zero(fine, world().meshes, options(margin).disabled, {}, fallback.order);
   CHECK(unset.fallback().witnesses().size() == at_margin.witnesses().size());
   CHECK(at_zero.witnesses().size() != at_margin.witnesses().size());
+}
+
+TEST_CASE(
+    "certified checker: a witness settles only configurations the exact meshes find colliding",
+    "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  // Witnesses finer than the bounds' inner sets (those would have decided already).
+  const RobotModel trees = test::capsule_arm(24);
+  const double margin = 0.01;
+  constexpr std::size_t kConfigs = 1500;
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  fallback.order.samples = 400;
+  fallback.order.seed = 5;
+  // No scene: every fallback is a self pair's, where the witnesses are.
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
+  const std::vector<double> q = test::capsule_arm_configs(kConfigs, 24);
+  std::size_t witnessed = 0, fallbacks = 0;
+  for (std::size_t i = 0; i < kConfigs; ++i) {
+    mf::FallbackStats s;
+    const Verdict v = learnt.check(q.data() + 8 * i, &s);
+    fallbacks += s.configurations;
+    if (s.witnessed == 0) continue;
+    ++witnessed;
+    CHECK(v == Verdict::colliding);
+    CHECK(s.pairs == 0);  // no pair walked
+    CHECK(solid_self_distance(learnt, arm, q.data() + 8 * i) <= margin + kGjkTolerance);
+  }
+  INFO("witnesses " << learnt.fallback().witnesses().size() << ", fallbacks " << fallbacks);
+  CHECK(witnessed > 0);
+  CHECK(witnessed < fallbacks);
+  // The batch and the edges agree with one configuration at a time.
+  std::vector<Verdict> batch(kConfigs);
+  mf::FallbackStats s;
+  learnt.check(q.data(), kConfigs, batch.data(), 2, &s);
+  CHECK(s.witnessed == witnessed);
+  for (std::size_t i = 0; i < kConfigs; ++i) CHECK(learnt.check(q.data() + 8 * i) == batch[i]);
+  std::vector<Verdict> edges(kConfigs - 1);
+  mf::FallbackStats se;
+  learnt.check_edges(q.data(), q.data() + 8, kConfigs - 1, 0.1, edges.data(), 2, &se);
+  CHECK(se.witnessed > 0);
+  std::vector<double> at(8);
+  for (std::size_t e = 0; e < kConfigs - 1; ++e) {
+    const double* q0 = q.data() + 8 * e;
+    const std::size_t n = learnt.spheres().edge_steps(q0, q0 + 8, 0.1);
+    Verdict truth = Verdict::free;
+    for (std::size_t k = 0; k <= n && truth != Verdict::colliding; ++k) {
+      for (int j = 0; j < 8; ++j) at[j] = q0[j] + double(k) / double(n) * (q0[8 + j] - q0[j]);
+      const Verdict v = learnt.check(at.data());
+      if (v != Verdict::free) truth = v;
+    }
+    CHECK(edges[e] == truth);
+  }
+}
+
+TEST_CASE("certified checker: every witness that holds is a pair of solids within the margin",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const RobotModel trees = test::capsule_arm(24);
+  const double margin = 0.01;
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  fallback.order.samples = 400;
+  fallback.order.seed = 5;
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
+  const mf::RobotBounds& rb = learnt.fallback();
+  REQUIRE(!rb.witnesses().empty());
+  const std::vector<double> q = test::capsule_arm_configs(1500, 25);
+  std::size_t held = 0;
+  for (std::size_t i = 0; i < 1500; ++i) {
+    const auto X = rb.poses(Eigen::Map<const Eigen::VectorXd>(q.data() + 8 * i, 8),
+                            Eigen::Isometry3d::Identity());
+    for (const mf::SelfWitness& w : rb.witnesses()) {
+      if (!mf::witness_holds(w, X, margin)) continue;
+      ++held;
+      const ::fcl::CollisionObjectd a(convex_link(rb.geometries()[w.a].link()), X[w.a]);
+      const ::fcl::CollisionObjectd b(convex_link(rb.geometries()[w.b].link()), X[w.b]);
+      INFO(rb.geometries()[w.a].link() << " " << rb.geometries()[w.b].link());
+      CHECK(fcl_distance(a, b) <= margin + kGjkTolerance);
+    }
+  }
+  CHECK(held > 20);
 }

@@ -44,11 +44,13 @@ namespace medspheres::fcl {
 /// What a batch needed besides the spheres.
 struct FallbackStats {
   std::size_t configurations = 0;  ///< configurations that reached the fallback
+  std::size_t witnessed = 0;       ///< of these, settled by a witness (no pair walked)
   std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
   std::size_t meshes = 0;          ///< pairs that the exact meshes settled
 
   FallbackStats& operator+=(const FallbackStats& o) {
     configurations += o.configurations;
+    witnessed += o.witnessed;
     pairs += o.pairs;
     meshes += o.meshes;
     return *this;
@@ -64,9 +66,12 @@ struct FallbackOptions {
   const RobotModel* trees = nullptr;
   /// samples > 0: the pairs and witnesses of RobotBounds' SelfPairOrder (robot_bounds.h,
   /// learnt at construction from seeded configurations at the checker's margin,
-  /// CheckerOptions::margin; order.margin is not read): the fallback tests the witnesses of a
-  /// configuration's undecided self pairs first, then decides its pairs in robot_collide's order
-  /// (the self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
+  /// CheckerOptions::margin; order.margin is not read): the fallback poses a configuration
+  /// the bounds leave undecided and tests every witness first (two points of the links'
+  /// solids, inner balls or mesh vertices, certainly within the margin: colliding, before
+  /// the bounds are run again for its undecided pairs), then decides its pairs in
+  /// robot_collide's order (the self pairs most often colliding first). samples = 0: the
+  /// bounds' order, no witnesses.
   SelfPairOrder order;
 };
 
@@ -104,9 +109,17 @@ class CertifiedChecker {
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
                    const check::CheckerOptions& options, const FallbackOptions& fallback);
+  using Poses = std::vector<::fcl::Transform3d>;
   check::Verdict settle(const double* q, FallbackStats& stats) const;
+  Poses poses(const double* q) const;
+  bool witnessed(const Poses& X) const;
+  // The rows of q among \p n that the bounds left undecided (out[i] undecided) and no
+  // witness settles (those become colliding): their indices and poses, in order.
+  std::vector<std::size_t> unwitnessed(const double* q, std::size_t n, check::Verdict* out,
+                                       std::vector<Poses>& X, int threads,
+                                       FallbackStats& stats) const;
   std::vector<check::UndecidedPair> ordered(const std::vector<check::UndecidedPair>& pairs) const;
-  check::Verdict settle_pairs(const double* q, const std::vector<check::UndecidedPair>& pairs,
+  check::Verdict settle_pairs(const Poses& X, const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
 
   check::RobotChecker checker_;
@@ -115,9 +128,8 @@ class CertifiedChecker {
   std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
   std::vector<std::size_t> geometry_of_;   // checker link -> index in bounds_.geometries()
   // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
-  // decide() (FallbackOptions::order), and the indices of its witnesses.
+  // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;
-  std::vector<std::vector<std::size_t>> witnesses_of_;
   // By index in scene_: the cells of an fcl::OcTree, else null; by geometry: the link as
   // OctreeCells takes it (null without a mesh or without an octree in the scene).
   std::vector<std::unique_ptr<const OctreeCells>> cells_;
