@@ -84,6 +84,8 @@ CertifiedChecker::CertifiedChecker(
     const auto [a, b] = bounds_.self_pairs()[k];
     rank_[std::min(a, b) * G + std::max(a, b)] = k;
   }
+  if (fallback.table_cells > 0)
+    bake_tables(fallback.trees ? *fallback.trees : fine ? *fine : planner, fallback.table_cells);
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
@@ -113,6 +115,27 @@ std::vector<check::UndecidedPair> CertifiedChecker::ordered(
                      return key(x) < key(y);
                    });
   return out;
+}
+
+// The self pairs' tables, two pairs at a time.
+void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells) {
+  const std::size_t G = bounds_.geometries().size();
+  const auto& pairs = bounds_.self_pairs();
+  tables_.resize(G * G);
+  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long k = 0; k < static_cast<long>(pairs.size()); ++k) {
+    const auto [a, b] = pairs[std::size_t(k)];
+    tables_[std::min(a, b) * G + std::max(a, b)] =
+        PairJointTable::build(model, bounds_.kinematics(), bounds_.link_of()[a], g[a],
+                              bounds_.link_of()[b], g[b], checker_.options().margin, cells);
+  }
+}
+
+const PairJointTable* CertifiedChecker::table(std::size_t a, std::size_t b) const {
+  const std::size_t G = bounds_.geometries().size();
+  if (tables_.empty() || a >= G || b >= G) return nullptr;
+  return tables_[std::min(a, b) * G + std::max(a, b)].get();
 }
 
 CertifiedChecker::Poses CertifiedChecker::poses(const double* q) const {
@@ -169,14 +192,14 @@ check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) c
   std::vector<check::UndecidedPair> pairs;
   v = checker_.check(q, check::Mode::bounds, &pairs);
   if (v != check::Verdict::undecided) return v;
-  return settle_pairs(X[0], pairs, stats);
+  return settle_pairs(q, X[0], pairs, stats);
 }
 
 // A configuration the bounds left undecided, with the pairs they left open, posed (X): as
 // robot_collide does, decide() on every pair (the links' sphere trees, surface points
 // included), stopping at the first certainly colliding one; only when none is do the meshes
 // settle() the pairs still open.
-check::Verdict CertifiedChecker::settle_pairs(const Poses& X,
+check::Verdict CertifiedChecker::settle_pairs(const double* q, const Poses& X,
                                               const std::vector<check::UndecidedPair>& pairs,
                                               FallbackStats& stats) const {
   const double margin = checker_.options().margin;
@@ -185,8 +208,14 @@ check::Verdict CertifiedChecker::settle_pairs(const Poses& X,
   std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
   const std::vector<check::UndecidedPair> in_order = ordered(pairs);
   for (const check::UndecidedPair& p : in_order) {
-    ++stats.pairs;
     const std::size_t a = geometry_of_[p.link];
+    if (const PairJointTable* t = p.self ? table(a, geometry_of_[p.other]) : nullptr) {
+      const BoundsVerdict v = t->verdict(q);
+      stats.tabled += v != BoundsVerdict::undecided;
+      if (v == BoundsVerdict::colliding) return check::Verdict::colliding;
+      if (v == BoundsVerdict::free) continue;
+    }
+    ++stats.pairs;
     const CollideResult r =
         p.self ? decide(g[a], X[a], g[geometry_of_[p.other]], X[geometry_of_[p.other]], margin)
                : decide(g[a], X[a], *object(p)->collisionGeometry(), object(p)->getTransform(),
@@ -240,8 +269,9 @@ void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
     const std::size_t j = std::size_t(k);
-    out[open[j]] =
-        again[j] == check::Verdict::undecided ? settle_pairs(X[j], pairs[j], each[j]) : again[j];
+    out[open[j]] = again[j] == check::Verdict::undecided
+                       ? settle_pairs(rows.data() + j * dof, X[j], pairs[j], each[j])
+                       : again[j];
   }
   if (!stats) return;
   *stats += s;
@@ -271,8 +301,9 @@ check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, 
     checker_.check_bounds(q.data(), m, again.data(), pairs.data(), 1);
   bool undecided = false;
   for (std::size_t k = 0; k < m && out != check::Verdict::colliding; ++k) {
-    const check::Verdict w =
-        again[k] == check::Verdict::undecided ? settle_pairs(X[k], pairs[k], s) : again[k];
+    const check::Verdict w = again[k] == check::Verdict::undecided
+                                 ? settle_pairs(q.data() + k * dof, X[k], pairs[k], s)
+                                 : again[k];
     if (w == check::Verdict::colliding) out = w;
     undecided = undecided || w == check::Verdict::undecided;
   }

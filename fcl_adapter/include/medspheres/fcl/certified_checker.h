@@ -36,6 +36,7 @@
 
 #include "medspheres/check/robot_checker.h"
 #include "medspheres/fcl/octree_cells.h"
+#include "medspheres/fcl/pair_joint_table.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/scene_from_fcl.h"
 
@@ -45,12 +46,14 @@ namespace medspheres::fcl {
 struct FallbackStats {
   std::size_t configurations = 0;  ///< configurations that reached the fallback
   std::size_t witnessed = 0;       ///< of these, settled by a witness (no pair walked)
+  std::size_t tabled = 0;          ///< pairs a PairJointTable settled
   std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
   std::size_t meshes = 0;          ///< pairs that the exact meshes settled
 
   FallbackStats& operator+=(const FallbackStats& o) {
     configurations += o.configurations;
     witnessed += o.witnessed;
+    tabled += o.tabled;
     pairs += o.pairs;
     meshes += o.meshes;
     return *this;
@@ -73,6 +76,11 @@ struct FallbackOptions {
   /// robot_collide's order (the self pairs most often colliding first). samples = 0: the
   /// bounds' order, no witnesses.
   SelfPairOrder order;
+  /// > 0: every self pair that PairJointTable takes (pair_joint_table.h: its relative pose
+  /// hangs on one or two revolute joints) gets a table of at most this many cells, baked at
+  /// construction at the checker's margin; the fallback asks it before the pair's sphere
+  /// trees. 0: no tables.
+  std::size_t table_cells = 0;
 };
 
 class CertifiedChecker {
@@ -87,6 +95,9 @@ class CertifiedChecker {
   /// The fallback's geometries (the trees' sets when given, else the fine sets when given,
   /// else the planner's; with the meshes).
   const RobotBounds& fallback() const noexcept { return bounds_; }
+  /// The table of the self pair of geometries a and b (indices in fallback().geometries()),
+  /// or null (FallbackOptions::table_cells).
+  const PairJointTable* table(std::size_t a, std::size_t b) const;
 
   /// Verdicts of \p n configurations (rows of spheres().num_positions()), \p threads as
   /// RobotChecker::check. \p stats, when given, is added to.
@@ -119,8 +130,10 @@ class CertifiedChecker {
                                        std::vector<Poses>& X, int threads,
                                        FallbackStats& stats) const;
   std::vector<check::UndecidedPair> ordered(const std::vector<check::UndecidedPair>& pairs) const;
-  check::Verdict settle_pairs(const Poses& X, const std::vector<check::UndecidedPair>& pairs,
+  check::Verdict settle_pairs(const double* q, const Poses& X,
+                              const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
+  void bake_tables(const RobotModel& model, std::size_t cells);
 
   check::RobotChecker checker_;
   RobotBounds bounds_;
@@ -130,6 +143,7 @@ class CertifiedChecker {
   // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
   // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;
+  std::vector<std::unique_ptr<const PairJointTable>> tables_;  // by geometry pair, or null
   // By index in scene_: the cells of an fcl::OcTree, else null; by geometry: the link as
   // OctreeCells takes it (null without a mesh or without an octree in the scene).
   std::vector<std::unique_ptr<const OctreeCells>> cells_;
