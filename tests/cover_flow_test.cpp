@@ -124,9 +124,9 @@ TEST_CASE("refine_binding: balls only shrink, the elements stay held, the area s
 
 TEST_CASE("elements of a dense mesh: adjacent triangles in pairs, refined and certified",
           "[cover][flow]") {
-  // 49,152 triangles, more than the elements the bake needs: the triangles go in pairs, each
+  // 86,400 triangles, more than twice the elements the bake needs: the triangles go in pairs, each
   // element two triangles of the mesh (abc and abd) or one, every triangle in exactly one.
-  const TriangleMesh torus = make_torus(1.0, 0.3, 256, 96);
+  const TriangleMesh torus = make_torus(1.0, 0.3, 360, 120);
   const MeshQuery query(torus);
   Elements e = detail::make_elements(query, 16, 0, 1);
   REQUIRE(e.surface == e.size());

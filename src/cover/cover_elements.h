@@ -36,6 +36,7 @@ struct Elements {
   std::vector<double> weight;
   std::size_t surface = 0;
   double element_size = 0.0;  // the surface elements' target length
+  bool paired = false;        // the mesh's triangles went in pairs (make_elements)
   bool patches() const { return items.empty(); }
   std::size_t size() const { return centroids.size(); }
 };
