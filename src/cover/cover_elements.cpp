@@ -605,16 +605,17 @@ Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vecto
 
 // point_triangle.h's distance is within 32 u S of the true one (S = |y| + |y - a| + the
 // longest edge), as is the closest-point query's for the same triangle, and the query returns
-// at most that: a margin of 1e-12 S (far above 64 u S) keeps the answer exact.
-bool may_lower(const MeshQuery& query, const Eigen::Vector3d& y, const Probe& px, double level) {
+// at most that: a margin of 1e-12 S (far above 64 u S) makes the bound hold as computed.
+double depth_bound(const MeshQuery& query, const Eigen::Vector3d& y, const Probe& px) {
   const TriangleMesh& mesh = query.mesh();
-  if (px.triangle < 0 || static_cast<std::size_t>(px.triangle) >= mesh.num_triangles()) return true;
+  if (px.triangle < 0 || static_cast<std::size_t>(px.triangle) >= mesh.num_triangles())
+    return std::numeric_limits<double>::infinity();
   const std::size_t t = static_cast<std::size_t>(px.triangle);
   const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
   const double d = (closest_point_on_triangle(y, a, b, c) - y).norm();
   const double S =
       y.norm() + (y - a).norm() + std::max({(b - a).norm(), (c - b).norm(), (a - c).norm()});
-  return d > level - 1e-12 * S;
+  return d + 1e-12 * S;
 }
 
 }  // namespace medspheres::detail

@@ -135,9 +135,10 @@ struct Probe {
 };
 Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vector3d& x,
             const Probe& px);
-// False only when the signed distance at y is surely at most \p level: the distance from y
-// to px's triangle is (D(y) <= |D(y)| <= that distance), by more than its rounding; so a
-// search for a point of depth above \p level skips y without a closest-point query.
-bool may_lower(const MeshQuery& query, const Eigen::Vector3d& y, const Probe& px, double level);
+// An upper bound on the signed distance that probe(query, y, x, px) returns, without a
+// closest-point query: the distance from y to px's triangle (D(y) <= |D(y)| <= it) plus a
+// margin above the rounding of both; +infinity when px has no triangle of the mesh (none, or
+// a cap's). A search for a deeper point skips y when even this depth does not help.
+double depth_bound(const MeshQuery& query, const Eigen::Vector3d& y, const Probe& px);
 
 }  // namespace medspheres::detail
