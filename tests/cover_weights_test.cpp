@@ -75,7 +75,7 @@ TEST_CASE("bake_cover: weights make the balls over a contact region stick out le
   CHECK(tight.stats.max_protrusion == Approx(std::max(t.contact, t.rest)).epsilon(1e-6));
 }
 
-TEST_CASE("bake_cover: inactive weights change nothing; bad weights are refused", "[cover]") {
+TEST_CASE("bake_cover: inactive weights change nothing, bad weights are refused", "[cover]") {
   const MeshQuery query(make_box(kHalf, 2));
   CoverOptions unit;
   unit.weights = {contact_face(), 0.05, 1.0};  // weight 1: inactive
