@@ -66,7 +66,9 @@
 #include "medspheres/formats/self_collision_report.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
 #include "medspheres/number_text.h"
 #include "medspheres/robot_bake/contact_regions.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
@@ -97,6 +99,7 @@ struct Options {
   std::vector<std::string> link_budgets;  // NAME=K
   std::vector<std::string> buffers;       // NAME=M, added to the medspheres row's
   bool contact = false;                   // add the contact-aware row
+  bool contact_regions = false;           // and print its regions' protrusions
   ContactOptions contact_options;
 };
 
@@ -405,6 +408,48 @@ void print_row(const Planner& p, const Tally& t, std::size_t eval) {
       1e3 * t.pen_max, eval, t.fp_cfg, t.fp_pairs, t.fn_cfg, t.fn_pairs, t.skipped_hits);
 }
 
+// Per link with a contact region (the regions recomputed from the first bake's matrix): the
+// largest protrusion of its covering balls that reach the region, in the first bake and in
+// the contact-aware one, and of the contact-aware one's other balls (mm): what the weights
+// bought where the partners come.
+void print_contact_protrusions(const Baked& first, const Baked& contact, const Options& o) {
+  PlannerRequest r;
+  r.self_collision.samples = o.samples;
+  r.self_collision.seed = o.seed;
+  r.self_collision.threads = o.threads;
+  const PlannerSetup s =
+      make_planner_setup(first.model, first.solids, formats::SphereChoice::kOuter, r);
+  std::map<std::string, double> locked;
+  for (const std::string& j : s.locked_joints) locked[j] = s.default_positions.at(j);
+  const auto regions =
+      contact_regions(first.model, first.solids, *s.self_collision, locked, o.contact_options);
+  std::printf(
+      "  contact regions (link: points; mm stuck out by the balls reaching it, first -> "
+      "contact; the other balls):\n");
+  for (std::size_t i = 0; i < first.model.links.size(); ++i) {
+    const auto it = regions.find(first.model.links[i].name);
+    if (it == regions.end()) continue;
+    const MeshQuery query(first.solids[i].placed_mesh());
+    const auto split = [&](const std::vector<Sphere>& balls) {
+      const std::vector<double> p = sphere_protrusions(query, balls, o.threads);
+      std::pair<double, double> out{0.0, 0.0};
+      for (std::size_t k = 0; k < balls.size(); ++k) {
+        const bool reaches = std::any_of(
+            it->second.points.begin(), it->second.points.end(), [&](const Eigen::Vector3d& q) {
+              return (q - balls[k].center).norm() <= balls[k].radius + it->second.reach;
+            });
+        double& into = reaches ? out.first : out.second;
+        into = std::max(into, p[k]);
+      }
+      return out;
+    };
+    const auto a = split(first.model.links[i].spheres.outer.spheres);
+    const auto c = split(contact.model.links[i].spheres.outer.spheres);
+    std::printf("    %s: %zu; %.1f -> %.1f; %.1f\n", it->first.c_str(), it->second.points.size(),
+                1e3 * a.first, 1e3 * c.first, 1e3 * c.second);
+  }
+}
+
 void run_robot(const std::string& urdf, const std::string& curobo_yml, const Options& o) {
   const auto t0 = std::chrono::steady_clock::now();
   const Baked b = bake(urdf, o);
@@ -414,7 +459,11 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
   std::set<std::pair<std::size_t, std::size_t>> judged;
   std::vector<Planner> rows;
   rows.push_back(medspheres_planner(b, o, judged));
-  if (o.contact) rows.push_back(medspheres_planner(bake(urdf, o, true), o, judged, "contact"));
+  if (o.contact) {
+    const Baked c = bake(urdf, o, true);
+    rows.push_back(medspheres_planner(c, o, judged, "contact"));
+    if (o.contact_regions) print_contact_protrusions(b, c, o);
+  }
   if (!curobo_yml.empty()) rows.push_back(curobo_planner(b, curobo_yml));
   // The evaluation's configurations and, per pair judged, whether the solids collide.
   const LinkSolids solids(b.model, b.solids);
@@ -489,6 +538,8 @@ int main(int argc, char** argv) {
                         "medspheres row (negative: the spheres shrink and no longer cover)");
   args.app().add_flag("--contact", o.contact,
                       "Add the row of contact-aware covers (contact_regions.h)");
+  args.app().add_flag("--contact-regions", o.contact_regions,
+                      "With --contact: print each contact region's protrusions");
   args.add("--contact-samples", o.contact_options.samples,
            "Configurations the contact regions are learnt from");
   args.add("--contact-band", o.contact_options.band,
