@@ -163,7 +163,8 @@ Baked bake(const std::string& urdf, const Options& o, bool contact = false) {
   if (!contact) return b;
   const ContactOptions& c = o.contact_options;
   const std::string suffix = ".contact-" + std::to_string(c.samples) + "-" +
-                             exact_number_text(c.band) + "-" + exact_number_text(c.weight);
+                             exact_number_text(c.band) + "-" + exact_number_text(c.weight) + "-" +
+                             exact_number_text(c.min_share);
   b.model = cached_model(o, key + suffix + ".robot.json", [&] {
     RobotBakeResult first;
     first.model = b.model;
@@ -544,6 +545,8 @@ int main(int argc, char** argv) {
            "Configurations the contact regions are learnt from");
   args.add("--contact-band", o.contact_options.band,
            "Metres: partners' points within it of a link make its contact region");
+  args.add("--contact-min-share", o.contact_options.min_share,
+           "Keep the region's cells partners came to in at least this share of the samples");
   args.add("--contact-weight", o.contact_options.weight,
            "How many times a contact ball's protrusion counts");
   args.add("--arms", o.arms, "Generated arms (seeds 1..N, 6 joints)");

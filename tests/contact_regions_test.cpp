@@ -102,6 +102,14 @@ TEST_CASE("contact regions: where the partner comes, and covers tighter there", 
     CHECK(std::abs(box_depth(p)) <= contact.band + 1e-9);
     CHECK(p.x() >= kHalfA.x() - contact.band - 1e-9);
   }
+  // Where the partner comes often: a subset of the region.
+  ContactOptions often = contact;
+  often.min_share = 0.02;
+  const auto frequent = contact_regions(first.model, solids, *setup.self_collision, {}, often);
+  REQUIRE(frequent.count("a"));
+  CHECK(frequent.at("a").points.size() < ra.points.size());
+  for (const Eigen::Vector3d& p : frequent.at("a").points)
+    CHECK(std::find(ra.points.begin(), ra.points.end(), p) != ra.points.end());
   // The same regions for any thread count.
   contact.threads = 1;
   const auto one = contact_regions(first.model, solids, *setup.self_collision, {}, contact);
@@ -129,6 +137,9 @@ TEST_CASE("contact options out of range are refused, naming the option", "[conta
   o = {};
   o.weight = 0.5;
   CHECK_THROWS_WITH(validate(o), Catch::Contains("contact_weight"));
+  o = {};
+  o.min_share = 1.5;
+  CHECK_THROWS_WITH(validate(o), Catch::Contains("contact_min_share"));
   o = {};
   o.samples = 0;
   CHECK_THROWS_WITH(validate(o), Catch::Contains("contact_samples"));

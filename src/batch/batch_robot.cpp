@@ -240,7 +240,8 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
   if (job.contact)
     t += "contact=" + std::to_string(job.contact->samples) + " " +
          std::to_string(job.contact->seed) + " " + exact_number_text(job.contact->band) + " " +
-         exact_number_text(job.contact->weight) + "\n";
+         exact_number_text(job.contact->weight) + " " + exact_number_text(job.contact->min_share) +
+         "\n";
   if (!job.planner.srdf.empty()) t += "srdf_sha256=" + file_sha256(job.planner.srdf) + "\n";
   return sha256_hex(t + "\noptions=" + job.options_json + "\n");
 }

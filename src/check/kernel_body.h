@@ -38,38 +38,54 @@
 namespace medspheres::check::detail {
 namespace {
 
+// The small helpers of the hot loops, inlined into their callers whatever the compiler's
+// size heuristics say: a call of an AVX2 function costs a vzeroupper and a stack frame
+// each time, which in the spheres mode took more time than the helpers' own arithmetic.
+#define MEDSPHERES_KERNEL_INLINE inline __attribute__((always_inline))
+
 // ---- Forward kinematics, in doubles, kHalf lanes at a time.
 
-// Rounds every lane to the nearest integer (ties to even), exact for |x| < 2^51.
-VD round_nearest(VD x) {
-  const double kRound = 6755399441055744.0;  // 1.5 * 2^52
+// Rounds every lane to the nearest integer (ties to even), exact for |x| < 2^51 (doubles)
+// or 2^22 (floats).
+template <class V>
+MEDSPHERES_KERNEL_INLINE V round_nearest(V x) {
+  using T = typename V::T;
+  const T kRound = sizeof(T) == sizeof(double) ? T(6755399441055744.0) : T(12582912.0);  // 1.5 2^p
   return (x + splat(kRound)) - splat(kRound);
 }
 
 // x reduced by pi / 2 (Cody and Waite's reduction, three parts, exact for |x| < 2^26):
-// r in [-pi/4, pi/4] (a hair more: the quotient's rounding), and the quadrant's selectors,
-// each 0, 1 or -1: sin x = (sin r keep + cos r swap) sign_s, cos x = (cos r keep +
-// sin r swap) sign_c, exact arithmetic on them (no per-lane branch).
-void reduce_quarter(VD x, VD& r, VD& keep, VD& swap, VD& sign_s, VD& sign_c) {
+// r in [-pi/4, pi/4] (a hair more: the quotient's rounding), and the quadrant m = k mod 4
+// in {0, 1, 2, 3} of the quotient k.
+MEDSPHERES_KERNEL_INLINE void reduce_angle(VD x, VD& r, VD& m) {
   const VD k = round_nearest(x * splat(0.63661977236758134308));
   r = ((x - k * splat(1.57079625129699707031)) - k * splat(7.54978941586159635335e-8)) -
       k * splat(5.39030285815811905290e-15);
-  // m = k mod 4 in {0, 1, 2, 3}; sin x = (s, c, -s, -c)[m], cos x = (c, -s, -c, s)[m].
-  const VD m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
-  const VD half = round_nearest(m * splat(0.5) - splat(0.25));               // 0, 0, 1, 1
-  swap = m - splat(2.0) * half;                                              // 0, 1, 0, 1
-  const VD hc = round_nearest((m + splat(1.0)) * splat(0.5) - splat(0.25));  // 0, 1, 1, 2
-  sign_s = splat(1.0) - splat(2.0) * half;
-  sign_c =
-      splat(1.0) - splat(2.0) * (hc - splat(2.0) * round_nearest(hc * splat(0.5) - splat(0.25)));
-  keep = splat(1.0) - swap;
+  m = k - splat(4.0) * round_nearest(k * splat(0.25) - splat(0.375));
 }
 
-// sin and cos of every lane: reduce_quarter, then Cephes' polynomials on [-pi/4, pi/4]
+// The quadrant m's selectors, each 0, 1 or -1: sin x = (sin r keep + cos r swap) sign_s,
+// cos x = (cos r keep + sin r swap) sign_c, as sin x = (s, c, -s, -c)[m] and cos x = (c,
+// -s, -c, s)[m]; exact arithmetic on small integers (no per-lane branch), so the same
+// values in doubles and in floats.
+template <class V>
+MEDSPHERES_KERNEL_INLINE void quadrant(V m, V& keep, V& swap, V& sign_s, V& sign_c) {
+  using T = typename V::T;
+  const V one = splat(T(1)), two = splat(T(2)), half_ = splat(T(0.5)), quarter = splat(T(0.25));
+  const V half = round_nearest(m * half_ - quarter);        // 0, 0, 1, 1
+  swap = m - two * half;                                    // 0, 1, 0, 1
+  const V hc = round_nearest((m + one) * half_ - quarter);  // 0, 1, 1, 2
+  sign_s = one - two * half;
+  sign_c = one - two * (hc - two * round_nearest(hc * half_ - quarter));
+  keep = one - swap;
+}
+
+// sin and cos of every lane: reduce_angle, then Cephes' polynomials on [-pi/4, pi/4]
 // (about 1 ulp).
-void sincos(VD x, VD& s, VD& c) {
-  VD r, keep, swap, sign_s, sign_c;
-  reduce_quarter(x, r, keep, swap, sign_s, sign_c);
+MEDSPHERES_KERNEL_INLINE void sincos(VD x, VD& s, VD& c) {
+  VD r, m, keep, swap, sign_s, sign_c;
+  reduce_angle(x, r, m);
+  quadrant(m, keep, swap, sign_s, sign_c);
   const VD z = r * r;
   VD ps = splat(1.58962301576546568060e-10);
   ps = ps * z + splat(-2.50507477628578072866e-8);
@@ -90,7 +106,8 @@ void sincos(VD x, VD& s, VD& c) {
 }
 
 // The transform X_PF of step s for the lanes of half h, in doubles: rows of R, then p.
-void step_transform(const FrameStep& s, const Block& b, int h, VD rel[12]) {
+MEDSPHERES_KERNEL_INLINE void step_transform(const FrameStep& s, const Block& b, int h,
+                                             VD rel[12]) {
   const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
   if (s.prismatic) {
     for (int e = 0; e < 9; ++e) rel[e] = splat(s.P[e]);
@@ -106,7 +123,8 @@ void step_transform(const FrameStep& s, const Block& b, int h, VD rel[12]) {
 // out = X_WP rel (frames of V::W lanes, stored as 12 rows of W), or rel when the parent
 // is W itself.
 template <class V>
-void compose(const typename V::T* in, bool parent_is_world, const V rel[12], typename V::T* out) {
+MEDSPHERES_KERNEL_INLINE void compose(const typename V::T* in, bool parent_is_world,
+                                      const V rel[12], typename V::T* out) {
   constexpr int W = V::W;
   if (parent_is_world) {
     for (int e = 0; e < 12; ++e) store(out + e * W, rel[e]);
@@ -136,11 +154,12 @@ void pose_frames(const KernelRobot& robot, const Block& b, int h) {
 }
 
 // The transform X_PF of step s for all kLanes lanes, in floats. Revolute: the angle in
-// doubles and reduced by reduce_quarter as sincos does (the same r and quadrant), r
-// rounded to floats, its sine and cosine by float_sincos_reduced (within
-// kFloatSinCosError of the double ones' r), then R = P + cos C + sin S in floats from
-// the constants rounded to floats. Prismatic: step_transform's doubles, rounded.
-void step_transform_float(const FrameStep& s, const Block& b, VF rel[12]) {
+// doubles and reduced by reduce_angle as sincos does (the same r and quadrant; the
+// quadrant's selectors in floats, the same values), r rounded to floats, its sine and
+// cosine by float_sincos_reduced (within kFloatSinCosError of the double ones' r), then
+// R = P + cos C + sin S in floats from the constants rounded to floats. Prismatic:
+// step_transform's doubles, rounded.
+MEDSPHERES_KERNEL_INLINE void step_transform_float(const FrameStep& s, const Block& b, VF rel[12]) {
   if (s.prismatic) {
     VD lo[12], hi[12];
     step_transform(s, b, 0, lo);
@@ -148,16 +167,16 @@ void step_transform_float(const FrameStep& s, const Block& b, VF rel[12]) {
     for (int e = 0; e < 12; ++e) rel[e] = to_float(lo[e], hi[e]);
     return;
   }
-  VD r[2], keep[2], swap[2], sign_s[2], sign_c[2];
+  VD r[2], m[2];
   for (int h = 0; h < 2; ++h) {
     const VD q = load(b.q + s.source * kLanes + h * kHalf) * splat(s.multiplier) + splat(s.offset);
-    reduce_quarter(q, r[h], keep[h], swap[h], sign_s[h], sign_c[h]);
+    reduce_angle(q, r[h], m[h]);
   }
-  VF sr, cr;
+  VF sr, cr, keep, swap, sign_s, sign_c;
   float_sincos_reduced(to_float(r[0], r[1]), sr, cr, [](float x) { return splat(x); });
-  const VF kf = to_float(keep[0], keep[1]), sf = to_float(swap[0], swap[1]);
-  const VF sn = (sr * kf + cr * sf) * to_float(sign_s[0], sign_s[1]);
-  const VF cs = (cr * kf + sr * sf) * to_float(sign_c[0], sign_c[1]);
+  quadrant(to_float(m[0], m[1]), keep, swap, sign_s, sign_c);
+  const VF sn = (sr * keep + cr * swap) * sign_s;
+  const VF cs = (cr * keep + sr * swap) * sign_c;
   for (int e = 0; e < 9; ++e) rel[e] = (splat(s.Pf[e]) + cs * splat(s.Cf[e])) + sn * splat(s.Sf[e]);
   for (int k = 0; k < 3; ++k) rel[9 + k] = splat(s.uf[k]);
 }
@@ -192,8 +211,9 @@ struct Ctx {
 
 // Poses the points (x, y, z)[i] of frame f into out[i * 3 * W ...], i < n.
 template <class V>
-void pose_points(const typename V::T* frames, int f, const typename V::T* x, const typename V::T* y,
-                 const typename V::T* z, int n, typename V::T* out) {
+MEDSPHERES_KERNEL_INLINE void pose_points(const typename V::T* frames, int f,
+                                          const typename V::T* x, const typename V::T* y,
+                                          const typename V::T* z, int n, typename V::T* out) {
   constexpr int W = V::W;
   const typename V::T* in = frames + f * 12 * W;
   V R[12];
@@ -209,7 +229,7 @@ void pose_points(const typename V::T* frames, int f, const typename V::T* x, con
 // The posed spheres of a link's set (slot < kLevels) or its bounding sphere (kBoundSlot),
 // posed on first use in the pass.
 template <class V>
-const typename V::T* posed(const Ctx<V>& c, int link, int slot) {
+MEDSPHERES_KERNEL_INLINE const typename V::T* posed(const Ctx<V>& c, int link, int slot) {
   constexpr int W = V::W;
   const LinkLayout& l = c.robot.link[link];
   typename V::T* out = slot == kBoundSlot ? c.p.posed + (c.robot.spheres + link) * 3 * W
@@ -228,14 +248,16 @@ const typename V::T* posed(const Ctx<V>& c, int link, int slot) {
 }
 
 template <class V>
-void lane_point(const typename V::T* posed_set, int i, int lane, double* p) {
+MEDSPHERES_KERNEL_INLINE void lane_point(const typename V::T* posed_set, int i, int lane,
+                                         double* p) {
   for (int k = 0; k < 3; ++k) p[k] = double(posed_set[(3 * i + k) * V::W + lane]);
 }
 
 // The point (x, y, z) in cell units of the field (ux, uy, uz); returns the lanes inside it
 // (0 <= u < n on every axis).
 template <class V>
-unsigned grid_cell(const GridView<typename V::T>& g, V x, V y, V z, V& ux, V& uy, V& uz) {
+MEDSPHERES_KERNEL_INLINE unsigned grid_cell(const GridView<typename V::T>& g, V x, V y, V z, V& ux,
+                                            V& uy, V& uz) {
   using T = typename V::T;
   ux = (x - splat(g.origin[0])) * splat(g.inverse_side);
   uy = (y - splat(g.origin[1])) * splat(g.inverse_side);
@@ -249,7 +271,8 @@ unsigned grid_cell(const GridView<typename V::T>& g, V x, V y, V z, V& ux, V& uy
 // Asks for the field's cells of points first .. first + n - 1 of a posed set, so that the
 // look-ups that follow overlap their memory latency (no effect on any answer).
 template <class V>
-void prefetch_points(const GridView<typename V::T>& g, const typename V::T* set, int first, int n) {
+MEDSPHERES_KERNEL_INLINE void prefetch_points(const GridView<typename V::T>& g,
+                                              const typename V::T* set, int first, int n) {
   if (g.field == nullptr) return;
   constexpr int W = V::W;
   for (int i = first; i < first + n; ++i) {
@@ -266,8 +289,8 @@ void prefetch_points(const GridView<typename V::T>& g, const typename V::T* set,
 // elements' bounding box (no hit). Both less the grid's pad, for the rounding of these
 // tests in doubles (in floats, the slack in far and near covers theirs).
 template <class V>
-unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z, typename V::T far,
-                   typename V::T near, unsigned& hit) {
+MEDSPHERES_KERNEL_INLINE unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z,
+                                            typename V::T far, typename V::T near, unsigned& hit) {
   using T = typename V::T;
   V ux, uy, uz;
   const unsigned inside = grid_cell(g, x, y, z, ux, uy, uz);
@@ -305,8 +328,8 @@ unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z, typename V::
 // (the field does not clear it by more than the slack); those certainly within rq - slack
 // of it into `hit`.
 template <class V>
-unsigned grid_near(const Ctx<V>& c, const typename V::T* set, int i, double rq, unsigned open,
-                   unsigned& hit) {
+MEDSPHERES_KERNEL_INLINE unsigned grid_near(const Ctx<V>& c, const typename V::T* set, int i,
+                                            double rq, unsigned open, unsigned& hit) {
   hit = 0;
   if (c.sp.grid.field == nullptr || !open) return 0;  // no element
   constexpr int W = V::W;
@@ -347,17 +370,24 @@ unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned nee
   return hit;
 }
 
-// The lanes in which some sphere of set a is within `add` + radii of some sphere of set
-// b: certainly (returned) or maybe (added to `maybe`); stops when every lane of `need` is
-// certain. A sphere of a farther from b's bounding sphere (bound, radius rb) than that in
-// every lane meets no sphere of b, and is skipped (the bounding sphere holds b's spheres
-// with room for the rounding: the skip changes no answer).
+// The lanes in which some sphere of link a's set slot_a is within `add` + radii of some
+// sphere of link o's set slot_o: certainly (returned) or maybe (added to `maybe`); stops
+// when every lane of `need` is certain. A sphere of a farther from o's bounding sphere
+// than that in every lane meets no sphere of o, and is skipped (the bounding sphere holds
+// o's spheres with room for the rounding: the skip changes no answer); o's set is posed
+// only when a sphere of a is not skipped.
 template <class V>
-unsigned sets_within(const Ctx<V>& c, const typename V::T* pa, int ba, int na,
-                     const typename V::T* pb, int bb, int nb, const typename V::T* bound, double rb,
-                     double add, unsigned need, unsigned& maybe) {
+unsigned level_within(const Ctx<V>& c, int a, int o, int slot_a, int slot_o, double add,
+                      unsigned need, unsigned& maybe) {
   using T = typename V::T;
   constexpr int W = V::W;
+  const LinkLayout &la = c.robot.link[a], &lo = c.robot.link[o];
+  const int ba = static_cast<int>(la.begin[slot_a]), na = static_cast<int>(la.count[slot_a]);
+  const int bb = static_cast<int>(lo.begin[slot_o]), nb = static_cast<int>(lo.count[slot_o]);
+  const T* pa = posed(c, a, slot_a);
+  const T* bound = posed(c, o, kBoundSlot);
+  const T* pb = nullptr;
+  const double rb = double(c.sp.bound[4 * o + 3]);
   const T slack = c.p.slack;
   unsigned hit = 0, near = 0;
   const V bx = load(bound), by = load(bound + W), bz = load(bound + 2 * W);
@@ -371,6 +401,7 @@ unsigned sets_within(const Ctx<V>& c, const typename V::T* pa, int ba, int na,
     const unsigned open =
         need & ~hit & le_bits((ex * ex + ey * ey) + ez * ez, splat(T(cull * cull)));
     if (!open) continue;
+    if (pb == nullptr) pb = posed(c, o, slot_o);
     for (int j = 0; j < nb; ++j) {
       const T reach = T(ra + double(c.sp.r[bb + j]));
       if (reach + slack < T(0)) continue;
@@ -387,20 +418,10 @@ unsigned sets_within(const Ctx<V>& c, const typename V::T* pa, int ba, int na,
   return hit & need;
 }
 
-template <class V>
-unsigned level_within(const Ctx<V>& c, int a, int o, int slot_a, int slot_o, double add,
-                      unsigned need, unsigned& maybe) {
-  const LinkLayout &la = c.robot.link[a], &lo = c.robot.link[o];
-  return sets_within(c, posed(c, a, slot_a), static_cast<int>(la.begin[slot_a]),
-                     static_cast<int>(la.count[slot_a]), posed(c, o, slot_o),
-                     static_cast<int>(lo.begin[slot_o]), static_cast<int>(lo.count[slot_o]),
-                     posed(c, o, kBoundSlot), double(c.sp.bound[4 * o + 3]), add, need, maybe);
-}
-
 // The lanes of `open` in which link's bounding sphere may come within the margin of the
 // scene.
 template <class V>
-unsigned scene_near(const Ctx<V>& c, int link, unsigned open) {
+MEDSPHERES_KERNEL_INLINE unsigned scene_near(const Ctx<V>& c, int link, unsigned open) {
   const double rq = double(c.sp.bound[4 * link + 3]) + c.b.margin + c.b.allowance;
   unsigned hit = 0;  // of the bounding sphere: says nothing of the link
   return grid_near(c, posed(c, link, kBoundSlot), 0, rq, open, hit);
@@ -409,7 +430,7 @@ unsigned scene_near(const Ctx<V>& c, int link, unsigned open) {
 // The lanes of `open` in which the bounding spheres of links a and o may come within the
 // margin of each other.
 template <class V>
-unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
+MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
   using T = typename V::T;
   constexpr int W = V::W;
   const T* ba = posed(c, a, kBoundSlot);

@@ -201,6 +201,7 @@ std::string options_json(const RobotArgs& a) {
     o["contact_samples"] = a.contact_options.samples;
     o["contact_band"] = a.contact_options.band;
     o["contact_weight"] = a.contact_options.weight;
+    o["contact_min_share"] = a.contact_options.min_share;
   }
   return o.dump();
 }
@@ -377,6 +378,10 @@ Runner register_robot(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--contact-weight", a->contact_options.weight,
                   "How many times the protrusion of a ball in a contact region counts")
+      ->capture_default_str();
+  sub->add_option("--contact-min-share", a->contact_options.min_share,
+                  "A contact region keeps the places partners came to in at least this share "
+                  "of the samples")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
   add_batch_flags(*sub, a->batch, robot_batch(RobotJob{}));

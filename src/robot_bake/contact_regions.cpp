@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
+#include <map>
 #include <memory>
 #include <optional>
 #include <set>
@@ -35,6 +36,27 @@ Points thinned(const Points& points, double cell) {
             .second)
       out.push_back(p);
   }
+  return out;
+}
+
+// Of \p points, the first in each cell of side \p cell that holds at least \p least of them.
+Points frequent(const Points& points, double cell, std::size_t least) {
+  std::map<std::array<long long, 3>, std::pair<std::size_t, std::size_t>> cells;  // first, count
+  for (std::size_t k = 0; k < points.size(); ++k) {
+    const Eigen::Vector3d c = (points[k] / cell).array().floor();
+    auto& slot = cells
+                     .try_emplace({static_cast<long long>(c.x()), static_cast<long long>(c.y()),
+                                   static_cast<long long>(c.z())},
+                                  k, 0)
+                     .first->second;
+    ++slot.second;
+  }
+  std::vector<std::size_t> kept;
+  for (const auto& entry : cells)
+    if (entry.second.second >= least) kept.push_back(entry.second.first);
+  std::sort(kept.begin(), kept.end());
+  Points out;
+  for (std::size_t k : kept) out.push_back(points[k]);
   return out;
 }
 
@@ -123,6 +145,9 @@ void validate(const ContactOptions& o) {
   if (!(o.weight >= 1.0) || !std::isfinite(o.weight))
     throw InputError::option(ErrorKind::kOutOfRange, "contact_weight", number_text(o.weight),
                              "must be finite and >= 1");
+  if (!(o.min_share >= 0.0 && o.min_share <= 1.0))
+    throw InputError::option(ErrorKind::kOutOfRange, "contact_min_share", number_text(o.min_share),
+                             "must be in [0, 1]");
   check_threads(o.threads);
 }
 
@@ -169,9 +194,12 @@ std::map<std::string, ProtrusionWeights> contact_regions(
                   found[k][static_cast<std::size_t>(side)].end());
     }
   std::map<std::string, ProtrusionWeights> out;
-  for (std::size_t i = 0; i < region.size(); ++i)
-    if (!region[i].empty())
-      out[model.links[i].name] = {thinned(region[i], 0.5 * o.band), 0.5 * o.band, o.weight};
+  const auto least = static_cast<std::size_t>(
+      std::max(1.0, std::ceil(o.min_share * static_cast<double>(o.samples))));
+  for (std::size_t i = 0; i < region.size(); ++i) {
+    Points kept = frequent(region[i], 0.5 * o.band, least);
+    if (!kept.empty()) out[model.links[i].name] = {std::move(kept), 0.5 * o.band, o.weight};
+  }
   return out;
 }
 

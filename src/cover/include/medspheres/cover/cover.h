@@ -81,7 +81,7 @@ struct CoverOptions {
   double protrusion_allowance = 0.03;
   /// bake_cover only: where the balls should stick out less (protrusion_weights.h). When
   /// active, step 2 lowers the largest weighted protrusion and its result is the candidate
-  /// kept (steps 3 and 4's choice, which weigh every ball alike, are skipped); steps 4's
+  /// kept (step 3 and step 4's choice, which weigh every ball alike, are skipped); step 4's
   /// refinement and 5 run as always. tighten_cover ignores it.
   ProtrusionWeights weights;
 };

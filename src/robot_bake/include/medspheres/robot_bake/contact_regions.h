@@ -8,7 +8,8 @@
 /// self-collision matrix (not ignored, both links with meshes): points of b's surface (its
 /// meshes placed in its link frame, sampled every band / 2) that lie within `band` of a's
 /// surface, expressed in a's link frame, join a's region; and the same with a and b
-/// swapped. A link's region: those points, thinned to one per cell of band / 4. A surface
+/// swapped. A link's region: those points, one per cell of band / 2 among the cells that
+/// hold at least max(1, min_share x samples) of them. A surface
 /// element of the link's cover within `band` of a region point is a contact element; the
 /// balls that hold one stick out about 1 / `weight` as far as the others.
 ///
@@ -38,7 +39,10 @@ struct ContactOptions {
   unsigned seed = 2;           ///< of the configurations (not the matrix's own)
   double band = 0.02;          ///< metres, > 0
   double weight = 8.0;         ///< >= 1
-  int threads = 0;             ///< 0: all cores
+  /// A region keeps the cells (of side band / 2) that partners' points fell in at least
+  /// min_share x samples times (at least once): where partners come often. In [0, 1].
+  double min_share = 0.0;
+  int threads = 0;  ///< 0: all cores
 };
 
 /// \throws InputError naming the option (contact_samples, contact_band, contact_weight).
