@@ -104,8 +104,11 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
         bool moved = false;
         for (int axis = 0; axis < 6 && !moved; ++axis) {
           const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
+          const double ry = reach(y, 4.0 * step);
+          // The cost falls as the depth grows: at the depth's upper bound it is a lower bound.
+          if (!(cost(ry, y, depth_bound(query, y, px)) < fx)) continue;
           const Probe py = probe(query, y, x, px);
-          const double fy = cost(reach(y, 4.0 * step), y, py.depth);
+          const double fy = cost(ry, y, py.depth);
           if (fy < fx) x = y, fx = fy, px = py, moved = true;
         }
         if (!moved) step *= 0.5;
@@ -251,14 +254,15 @@ bool split(const Elements& e, Clustering& c, std::size_t j) {
 }
 
 // The ball other than j (the one element i belongs to) that holds i at the least
-// protrusion, given each ball's \p depth, and that protrusion.
+// protrusion, given each ball's \p depth, and that protrusion. \p g: scratch.
 std::pair<std::size_t, double> cheapest_other(const Elements& e, const Clustering& c, std::size_t i,
-                                              const std::vector<double>& depth) {
+                                              const std::vector<double>& depth,
+                                              std::vector<double>& g) {
   const std::size_t j = static_cast<std::size_t>(c.owner[i]);
   std::pair<std::size_t, double> best{j, std::numeric_limits<double>::infinity()};
   // The farthest point is within |centroid - c| +- reach: skip balls that cannot win, as
   // assign does.
-  std::vector<double> g(c.balls.size(), std::numeric_limits<double>::infinity());
+  g.assign(c.balls.size(), std::numeric_limits<double>::infinity());
   double best_hi = std::numeric_limits<double>::infinity();
   for (std::size_t m = 0; m < c.balls.size(); ++m) {
     if (m == j || !(c.balls[m].radius > 0.0)) continue;
@@ -276,11 +280,21 @@ std::pair<std::size_t, double> cheapest_other(const Elements& e, const Clusterin
 
 // The ball whose elements the other balls can take at the least largest protrusion.
 std::size_t cheapest_removal(const Elements& e, const Clustering& c,
-                             const std::vector<double>& depth) {
-  std::vector<double> worst(c.balls.size(), -std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < e.size(); ++i) {
-    double& w = worst[static_cast<std::size_t>(c.owner[i])];
-    w = std::max(w, cheapest_other(e, c, i, depth).second);
+                             const std::vector<double>& depth, int threads) {
+  constexpr double kLow = -std::numeric_limits<double>::infinity();
+  std::vector<double> worst(c.balls.size(), kLow);
+  const long long n = static_cast<long long>(e.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> mine(c.balls.size(), kLow), g;  // the maximum is order-free
+#pragma omp for schedule(static)
+    for (long long ii = 0; ii < n; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      double& w = mine[static_cast<std::size_t>(c.owner[i])];
+      w = std::max(w, cheapest_other(e, c, i, depth, g).second);
+    }
+#pragma omp critical
+    for (std::size_t j = 0; j < worst.size(); ++j) worst[j] = std::max(worst[j], mine[j]);
   }
   return static_cast<std::size_t>(std::min_element(worst.begin(), worst.end()) - worst.begin());
 }
@@ -289,9 +303,10 @@ std::size_t cheapest_removal(const Elements& e, const Clustering& c,
 void hand_over(const Elements& e, Clustering& c, std::size_t gone,
                const std::vector<double>& depth) {
   c.settled.clear();
+  std::vector<double> g;
   for (std::size_t i = 0; i < e.size(); ++i) {
     if (c.owner[i] != static_cast<int>(gone)) continue;
-    const std::size_t m = cheapest_other(e, c, i, depth).first;
+    const std::size_t m = cheapest_other(e, c, i, depth, g).first;
     c.owner[i] = static_cast<int>(m);
   }
   c.balls[gone].radius = 0.0;
@@ -315,7 +330,7 @@ Clustering moves(const MeshQuery& query, const Elements& e, Clustering c, std::s
     const std::size_t worst =
         static_cast<std::size_t>(std::max_element(wq.begin(), wq.end()) - wq.begin());
     if (d.balls.size() >= budget) {
-      const std::size_t gone = cheapest_removal(e, d, depth);
+      const std::size_t gone = cheapest_removal(e, d, depth, threads);
       if (gone == worst) break;
       hand_over(e, d, gone, depth);
     }
