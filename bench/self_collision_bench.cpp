@@ -5,11 +5,12 @@
 //
 // Rows: "medspheres", the robot command's defaults (covering sets of --spheres-per-link
 // spheres, the matrix from --samples seeded configurations, its tool frames and default
-// configuration); for the G1 also "curobo", cuRobo's shipped configuration of the G1 (its
-// spheres, self_collision_ignore and self_collision_buffer, links the URDF lacks left out,
-// its cspace default_joint_position as its default configuration), judged in the same run
-// by the same code.
-// Columns:
+// configuration); with --contact also "contact", the same with contact-aware covers
+// (contact_regions.h: --contact-samples, --contact-band, --contact-weight); for the G1 also
+// "curobo", cuRobo's shipped configuration of the G1 (its spheres, self_collision_ignore and
+// self_collision_buffer, links the URDF lacks left out, its cspace default_joint_position as its
+// default configuration), judged in the same run by the same code. Columns:
+//   spheres           the row's spheres over the robot;
 //   samples, s        the matrix's samples and wall clock (--threads pairs at once);
 //   adj alw nev sph def chk giv   pairs per class (curobo: skipped pairs under "giv",
 //                     the others under "chk");
@@ -65,7 +66,11 @@
 #include "medspheres/formats/self_collision_report.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/mesh/mesh_query.h"
+#include "medspheres/number_text.h"
+#include "medspheres/robot_bake/contact_regions.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
 #include "support/coarse_arm.h"
@@ -93,6 +98,9 @@ struct Options {
   std::vector<double> ideal;              // margins of the ideal planner, metres
   std::vector<std::string> link_budgets;  // NAME=K
   std::vector<std::string> buffers;       // NAME=M, added to the medspheres row's
+  bool contact = false;                   // add the contact-aware row
+  bool contact_regions = false;           // and print its regions' protrusions
+  ContactOptions contact_options;
 };
 
 // NAME=VALUE options as (NAME, VALUE).
@@ -117,35 +125,68 @@ struct Baked {
   std::vector<LinkSolid> solids;
 };
 
-Baked bake(const std::string& urdf, const Options& o) {
-  const UrdfRobot robot = read_urdf(urdf);
-  Baked b;
-  b.name = robot.model.name;
-  b.solids = load_link_solids(robot);
+RobotJob robot_job(const Options& o) {
   RobotJob job;
   job.bake.budget.per_link = o.spheres_per_link;
   for (const auto& [link, k] : name_values(o.link_budgets, "--link"))
     job.bake.budget.links[link] = static_cast<std::size_t>(k);
   job.bake.jobs = o.threads;
   job.bake.request.measure = false;
-  const fs::path cached = fs::path(o.cache) / (robot_cache_key(robot, file_sha256(urdf), job,
-                                                               fs::path(urdf).filename().string()) +
-                                               ".robot.json");
-  if (!o.cache.empty() && fs::exists(cached)) {
-    b.model = load_robot(cached.string());
-    return b;
-  }
-  b.model = bake_robot(robot, b.solids, job.bake).model;
+  return job;
+}
+
+// \p make()'s model, or the one cached under \p name.
+template <class Make>
+RobotModel cached_model(const Options& o, const std::string& name, const Make& make) {
+  const fs::path cached = fs::path(o.cache) / name;
+  if (!o.cache.empty() && fs::exists(cached)) return load_robot(cached.string());
+  RobotModel model = make();
   if (!o.cache.empty()) {
     fs::create_directories(o.cache);
-    save_robot(b.model, cached.string());
+    save_robot(model, cached.string());
   }
+  return model;
+}
+
+// The robot command's bake; with \p contact the contact-aware one (rebake_contact_aware, the
+// matrix as the medspheres row computes it).
+Baked bake(const std::string& urdf, const Options& o, bool contact = false) {
+  const UrdfRobot robot = read_urdf(urdf);
+  Baked b;
+  b.name = robot.model.name;
+  b.solids = load_link_solids(robot);
+  const RobotJob job = robot_job(o);
+  const std::string key =
+      robot_cache_key(robot, file_sha256(urdf), job, fs::path(urdf).filename().string());
+  b.model = cached_model(o, key + ".robot.json",
+                         [&] { return bake_robot(robot, b.solids, job.bake).model; });
+  if (!contact) return b;
+  const ContactOptions& c = o.contact_options;
+  const std::string suffix = ".contact-" + std::to_string(c.samples) + "-" +
+                             exact_number_text(c.band) + "-" + exact_number_text(c.weight) + "-" +
+                             exact_number_text(c.min_share);
+  b.model = cached_model(o, key + suffix + ".robot.json", [&] {
+    RobotBakeResult first;
+    first.model = b.model;
+    PlannerRequest r;
+    r.self_collision.samples = o.samples;
+    r.self_collision.seed = o.seed;
+    r.self_collision.threads = o.threads;
+    const auto t0 = std::chrono::steady_clock::now();
+    RobotModel m =
+        rebake_contact_aware(robot, b.solids, job.bake, first, formats::SphereChoice::kOuter, r, c)
+            .model;
+    std::printf("  contact: regions and second bake in %.1f s\n",
+                std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count());
+    return m;
+  });
   return b;
 }
 
 // One row's planner: its spheres with their buffers, the pairs it checks, its default.
 struct Planner {
   std::string row;
+  std::size_t sphere_count = 0;
   PlannerSpheres spheres;
   std::set<std::pair<std::size_t, std::size_t>> checked;  // link indices, a < b
   std::map<std::string, double> default_positions;
@@ -172,7 +213,8 @@ LinkPair ordered(const RobotModel& m, const std::string& a, const std::string& b
 }
 
 Planner medspheres_planner(const Baked& b, const Options& o,
-                           std::set<std::pair<std::size_t, std::size_t>>& judged) {
+                           std::set<std::pair<std::size_t, std::size_t>>& judged,
+                           const std::string& row = "medspheres") {
   PlannerRequest r;
   r.self_collision.samples = o.samples;
   r.self_collision.seed = o.seed;
@@ -186,7 +228,8 @@ Planner medspheres_planner(const Baked& b, const Options& o,
       throw InputError("--buffer", "no link with spheres named '" + link + "' in " + b.name);
     buffer[link] += m;
   }
-  Planner p{"medspheres",
+  Planner p{row,
+            0,
             PlannerSpheres(b.model, formats::robot_spheres(b.model), buffer),
             {},
             s.default_positions,
@@ -194,6 +237,8 @@ Planner medspheres_planner(const Baked& b, const Options& o,
             {},
             o.samples,
             run.seconds};
+  for (const formats::LinkSphereList& l : formats::robot_spheres(b.model))
+    p.sphere_count += l.spheres.size();
   for (const auto& [kind, n] : formats::pair_class_counts(*s.self_collision))
     p.classes[kind] = n.first;
   for (const LinkPairClass& q : s.self_collision->pairs) {
@@ -201,7 +246,7 @@ Planner medspheres_planner(const Baked& b, const Options& o,
     if (!q.ignored) p.checked.insert(pair);
     if (q.kind != PairClass::kAdjacent && q.kind != PairClass::kAlways) judged.insert(pair);
   }
-  std::printf("  medspheres: tool frames");
+  std::printf("  %s: tool frames", row.c_str());
   for (const std::string& t : s.tool_frames) std::printf(" %s", t.c_str());
   std::printf("; default configuration: %s\n", default_from_text(s.default_from).c_str());
   return p;
@@ -216,7 +261,8 @@ Planner curobo_planner(const Baked& b, const std::string& yml) {
   std::map<std::string, double> buffer;
   for (const auto& kv : k["self_collision_buffer"])
     buffer[kv.first.as<std::string>()] = kv.second.as<double>();
-  Planner p{"curobo", PlannerSpheres(b.model, spheres, buffer), {}, {}, {}, {}, 0, 0.0};
+  Planner p{"curobo", 0, PlannerSpheres(b.model, spheres, buffer), {}, {}, {}, {}, 0, 0.0};
+  for (const formats::LinkSphereList& l : spheres) p.sphere_count += l.spheres.size();
   std::set<std::pair<std::string, std::string>> skip;
   for (const auto& kv : k["self_collision_ignore"])
     for (const auto& other : kv.second)
@@ -355,12 +401,54 @@ void print_row(const Planner& p, const Tally& t, std::size_t eval) {
     return it == p.classes.end() ? std::size_t{0} : it->second;
   };
   std::printf(
-      "%-11s %7zu %6.2f %4zu %4zu %4zu %4zu %4zu %4zu %4zu %4zu/%-6.1f %6zu %6zu %8zu %6zu %8zu "
-      "%8zu\n",
-      p.row.c_str(), p.samples, p.seconds, n(PairClass::kAdjacent), n(PairClass::kAlways),
-      n(PairClass::kNever), n(PairClass::kSphereOnly), n(PairClass::kDefault),
-      n(PairClass::kChecked), n(PairClass::kGiven), t.pen_pairs, 1e3 * t.pen_max, eval, t.fp_cfg,
-      t.fp_pairs, t.fn_cfg, t.fn_pairs, t.skipped_hits);
+      "%-11s %7zu %7zu %6.2f %4zu %4zu %4zu %4zu %4zu %4zu %4zu %4zu/%-6.1f %6zu %6zu %8zu %6zu "
+      "%8zu %8zu\n",
+      p.row.c_str(), p.sphere_count, p.samples, p.seconds, n(PairClass::kAdjacent),
+      n(PairClass::kAlways), n(PairClass::kNever), n(PairClass::kSphereOnly),
+      n(PairClass::kDefault), n(PairClass::kChecked), n(PairClass::kGiven), t.pen_pairs,
+      1e3 * t.pen_max, eval, t.fp_cfg, t.fp_pairs, t.fn_cfg, t.fn_pairs, t.skipped_hits);
+}
+
+// Per link with a contact region (the regions recomputed from the first bake's matrix): the
+// largest protrusion of its covering balls that reach the region, in the first bake and in
+// the contact-aware one, and of the contact-aware one's other balls (mm): what the weights
+// bought where the partners come.
+void print_contact_protrusions(const Baked& first, const Baked& contact, const Options& o) {
+  PlannerRequest r;
+  r.self_collision.samples = o.samples;
+  r.self_collision.seed = o.seed;
+  r.self_collision.threads = o.threads;
+  const PlannerSetup s =
+      make_planner_setup(first.model, first.solids, formats::SphereChoice::kOuter, r);
+  std::map<std::string, double> locked;
+  for (const std::string& j : s.locked_joints) locked[j] = s.default_positions.at(j);
+  const auto regions =
+      contact_regions(first.model, first.solids, *s.self_collision, locked, o.contact_options);
+  std::printf(
+      "  contact regions (link: points; mm stuck out by the balls reaching it, first -> "
+      "contact; the other balls):\n");
+  for (std::size_t i = 0; i < first.model.links.size(); ++i) {
+    const auto it = regions.find(first.model.links[i].name);
+    if (it == regions.end()) continue;
+    const MeshQuery query(first.solids[i].placed_mesh());
+    const auto split = [&](const std::vector<Sphere>& balls) {
+      const std::vector<double> p = sphere_protrusions(query, balls, o.threads);
+      std::pair<double, double> out{0.0, 0.0};
+      for (std::size_t k = 0; k < balls.size(); ++k) {
+        const bool reaches = std::any_of(
+            it->second.points.begin(), it->second.points.end(), [&](const Eigen::Vector3d& q) {
+              return (q - balls[k].center).norm() <= balls[k].radius + it->second.reach;
+            });
+        double& into = reaches ? out.first : out.second;
+        into = std::max(into, p[k]);
+      }
+      return out;
+    };
+    const auto a = split(first.model.links[i].spheres.outer.spheres);
+    const auto c = split(contact.model.links[i].spheres.outer.spheres);
+    std::printf("    %s: %zu; %.1f -> %.1f; %.1f\n", it->first.c_str(), it->second.points.size(),
+                1e3 * a.first, 1e3 * c.first, 1e3 * c.second);
+  }
 }
 
 void run_robot(const std::string& urdf, const std::string& curobo_yml, const Options& o) {
@@ -372,6 +460,11 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
   std::set<std::pair<std::size_t, std::size_t>> judged;
   std::vector<Planner> rows;
   rows.push_back(medspheres_planner(b, o, judged));
+  if (o.contact) {
+    const Baked c = bake(urdf, o, true);
+    rows.push_back(medspheres_planner(c, o, judged, "contact"));
+    if (o.contact_regions) print_contact_protrusions(b, c, o);
+  }
   if (!curobo_yml.empty()) rows.push_back(curobo_planner(b, curobo_yml));
   // The evaluation's configurations and, per pair judged, whether the solids collide.
   const LinkSolids solids(b.model, b.solids);
@@ -393,9 +486,9 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
     for (const auto& [a, c] : pairs)
       truth[s].push_back(solids.has(a) && solids.has(c) && solids.within(eval[s], a, c, 0.0));
   }
-  std::printf("%-11s %7s %6s %4s %4s %4s %4s %4s %4s %4s %11s %6s %6s %8s %6s %8s %8s\n", "planner",
-              "samples", "s", "adj", "alw", "nev", "sph", "def", "chk", "giv", "pen@def/mm", "eval",
-              "FP cfg", "FP pairs", "FN cfg", "FN pairs", "skip hit");
+  std::printf("%-11s %7s %7s %6s %4s %4s %4s %4s %4s %4s %4s %11s %6s %6s %8s %6s %8s %8s\n",
+              "planner", "spheres", "samples", "s", "adj", "alw", "nev", "sph", "def", "chk", "giv",
+              "pen@def/mm", "eval", "FP cfg", "FP pairs", "FN cfg", "FN pairs", "skip hit");
   std::vector<Tally> tallies;
   for (const Planner& p : rows) {
     tallies.push_back(judge(b, solids, p, judged, eval, truth));
@@ -444,6 +537,18 @@ int main(int argc, char** argv) {
   args.app().add_option("--buffer", o.buffers,
                         "NAME=M: add M metres to link NAME's self-collision buffer in the "
                         "medspheres row (negative: the spheres shrink and no longer cover)");
+  args.app().add_flag("--contact", o.contact,
+                      "Add the row of contact-aware covers (contact_regions.h)");
+  args.app().add_flag("--contact-regions", o.contact_regions,
+                      "With --contact: print each contact region's protrusions");
+  args.add("--contact-samples", o.contact_options.samples,
+           "Configurations the contact regions are learnt from");
+  args.add("--contact-band", o.contact_options.band,
+           "Metres: partners' points within it of a link make its contact region");
+  args.add("--contact-min-share", o.contact_options.min_share,
+           "Keep the region's cells partners came to in at least this share of the samples");
+  args.add("--contact-weight", o.contact_options.weight,
+           "How many times a contact ball's protrusion counts");
   args.add("--arms", o.arms, "Generated arms (seeds 1..N, 6 joints)");
   args.add("--threads", o.threads, "Pairs at once");
   args.add("--cache", o.cache, "Folder of cached bakes ('' for none)");

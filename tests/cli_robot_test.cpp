@@ -220,7 +220,10 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
         std::string(" --format nonsense"), std::string(" --jobs -1"), std::string(" --budget 2"),
         std::string(" --self-collision-samples 0"), std::string(" --self-collision-threshold 0"),
         std::string(" --self-collision-margin -1"), std::string(" --tool-frame ghost"),
-        std::string(" --srdf ") + shell_quote(dir.file("missing.srdf"))}) {
+        std::string(" --srdf ") + shell_quote(dir.file("missing.srdf")),
+        std::string(" --contact --no-self-collision"), std::string(" --contact --no-outer"),
+        std::string(" --contact --contact-band 0"), std::string(" --contact --contact-weight 0.5"),
+        std::string(" --contact --contact-samples 0")}) {
     INFO(bad);
     const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);
     CHECK(r.exit_code == 2);

@@ -2,6 +2,7 @@
 // the exact union volume (measure_union), a direct check that every element lies in the
 // ball that owns it, and the sampled gap of cover_solids.h as a check of coverage.
 #include <algorithm>
+#include <array>
 #include <cmath>
 #include <limits>
 #include <vector>
@@ -119,6 +120,50 @@ TEST_CASE("refine_binding: balls only shrink, the elements stay held, the area s
   CHECK(c.balls[0].radius + c.balls[1].radius < before[0].radius + before[1].radius);
   CHECK(measure_union(c.balls).volume <= measure_union(before).volume);
   CHECK(test::sampled_gap(box, c.balls) == 0.0);
+}
+
+TEST_CASE("elements of a dense mesh: adjacent triangles in pairs, refined and certified",
+          "[cover][flow]") {
+  // 86,400 triangles, more than twice the elements the bake needs: the triangles go in pairs, each
+  // element two triangles of the mesh (abc and abd) or one, every triangle in exactly one.
+  const TriangleMesh torus = make_torus(1.0, 0.3, 360, 120);
+  const MeshQuery query(torus);
+  Elements e = detail::make_elements(query, 16, 0, 1);
+  REQUIRE(e.surface == e.size());
+  CHECK(e.surface < torus.num_triangles() * 3 / 5);
+  auto sorted = [](std::array<int, 3> t) {
+    std::sort(t.begin(), t.end());
+    return t;
+  };
+  std::vector<std::array<int, 3>> from_elements, from_mesh;
+  double mesh_area = 0.0;
+  for (std::size_t t = 0; t < torus.num_triangles(); ++t) {
+    from_mesh.push_back(sorted(torus.triangles[t]));
+    mesh_area += 0.5 * (torus.corner(t, 1) - torus.corner(t, 0))
+                           .cross(torus.corner(t, 2) - torus.corner(t, 0))
+                           .norm();
+  }
+  for (std::size_t i = 0; i < e.surface; ++i) {
+    const std::array<int, 4>& q = e.items[i];
+    from_elements.push_back(sorted({q[0], q[1], q[2]}));
+    if (detail::paired(e, i)) from_elements.push_back(sorted({q[0], q[1], q[3]}));
+  }
+  std::sort(from_elements.begin(), from_elements.end());
+  std::sort(from_mesh.begin(), from_mesh.end());
+  CHECK(from_elements == from_mesh);
+  CHECK(surface_area(e) == Approx(mesh_area).epsilon(1e-12));
+  // The refinement splits binding pairs into triangles and pieces, every element held.
+  Clustering c = loose_cover(e, torus.bounds(), 8);
+  detail::shrink(e, c);
+  const std::vector<Sphere> before = c.balls;
+  detail::refine_binding(e, c, 3);
+  CHECK(all_held(e, c));
+  CHECK(surface_area(e) == Approx(mesh_area).epsilon(1e-12));
+  for (std::size_t j = 0; j < c.balls.size(); ++j) CHECK(c.balls[j].radius <= before[j].radius);
+  const CoverResult cover = bake_cover(query, 8);
+  CHECK(cover.stats.certified);
+  CHECK(cover.spheres.spheres.size() <= 8);
+  CHECK(test::sampled_gap(torus, cover.spheres.spheres) == 0.0);
 }
 
 TEST_CASE("bake_cover rejects a protrusion allowance that is negative or not finite", "[cover]") {

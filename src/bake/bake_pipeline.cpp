@@ -133,6 +133,8 @@ void validate_cover(const BakeRequest& r) {
     throw request_error(ErrorKind::kConflict, "max_spheres", std::to_string(*r.max_spheres),
                         "excludes cover_start: the start's spheres are the budget",
                         {"cover_start"});
+  const std::string weights = protrusion_weights_problem(r.cover_weights);
+  if (!weights.empty()) throw request_error(ErrorKind::kOutOfRange, "cover_weights", "", weights);
   const std::string problem = r.cover_start.empty() ? "" : cover_start_problem(r.cover_start);
   if (!problem.empty())
     throw request_error(ErrorKind::kOutOfRange, "cover_start",
@@ -149,6 +151,7 @@ void validate_cover(const BakeRequest& r) {
 void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& out) {
   CoverOptions options;
   options.threads = r.medial.threads;
+  options.weights = r.cover_weights;
   out.cover = r.cover_start.empty() ? bake_cover(fit.query(), *r.max_spheres, options)
                                     : tighten_cover(fit.query(), r.cover_start, options);
   out.self_intersecting_pairs = fit.self_intersections().count();

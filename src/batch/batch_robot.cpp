@@ -47,6 +47,15 @@ RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, 
   const std::vector<LinkSolid> solids = load_link_solids(robot);
   RobotFileResult r;
   r.bake = bake_robot(robot, solids, job.bake);
+  if (job.contact && job.planner.sample && job.bake.outer) {
+    RobotBakeOptions again = job.bake;
+    again.progress = nullptr;
+    PlannerRequest planner = job.planner;
+    planner.self_collision.threads = job.bake.jobs;
+    r.bake = rebake_contact_aware(robot, solids, again, r.bake,
+                                  formats::robot_output_choice(job.set, r.bake.model), planner,
+                                  *job.contact);
+  }
   if (!job.options_json.empty()) {
     nlohmann::ordered_json meta = nlohmann::ordered_json::parse(r.bake.model.metadata_json);
     meta["options"] = nlohmann::ordered_json::parse(job.options_json);
@@ -228,6 +237,11 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
                               : *job.set == formats::SphereChoice::kInner ? "inner"
                                                                           : "outer");
   t += "\n" + planner_request_text(job.planner);
+  if (job.contact)
+    t += "contact=" + std::to_string(job.contact->samples) + " " +
+         std::to_string(job.contact->seed) + " " + exact_number_text(job.contact->band) + " " +
+         exact_number_text(job.contact->weight) + " " + exact_number_text(job.contact->min_share) +
+         "\n";
   if (!job.planner.srdf.empty()) t += "srdf_sha256=" + file_sha256(job.planner.srdf) + "\n";
   return sha256_hex(t + "\noptions=" + job.options_json + "\n");
 }

@@ -55,6 +55,8 @@ struct RobotArgs {
   std::string srdf;
   bool no_self_collision = false;
   SelfCollisionOptions self_collision;
+  bool contact = false;
+  ContactOptions contact_options;
   bool resolution_given = false;
   bool quiet = false;
 };
@@ -194,6 +196,13 @@ std::string options_json(const RobotArgs& a) {
   o["self_collision_seed"] = a.self_collision.seed;
   o["self_collision_threshold"] = a.self_collision.threshold;
   o["self_collision_margin"] = a.self_collision.margin;
+  o["contact"] = a.contact;
+  if (a.contact) {
+    o["contact_samples"] = a.contact_options.samples;
+    o["contact_band"] = a.contact_options.band;
+    o["contact_weight"] = a.contact_options.weight;
+    o["contact_min_share"] = a.contact_options.min_share;
+  }
   return o.dump();
 }
 
@@ -225,6 +234,15 @@ RobotJob robot_job(const RobotArgs& a) {
   job.planner.sample = !a.no_self_collision;
   job.planner.self_collision = a.self_collision;
   validate(job.planner.self_collision);
+  if (a.contact) {
+    if (a.no_self_collision || a.no_outer)
+      throw InputError::option(ErrorKind::kConflict, "contact", "",
+                               "needs the self-collision matrix and the outer sets "
+                               "(drop --no-self-collision and --no-outer)");
+    job.contact = a.contact_options;
+    job.contact->threads = a.batch.jobs;
+    validate(*job.contact);
+  }
   return job;
 }
 
@@ -348,6 +366,22 @@ Runner register_robot(CLI::App& app) {
       ->capture_default_str();
   sub->add_option("--self-collision-margin", a->self_collision.margin,
                   "Metres: a pair whose solids never come this close is never colliding")
+      ->capture_default_str();
+  sub->add_flag("--contact", a->contact,
+                "Contact-aware covers: bake the covers again to stick out less where the "
+                "checked pairs come close (docs/self-collision.md)");
+  sub->add_option("--contact-samples", a->contact_options.samples,
+                  "Configurations the contact regions are learnt from")
+      ->capture_default_str();
+  sub->add_option("--contact-band", a->contact_options.band,
+                  "Metres: another link's surface within it of a link's makes its contact region")
+      ->capture_default_str();
+  sub->add_option("--contact-weight", a->contact_options.weight,
+                  "How many times the protrusion of a ball in a contact region counts")
+      ->capture_default_str();
+  sub->add_option("--contact-min-share", a->contact_options.min_share,
+                  "A contact region keeps the places partners came to in at least this share "
+                  "of the samples")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
   add_batch_flags(*sub, a->batch, robot_batch(RobotJob{}));

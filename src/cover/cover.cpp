@@ -26,6 +26,7 @@
 #include "cover_elements.h"
 #include "cover_flow.h"
 #include "cover_protrusion.h"
+#include "cover_weights.h"
 
 #include <algorithm>
 #include <chrono>
@@ -119,9 +120,13 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
   const Elements fine =
       detail::make_patches(e, budget, kFinePatchFloor, query.mesh().bounds().min());
   s.patches = fine.surface;
+  const detail::BallWeights weights(options.weights);
   detail::ProtrusionStage p =
-      detail::protrusion_stage(query, e, fine, budget, options.rounds, solid, threads);
+      detail::protrusion_stage(query, e, fine, budget, options.rounds, solid, threads, weights);
   s.rounds_run = p.rounds;
+  // Weighted: the protrusion stage's result as it is (the volume stage and the choice
+  // below measure the unweighted protrusion, which would undo the weights).
+  if (options.weights.active()) return refined(e, std::move(p.clustering), options);
   std::vector<Clustering> results;
   if (options.volume_descent) {
     const double cap = (1.0 + options.protrusion_allowance) *
@@ -170,6 +175,8 @@ void check_cover_options(std::size_t budget, const CoverOptions& o) {
     throw std::invalid_argument("protrusion_allowance must be finite and >= 0, got " +
                                 std::to_string(o.protrusion_allowance));
   check_threads(o.threads);
+  const std::string weights = protrusion_weights_problem(o.weights);
+  if (!weights.empty()) throw std::invalid_argument(weights);
 }
 
 // s.mesh_volume is already set (solid_volume, once per call).

@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <array>
+#include <cmath>
 #include <cstddef>
 #include <vector>
 
@@ -20,19 +21,22 @@ namespace medspheres::detail {
 constexpr int kMaxElementDepth = 5;
 
 // Constraint points and the elements made of them: elements [0, surface) are surface
-// pieces (three point indices), the rest interior points (one index, thrice). Each
-// element's weight is the area it stands for (a piece: its own; an interior point: the
-// square of the interior grid's cell). Patches are elements too, without points: each is
-// the ball (centroid, reach) that holds the points of the elements it stands for, and
-// weighs what they weigh.
+// pieces, the rest interior points (one index, four times). A piece is a triangle (a, b,
+// c, c) or, on a mesh of more triangles than the bake needs, two mesh triangles that share
+// the edge ab (a, b, c, d: the triangles abc and abd; a ball holding the four corners holds
+// both). Each element's weight is the area it stands for (a piece: its own; an interior
+// point: the square of the interior grid's cell). Patches are elements too, without points:
+// each is the ball (centroid, reach) that holds the points of the elements it stands for,
+// and weighs what they weigh.
 struct Elements {
   std::vector<Eigen::Vector3d> points;
-  std::vector<std::array<int, 3>> items;  // empty for patches
+  std::vector<std::array<int, 4>> items;  // empty for patches
   std::vector<Eigen::Vector3d> centroids;
   std::vector<double> reach;  // largest centroid-corner distance
   std::vector<double> weight;
   std::size_t surface = 0;
   double element_size = 0.0;  // the surface elements' target length
+  bool paired = false;        // the mesh's triangles went in pairs (make_elements)
   bool patches() const { return items.empty(); }
   std::size_t size() const { return centroids.size(); }
 };
@@ -51,9 +55,16 @@ Elements make_patches(const Elements& e, std::size_t budget, double floor,
 // Inline: the bake's inner loops call it millions of times.
 inline double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
   if (e.patches()) return (e.centroids[i] - c).norm() + e.reach[i];
+  // The largest squared distance, then one root: the same value as the largest root (the
+  // root is correctly rounded and monotone).
   double m = 0.0;
-  for (int p : e.items[i]) m = std::max(m, (e.points[static_cast<std::size_t>(p)] - c).norm());
-  return m;
+  for (int p : e.items[i])
+    m = std::max(m, (e.points[static_cast<std::size_t>(p)] - c).squaredNorm());
+  return std::sqrt(m);
+}
+// Whether surface element i is two mesh triangles (a, b, c, d).
+inline bool paired(const Elements& e, std::size_t i) {
+  return e.items[i][3] != e.items[i][2];
 }
 // The growth ball b needs to hold element i.
 double need(const Elements& e, std::size_t i, const Sphere& b);
@@ -101,9 +112,11 @@ void hold_members(const Elements& e, Clustering& c);
 void hold_all(const Elements& e, Clustering& c, int threads);
 // Each ball gives up the elements another ball holds and shrinks to what it keeps; a ball
 // left with nothing gets radius 0. Every element stays held. Leaves its marks in
-// c.settled; with \p use_marks it starts from them (when there is one per element), so an
-// element marked is not checked again.
-void shrink(const Elements& e, Clustering& c, bool use_marks = false);
+// c.settled. With \p refining it starts from them (when there is one per element), so an
+// element marked is not checked again, and an element that another ball holds but that lies
+// well within what its own ball keeps (2 reaches inside) stays: moving it would shrink
+// neither ball, only hand it back and forth between passes.
+void shrink(const Elements& e, Clustering& c, bool refining = false);
 // The surface elements that bind a ball's radius split in four, then shrink, \p levels
 // times: the balls shrink to where the others' reach ends, at a finer grain than the
 // elements'. \p e gains the split elements. Every element stays held.
@@ -122,5 +135,10 @@ struct Probe {
 };
 Probe probe(const MeshQuery& query, const Eigen::Vector3d& y, const Eigen::Vector3d& x,
             const Probe& px);
+// An upper bound on the signed distance that probe(query, y, x, px) returns, without a
+// closest-point query: the distance from y to px's triangle (D(y) <= |D(y)| <= it) plus a
+// margin above the rounding of both; +infinity when px has no triangle of the mesh (none, or
+// a cap's). A search for a deeper point skips y when even this depth does not help.
+double depth_bound(const MeshQuery& query, const Eigen::Vector3d& y, const Probe& px);
 
 }  // namespace medspheres::detail

@@ -56,6 +56,15 @@ struct Depth {
   Probe probe;
   Eigen::Vector3d gradient = Eigen::Vector3d::Zero();
 
+  // Whether a ball (c, r) surely protrudes at most \p cap without a query: from the last
+  // probe, D(c) >= D(at) - |c - at| while c stays within half that depth (so that the next
+  // update still reads the side from the last one), and a 1e-12 L margin covers rounding.
+  bool surely_within(const Eigen::Vector3d& c, double r, double cap, double L) const {
+    const double moved = (c - at).norm();
+    return probe.triangle >= 0 && moved < 0.5 * probe.depth &&
+           r - (probe.depth - moved) <= cap - 1e-12 * L;
+  }
+
   void update(const MeshQuery& query, const Eigen::Vector3d& c) {
     probe = detail::probe(query, c, at, probe);
     at = c;
@@ -216,6 +225,7 @@ std::vector<Sphere> volume_flow(const MeshQuery& query, const Elements& e,
     add_coverage(e, cand, balls, delta, o.threads, grad);
     if (std::isfinite(o.cap))
       for (std::size_t j = 0; j < k; ++j) {
+        if (depth[j].surely_within(balls[j].center, balls[j].radius, o.cap, L)) continue;
         depth[j].update(query, balls[j].center);
         const double p = balls[j].radius - depth[j].probe.depth;
         if (!(p > o.cap)) continue;

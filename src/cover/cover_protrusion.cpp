@@ -26,6 +26,7 @@
 #include "cover_protrusion.h"
 
 #include "cover_threshold.h"
+#include "cover_weights.h"
 
 #include <algorithm>
 #include <cmath>
@@ -79,7 +80,7 @@ class FarthestAtoms {
 // \p first times the radius down to 1e-3 of it, each centre to lower the radius needed to
 // hold its elements minus its depth; the radius is then the distance to the farthest point.
 void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int threads,
-            double first = 0.25) {
+            double first = 0.25, const BallWeights& weights = {}) {
   c.settled.clear();
   const auto members = members_of(c.owner, c.balls.size());
   const long long k = static_cast<long long>(c.balls.size());
@@ -94,14 +95,20 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
       FarthestAtoms reach(pts);
       Eigen::Vector3d x = c.balls[j].center;
       Probe px = probe(query, x, x, {});
-      double fx = reach_from(pts, x) - px.depth;
-      const double r = std::max(c.balls[j].radius, fx);
+      const auto cost = [&](double radius, const Eigen::Vector3d& y, double depth) {
+        return (weights.active() ? weights.weight(radius, weights.gap(y)) : 1.0) * (radius - depth);
+      };
+      double fx = cost(reach_from(pts, x), x, px.depth);
+      const double r = std::max(c.balls[j].radius, reach_from(pts, x) - px.depth);
       for (double step = first * r; step > 1e-3 * r;) {
         bool moved = false;
         for (int axis = 0; axis < 6 && !moved; ++axis) {
           const Eigen::Vector3d y = x + (axis % 2 ? -step : step) * Eigen::Vector3d::Unit(axis / 2);
+          const double ry = reach(y, 4.0 * step);
+          // The cost falls as the depth grows: at the depth's upper bound it is a lower bound.
+          if (!(cost(ry, y, depth_bound(query, y, px)) < fx)) continue;
           const Probe py = probe(query, y, x, px);
-          const double fy = reach(y, 4.0 * step) - py.depth;
+          const double fy = cost(ry, y, py.depth);
           if (fy < fx) x = y, fx = fy, px = py, moved = true;
         }
         if (!moved) step *= 0.5;
@@ -115,29 +122,33 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
 // drops by less than 1e-3 of itself; the best round is kept, then shrunk, which only lowers
 // protrusions. \p run counts the rounds.
 Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int rounds, int threads,
-                   int& run) {
+                   int& run, const BallWeights& weights) {
   drop_empty(c);
-  auto largest = [&](const std::vector<Sphere>& balls, std::vector<double>* depth) {
-    const std::vector<double> p = sphere_protrusions(query, balls, threads);
+  auto largest = [&](const Clustering& k, std::vector<double>* depth) {
+    const std::vector<double> p = sphere_protrusions(query, k.balls, threads);
     if (depth) {
-      depth->resize(balls.size());
-      for (std::size_t j = 0; j < balls.size(); ++j) (*depth)[j] = balls[j].radius - p[j];
+      depth->resize(k.balls.size());
+      for (std::size_t j = 0; j < k.balls.size(); ++j) (*depth)[j] = k.balls[j].radius - p[j];
     }
-    return *std::max_element(p.begin(), p.end());
+    const std::vector<double> w = weighted(k.balls, weights, p);
+    return *std::max_element(w.begin(), w.end());
   };
   std::vector<double> depth;
-  double best_p = largest(c.balls, &depth);
+  double best_p = largest(c, &depth);
   Clustering best = c;
   for (int round = 0; round < rounds; ++round) {
     ++run;
-    assign(e, c.balls, c.owner, threads, depth);
+    if (weights.active())
+      assign_weighted(e, c.balls, depth, weights, c.owner, threads);
+    else
+      assign(e, c.balls, c.owner, threads, depth);
     c.settled.clear();
     const auto members = members_of(c.owner, c.balls.size());
     for (std::size_t j = 0; j < c.balls.size(); ++j)
       if (members[j].empty()) c.balls[j].radius = 0.0;
-    deepen(query, e, c, threads, 0.1);
+    deepen(query, e, c, threads, 0.1, weights);
     drop_empty(c);
-    const double p = largest(c.balls, &depth);
+    const double p = largest(c, &depth);
     if (p < best_p) best = c;
     if (!(p < best_p - 1e-3 * std::abs(best_p))) break;
     best_p = p;
@@ -178,7 +189,8 @@ Candidates candidates(const MeshQuery& query, const std::optional<double>& volum
 // hold it; the elements then go to them as in the minimax rounds, each ball as large as its
 // elements need. Empty when no cover is found.
 Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elements& p,
-                           std::size_t budget, const std::optional<double>& volume, int threads) {
+                           std::size_t budget, const std::optional<double>& volume, int threads,
+                           const BallWeights& weights) {
   const Candidates cand = candidates(query, volume, threads);
   const std::size_t m_count = cand.centres.size(), items = p.size();
   Clustering c;
@@ -189,8 +201,12 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
 #pragma omp parallel for schedule(static) num_threads(threads)
   for (long long mm = 0; mm < n; ++mm) {
     const std::size_t m = static_cast<std::size_t>(mm);
-    for (std::size_t q = 0; q < items; ++q)
-      cost[m * items + q] = static_cast<float>(farthest(p, q, cand.centres[m]) - cand.depth[m]);
+    const double gap = weights.active() ? weights.gap(cand.centres[m]) : 0.0;
+    for (std::size_t q = 0; q < items; ++q) {
+      const double reach = farthest(p, q, cand.centres[m]);
+      cost[m * items + q] = static_cast<float>(
+          (reach - cand.depth[m]) * (weights.active() ? weights.weight(reach, gap) : 1.0));
+    }
   }
   const ThresholdCover tc =
       least_threshold_cover(cost.get(), m_count, items, budget,
@@ -198,8 +214,12 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
   if (tc.picks.empty()) return c;
   std::vector<double> depth;
   for (std::size_t m : tc.picks)
-    c.balls.push_back({cand.centres[m], 1.0}), depth.push_back(cand.depth[m]);
-  assign(e, c.balls, c.owner, threads, depth);
+    c.balls.push_back({cand.centres[m], weights.active() ? 0.0 : 1.0}),
+        depth.push_back(cand.depth[m]);
+  if (weights.active())
+    assign_weighted(e, c.balls, depth, weights, c.owner, threads);
+  else
+    assign(e, c.balls, c.owner, threads, depth);
   hold_members(e, c);
   return c;
 }
@@ -234,14 +254,15 @@ bool split(const Elements& e, Clustering& c, std::size_t j) {
 }
 
 // The ball other than j (the one element i belongs to) that holds i at the least
-// protrusion, given each ball's \p depth, and that protrusion.
+// protrusion, given each ball's \p depth, and that protrusion. \p g: scratch.
 std::pair<std::size_t, double> cheapest_other(const Elements& e, const Clustering& c, std::size_t i,
-                                              const std::vector<double>& depth) {
+                                              const std::vector<double>& depth,
+                                              std::vector<double>& g) {
   const std::size_t j = static_cast<std::size_t>(c.owner[i]);
   std::pair<std::size_t, double> best{j, std::numeric_limits<double>::infinity()};
   // The farthest point is within |centroid - c| +- reach: skip balls that cannot win, as
   // assign does.
-  std::vector<double> g(c.balls.size(), std::numeric_limits<double>::infinity());
+  g.assign(c.balls.size(), std::numeric_limits<double>::infinity());
   double best_hi = std::numeric_limits<double>::infinity();
   for (std::size_t m = 0; m < c.balls.size(); ++m) {
     if (m == j || !(c.balls[m].radius > 0.0)) continue;
@@ -259,11 +280,21 @@ std::pair<std::size_t, double> cheapest_other(const Elements& e, const Clusterin
 
 // The ball whose elements the other balls can take at the least largest protrusion.
 std::size_t cheapest_removal(const Elements& e, const Clustering& c,
-                             const std::vector<double>& depth) {
-  std::vector<double> worst(c.balls.size(), -std::numeric_limits<double>::infinity());
-  for (std::size_t i = 0; i < e.size(); ++i) {
-    double& w = worst[static_cast<std::size_t>(c.owner[i])];
-    w = std::max(w, cheapest_other(e, c, i, depth).second);
+                             const std::vector<double>& depth, int threads) {
+  constexpr double kLow = -std::numeric_limits<double>::infinity();
+  std::vector<double> worst(c.balls.size(), kLow);
+  const long long n = static_cast<long long>(e.size());
+#pragma omp parallel num_threads(threads)
+  {
+    std::vector<double> mine(c.balls.size(), kLow), g;  // the maximum is order-free
+#pragma omp for schedule(static)
+    for (long long ii = 0; ii < n; ++ii) {
+      const std::size_t i = static_cast<std::size_t>(ii);
+      double& w = mine[static_cast<std::size_t>(c.owner[i])];
+      w = std::max(w, cheapest_other(e, c, i, depth, g).second);
+    }
+#pragma omp critical
+    for (std::size_t j = 0; j < worst.size(); ++j) worst[j] = std::max(worst[j], mine[j]);
   }
   return static_cast<std::size_t>(std::min_element(worst.begin(), worst.end()) - worst.begin());
 }
@@ -272,9 +303,10 @@ std::size_t cheapest_removal(const Elements& e, const Clustering& c,
 void hand_over(const Elements& e, Clustering& c, std::size_t gone,
                const std::vector<double>& depth) {
   c.settled.clear();
+  std::vector<double> g;
   for (std::size_t i = 0; i < e.size(); ++i) {
     if (c.owner[i] != static_cast<int>(gone)) continue;
-    const std::size_t m = cheapest_other(e, c, i, depth).first;
+    const std::size_t m = cheapest_other(e, c, i, depth, g).first;
     c.owner[i] = static_cast<int>(m);
   }
   c.balls[gone].radius = 0.0;
@@ -285,7 +317,7 @@ void hand_over(const Elements& e, Clustering& c, std::size_t gone,
 // minimax rounds and kept when the largest protrusion \p p (that of \p c, updated) falls; the
 // first move that does not help ends them.
 Clustering moves(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                 double& p, int threads, int& run) {
+                 double& p, int threads, int& run, const BallWeights& weights) {
   const int most = budget <= 16 ? kMoves : kMovesAbove16;
   for (int move = 0; move < most; ++move) {
     Clustering d = c;
@@ -294,17 +326,18 @@ Clustering moves(const MeshQuery& query, const Elements& e, Clustering c, std::s
     const std::vector<double> q = sphere_protrusions(query, d.balls, threads);
     std::vector<double> depth(q.size());
     for (std::size_t j = 0; j < q.size(); ++j) depth[j] = d.balls[j].radius - q[j];
+    const std::vector<double> wq = weighted(d.balls, weights, q);
     const std::size_t worst =
-        static_cast<std::size_t>(std::max_element(q.begin(), q.end()) - q.begin());
+        static_cast<std::size_t>(std::max_element(wq.begin(), wq.end()) - wq.begin());
     if (d.balls.size() >= budget) {
-      const std::size_t gone = cheapest_removal(e, d, depth);
+      const std::size_t gone = cheapest_removal(e, d, depth, threads);
       if (gone == worst) break;
       hand_over(e, d, gone, depth);
     }
     if (!split(e, d, worst)) break;
     hold_members(e, d);
-    d = minimax(query, e, std::move(d), kMoveRounds, threads, run);
-    const double v = largest_protrusion(query, d.balls, threads);
+    d = minimax(query, e, std::move(d), kMoveRounds, threads, run, weights);
+    const double v = largest_weighted_protrusion(query, d.balls, weights, threads);
     if (!(v < p)) break;
     c = std::move(d), p = v;
   }
@@ -344,10 +377,10 @@ Clustering spread_start(const MeshQuery& query, const Elements& e, const Element
 // Minimax rounds (at most \p rounds), then the split and exchange moves up to kMoveBudget;
 // \p p is the result's largest protrusion.
 Clustering local_search(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                        int rounds, int threads, double& p, int& run) {
-  c = minimax(query, e, std::move(c), rounds, threads, run);
-  p = largest_protrusion(query, c.balls, threads);
-  if (budget <= kMoveBudget) c = moves(query, e, std::move(c), budget, p, threads, run);
+                        int rounds, int threads, double& p, int& run, const BallWeights& weights) {
+  c = minimax(query, e, std::move(c), rounds, threads, run, weights);
+  p = largest_weighted_protrusion(query, c.balls, weights, threads);
+  if (budget <= kMoveBudget) c = moves(query, e, std::move(c), budget, p, threads, run, weights);
   return c;
 }
 
@@ -375,16 +408,17 @@ Clustering one_ball(const MeshQuery& query, const Elements& e, int threads) {
 
 ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
                                  std::size_t budget, int rounds,
-                                 const std::optional<double>& volume, int threads) {
+                                 const std::optional<double>& volume, int threads,
+                                 const BallWeights& weights) {
   ProtrusionStage out;
-  Clustering c = threshold_start(query, e, fine, budget, volume, threads);
+  Clustering c = threshold_start(query, e, fine, budget, volume, threads, weights);
   if (c.balls.empty()) c = one_ball(query, e, threads);
   double p = 0.0;
-  c = local_search(query, e, std::move(c), budget, rounds, threads, p, out.rounds);
+  c = local_search(query, e, std::move(c), budget, rounds, threads, p, out.rounds, weights);
   if (budget <= kSpreadBudget) {
     double q = 0.0;
     Clustering d = local_search(query, e, spread_start(query, e, fine, budget, threads), budget,
-                                rounds, threads, q, out.rounds);
+                                rounds, threads, q, out.rounds, weights);
     if (q < p) c = std::move(d);
   }
   out.clustering = std::move(c);

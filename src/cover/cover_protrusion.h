@@ -7,6 +7,7 @@
 #include <vector>
 
 #include "cover_elements.h"
+#include "cover_weights.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/sphere_set.h"
 
@@ -22,10 +23,13 @@ struct ProtrusionStage {
 // kMoveBudget split and exchange moves, each kept while the largest protrusion falls; for
 // budgets up to kSpreadBudget the same from the spread start too, the lower P kept.
 // \p volume: solid_volume(query.mesh()), computed once by the caller (on a mesh of 100k
-// triangles each call costs about a tenth of the bake).
+// triangles each call costs about a tenth of the bake). With \p weights, every measure of
+// the largest protrusion is weighted (cover_weights.h): the threshold start's costs, the
+// rounds' and the moves' choices.
 ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
                                  std::size_t budget, int rounds,
-                                 const std::optional<double>& volume, int threads);
+                                 const std::optional<double>& volume, int threads,
+                                 const BallWeights& weights = {});
 
 // One ball: the minimum enclosing ball of the surface elements of \p e, moved inward.
 Clustering one_ball(const MeshQuery& query, const Elements& e, int threads);

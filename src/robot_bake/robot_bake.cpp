@@ -42,6 +42,7 @@ struct BakeJob {
   BakeOutcome outcome;
   std::optional<BakeOutcome> outer;  ///< the cover, when outer sets are baked
   std::vector<Sphere> outer_start;   ///< what the cover starts from, in the bake's frame
+  ProtrusionWeights outer_weights;   ///< the cover's weights, in the bake's frame
   double seconds = 0.0;
   double outer_seconds = 0.0;  ///< of seconds, the cover's
   std::exception_ptr error;
@@ -102,6 +103,8 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
   if (!job.outer_start.empty()) {  // the link's own spheres are its budget
     request.max_spheres.reset();
     request.cover_start = job.outer_start;
+  } else {
+    request.cover_weights = job.outer_weights;
   }
   return bake_mesh(fit, report, request, name, sha256);
 }
@@ -308,6 +311,21 @@ std::vector<Sphere> start_in_bake_frame(const std::vector<Sphere>& start, const 
   return placed(start, solid.parts[0].origin.inverse(), true);
 }
 
+// Link \p solid's weights (options.outer_weights), or nullptr (none, or no meshed parts).
+const ProtrusionWeights* outer_weights_of(const RobotBakeOptions& options, const LinkSolid& solid) {
+  const auto it = options.outer_weights.find(solid.link);
+  return it == options.outer_weights.end() || solid.parts.empty() ? nullptr : &it->second;
+}
+
+// Link-frame weights in the frame the link is baked in (as start_in_bake_frame).
+ProtrusionWeights weights_in_bake_frame(const ProtrusionWeights& w, const LinkSolid& solid) {
+  if (solid.parts.size() != 1) return w;
+  ProtrusionWeights out = w;
+  const Eigen::Isometry3d X_GL = solid.parts[0].origin.inverse();
+  for (Eigen::Vector3d& p : out.points) p = X_GL * p;
+  return out;
+}
+
 std::vector<std::string> unused_outer_start(const RobotBakeOptions& options,
                                             const std::vector<LinkSolid>& solids) {
   std::vector<std::string> unused;
@@ -355,13 +373,16 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
       continue;
     }
     const std::vector<Sphere>* given = outer_start_of(options, solids[i], robot.path);
-    // A link whose cover starts from its own spheres shares no bake.
-    const std::string key =
-        job_key(solids[i], budgets[i]) + (given ? " start of " + solids[i].link : "");
+    const ProtrusionWeights* weights = given ? nullptr : outer_weights_of(options, solids[i]);
+    // A link whose cover starts from its own spheres or has its own weights shares no bake.
+    const std::string key = job_key(solids[i], budgets[i]) +
+                            (given ? " start of " + solids[i].link : "") +
+                            (weights ? " weights of " + solids[i].link : "");
     const auto [it, fresh] = job_by_key.emplace(key, jobs.size());
     if (fresh) {
-      jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, {}, 0.0, 0.0, nullptr});
+      jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, {}, {}, 0.0, 0.0, nullptr});
       if (given) jobs.back().outer_start = start_in_bake_frame(*given, solids[i]);
+      if (weights) jobs.back().outer_weights = weights_in_bake_frame(*weights, solids[i]);
     }
     job_of[i] = it->second;
   }

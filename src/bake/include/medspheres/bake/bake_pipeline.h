@@ -42,6 +42,9 @@ struct BakeRequest {
   /// kCover only, instead of max_spheres: the caller's balls (in the mesh's frame), which
   /// tighten_cover (cover.h) makes into a certified cover of at most as many balls.
   std::vector<Sphere> cover_start;
+  /// kCover with max_spheres only: where the cover should stick out less (CoverOptions::
+  /// weights, protrusion_weights.h), in the mesh's frame.
+  ProtrusionWeights cover_weights;
   std::optional<double> target_error;  ///< nerr at most E, in (0, 1) (closed meshes only)
   bool dilate = false;                 ///< write S+ (implied by cover)
   /// Dilation lengths (DilateOptions): vertex_tolerance > 0, max_protrusion >= 0, cover > 0.

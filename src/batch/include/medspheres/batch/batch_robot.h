@@ -28,6 +28,7 @@
 #include "medspheres/batch/batch.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/robot/urdf_robot.h"
+#include "medspheres/robot_bake/contact_regions.h"
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
 
@@ -47,6 +48,10 @@ struct RobotJob {
   std::string options_json;
   /// Tool frames, self-collision matrix and default configuration (robot_planner_setup.h).
   PlannerRequest planner;
+  /// Contact-aware covers (contact_regions.h: the covers baked again where the matrix's
+  /// checked pairs come close); none: the covers of the first bake. Needs the matrix
+  /// (planner.sample) and outer sets.
+  std::optional<ContactOptions> contact;
 };
 
 struct RobotFileResult {

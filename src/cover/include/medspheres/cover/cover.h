@@ -62,6 +62,7 @@
 #include <string>
 #include <vector>
 
+#include "medspheres/cover/protrusion_weights.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/sphere_set.h"
@@ -78,6 +79,11 @@ struct CoverOptions {
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
   /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2).
   double protrusion_allowance = 0.03;
+  /// bake_cover only: where the balls should stick out less (protrusion_weights.h). When
+  /// active, step 2 lowers the largest weighted protrusion and its result is the candidate
+  /// kept (step 3 and step 4's choice, which weigh every ball alike, are skipped); step 4's
+  /// refinement and 5 run as always. tighten_cover ignores it.
+  ProtrusionWeights weights;
 };
 
 struct CoverStats {

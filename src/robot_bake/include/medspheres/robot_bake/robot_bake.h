@@ -112,6 +112,10 @@ struct RobotBakeOptions {
   /// Links of the robot without meshed parts, and names that are no link of the robot, are
   /// not used (RobotBakeResult::unused_outer_start). Needs `outer`.
   std::map<std::string, std::vector<Sphere>> outer_start;
+  /// Link name -> where its outer set should stick out less (protrusion_weights.h), points
+  /// in its link frame (contact_regions.h makes them). Links without meshed parts, links
+  /// with an outer_start and names that are no link are not used.
+  std::map<std::string, ProtrusionWeights> outer_weights;
   /// With request.solid kAuto: a link whose mesh is a thin shell (is_thin_shell,
   /// filled_solid.h) gets its inner set baked on its filled solid: the set lies inside the
   /// filled solid (its balls may sit in the cavity), records "inner_solid": "filled" (in
