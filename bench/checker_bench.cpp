@@ -41,6 +41,7 @@ struct Options : mb::RobotBenchOptions {
   std::size_t fine_spheres = 32;
   std::size_t tree_spheres = 0;
   std::size_t order_samples = 0;
+  std::size_t table_cells = 0;
   double edge_length = 0.5;
   double resolution = 0.02;
   bool fcl_loop = true;
@@ -61,6 +62,8 @@ Options parse(int argc, char** argv) {
   args.add("--order-samples", o.order_samples,
            "The certified fallback's pair order and witnesses, learnt from this many "
            "configurations (0: none)");
+  args.add("--table-cells", o.table_cells,
+           "The certified fallback's joint-space tables of self pairs: cells per pair (0: none)");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
@@ -104,6 +107,8 @@ int run(const Options& o) {
   in.fine = &fine;
   in.trees = o.tree_spheres > 0 ? &trees : nullptr;
   in.order_samples = o.order_samples;
+  in.order_seed = o.seed + 1;
+  in.table_cells = o.table_cells;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -140,6 +145,8 @@ int run(const Options& o) {
     fallback.trees = in.trees ? &trees.model : nullptr;
     fallback.order.samples = o.order_samples;
     fallback.order.margin = o.margin;
+    fallback.order.seed = o.seed + 1;
+    fallback.table_cells = o.table_cells;
     const mf::CertifiedChecker certified(
         planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
         objects, co, fallback);

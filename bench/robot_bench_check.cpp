@@ -122,6 +122,23 @@ class FclSphereLoop {
   std::vector<std::vector<Part>> parts_;
 };
 
+// The fallback's joint-space tables: how many, their cells, the share decided.
+void print_tables(const fcl::CertifiedChecker& c, double seconds) {
+  std::size_t tables = 0, cells = 0, free = 0, colliding = 0;
+  for (const auto& [a, b] : c.fallback().self_pairs())
+    if (const fcl::PairJointTable* t = c.table(a, b)) {
+      ++tables;
+      cells += t->cells();
+      free += t->free_cells();
+      colliding += t->colliding_cells();
+    }
+  if (tables > 0)
+    std::printf(
+        "joint-space tables: %zu self pairs, %zu cells (%zu free, %zu colliding); the certified "
+        "checker built in %.1f s\n",
+        tables, cells, free, colliding, seconds);
+}
+
 // Edges: from each configuration towards the next, cut to edge_length.
 void make_edges(const CheckerBenchInput& in, std::vector<double>& q0, std::vector<double>& q1) {
   for (std::size_t i = 0; i + 1 < in.configs.size(); ++i) {
@@ -228,14 +245,17 @@ void print_checker_rows(const CheckerBenchInput& in) {
   fallback.trees = in.trees ? &in.trees->model : nullptr;
   fallback.order.samples = in.order_samples;
   fallback.order.margin = in.margin;
+  fallback.order.seed = in.order_seed;
+  fallback.table_cells = in.table_cells;
   const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
                                         fallback);
   const double build = seconds_since(t0);
   std::printf(
       "\ncertified fallback: %zu witnesses, %zu of %zu self pairs seen colliding in %zu "
-      "samples\n",
+      "samples (seed %u)\n",
       certified.fallback().witnesses().size(), certified.fallback().seen_colliding(),
-      certified.fallback().self_pairs().size(), in.order_samples);
+      certified.fallback().self_pairs().size(), in.order_samples, in.order_seed);
+  print_tables(certified, build);
   const check::RobotChecker& spheres = certified.spheres();
   const check::GridStats g = spheres.grid();
   std::printf(
@@ -329,12 +349,12 @@ void print_checker_rows(const CheckerBenchInput& in) {
                            }) /
                double(n);
     r.colliding = colliding_of(v);
-    char note[160];
+    char note[192];
     std::snprintf(note, sizeof note,
-                  "certified: %zu configurations (%.2f%%) to the fallback, %zu pairs, %zu to the "
-                  "meshes; %zu undecided",
+                  "certified: %zu configurations (%.2f%%) to the fallback, %zu by witnesses, "
+                  "%zu pairs by tables, %zu pairs, %zu to the meshes; %zu undecided",
                   stats.configurations, 100.0 * double(stats.configurations) / double(n),
-                  stats.pairs, stats.meshes,
+                  stats.witnessed, stats.tabled, stats.pairs, stats.meshes,
                   static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
     r.note = note;
     rows.push_back(r);

@@ -23,6 +23,11 @@ struct CheckerBenchInput {
   const BenchRobot* trees = nullptr;
   /// The fallback's learnt pair order and witnesses (FallbackOptions::order.samples).
   std::size_t order_samples = 0;
+  /// Their seed (FallbackOptions::order.seed): not the configurations' own, so that the
+  /// witnesses are not learnt on the configurations they are timed on.
+  unsigned order_seed = 2;
+  /// The fallback's joint-space tables of self pairs (FallbackOptions::table_cells).
+  std::size_t table_cells = 0;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;

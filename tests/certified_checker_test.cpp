@@ -7,6 +7,7 @@
 #include <cmath>
 #include <map>
 #include <random>
+#include <tuple>
 
 #include <fcl/fcl.h>
 #include <octomap/octomap.h>
@@ -101,6 +102,36 @@ double exact_distance(const mf::CertifiedChecker& c, const RobotModel& arm, cons
     for (const auto& o : world().oracle) pair(p, *o);
   }
   for (const auto& [a, b] : c.spheres().self_pairs()) pair(posed[a], posed[b]);
+  return best;
+}
+
+// The link's capsule mesh as an fcl::Convex: FCL's GJK measures the distance between the
+// solids (0 when one lies wholly inside the other), where the meshes' BVH distance measures
+// their surfaces.
+std::shared_ptr<::fcl::Convexd> convex_link(const std::string& name) {
+  for (const test::CapsuleLink& l : test::capsule_arm_links()) {
+    if (l.name != name) continue;
+    const TriangleMesh m = test::capsule_link_mesh(l);
+    auto faces = std::make_shared<std::vector<int>>();
+    for (const auto& t : m.triangles) faces->insert(faces->end(), {3, t[0], t[1], t[2]});
+    return std::make_shared<::fcl::Convexd>(
+        std::make_shared<const std::vector<Eigen::Vector3d>>(m.vertices),
+        static_cast<int>(m.triangles.size()), faces);
+  }
+  return nullptr;
+}
+
+// The smallest distance between the solids of the checker's self pairs at q (convex_link).
+double solid_self_distance(const mf::CertifiedChecker& c, const RobotModel& arm, const double* q) {
+  const KinematicTree tree(arm);
+  const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q, 8));
+  const std::vector<std::string>& links = c.spheres().links();
+  double best = std::numeric_limits<double>::infinity();
+  for (const auto& [a, b] : c.spheres().self_pairs()) {
+    const ::fcl::CollisionObjectd oa(convex_link(links[a]), X[tree.link_index(links[a])]);
+    const ::fcl::CollisionObjectd ob(convex_link(links[b]), X[tree.link_index(links[b])]);
+    best = std::min(best, fcl_distance(oa, ob));
+  }
   return best;
 }
 
@@ -245,4 +276,214 @@ TEST_CASE("certified checker: a learnt pair order and witnesses change no verdic
   const mf::RobotBounds at_zero(fine, world().meshes, options(margin).disabled, {}, fallback.order);
   CHECK(unset.fallback().witnesses().size() == at_margin.witnesses().size());
   CHECK(at_zero.witnesses().size() != at_margin.witnesses().size());
+}
+
+TEST_CASE(
+    "certified checker: a witness settles only configurations the exact meshes find colliding",
+    "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  // Witnesses finer than the bounds' inner sets (those would have decided already).
+  const RobotModel trees = test::capsule_arm(24);
+  const double margin = 0.01;
+  constexpr std::size_t kConfigs = 1500;
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  fallback.order.samples = 400;
+  fallback.order.seed = 5;
+  // No scene: every fallback is a self pair's, where the witnesses are.
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
+  const std::vector<double> q = test::capsule_arm_configs(kConfigs, 24);
+  std::size_t witnessed = 0, fallbacks = 0;
+  for (std::size_t i = 0; i < kConfigs; ++i) {
+    mf::FallbackStats s;
+    const Verdict v = learnt.check(q.data() + 8 * i, &s);
+    fallbacks += s.configurations;
+    if (s.witnessed == 0) continue;
+    ++witnessed;
+    CHECK(v == Verdict::colliding);
+    CHECK(s.pairs == 0);  // no pair walked
+    CHECK(solid_self_distance(learnt, arm, q.data() + 8 * i) <= margin + kGjkTolerance);
+  }
+  INFO("witnesses " << learnt.fallback().witnesses().size() << ", fallbacks " << fallbacks);
+  CHECK(witnessed > 0);
+  CHECK(witnessed < fallbacks);
+  // The batch and the edges agree with one configuration at a time.
+  std::vector<Verdict> batch(kConfigs);
+  mf::FallbackStats s;
+  learnt.check(q.data(), kConfigs, batch.data(), 2, &s);
+  CHECK(s.witnessed == witnessed);
+  for (std::size_t i = 0; i < kConfigs; ++i) CHECK(learnt.check(q.data() + 8 * i) == batch[i]);
+  std::vector<Verdict> edges(kConfigs - 1);
+  mf::FallbackStats se;
+  learnt.check_edges(q.data(), q.data() + 8, kConfigs - 1, 0.1, edges.data(), 2, &se);
+  CHECK(se.witnessed > 0);
+  std::vector<double> at(8);
+  for (std::size_t e = 0; e < kConfigs - 1; ++e) {
+    const double* q0 = q.data() + 8 * e;
+    const std::size_t n = learnt.spheres().edge_steps(q0, q0 + 8, 0.1);
+    Verdict truth = Verdict::free;
+    for (std::size_t k = 0; k <= n && truth != Verdict::colliding; ++k) {
+      for (int j = 0; j < 8; ++j) at[j] = q0[j] + double(k) / double(n) * (q0[8 + j] - q0[j]);
+      const Verdict v = learnt.check(at.data());
+      if (v != Verdict::free) truth = v;
+    }
+    CHECK(edges[e] == truth);
+  }
+}
+
+TEST_CASE("certified checker: every witness that holds is a pair of solids within the margin",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const RobotModel trees = test::capsule_arm(24);
+  const double margin = 0.01;
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  fallback.order.samples = 400;
+  fallback.order.seed = 5;
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
+  const mf::RobotBounds& rb = learnt.fallback();
+  REQUIRE(!rb.witnesses().empty());
+  const std::vector<double> q = test::capsule_arm_configs(1500, 25);
+  std::size_t held = 0;
+  for (std::size_t i = 0; i < 1500; ++i) {
+    const auto X = rb.poses(Eigen::Map<const Eigen::VectorXd>(q.data() + 8 * i, 8),
+                            Eigen::Isometry3d::Identity());
+    for (const mf::SelfWitness& w : rb.witnesses()) {
+      if (!mf::witness_holds(w, X, margin)) continue;
+      ++held;
+      const ::fcl::CollisionObjectd a(convex_link(rb.geometries()[w.a].link()), X[w.a]);
+      const ::fcl::CollisionObjectd b(convex_link(rb.geometries()[w.b].link()), X[w.b]);
+      INFO(rb.geometries()[w.a].link() << " " << rb.geometries()[w.b].link());
+      CHECK(fcl_distance(a, b) <= margin + kGjkTolerance);
+    }
+  }
+  CHECK(held > 20);
+}
+
+TEST_CASE("certified checker: joint-space tables for the pairs two revolute joints apart",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  mf::FallbackOptions fallback;
+  fallback.table_cells = 4;
+  const mf::CertifiedChecker tabled(arm, &fine, world().meshes, {}, options(0.01), fallback);
+  const mf::RobotBounds& rb = tabled.fallback();
+  auto table = [&](const std::string& a, const std::string& b) {
+    std::size_t ga = 0, gb = 0;
+    while (rb.geometries()[ga].link() != a) ++ga;
+    while (rb.geometries()[gb].link() != b) ++gb;
+    return tabled.table(ga, gb);
+  };
+  REQUIRE(table("l1", "l3") != nullptr);
+  CHECK(table("l1", "l3")->cells() <= 4);
+  CHECK(table("l6", "tool") != nullptr);        // one revolute joint, then fixed ones
+  CHECK(table("l0", "l4") == nullptr);          // four joints apart
+  CHECK(table("tool", "finger_a") == nullptr);  // adjacent: not a self pair
+  CHECK(table("l6", "finger_a") == nullptr);    // a prismatic joint on the path
+}
+
+// A folding chain: a base, a short middle link and a tip that folds back onto the base (two
+// revolute joints apart: a pair PairJointTable takes), with the capsule arm's closed-form
+// sets and meshes.
+std::vector<test::CapsuleLink> fold_links() {
+  return {{"base", 0.03, 0.1, pose_of({0, 0, 0.1})},
+          {"mid", 0.02, 0.04, pose_of({0, 0, 0.06})},
+          {"tip", 0.03, 0.1, pose_of({0, 0, 0.1})}};
+}
+
+RobotModel fold_chain(int k) {
+  RobotModel m;
+  m.name = "fold";
+  m.root_link = "base";
+  for (const test::CapsuleLink& l : fold_links()) {
+    Link link;
+    link.name = l.name;
+    link.spheres.outer = test::capsule_set(l, k, true);
+    link.spheres.inner = test::capsule_set(l, k, false);
+    link.spheres.outer_certificate_json = R"({"certified": true, "method": "closed form"})";
+    m.links.push_back(link);
+  }
+  for (const auto& [name, parent, child, z] :
+       {std::tuple{"j1", "base", "mid", 0.2}, std::tuple{"j2", "mid", "tip", 0.12}}) {
+    Joint j;
+    j.name = name;
+    j.type = JointType::kRevolute;
+    j.parent = parent;
+    j.child = child;
+    j.origin = pose_of({0, 0, z});
+    j.axis = Eigen::Vector3d(0, 1, 0);
+    j.limits = JointLimits{-2.8, 2.8, 2.0, 10.0};
+    m.joints.push_back(j);
+  }
+  return m;
+}
+
+TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near contact too",
+          "[check][fcl]") {
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  for (const test::CapsuleLink& l : fold_links())
+    meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
+  const RobotModel planner = fold_chain(4), fine = fold_chain(10);
+  check::CheckerOptions o;
+  o.margin = 0.01;
+  mf::FallbackOptions fallback;
+  fallback.table_cells = 2048;
+  const mf::CertifiedChecker plain(planner, &fine, meshes, {}, o);
+  const mf::CertifiedChecker tabled(planner, &fine, meshes, {}, o, fallback);
+  const mf::RobotBounds& rb = tabled.fallback();
+  REQUIRE(rb.self_pairs().size() == 1);
+  const auto [ga, gb] = rb.self_pairs()[0];
+  const mf::PairJointTable* table = tabled.table(ga, gb);
+  REQUIRE(table != nullptr);
+  CHECK(plain.table(ga, gb) == nullptr);
+  // Seeded configurations, and as many bisected to contact between a free and a colliding one.
+  std::mt19937 rng(27);
+  std::uniform_real_distribution<double> u(-2.8, 2.8);
+  std::vector<double> q;
+  for (int i = 0; i < 2000; ++i) q.insert(q.end(), {u(rng), u(rng)});
+  std::vector<Verdict> v(2000);
+  plain.check(q.data(), 2000, v.data());
+  for (std::size_t i = 0; i + 1 < 2000; ++i) {
+    if (v[i] == v[i + 1]) continue;
+    double lo = 0.0, hi = 1.0;  // lo on v[i]'s side
+    for (int step = 0; step < 30; ++step) {
+      const double t = 0.5 * (lo + hi);
+      const double at[2] = {q[2 * i] + t * (q[2 * i + 2] - q[2 * i]),
+                            q[2 * i + 1] + t * (q[2 * i + 3] - q[2 * i + 1])};
+      (plain.check(at) == v[i] ? lo : hi) = t;
+    }
+    // The contact, and a point nine tenths of the way to it from the free end.
+    const double contact = v[i] == Verdict::free ? lo : hi;
+    for (double t : {contact, v[i] == Verdict::free ? 0.9 * contact : 1.0 - 0.9 * (1.0 - contact)})
+      q.insert(q.end(), {q[2 * i] + t * (q[2 * i + 2] - q[2 * i]),
+                         q[2 * i + 1] + t * (q[2 * i + 3] - q[2 * i + 1])});
+  }
+  const std::size_t n = q.size() / 2;
+  REQUIRE(n > 2400);
+  std::size_t free = 0, near_free = 0;
+  const KinematicTree tree(fine);
+  for (std::size_t i = 0; i < n; ++i) {
+    const BoundsVerdict t = table->verdict(q.data() + 2 * i);
+    if (t == BoundsVerdict::undecided) continue;
+    const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q.data() + 2 * i, 2));
+    auto mesh = [&](std::size_t g) {
+      const std::string& link = rb.geometries()[g].link();
+      return ::fcl::CollisionObjectd(std::const_pointer_cast<mf::MeshModel>(meshes.at(link)),
+                                     X[tree.link_index(link)]);
+    };
+    const double d = fcl_distance(mesh(ga), mesh(gb));
+    INFO("configuration " << i << ": distance " << d);
+    CHECK(
+        (t == BoundsVerdict::free ? d > o.margin - kGjkTolerance : d <= o.margin + kGjkTolerance));
+    free += t == BoundsVerdict::free;
+    near_free += t == BoundsVerdict::free && i >= 2000;
+  }
+  CHECK(free > 500);
+  CHECK(near_free > 0);
+  std::vector<Verdict> a(n), b(n);
+  mf::FallbackStats sa, sb;
+  plain.check(q.data(), n, a.data(), 1, &sa);
+  tabled.check(q.data(), n, b.data(), 2, &sb);
+  CHECK(a == b);
+  CHECK(std::count(b.begin(), b.end(), Verdict::undecided) == 0);
+  CHECK(sb.meshes <= sa.meshes);
 }

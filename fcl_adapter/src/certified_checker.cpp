@@ -84,11 +84,8 @@ CertifiedChecker::CertifiedChecker(
     const auto [a, b] = bounds_.self_pairs()[k];
     rank_[std::min(a, b) * G + std::max(a, b)] = k;
   }
-  witnesses_of_.resize(G * G);
-  for (std::size_t k = 0; k < bounds_.witnesses().size(); ++k) {
-    const SelfWitness& w = bounds_.witnesses()[k];
-    witnesses_of_[std::min(w.a, w.b) * G + std::max(w.a, w.b)].push_back(k);
-  }
+  if (fallback.table_cells > 0)
+    bake_tables(fallback.trees ? *fallback.trees : fine ? *fine : planner, fallback.table_cells);
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
@@ -120,40 +117,105 @@ std::vector<check::UndecidedPair> CertifiedChecker::ordered(
   return out;
 }
 
-// One configuration: the bounds, then settle_pairs() on the pairs they left undecided.
-check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
-  std::vector<check::UndecidedPair> pairs;
-  const check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
-  if (v != check::Verdict::undecided) return v;
-  return settle_pairs(q, pairs, stats);
+// The self pairs' tables, two pairs at a time.
+void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells) {
+  const std::size_t G = bounds_.geometries().size();
+  const auto& pairs = bounds_.self_pairs();
+  tables_.resize(G * G);
+  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+#pragma omp parallel for schedule(dynamic, 1)
+  for (long k = 0; k < static_cast<long>(pairs.size()); ++k) {
+    const auto [a, b] = pairs[std::size_t(k)];
+    tables_[std::min(a, b) * G + std::max(a, b)] =
+        PairJointTable::build(model, bounds_.kinematics(), bounds_.link_of()[a], g[a],
+                              bounds_.link_of()[b], g[b], checker_.options().margin, cells);
+  }
 }
 
-// A configuration the bounds left undecided, with the pairs they left open: as robot_collide
-// does, decide() on every pair (the links' sphere trees, surface points included), stopping
-// at the first certainly colliding one; only when none is do the meshes settle() the pairs
-// still open.
-check::Verdict CertifiedChecker::settle_pairs(const double* q,
-                                              const std::vector<check::UndecidedPair>& pairs,
-                                              FallbackStats& stats) const {
-  ++stats.configurations;
+const PairJointTable* CertifiedChecker::table(std::size_t a, std::size_t b) const {
+  const std::size_t G = bounds_.geometries().size();
+  if (tables_.empty() || a >= G || b >= G) return nullptr;
+  return tables_[std::min(a, b) * G + std::max(a, b)].get();
+}
+
+CertifiedChecker::Poses CertifiedChecker::poses(const double* q) const {
   const Eigen::Map<const Eigen::VectorXd> qv(q,
                                              static_cast<Eigen::Index>(checker_.num_positions()));
-  const std::vector<::fcl::Transform3d> X = bounds_.poses(qv, checker_.options().X_WB);
+  return bounds_.poses(qv, checker_.options().X_WB);
+}
+
+// Whether some witness (two points of a self pair's solids, each in its link's frame) is
+// certainly within the margin at the poses X. The witnesses' pairs are the fallback's self
+// pairs (RobotBounds takes options.disabled as the checker does).
+bool CertifiedChecker::witnessed(const Poses& X) const {
+  if (!checker_.options().self) return false;
+  for (const SelfWitness& w : bounds_.witnesses())
+    if (witness_holds(w, X, checker_.options().margin)) return true;
+  return false;
+}
+
+std::vector<std::size_t> CertifiedChecker::unwitnessed(const double* q, std::size_t n,
+                                                       check::Verdict* out, std::vector<Poses>& X,
+                                                       int threads, FallbackStats& stats) const {
+  const std::size_t dof = checker_.num_positions();
+  std::vector<std::size_t> open;
+  for (std::size_t i = 0; i < n; ++i)
+    if (out[i] == check::Verdict::undecided) open.push_back(i);
+  stats.configurations += open.size();
+  std::vector<Poses> posed(open.size());
+  std::vector<char> held(open.size(), 0);
+#pragma omp parallel for schedule(dynamic, 8) num_threads(thread_count(threads))
+  for (long k = 0; k < static_cast<long>(open.size()); ++k) {
+    posed[std::size_t(k)] = poses(q + open[std::size_t(k)] * dof);
+    held[std::size_t(k)] = witnessed(posed[std::size_t(k)]);
+  }
+  std::vector<std::size_t> rest;
+  X.clear();
+  for (std::size_t k = 0; k < open.size(); ++k) {
+    if (held[k]) {
+      out[open[k]] = check::Verdict::colliding;
+      ++stats.witnessed;
+      continue;
+    }
+    rest.push_back(open[k]);
+    X.push_back(std::move(posed[k]));
+  }
+  return rest;
+}
+
+// One configuration: the bounds; when undecided, the witnesses, then the bounds again for
+// its undecided pairs and settle_pairs() on them.
+check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
+  check::Verdict v = checker_.check(q, check::Mode::bounds);
+  std::vector<Poses> X;
+  if (unwitnessed(q, 1, &v, X, 1, stats).empty()) return v;
+  std::vector<check::UndecidedPair> pairs;
+  v = checker_.check(q, check::Mode::bounds, &pairs);
+  if (v != check::Verdict::undecided) return v;
+  return settle_pairs(q, X[0], pairs, stats);
+}
+
+// A configuration the bounds left undecided, with the pairs they left open, posed (X): as
+// robot_collide does, decide() on every pair (the links' sphere trees, surface points
+// included), stopping at the first certainly colliding one; only when none is do the meshes
+// settle() the pairs still open.
+check::Verdict CertifiedChecker::settle_pairs(const double* q, const Poses& X,
+                                              const std::vector<check::UndecidedPair>& pairs,
+                                              FallbackStats& stats) const {
   const double margin = checker_.options().margin;
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
   auto object = [&](const check::UndecidedPair& p) { return scene_[scene_source_[p.other]]; };
-  const std::size_t G = g.size();
-  for (const check::UndecidedPair& p : pairs)
-    if (p.self) {
-      const std::size_t a = geometry_of_[p.link], b = geometry_of_[p.other];
-      for (std::size_t w : witnesses_of_[std::min(a, b) * G + std::max(a, b)])
-        if (witness_holds(bounds_.witnesses()[w], X, margin)) return check::Verdict::colliding;
-    }
   std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
   const std::vector<check::UndecidedPair> in_order = ordered(pairs);
   for (const check::UndecidedPair& p : in_order) {
-    ++stats.pairs;
     const std::size_t a = geometry_of_[p.link];
+    if (const PairJointTable* t = p.self ? table(a, geometry_of_[p.other]) : nullptr) {
+      const BoundsVerdict v = t->verdict(q);
+      stats.tabled += v != BoundsVerdict::undecided;
+      if (v == BoundsVerdict::colliding) return check::Verdict::colliding;
+      if (v == BoundsVerdict::free) continue;
+    }
+    ++stats.pairs;
     const CollideResult r =
         p.self ? decide(g[a], X[a], g[geometry_of_[p.other]], X[geometry_of_[p.other]], margin)
                : decide(g[a], X[a], *object(p)->collisionGeometry(), object(p)->getTransform(),
@@ -192,15 +254,14 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
   checker_.check(q, n, check::Mode::bounds, out, threads);
-  // The undecided configurations again, eight to a block, now with their undecided pairs.
+  // The undecided configurations the witnesses leave open again, eight to a block, now
+  // with their undecided pairs.
+  FallbackStats s;
+  std::vector<Poses> X;
+  const std::vector<std::size_t> open = unwitnessed(q, n, out, X, threads, s);
   const std::size_t dof = checker_.num_positions();
-  std::vector<std::size_t> open;
   std::vector<double> rows;
-  for (std::size_t i = 0; i < n; ++i)
-    if (out[i] == check::Verdict::undecided) {
-      open.push_back(i);
-      rows.insert(rows.end(), q + i * dof, q + (i + 1) * dof);
-    }
+  for (std::size_t i : open) rows.insert(rows.end(), q + i * dof, q + (i + 1) * dof);
   std::vector<check::Verdict> again(open.size());
   std::vector<std::vector<check::UndecidedPair>> pairs(open.size());
   checker_.check_bounds(rows.data(), open.size(), again.data(), pairs.data(), threads);
@@ -209,11 +270,12 @@ void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
     const std::size_t j = std::size_t(k);
     out[open[j]] = again[j] == check::Verdict::undecided
-                       ? settle_pairs(rows.data() + j * dof, pairs[j], each[j])
+                       ? settle_pairs(rows.data() + j * dof, X[j], pairs[j], each[j])
                        : again[j];
   }
-  if (stats)
-    for (const FallbackStats& s : each) *stats += s;
+  if (!stats) return;
+  *stats += s;
+  for (const FallbackStats& e : each) *stats += e;
 }
 
 check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, double resolution,
@@ -222,25 +284,27 @@ check::Verdict CertifiedChecker::check_edge(const double* q0, const double* q1, 
   const check::Verdict v =
       checker_.check_edge(q0, q1, resolution, check::Mode::bounds, &open_t, checked);
   if (v != check::Verdict::undecided) return v;
-  // The undecided samples' pairs in one check_bounds batch, then each settled in order.
-  const std::size_t dof = checker_.num_positions();
-  std::vector<double> q(open_t.size() * dof);
-  for (std::size_t k = 0; k < open_t.size(); ++k)
+  // The undecided samples: the witnesses, then their pairs in one check_bounds batch, then
+  // each settled in order.
+  const std::size_t dof = checker_.num_positions(), m = open_t.size();
+  std::vector<double> q(m * dof);
+  for (std::size_t k = 0; k < m; ++k)
     for (std::size_t j = 0; j < dof; ++j) q[k * dof + j] = q0[j] + open_t[k] * (q1[j] - q0[j]);
-  std::vector<check::Verdict> again(open_t.size());
-  std::vector<std::vector<check::UndecidedPair>> pairs(open_t.size());
-  checker_.check_bounds(q.data(), open_t.size(), again.data(), pairs.data(), 1);
   FallbackStats s;
+  std::vector<check::Verdict> again(m, check::Verdict::undecided);
+  std::vector<Poses> X;
+  check::Verdict out = unwitnessed(q.data(), m, again.data(), X, 1, s).size() < m
+                           ? check::Verdict::colliding
+                           : check::Verdict::free;
+  std::vector<std::vector<check::UndecidedPair>> pairs(m);
+  if (out != check::Verdict::colliding)
+    checker_.check_bounds(q.data(), m, again.data(), pairs.data(), 1);
   bool undecided = false;
-  check::Verdict out = check::Verdict::free;
-  for (std::size_t k = 0; k < open_t.size(); ++k) {
+  for (std::size_t k = 0; k < m && out != check::Verdict::colliding; ++k) {
     const check::Verdict w = again[k] == check::Verdict::undecided
-                                 ? settle_pairs(q.data() + k * dof, pairs[k], s)
+                                 ? settle_pairs(q.data() + k * dof, X[k], pairs[k], s)
                                  : again[k];
-    if (w == check::Verdict::colliding) {
-      out = w;
-      break;
-    }
+    if (w == check::Verdict::colliding) out = w;
     undecided = undecided || w == check::Verdict::undecided;
   }
   if (out != check::Verdict::colliding && undecided) out = check::Verdict::undecided;

@@ -36,6 +36,7 @@
 
 #include "medspheres/check/robot_checker.h"
 #include "medspheres/fcl/octree_cells.h"
+#include "medspheres/fcl/pair_joint_table.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/scene_from_fcl.h"
 
@@ -44,11 +45,15 @@ namespace medspheres::fcl {
 /// What a batch needed besides the spheres.
 struct FallbackStats {
   std::size_t configurations = 0;  ///< configurations that reached the fallback
+  std::size_t witnessed = 0;       ///< of these, settled by a witness (no pair walked)
+  std::size_t tabled = 0;          ///< pairs a PairJointTable settled
   std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
   std::size_t meshes = 0;          ///< pairs that the exact meshes settled
 
   FallbackStats& operator+=(const FallbackStats& o) {
     configurations += o.configurations;
+    witnessed += o.witnessed;
+    tabled += o.tabled;
     pairs += o.pairs;
     meshes += o.meshes;
     return *this;
@@ -64,10 +69,18 @@ struct FallbackOptions {
   const RobotModel* trees = nullptr;
   /// samples > 0: the pairs and witnesses of RobotBounds' SelfPairOrder (robot_bounds.h,
   /// learnt at construction from seeded configurations at the checker's margin,
-  /// CheckerOptions::margin; order.margin is not read): the fallback tests the witnesses of a
-  /// configuration's undecided self pairs first, then decides its pairs in robot_collide's order
-  /// (the self pairs most often colliding first). samples = 0: the bounds' order, no witnesses.
+  /// CheckerOptions::margin; order.margin is not read): the fallback poses a configuration
+  /// the bounds leave undecided and tests every witness first (two points of the links'
+  /// solids, inner balls or mesh vertices, certainly within the margin: colliding, before
+  /// the bounds are run again for its undecided pairs), then decides its pairs in
+  /// robot_collide's order (the self pairs most often colliding first). samples = 0: the
+  /// bounds' order, no witnesses.
   SelfPairOrder order;
+  /// > 0: every self pair that PairJointTable takes (pair_joint_table.h: its relative pose
+  /// hangs on one or two revolute joints) gets a table of at most this many cells, baked at
+  /// construction at the checker's margin; the fallback asks it before the pair's sphere
+  /// trees. 0: no tables.
+  std::size_t table_cells = 0;
 };
 
 class CertifiedChecker {
@@ -82,6 +95,9 @@ class CertifiedChecker {
   /// The fallback's geometries (the trees' sets when given, else the fine sets when given,
   /// else the planner's; with the meshes).
   const RobotBounds& fallback() const noexcept { return bounds_; }
+  /// The table of the self pair of geometries a and b (indices in fallback().geometries()),
+  /// or null (FallbackOptions::table_cells).
+  const PairJointTable* table(std::size_t a, std::size_t b) const;
 
   /// Verdicts of \p n configurations (rows of spheres().num_positions()), \p threads as
   /// RobotChecker::check. \p stats, when given, is added to.
@@ -104,10 +120,20 @@ class CertifiedChecker {
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
                    const check::CheckerOptions& options, const FallbackOptions& fallback);
+  using Poses = std::vector<::fcl::Transform3d>;
   check::Verdict settle(const double* q, FallbackStats& stats) const;
+  Poses poses(const double* q) const;
+  bool witnessed(const Poses& X) const;
+  // The rows of q among \p n that the bounds left undecided (out[i] undecided) and no
+  // witness settles (those become colliding): their indices and poses, in order.
+  std::vector<std::size_t> unwitnessed(const double* q, std::size_t n, check::Verdict* out,
+                                       std::vector<Poses>& X, int threads,
+                                       FallbackStats& stats) const;
   std::vector<check::UndecidedPair> ordered(const std::vector<check::UndecidedPair>& pairs) const;
-  check::Verdict settle_pairs(const double* q, const std::vector<check::UndecidedPair>& pairs,
+  check::Verdict settle_pairs(const double* q, const Poses& X,
+                              const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
+  void bake_tables(const RobotModel& model, std::size_t cells);
 
   check::RobotChecker checker_;
   RobotBounds bounds_;
@@ -115,9 +141,9 @@ class CertifiedChecker {
   std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
   std::vector<std::size_t> geometry_of_;   // checker link -> index in bounds_.geometries()
   // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
-  // decide() (FallbackOptions::order), and the indices of its witnesses.
+  // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;
-  std::vector<std::vector<std::size_t>> witnesses_of_;
+  std::vector<std::unique_ptr<const PairJointTable>> tables_;  // by geometry pair, or null
   // By index in scene_: the cells of an fcl::OcTree, else null; by geometry: the link as
   // OctreeCells takes it (null without a mesh or without an octree in the scene).
   std::vector<std::unique_ptr<const OctreeCells>> cells_;

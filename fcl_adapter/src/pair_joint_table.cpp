@@ -1,0 +1,197 @@
+// A self pair's certified verdicts over the box of its one or two joints (pair_joint_table.h).
+
+#include "medspheres/fcl/pair_joint_table.h"
+
+#include <algorithm>
+#include <cmath>
+#include <deque>
+#include <stdexcept>
+#include <utility>
+
+namespace medspheres::fcl {
+namespace {
+
+using Step = KinematicTree::Step;
+
+// The actuated steps on the path between links a and b: {steps on a's side (bottom-up),
+// steps on b's side (bottom-up)}, each the steps with a source only.
+std::pair<std::vector<std::size_t>, std::vector<std::size_t>> moving_steps(
+    const KinematicTree& tree, std::size_t a, std::size_t b) {
+  const std::vector<Step>& steps = tree.steps();
+  std::vector<long> step_of(tree.link_names().size(), -1);
+  for (std::size_t s = 0; s < steps.size(); ++s) step_of[steps[s].child] = long(s);
+  auto up = [&](std::size_t link) {  // the links from `link` to the root, itself first
+    std::vector<std::size_t> out{link};
+    while (step_of[out.back()] >= 0) out.push_back(steps[std::size_t(step_of[out.back()])].parent);
+    return out;
+  };
+  const std::vector<std::size_t> from_a = up(a), from_b = up(b);
+  std::size_t ancestor = tree.root();
+  for (std::size_t l : from_a)
+    if (std::find(from_b.begin(), from_b.end(), l) != from_b.end()) {
+      ancestor = l;
+      break;
+    }
+  auto side = [&](const std::vector<std::size_t>& links) {
+    std::vector<std::size_t> out;
+    for (std::size_t k = 0; links[k] != ancestor; ++k) {
+      const std::size_t s = std::size_t(step_of[links[k]]);
+      if (steps[s].source >= 0) out.push_back(s);
+    }
+    return out;
+  };
+  return {side(from_a), side(from_b)};
+}
+
+// Whether step s is an actuated revolute joint with limits, driven by its own position.
+bool table_joint(const RobotModel& model, const KinematicTree& tree, const Step& s) {
+  if (s.type != JointType::kRevolute || s.multiplier != 1.0 || s.offset != 0.0) return false;
+  const Joint* j = model.find_joint(tree.joint_names()[std::size_t(s.source)]);
+  return j != nullptr && j->child == tree.link_names()[s.child] && j->limits &&
+         std::isfinite(j->limits->lower) && std::isfinite(j->limits->upper) &&
+         j->limits->lower < j->limits->upper;
+}
+
+// Max |v - o| over the mesh's vertices v posed at X.
+double farthest(const MeshModel& mesh, const Eigen::Isometry3d& X, const Eigen::Vector3d& o) {
+  double r = 0.0;
+  for (int i = 0; i < mesh.num_vertices; ++i) r = std::max(r, (X * mesh.vertices[i] - o).norm());
+  return r;
+}
+
+}  // namespace
+
+std::unique_ptr<const PairJointTable> PairJointTable::build(
+    const RobotModel& model, const KinematicTree& tree, std::size_t a, const BoundedGeometry& ga,
+    std::size_t b, const BoundedGeometry& gb, double margin, std::size_t max_cells) {
+  if (!std::isfinite(margin) || margin < 0.0 || max_cells == 0)
+    throw std::invalid_argument("PairJointTable: margin must be finite and >= 0, max_cells >= 1");
+  if (ga.mesh() == nullptr || gb.mesh() == nullptr) return nullptr;
+  auto [side_a, side_b] = moving_steps(tree, a, b);
+  const BoundedGeometry* far = &gb;
+  std::size_t far_link = b;
+  if (!side_a.empty()) {  // the joints below a: a is the far link
+    if (!side_b.empty()) return nullptr;
+    std::swap(side_a, side_b);
+    far = &ga;
+    far_link = a;
+  }
+  if (side_b.empty() || side_b.size() > 2) return nullptr;
+  std::reverse(side_b.begin(), side_b.end());  // from the ancestor down
+  const std::vector<Step>& steps = tree.steps();
+  auto table = std::unique_ptr<PairJointTable>(new PairJointTable());
+  for (std::size_t s : side_b) {
+    if (!table_joint(model, tree, steps[s])) return nullptr;
+    const JointLimits& l =
+        *model.find_joint(tree.joint_names()[std::size_t(steps[s].source)])->limits;
+    if (std::find(table->source_.begin(), table->source_.end(), steps[s].source) !=
+        table->source_.end())
+      return nullptr;
+    table->source_.push_back(steps[s].source);
+    table->lower_.push_back(l.lower);
+    table->upper_.push_back(l.upper);
+  }
+  // R_j at any pose (the distances are fixed in the links), here q = 0.
+  const std::vector<Eigen::Isometry3d> X0 =
+      tree.link_poses(Eigen::VectorXd::Zero(Eigen::Index(tree.num_positions())));
+  const std::size_t k = side_b.size();
+  std::vector<double> R(k);
+  R[k - 1] = farthest(*far->mesh(), X0[far_link], X0[steps[side_b[k - 1]].child].translation());
+  for (std::size_t j = k - 1; j-- > 0;)
+    R[j] = R[j + 1] +
+           (X0[steps[side_b[j + 1]].child].translation() - X0[steps[side_b[j]].child].translation())
+               .norm();
+  table->bake(tree, {a, &ga, b, &gb}, margin, R, max_cells);
+  return table;
+}
+
+// One cell's verdict: the meshes' distance at its centre against margin +- D; `split`:
+// whether its centre is free (a finer cell near it may be proven free).
+BoundsVerdict PairJointTable::cell(bool& split, const KinematicTree& tree, const Pair& p,
+                                   double margin, const std::vector<double>& R,
+                                   const std::vector<double>& lo,
+                                   const std::vector<double>& hi) const {
+  Eigen::VectorXd q = Eigen::VectorXd::Zero(Eigen::Index(tree.num_positions()));
+  double D = 0.0;
+  for (std::size_t j = 0; j < source_.size(); ++j) {
+    q[source_[j]] = 0.5 * (lo[j] + hi[j]);
+    D += R[j] * 0.5 * (hi[j] - lo[j]);
+  }
+  D = D * (1.0 + 1e-12) + 1e-9 * (1.0 + R[0]);
+  const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
+  // The sphere trees' bounds first (lower > margin + D: free; upper <= margin - D:
+  // colliding), then the meshes.
+  split = false;
+  if (decide(*p.ga, X[p.a], *p.gb, X[p.b], margin + D).verdict == BoundsVerdict::free)
+    return BoundsVerdict::free;
+  if (D <= margin &&
+      decide(*p.ga, X[p.a], *p.gb, X[p.b], margin - D).verdict == BoundsVerdict::colliding)
+    return BoundsVerdict::colliding;
+  const CollideResult r =
+      settle(CollideResult{}, *p.ga, X[p.a], *p.gb, X[p.b], margin + D);  // exact up to margin + D
+  if (r.mesh_distance > margin + D) return BoundsVerdict::free;
+  if (r.mesh_distance + D <= margin) return BoundsVerdict::colliding;
+  split = r.mesh_distance > margin;
+  return BoundsVerdict::undecided;
+}
+
+// Breadth first: a leaf neither free nor colliding whose centre is free is split in two
+// along the joint of the largest R_j h_j, while the leaves number fewer than max_cells.
+void PairJointTable::bake(const KinematicTree& tree, const Pair& p, double margin,
+                          const std::vector<double>& R, std::size_t max_cells) {
+  struct Box {
+    std::size_t node;
+    std::vector<double> lo, hi;
+  };
+  std::deque<Box> queue{{0, lower_, upper_}};
+  nodes_.assign(1, Node{});
+  std::size_t leaves = 1;
+  while (!queue.empty()) {
+    Box box = std::move(queue.front());
+    queue.pop_front();
+    bool split = false;
+    nodes_[box.node].verdict = cell(split, tree, p, margin, R, box.lo, box.hi);
+    if (!split || leaves >= max_cells) continue;
+    std::size_t dim = 0;
+    for (std::size_t j = 1; j < source_.size(); ++j)
+      if (R[j] * (box.hi[j] - box.lo[j]) > R[dim] * (box.hi[dim] - box.lo[dim])) dim = j;
+    const double mid = 0.5 * (box.lo[dim] + box.hi[dim]);
+    const std::size_t child = nodes_.size();
+    nodes_[box.node].child = int(child);
+    nodes_[box.node].dim = int(dim);
+    nodes_[box.node].mid = mid;
+    nodes_.resize(child + 2);
+    Box left{child, box.lo, box.hi};
+    left.hi[dim] = mid;
+    Box right{child + 1, std::move(box.lo), std::move(box.hi)};
+    right.lo[dim] = mid;
+    queue.push_back(std::move(left));
+    queue.push_back(std::move(right));
+    ++leaves;
+  }
+}
+
+BoundsVerdict PairJointTable::verdict(const double* q) const {
+  for (std::size_t j = 0; j < source_.size(); ++j) {
+    const double x = q[source_[j]];
+    if (!(x >= lower_[j] && x <= upper_[j])) return BoundsVerdict::undecided;
+  }
+  std::size_t n = 0;
+  while (nodes_[n].child >= 0)
+    n = std::size_t(nodes_[n].child) + (q[source_[std::size_t(nodes_[n].dim)]] > nodes_[n].mid);
+  return nodes_[n].verdict;
+}
+
+std::size_t PairJointTable::free_cells() const noexcept {
+  return std::size_t(std::count_if(nodes_.begin(), nodes_.end(), [](const Node& n) {
+    return n.child < 0 && n.verdict == BoundsVerdict::free;
+  }));
+}
+
+std::size_t PairJointTable::colliding_cells() const noexcept {
+  return std::size_t(std::count_if(nodes_.begin(), nodes_.end(), [](const Node& n) {
+    return n.child < 0 && n.verdict == BoundsVerdict::colliding;
+  }));
+}
+
+}  // namespace medspheres::fcl
