@@ -239,6 +239,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   o.margin = in.margin;
   o.disabled = in.disabled;
   o.self = in.self;
+  o.order_seed = in.order_seed;
   const auto t0 = Clock::now();
   const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
   fcl::FallbackOptions fallback;

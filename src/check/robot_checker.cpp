@@ -526,7 +526,7 @@ void RobotChecker::Impl::learn_order(const RobotModel& planner) {
     order = detail::order_by_hits(hits);  // the default order while learning
     kernel_robot.order = order.data();
     std::vector<double> q;
-    for (const Eigen::VectorXd& x : sample_configurations(planner, layout.joint_names, n, 1))
+    for (const Eigen::VectorXd& x : sample_configurations(planner, layout.joint_names, n, options.order_seed))
       q.insert(q.end(), x.data(), x.data() + x.size());
     detail::Workspace w = workspace();
     for (std::size_t first = 0; first < n; first += detail::kLanes) {

@@ -80,11 +80,14 @@ struct CheckerOptions {
   std::size_t max_cells = 1u << 22;  ///< the grid's cells at most (the side grows to fit)
   /// The order of the tests (a link against the scene, a self pair; in the bounds mode
   /// within each level): at construction, this many configurations drawn within the
-  /// joints' limits (sample_configurations.h, a fixed seed) are checked in the spheres
+  /// joints' limits (sample_configurations.h, seed order_seed) are checked in the spheres
   /// mode, and the tests that found them colliding most often run first, so that a
   /// colliding configuration stops sooner. 0: each link against the scene, then each self
   /// pair. The verdicts (and undecided pairs) are the same for every order.
   std::size_t order_samples = 256;
+  /// The seed of those configurations. A benchmark that times random configurations should
+  /// learn on another seed than it times on, or it times configurations it learnt from.
+  std::uint64_t order_seed = 1;
 };
 
 /// A pair left undecided by the bounds: `link` indexes links(); `other` is a link index
