@@ -510,6 +510,13 @@ unsigned pair_level(const Ctx<V>& c, int link, int o, int level, unsigned& pendi
 // lane and counts the lanes it proves colliding). A probe (b.probe > 0) runs the order's tests
 // [b.probe_from, b.probe) at the planner's level only: a lane it proves colliding is proved by
 // the same test in the whole run.
+// A probe's bounding-sphere test of link a against the scene (o < 0) or against link o,
+// in the lanes `open` (kept out of run_bounds' loop, which runs without a probe mostly).
+template <class V>
+__attribute__((noinline)) unsigned char probe_near(const Ctx<V>& c, int a, int o, unsigned open) {
+  return static_cast<unsigned char>(o < 0 ? scene_near(c, a, open) : pair_near(c, a, o, open));
+}
+
 template <class V>
 unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
@@ -526,9 +533,7 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
       if (k >= robot.links && !c.b.self) continue;
       const int a = k < robot.links ? k : static_cast<int>(robot.pair_a[k - robot.links]),
                 o = k < robot.links ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
-      if (probe > 0)
-        pending[k] =
-            static_cast<unsigned char>(o < 0 ? scene_near(c, a, open) : pair_near(c, a, o, open));
+      if (probe > 0) pending[k] = probe_near(c, a, o, open);
       unsigned p = pending[k] & open, m = near[k], hit = 0;
       if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
       if (c.b.hits)
