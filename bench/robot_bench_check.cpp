@@ -272,17 +272,24 @@ void print_checker_rows(const CheckerBenchInput& in) {
     const check::TestOrder order = spheres.test_order();
     const std::size_t links = spheres.links().size();
     const auto pairs = spheres.self_pairs();
+    const auto first = [&](const std::vector<std::size_t>& tests) {
+      for (std::size_t t = 0; t < std::min<std::size_t>(4, tests.size()); ++t) {
+        const std::size_t k = tests[t];
+        if (k < links)
+          std::printf(" %s/scene", spheres.links()[k].c_str());
+        else
+          std::printf(" %s/%s", spheres.links()[pairs[k - links].first].c_str(),
+                      spheres.links()[pairs[k - links].second].c_str());
+      }
+      std::printf("\n");
+    };
     std::printf("test order (%zu samples): %zu tests, head %zu; first:",
                 spheres.options().order_samples, order.tests.size(), order.head);
-    for (std::size_t t = 0; t < std::min<std::size_t>(4, order.tests.size()); ++t) {
-      const std::size_t k = order.tests[t];
-      if (k < links)
-        std::printf(" %s/scene", spheres.links()[k].c_str());
-      else
-        std::printf(" %s/%s", spheres.links()[pairs[k - links].first].c_str(),
-                    spheres.links()[pairs[k - links].second].c_str());
-    }
-    std::printf("\n");
+    first(order.tests);
+    std::printf("bounds order: probe rounds ending at");
+    for (std::size_t end : order.probe) std::printf(" %zu", end);
+    std::printf(" of the tests; first:");
+    first(order.bounds_tests);
   }
   const std::vector<double> q = rows_of(in.configs);
   const std::size_t n = in.configs.size();

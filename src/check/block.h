@@ -63,6 +63,9 @@ struct KernelRobot {
   /// The spheres mode runs the links' bounding spheres against the scene after the
   /// order's first `head` tests (0: before every test).
   int head = 0;
+  /// The bounds mode's order (within each level): the tests that proved collisions most
+  /// often first (RobotChecker::Impl::learn_order).
+  const std::uint32_t* bounds_order = nullptr;
 };
 
 /// One pass over a block's lanes in one precision: W lanes of T, the frames posed, a
@@ -90,9 +93,15 @@ struct Block {
   bool bounds = false;        // false: spheres only
   bool self = true;
   bool floats = true;  // false: every test in doubles
-  // Learning (spheres mode): per test (KernelRobot::order's indices), the lanes it finds
-  // colliding are counted here, and every test runs in every lane (no verdict then).
+  // Learning: per test (KernelRobot::order's indices), the lanes it finds colliding (the
+  // bounds mode: proves colliding, at either level) are counted here, and every test runs
+  // in every lane (no verdict then).
   std::uint32_t* hits = nullptr;
+  // Bounds mode, > 0: a probe. Only the bounds order's tests [probe_from, probe) run, at
+  // the planner's level, and the float pass's unsure lanes are not checked again:
+  // `colliding` holds lanes proved colliding (the verdict of the whole run too), every
+  // other lane is open (`undecided` means nothing then).
+  int probe = 0, probe_from = 0;
   double margin = 0.0, allowance = 0.0;
   float slack = 0.0f;  // m: the float tests' allowance (robot_checker.cpp)
   // Workspace, sized by the caller.

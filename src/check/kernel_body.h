@@ -505,25 +505,41 @@ unsigned pair_level(const Ctx<V>& c, int link, int o, int level, unsigned& pendi
 // link (scene) and per self pair the lanes still undecided, p.unsure those in which a covering test
 // of the pair was unsure. Returns the open lanes, adds the undecided ones to b.undecided; `unsure`:
 // the open lanes whose verdict may differ in doubles (a pair still pending after an unsure covering
-// test may be free there; an unsure inner test may collide there).
+// test may be free there; an unsure inner test may collide there). The order is the bounds
+// order (robot.bounds_order, learnt from the tests' proofs: with b.hits every test runs in every
+// lane and counts the lanes it proves colliding). A probe (b.probe > 0) runs the order's tests
+// [b.probe_from, b.probe) at the planner's level only: a lane it proves colliding is proved by
+// the same test in the whole run.
+// A probe's bounding-sphere test of link a against the scene (o < 0) or against link o,
+// in the lanes `open` (kept out of run_bounds' loop, which runs without a probe mostly).
+template <class V>
+__attribute__((noinline)) unsigned char probe_near(const Ctx<V>& c, int a, int o, unsigned open) {
+  return static_cast<unsigned char>(o < 0 ? scene_near(c, a, open) : pair_near(c, a, o, open));
+}
+
 template <class V>
 unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
   unsigned char* pending = c.p.pending;
   unsigned char* near = c.p.unsure;
-  near_all(c, c.p.lanes, pending);
-  for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = 0;
+  const int probe = c.b.probe, tests = probe > 0 ? probe : robot.links + robot.pairs;
+  // A probe tests the bounding spheres of its own tests only (on their turn, below).
+  for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = pending[k] = 0;
+  if (probe == 0) near_all(c, c.p.lanes, pending);
   unsigned open = c.p.lanes, maybe_hit = 0;
-  for (int level = 0; level < (robot.fine ? 2 : 1); ++level)
-    for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
-      const int k = static_cast<int>(robot.order[t]);
+  for (int level = 0; level < (robot.fine && probe == 0 ? 2 : 1); ++level)
+    for (int t = probe > 0 ? c.b.probe_from : 0; t < tests && open; ++t) {
+      const int k = static_cast<int>(robot.bounds_order[t]);
       if (k >= robot.links && !c.b.self) continue;
-      unsigned p = pending[k] & open, m = near[k];
-      if (p)
-        open &= ~(k < robot.links ? pair_level(c, k, -1, level, p, m, maybe_hit)
-                                  : pair_level(c, static_cast<int>(robot.pair_a[k - robot.links]),
-                                               static_cast<int>(robot.pair_b[k - robot.links]),
-                                               level, p, m, maybe_hit));
+      const int a = k < robot.links ? k : static_cast<int>(robot.pair_a[k - robot.links]),
+                o = k < robot.links ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
+      if (probe > 0) pending[k] = probe_near(c, a, o, open);
+      unsigned p = pending[k] & open, m = near[k], hit = 0;
+      if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
+      if (c.b.hits)
+        c.b.hits[k] += static_cast<std::uint32_t>(__builtin_popcount(hit));
+      else
+        open &= ~hit;
       pending[k] = static_cast<unsigned char>(p);
       near[k] = static_cast<unsigned char>(m);
     }
@@ -629,7 +645,7 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
     const Ctx<VF> c{robot, robot.f, scene, b, p};
     unsigned unsure = 0;
     b.colliding = run_pass(c, unsure);
-    recheck = unsure & ~b.colliding;
+    recheck = b.probe > 0 ? 0u : unsure & ~b.colliding;  // a probe's open lanes run again
     b.undecided &= ~(b.colliding | recheck);
     b.rechecked = recheck;
   }

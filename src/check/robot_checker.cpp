@@ -103,7 +103,12 @@ struct RobotChecker::Impl {
   detail::SphereArrays<float> spheres_f;
   detail::KernelRobot kernel_robot;
   detail::KernelFn kernel = nullptr;
-  std::vector<std::uint32_t> order;  // kernel_robot.order
+  std::vector<std::uint32_t> order;         // kernel_robot.order
+  std::vector<std::uint32_t> bounds_order;  // kernel_robot.bounds_order
+  // The bounds mode's probe (block.h) in rounds: round r runs bounds_order's tests
+  // [probe[r - 1], probe[r]) (from 0 in round 0) on the lanes the rounds before left open,
+  // regrouped (probed_bounds); empty: no probe.
+  std::vector<int> probe;
   double allowance = 0.0;
   float slack = 0.0f;
   // Per joint position: the largest |q| for which the float tests' slack holds
@@ -153,10 +158,12 @@ struct RobotChecker::Impl {
   // check() and check_bounds() (with `undecided`) of n configurations.
   void batch(const double* q, std::size_t n, Mode mode, Verdict* out,
              std::vector<UndecidedPair>* undecided, int threads) const;
-  // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real); with `hits`, the
-  // spheres mode's learning run (block.h), in doubles.
+  // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real); with `hits`, a
+  // learning run (block.h), in doubles; `probe_from`, `probe_to`: a probe (block.h).
   detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs,
-                    std::uint32_t* hits = nullptr) const;
+                    std::uint32_t* hits = nullptr, int probe_from = 0, int probe_to = 0) const;
+  // Mode::bounds by probe and regrouping (batch); false when the checker has no probe.
+  bool probed_bounds(const double* q, std::size_t n, Verdict* out, int threads) const;
   // Sets `order` from options.order_samples configurations of `planner`.
   void learn_order(const RobotModel& planner);
   // One edge in rake order (robot_checker.h); `checked` counts the samples run.
@@ -215,7 +222,8 @@ void record_pair(detail::Block& b, int lane, int link, int other) {
 }  // namespace
 
 detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode mode,
-                                      bool want_pairs, std::uint32_t* hits) const {
+                                      bool want_pairs, std::uint32_t* hits, int probe_from,
+                                      int probe_to) const {
   detail::Block b;
   b.q = w.q.data();
   b.lanes = lanes;
@@ -224,6 +232,8 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   // The sink sees the double pass only: a lane the floats decide never reaches it.
   b.floats = options.float_tests && !want_pairs && hits == nullptr && floats_hold(w.q);
   b.hits = hits;
+  b.probe_from = probe_from;
+  b.probe = mode == Mode::bounds ? probe_to : 0;
   b.margin = options.margin;
   b.allowance = allowance;
   b.slack = slack;
@@ -489,6 +499,8 @@ TestOrder RobotChecker::test_order() const {
   TestOrder out;
   out.tests.assign(impl_->order.begin(), impl_->order.end());
   out.head = static_cast<std::size_t>(impl_->kernel_robot.head);
+  out.bounds_tests.assign(impl_->bounds_order.begin(), impl_->bounds_order.end());
+  out.probe.assign(impl_->probe.begin(), impl_->probe.end());
   return out;
 }
 GridStats RobotChecker::grid() const noexcept {
@@ -503,11 +515,13 @@ Verdict verdict_of(const detail::Block& b, int lane) {
   return (b.undecided >> lane & 1) ? Verdict::undecided : Verdict::free;
 }
 
-// Lane l of the block takes configuration rows[l] (the last real one repeated beyond n).
+// Lane l of the block takes configuration rows[first + l], or with `index`
+// rows[index[first + l]] (the last real one repeated beyond n).
 void fill_block(std::vector<double>& q, const double* rows, std::size_t first, std::size_t n,
-                std::size_t dof) {
+                std::size_t dof, const std::size_t* index = nullptr) {
   for (int l = 0; l < detail::kLanes; ++l) {
-    const std::size_t i = std::min(first + std::size_t(l), n - 1);
+    std::size_t i = std::min(first + std::size_t(l), n - 1);
+    if (index) i = index[i];
     for (std::size_t j = 0; j < dof; ++j)
       q[j * detail::kLanes + std::size_t(l)] = rows[i * dof + j];
   }
@@ -515,42 +529,120 @@ void fill_block(std::vector<double>& q, const double* rows, std::size_t first, s
 
 }  // namespace
 
-// The tests' hits over the sampled configurations, in doubles, every test in every lane;
-// the order by them (test_order.h), and the head of tests run before the links' bounding
-// spheres against the scene. Changes no verdict.
+// The tests' hits over the sampled configurations, in doubles, every test in every lane:
+// in the spheres mode the order by them (test_order.h) and the head of tests run before the
+// links' bounding spheres against the scene; in the bounds mode (the tests' proofs) the
+// bounds order and its probe. Changes no verdict.
 void RobotChecker::Impl::learn_order(const RobotModel& planner) {
   const std::size_t tests = layout.links.size() + layout.pair_a.size();
-  std::vector<std::uint32_t> hits(tests, 0);
+  std::vector<std::uint32_t> hits(tests, 0), proofs(tests, 0);
   const std::size_t n = options.order_samples, dof = layout.dof;
-  if (n > 0) {
-    order = detail::order_by_hits(hits);  // the default order while learning
-    kernel_robot.order = order.data();
-    std::vector<double> q;
-    for (const Eigen::VectorXd& x : sample_configurations(planner, layout.joint_names, n, options.order_seed))
-      q.insert(q.end(), x.data(), x.data() + x.size());
-    detail::Workspace w = workspace();
-    for (std::size_t first = 0; first < n; first += detail::kLanes) {
-      fill_block(w.q, q.data(), first, n, dof);
-      const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
-      run(w, (1u << count) - 1, Mode::spheres, false, hits.data());
-    }
+  order = bounds_order = detail::order_by_hits(hits);  // the default orders while learning
+  kernel_robot.order = order.data();
+  kernel_robot.bounds_order = bounds_order.data();
+  probe.clear();
+  if (n == 0) return;
+  std::vector<double> q;
+  for (const Eigen::VectorXd& x :
+       sample_configurations(planner, layout.joint_names, n, options.order_seed))
+    q.insert(q.end(), x.data(), x.data() + x.size());
+  detail::Workspace w = workspace();
+  for (std::size_t first = 0; first < n; first += detail::kLanes) {
+    fill_block(w.q, q.data(), first, n, dof);
+    const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
+    run(w, (1u << count) - 1, Mode::spheres, false, hits.data());
+    run(w, (1u << count) - 1, Mode::bounds, false, proofs.data());
   }
   order = detail::order_by_hits(hits);
   kernel_robot.order = order.data();
+  bounds_order = detail::order_by_hits(proofs);
+  kernel_robot.bounds_order = bounds_order.data();
   // The head: the leading tests that each found at least a quarter of the samples
   // colliding (block.h).
   int head = 0;
-  while (n > 0 && std::size_t(head) < tests && 4 * std::size_t(hits[order[head]]) >= n) ++head;
+  while (std::size_t(head) < tests && 4 * std::size_t(hits[order[head]]) >= n) ++head;
   kernel_robot.head = head;
+  // The probe's rounds: round r's tests end where the bounds order's tests prove fewer
+  // than 8^-(r + 1) of the samples colliding; a round is kept while it proves at least half
+  // of the samples it sees colliding (else the lanes it leaves open cost more run again
+  // than the ones it decides spare).
+  std::vector<std::size_t> rest(n);
+  for (std::size_t i = 0; i < n; ++i) rest[i] = i;
+  int from = 0;
+  for (std::size_t share = 8; share <= 512 && !rest.empty(); share *= 8) {
+    int to = from;
+    while (std::size_t(to) < tests && share * std::size_t(proofs[bounds_order[to]]) >= n) ++to;
+    if (to == from) continue;
+    std::vector<std::size_t> open;
+    for (std::size_t first = 0; first < rest.size(); first += detail::kLanes) {
+      fill_block(w.q, q.data(), first, rest.size(), dof, rest.data());
+      const std::size_t count = std::min<std::size_t>(detail::kLanes, rest.size() - first);
+      const detail::Block b = run(w, (1u << count) - 1, Mode::bounds, false, nullptr, from, to);
+      for (std::size_t l = 0; l < count; ++l)
+        if (!(b.colliding >> l & 1)) open.push_back(rest[first + l]);
+    }
+    if (2 * (rest.size() - open.size()) < rest.size()) break;
+    probe.push_back(to);
+    rest = open;
+    from = to;
+  }
+}
+
+// The bounds mode in rounds. Each of the probe's rounds (block.h) runs on blocks of kLanes
+// configurations: its tests of the bounds order (those that most often prove a collision
+// first), at the planner's level, in floats; a lane they prove colliding is done (the whole
+// run would prove it by the same test). The lanes left open are regrouped, kLanes to a
+// block, for the next round, and at last run whole: a block's
+// cost hardly depends on how many of its lanes are open, so a lane that is free or
+// undecided no longer holds seven decided lanes' worth of tests. Each configuration's
+// verdict is that of its own run (the kernel's lanes are independent). Not for
+// check_bounds(): its configurations are mostly those the bounds left undecided
+// (CertifiedChecker), which a probe does not decide.
+bool RobotChecker::Impl::probed_bounds(const double* q, std::size_t n, Verdict* out,
+                                       int threads) const {
+  if (probe.empty() || n <= std::size_t(detail::kLanes)) return false;
+  const std::size_t dof = layout.dof;
+  std::vector<std::size_t> rest(n);
+  for (std::size_t i = 0; i < n; ++i) rest[i] = i;
+  std::vector<unsigned char> open(n, 1);
+  for (std::size_t r = 0; r <= probe.size(); ++r) {
+    const std::size_t m = rest.size();
+    const auto blocks = static_cast<long>((m + detail::kLanes - 1) / detail::kLanes);
+    const bool whole = r == probe.size();
+    const int from = r == 0 || whole ? 0 : probe[r - 1], to = whole ? 0 : probe[r];
+#pragma omp parallel num_threads(thread_count(threads))
+    {
+      detail::Workspace w = workspace();
+#pragma omp for schedule(dynamic, 16)
+      for (long k = 0; k < blocks; ++k) {
+        const std::size_t first = std::size_t(k) * detail::kLanes;
+        fill_block(w.q, q, first, m, dof, rest.data());
+        const std::size_t count = std::min<std::size_t>(detail::kLanes, m - first);
+        const detail::Block b = run(w, (1u << count) - 1, Mode::bounds, false, nullptr, from, to);
+        for (std::size_t l = 0; l < count; ++l) {
+          const std::size_t i = rest[first + l];
+          out[i] = verdict_of(b, int(l));  // a probe's: colliding, or open
+          open[i] = !whole && out[i] != Verdict::colliding;
+        }
+      }
+    }
+    std::size_t kept = 0;
+    for (std::size_t i : rest)
+      if (open[i]) rest[kept++] = i;
+    rest.resize(kept);
+  }
+  return true;
 }
 
 // Blocks of kLanes configurations, run in parallel; with `undecided`, the double pass for
-// every lane and each configuration's undecided pairs.
+// every lane and each configuration's undecided pairs. The bounds mode without pairs by
+// probed_bounds when the checker has a probe.
 void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdict* out,
                                std::vector<UndecidedPair>* undecided, int threads) const {
   if (n == 0) return;
   const std::size_t dof = layout.dof;
   for (std::size_t i = 0; i < n; ++i) validate(q + i * dof, i);
+  if (mode == Mode::bounds && !undecided && probed_bounds(q, n, out, threads)) return;
   const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
   const int chunk = undecided ? 4 : 16;
 #pragma omp parallel num_threads(thread_count(threads))

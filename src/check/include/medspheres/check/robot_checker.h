@@ -82,8 +82,10 @@ struct CheckerOptions {
   /// within each level): at construction, this many configurations drawn within the
   /// joints' limits (sample_configurations.h, seed order_seed) are checked in the spheres
   /// mode, and the tests that found them colliding most often run first, so that a
-  /// colliding configuration stops sooner. 0: each link against the scene, then each self
-  /// pair. The verdicts (and undecided pairs) are the same for every order.
+  /// colliding configuration stops sooner; the bounds mode's order, likewise, from the
+  /// tests that proved them colliding, and its probe (TestOrder). 0: each link against the
+  /// scene, then each self pair, no probe. The verdicts (and undecided pairs) are the same
+  /// for every order.
   std::size_t order_samples = 256;
   /// The seed of those configurations. A benchmark that times random configurations should
   /// learn on another seed than it times on, or it times configurations it learnt from.
@@ -107,10 +109,17 @@ struct GridStats {
 /// per test, a link index (the link against the scene) or links().size() + k for self
 /// pair k of self_pairs(); `head`: how many of them run before the links' bounding spheres
 /// are tested against the scene (the spheres mode; the leading tests that found at least a
-/// quarter of the samples colliding).
+/// quarter of the samples colliding). `bounds_tests`: the bounds mode's order (within each
+/// level), the tests whose inner sets proved the samples colliding most often first;
+/// `probe`: check() of a batch in the bounds mode runs in rounds, round r the tests
+/// bounds_tests[probe[r - 1] .. probe[r]) (from 0 in round 0) at the planner's level on the
+/// configurations the rounds before left open, regrouped, then every test on those still
+/// open (empty: one round, every test).
 struct TestOrder {
   std::vector<std::size_t> tests;
   std::size_t head = 0;
+  std::vector<std::size_t> bounds_tests;
+  std::vector<std::size_t> probe;
 };
 
 class RobotChecker {
