@@ -232,25 +232,39 @@ void print_edges(const CheckerBenchInput& in, const fcl::CertifiedChecker& certi
       edges, in.edge_length, in.resolution, each.size(), agree, edges);
 }
 
-}  // namespace
+// The learnt orders' first tests (check/s; check/s0 runs them in the default order), and
+// the bounds mode's probe.
+void print_test_order(const check::RobotChecker& spheres) {
+  const check::TestOrder order = spheres.test_order();
+  const std::size_t links = spheres.links().size();
+  const auto pairs = spheres.self_pairs();
+  const auto first = [&](const std::vector<std::size_t>& tests) {
+    for (std::size_t t = 0; t < std::min<std::size_t>(4, tests.size()); ++t) {
+      const std::size_t k = tests[t];
+      if (k < links)
+        std::printf(" %s/scene", spheres.links()[k].c_str());
+      else
+        std::printf(" %s/%s", spheres.links()[pairs[k - links].first].c_str(),
+                    spheres.links()[pairs[k - links].second].c_str());
+    }
+    std::printf("\n");
+  };
+  std::printf("test order (%zu samples): %zu tests, head %zu; first:",
+              spheres.options().order_samples, order.tests.size(), order.head);
+  first(order.tests);
+  if (order.probe.empty()) {
+    std::printf("bounds order: no probe; first:");
+  } else {
+    std::printf("bounds order: probe rounds ending at");
+    for (std::size_t end : order.probe) std::printf(" %zu", end);
+    std::printf(" of the tests; first:");
+  }
+  first(order.bounds_tests);
+}
 
-void print_checker_rows(const CheckerBenchInput& in) {
-  check::CheckerOptions o;
-  o.margin = in.margin;
-  o.disabled = in.disabled;
-  o.self = in.self;
-  o.order_seed = in.order_seed;
-  const auto t0 = Clock::now();
-  const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
-  fcl::FallbackOptions fallback;
-  fallback.trees = in.trees ? &in.trees->model : nullptr;
-  fallback.order.samples = in.order_samples;
-  fallback.order.margin = in.margin;
-  fallback.order.seed = in.order_seed;
-  fallback.table_cells = in.table_cells;
-  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
-                                        fallback);
-  const double build = seconds_since(t0);
+// The fallback as built, its tables, and the checker's sets and grid.
+void print_checker_setup(const CheckerBenchInput& in, const fcl::CertifiedChecker& certified,
+                         const RobotModel* fine, double build) {
   std::printf(
       "\ncertified fallback: %zu witnesses, %zu of %zu self pairs seen colliding in %zu "
       "samples (seed %u)\n",
@@ -267,34 +281,16 @@ void print_checker_rows(const CheckerBenchInput& in) {
       fine ? spheres_of(*fine, true) : 0, fine ? spheres_of(*fine, false) : 0,
       spheres.uses_avx2() ? "AVX2" : "scalar", g.cells, g.cell_side, g.entries, g.elements, build,
       spheres.allowance());
-  {
-    // The learnt order's first tests (check/s; check/s0 runs them in the default order).
-    const check::TestOrder order = spheres.test_order();
-    const std::size_t links = spheres.links().size();
-    const auto pairs = spheres.self_pairs();
-    const auto first = [&](const std::vector<std::size_t>& tests) {
-      for (std::size_t t = 0; t < std::min<std::size_t>(4, tests.size()); ++t) {
-        const std::size_t k = tests[t];
-        if (k < links)
-          std::printf(" %s/scene", spheres.links()[k].c_str());
-        else
-          std::printf(" %s/%s", spheres.links()[pairs[k - links].first].c_str(),
-                      spheres.links()[pairs[k - links].second].c_str());
-      }
-      std::printf("\n");
-    };
-    std::printf("test order (%zu samples): %zu tests, head %zu; first:",
-                spheres.options().order_samples, order.tests.size(), order.head);
-    first(order.tests);
-    std::printf("bounds order: probe rounds ending at");
-    for (std::size_t end : order.probe) std::printf(" %zu", end);
-    std::printf(" of the tests; first:");
-    first(order.bounds_tests);
-  }
-  const std::vector<double> q = rows_of(in.configs);
+  print_test_order(spheres);
+}
+
+// The spheres mode's rows (learnt order, doubles, default order) and the bounds row.
+void add_sphere_rows(const CheckerBenchInput& in, const check::CheckerOptions& o,
+                     const RobotModel* fine, const check::RobotChecker& spheres,
+                     const check::RobotChecker& unordered, const std::vector<double>& q,
+                     std::vector<Row>& rows) {
   const std::size_t n = in.configs.size();
   std::vector<Verdict> v(n);
-  std::vector<Row> rows;
   for (int threads : {1, 0}) {
     if (threads != 1 && !in.all_cores) continue;
     Row r{"check/s", threads};
@@ -320,12 +316,6 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.note = "as check/s, every test in doubles";
     rows.push_back(r);
   }
-  // The same checks with the tests in their default order (each link against the scene,
-  // then each self pair), not the learnt one: the order's gain, side by side.
-  check::CheckerOptions o0 = o;
-  o0.order_samples = 0;
-  const check::RobotChecker unordered(in.planner->model, fcl::scene_from_fcl(in.scene).scene, o0,
-                                      fine);
   {
     Row r{"check/s0", 1};
     r.micros =
@@ -346,6 +336,16 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.note = "no fallback: " + std::to_string(undecided) + " undecided, counted as colliding";
     rows.push_back(r);
   }
+}
+
+// The certified rows: the fallback as built, without trees and order, one configuration at
+// a time; and the same checks as a loop of FCL calls.
+void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions& o,
+                        const RobotModel* fine, const fcl::CertifiedChecker& certified,
+                        const std::vector<double>& q, std::vector<Row>& rows) {
+  const check::RobotChecker& spheres = certified.spheres();
+  const std::size_t n = in.configs.size();
+  std::vector<Verdict> v(n);
   for (int threads : {1, 0}) {
     if (threads != 1 && !in.all_cores) continue;
     Row r{"check/c", threads};
@@ -419,6 +419,38 @@ void print_checker_rows(const CheckerBenchInput& in) {
     r.note = "the planner covering sets as fcl::Sphere, a loop of fcl::collide";
     rows.push_back(r);
   }
+}
+
+}  // namespace
+
+void print_checker_rows(const CheckerBenchInput& in) {
+  check::CheckerOptions o;
+  o.margin = in.margin;
+  o.disabled = in.disabled;
+  o.self = in.self;
+  o.order_seed = in.order_seed;
+  const auto t0 = Clock::now();
+  const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
+  fcl::FallbackOptions fallback;
+  fallback.trees = in.trees ? &in.trees->model : nullptr;
+  fallback.order.samples = in.order_samples;
+  fallback.order.margin = in.margin;
+  fallback.order.seed = in.order_seed;
+  fallback.table_cells = in.table_cells;
+  const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
+                                        fallback);
+  const double build = seconds_since(t0);
+  print_checker_setup(in, certified, fine, build);
+  // The same checks with the tests in their default order (each link against the scene,
+  // then each self pair), not the learnt one: the order's gain, side by side.
+  check::CheckerOptions o0 = o;
+  o0.order_samples = 0;
+  const check::RobotChecker unordered(in.planner->model, fcl::scene_from_fcl(in.scene).scene, o0,
+                                      fine);
+  const std::vector<double> q = rows_of(in.configs);
+  std::vector<Row> rows;
+  add_sphere_rows(in, o, fine, certified.spheres(), unordered, q, rows);
+  add_certified_rows(in, o, fine, certified, q, rows);
   std::printf("%-10s %7s %10s %10s %10s %10s %7s %7s  %s\n", "checker", "threads", "us/config",
               "ns/config", "vs exact", "colliding", "missed", "alarms", "note");
   for (const Row& r : rows) print_row(r, in);
