@@ -365,18 +365,18 @@ int run(const Options& o) {
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();
   const mb::SphereRobot outer(bounds, robot.model, false), inner(bounds, robot.model, true);
   std::vector<std::pair<std::string, Method>> methods;
-  methods.emplace_back("exact", [&](std::size_t i, MethodRun& r) {
+  methods.emplace_back(std::string("exact"), [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
     return exact.collide(bounds.poses(configs[i], I), o.self, o.margin);
   });
-  methods.emplace_back("exact+", [&](std::size_t i, MethodRun& r) {
+  methods.emplace_back(std::string("exact+"), [&](std::size_t i, MethodRun& r) {
     r.uses_mesh = true;
     return exact_tricks.collide(bounds.poses(configs[i], I), o.self, o.margin);
   });
-  methods.emplace_back("outer", [&](std::size_t i, MethodRun&) {
+  methods.emplace_back(std::string("outer"), [&](std::size_t i, MethodRun&) {
     return outer.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
   });
-  methods.emplace_back("inner", [&](std::size_t i, MethodRun&) {
+  methods.emplace_back(std::string("inner"), [&](std::size_t i, MethodRun&) {
     return inner.collide(bounds.poses(configs[i], I), objects, o.self, o.margin);
   });
   // Undecided (a pair the spheres cannot decide and no mesh pair can settle, e.g. a link of
