@@ -334,6 +334,98 @@ void print_setup(const Options& o, const mb::BenchRobot& robot, const mf::RobotB
   std::printf("%zu configurations (seed %u), margin %.4g m\n\n", o.configs, o.seed, o.margin);
 }
 
+// The methods' ratios, and where the certified bounds (runs[4]) spend their time.
+void print_ratios(const std::vector<MethodRun>& runs, const mf::RobotBounds& bounds,
+                  std::size_t configs) {
+  const MethodRun& b = runs[4];
+  const double n = static_cast<double>(configs);
+  const double with_mesh = n - static_cast<double>(b.mesh_free + b.undecided);
+  std::printf(
+      "\nsets alone through FCL (medspheres::fcl::distance): outer %.1fx, inner %.1fx faster "
+      "than exact, %.1fx and %.1fx than exact+\n",
+      runs[0].micros / runs[2].micros, runs[0].micros / runs[3].micros,
+      runs[1].micros / runs[2].micros, runs[1].micros / runs[3].micros);
+  std::printf("bounds: %.1fx faster than exact+ (the same pair order and scene skip)\n",
+              runs[1].micros / b.micros);
+  std::printf("bounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
+  std::printf(
+      "bounds: %zu witness sphere pairs (SelfPairOrder) decided %zu configurations "
+      "(%.1f%%) with no walk\n",
+      bounds.witnesses().size(), b.by_witness, 100.0 * b.by_witness / n);
+  std::printf(
+      "bounds: the %.0f configurations that queried a mesh took %.1f%% of its time (%.1f us "
+      "each), the others %.1f us each\n",
+      with_mesh, 100.0 * b.mesh_micros / (b.micros * n),
+      with_mesh > 0 ? b.mesh_micros / with_mesh : 0.0,
+      (b.micros * n - b.mesh_micros) / std::max(1.0, n - with_mesh));
+}
+
+// How many configurations the reference finds within the margin, and where the exact
+// methods disagree with it.
+void print_reference(const Options& o, const std::vector<MethodRun>& runs, const Reference& ref,
+                     double ref_seconds) {
+  const std::size_t configs = ref.colliding.size();
+  std::size_t truth = 0, disagree = 0, disagree_plus = 0;
+  for (std::size_t i = 0; i < configs; ++i) {
+    truth += ref.colliding[i];
+    disagree += ref.colliding[i] != runs[0].colliding[i];
+    disagree_plus += ref.colliding[i] != runs[1].colliding[i];
+  }
+  std::printf(
+      "\nreference: %zu of %zu configurations within %.4g m (%.1f s); exact and exact+ (FCL's "
+      "octree) and the reference (the cells as a mesh) disagree on %zu and %zu; distance errors "
+      "over %zu configurations (every %zu-th)\n",
+      truth, configs, o.margin, ref_seconds, disagree, disagree_plus, ref.sampled.size(),
+      o.distance_every);
+}
+
+// The robot checker's rows (print_checker_rows) on the same configurations and reference.
+void checker_rows(const Options& o, const mb::BenchRobot& robot,
+                  const std::vector<const ::fcl::CollisionObjectd*>& objects,
+                  const mb::NamePairs& disabled, const std::vector<Eigen::VectorXd>& configs,
+                  const Reference& ref, double exact_micros) {
+  mb::RobotSource planner_source = o.robot;
+  planner_source.spheres_per_link = o.planner_spheres;
+  const mb::BenchRobot planner =
+      o.planner_spheres == o.robot.spheres_per_link ? robot : mb::load_bench_robot(planner_source);
+  mb::CheckerBenchInput in;
+  in.planner = &planner;
+  in.fine = &robot;
+  in.scene = objects;
+  in.disabled = disabled;
+  in.configs = configs;
+  in.reference = ref.colliding;
+  in.margin = o.margin;
+  in.self = o.self;
+  in.exact_micros = exact_micros;
+  in.edge_length = o.edge_length;
+  in.resolution = o.resolution;
+  std::printf("\nplanner sets: %s\n", planner.spheres_from.c_str());
+  mb::print_checker_rows(in);
+}
+
+// With --explain: every configuration the bounds missed, and every distance outside its
+// bounds, pair by pair.
+void explain_misses(const Options& o, const mf::RobotBounds& bounds,
+                    mb::ExactRobot& exact_reference, const std::vector<Eigen::VectorXd>& configs,
+                    const std::vector<const ::fcl::CollisionObjectd*>& objects,
+                    const std::vector<MethodRun>& runs, const Reference& ref) {
+  for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
+    if (ref.colliding[i] && !runs[4].colliding[i]) {
+      const mf::RobotCollideResult c =
+          mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
+      std::printf("bounds missed configuration %zu: verdict %d, %zu mesh fallbacks\n", i,
+                  static_cast<int>(c.verdict), c.mesh_fallbacks);
+      explain_near(bounds, exact_reference, configs[i], objects, o.self, o.margin);
+    }
+  for (std::size_t k = 0; k < ref.sampled.size() && o.explain; ++k)
+    if (ref.exact[k] < ref.lower[k] || ref.exact[k] > ref.upper[k]) {
+      std::printf("configuration %zu: exact %.9g outside [%.9g, %.9g]\n", ref.sampled[k],
+                  ref.exact[k], ref.lower[k], ref.upper[k]);
+      explain(bounds, exact_reference, configs[ref.sampled[k]], objects, o.self);
+    }
+}
+
 int run(const Options& o) {
   const mb::BenchRobot robot = mb::load_bench_robot(o.robot);
   const mb::BenchScene scene = mb::make_scene(o.seed, o.meshes, o.scale);
@@ -406,39 +498,8 @@ int run(const Options& o) {
       "\nforward kinematics (RobotBounds::poses, in every method's time): %.2f us per "
       "configuration\n",
       kinematics_micros(bounds, configs));
-  const MethodRun& b = runs[4];
-  const double n = static_cast<double>(configs.size());
-  const double with_mesh = n - static_cast<double>(b.mesh_free + b.undecided);
-  std::printf(
-      "\nsets alone through FCL (medspheres::fcl::distance): outer %.1fx, inner %.1fx faster "
-      "than exact, %.1fx and %.1fx than exact+\n",
-      runs[0].micros / runs[2].micros, runs[0].micros / runs[3].micros,
-      runs[1].micros / runs[2].micros, runs[1].micros / runs[3].micros);
-  std::printf("bounds: %.1fx faster than exact+ (the same pair order and scene skip)\n",
-              runs[1].micros / b.micros);
-  std::printf("bounds: %zu configurations left undecided (counted as colliding)\n", b.undecided);
-  std::printf(
-      "bounds: %zu witness sphere pairs (SelfPairOrder) decided %zu configurations "
-      "(%.1f%%) with no walk\n",
-      bounds.witnesses().size(), b.by_witness, 100.0 * b.by_witness / n);
-  std::printf(
-      "bounds: the %.0f configurations that queried a mesh took %.1f%% of its time (%.1f us "
-      "each), the others %.1f us each\n",
-      with_mesh, 100.0 * b.mesh_micros / (b.micros * n),
-      with_mesh > 0 ? b.mesh_micros / with_mesh : 0.0,
-      (b.micros * n - b.mesh_micros) / std::max(1.0, n - with_mesh));
-  std::size_t truth = 0, disagree = 0, disagree_plus = 0;
-  for (std::size_t i = 0; i < configs.size(); ++i) {
-    truth += ref.colliding[i];
-    disagree += ref.colliding[i] != runs[0].colliding[i];
-    disagree_plus += ref.colliding[i] != runs[1].colliding[i];
-  }
-  std::printf(
-      "\nreference: %zu of %zu configurations within %.4g m (%.1f s); exact and exact+ (FCL's "
-      "octree) and the reference (the cells as a mesh) disagree on %zu and %zu; distance errors "
-      "over %zu configurations (every %zu-th)\n",
-      truth, configs.size(), o.margin, ref_seconds, disagree, disagree_plus, ref.sampled.size(),
-      o.distance_every);
+  print_ratios(runs, bounds, configs.size());
+  print_reference(o, runs, ref, ref_seconds);
   if (o.breakdown > 0) {
     std::vector<Poses> poses;
     for (std::size_t i = 0; i < std::min(o.breakdown, configs.size()); ++i)
@@ -446,41 +507,8 @@ int run(const Options& o) {
     mb::print_breakdown(poses, scene, bounds.geometries().size(), bounds.self_pairs().size(), exact,
                         outer, inner, o.self, o.margin);
   }
-  if (o.checker) {
-    mb::RobotSource planner_source = o.robot;
-    planner_source.spheres_per_link = o.planner_spheres;
-    const mb::BenchRobot planner = o.planner_spheres == o.robot.spheres_per_link
-                                       ? robot
-                                       : mb::load_bench_robot(planner_source);
-    mb::CheckerBenchInput in;
-    in.planner = &planner;
-    in.fine = &robot;
-    in.scene = objects;
-    in.disabled = disabled;
-    in.configs = configs;
-    in.reference = ref.colliding;
-    in.margin = o.margin;
-    in.self = o.self;
-    in.exact_micros = runs[0].micros;
-    in.edge_length = o.edge_length;
-    in.resolution = o.resolution;
-    std::printf("\nplanner sets: %s\n", planner.spheres_from.c_str());
-    mb::print_checker_rows(in);
-  }
-  for (std::size_t i = 0; i < configs.size() && o.explain; ++i)
-    if (ref.colliding[i] && !runs[4].colliding[i]) {
-      const mf::RobotCollideResult c =
-          mf::robot_collide(bounds, configs[i], objects, o.self, o.margin);
-      std::printf("bounds missed configuration %zu: verdict %d, %zu mesh fallbacks\n", i,
-                  static_cast<int>(c.verdict), c.mesh_fallbacks);
-      explain_near(bounds, exact_reference, configs[i], objects, o.self, o.margin);
-    }
-  for (std::size_t k = 0; k < ref.sampled.size() && o.explain; ++k)
-    if (ref.exact[k] < ref.lower[k] || ref.exact[k] > ref.upper[k]) {
-      std::printf("configuration %zu: exact %.9g outside [%.9g, %.9g]\n", ref.sampled[k],
-                  ref.exact[k], ref.lower[k], ref.upper[k]);
-      explain(bounds, exact_reference, configs[ref.sampled[k]], objects, o.self);
-    }
+  if (o.checker) checker_rows(o, robot, objects, disabled, configs, ref, runs[0].micros);
+  explain_misses(o, bounds, exact_reference, configs, objects, runs, ref);
   return 0;
 }
 
