@@ -96,10 +96,11 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
       Eigen::Vector3d x = c.balls[j].center;
       Probe px = probe(query, x, x, {});
       const auto cost = [&](double radius, const Eigen::Vector3d& y, double depth) {
-        return (weights.active() ? weights.weight(radius, weights.gap(y)) : 1.0) * (radius - depth);
+        return weights.weight(Sphere{y, radius}) * (radius - depth);
       };
-      double fx = cost(reach_from(pts, x), x, px.depth);
-      const double r = std::max(c.balls[j].radius, reach_from(pts, x) - px.depth);
+      const double rx = reach_from(pts, x);
+      double fx = cost(rx, x, px.depth);
+      const double r = std::max(c.balls[j].radius, rx - px.depth);
       for (double step = first * r; step > 1e-3 * r;) {
         bool moved = false;
         for (int axis = 0; axis < 6 && !moved; ++axis) {
@@ -204,8 +205,8 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
     const double gap = weights.active() ? weights.gap(cand.centres[m]) : 0.0;
     for (std::size_t q = 0; q < items; ++q) {
       const double reach = farthest(p, q, cand.centres[m]);
-      cost[m * items + q] = static_cast<float>(
-          (reach - cand.depth[m]) * (weights.active() ? weights.weight(reach, gap) : 1.0));
+      cost[m * items + q] =
+          static_cast<float>((reach - cand.depth[m]) * weights.weight(reach, gap));
     }
   }
   const ThresholdCover tc =
@@ -387,11 +388,7 @@ Clustering local_search(const MeshQuery& query, const Elements& e, Clustering c,
 }  // namespace
 
 double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls, int threads) {
-  std::vector<Sphere> live;
-  for (const Sphere& b : balls)
-    if (b.radius > 0.0) live.push_back(b);
-  const std::vector<double> p = sphere_protrusions(query, live, threads);
-  return p.empty() ? 0.0 : *std::max_element(p.begin(), p.end());
+  return largest_weighted_protrusion(query, balls, BallWeights{}, threads);
 }
 
 Clustering one_ball(const MeshQuery& query, const Elements& e, int threads) {
