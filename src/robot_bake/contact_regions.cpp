@@ -8,7 +8,6 @@
 #include <map>
 #include <memory>
 #include <optional>
-#include <set>
 #include <stdexcept>
 
 #include "medspheres/error.h"
@@ -24,20 +23,6 @@ namespace {
 
 using Poses = std::vector<Eigen::Isometry3d>;
 using Points = std::vector<Eigen::Vector3d>;
-
-// One point per cell of side \p cell (the first in order).
-Points thinned(const Points& points, double cell) {
-  std::set<std::array<long long, 3>> seen;
-  Points out;
-  for (const Eigen::Vector3d& p : points) {
-    const Eigen::Vector3d c = (p / cell).array().floor();
-    if (seen.insert({static_cast<long long>(c.x()), static_cast<long long>(c.y()),
-                     static_cast<long long>(c.z())})
-            .second)
-      out.push_back(p);
-  }
-  return out;
-}
 
 // Of \p points, the first in each cell of side \p cell that holds at least \p least of them.
 Points frequent(const Points& points, double cell, std::size_t least) {
@@ -58,6 +43,11 @@ Points frequent(const Points& points, double cell, std::size_t least) {
   Points out;
   for (std::size_t k : kept) out.push_back(points[k]);
   return out;
+}
+
+// One point per cell of side \p cell (the first in order).
+Points thinned(const Points& points, double cell) {
+  return frequent(points, cell, 1);
 }
 
 // Points on every triangle of \p m at most \p step apart (a barycentric grid), thinned to
@@ -112,10 +102,9 @@ Points near_points(const LinkSurface& to, const LinkSurface& from, const Eigen::
 }
 
 // Every link's poses in each sampled configuration, the locked joints held.
-std::vector<Poses> sampled_poses(const RobotModel& model,
+std::vector<Poses> sampled_poses(const RobotModel& model, const KinematicTree& tree,
                                  const std::map<std::string, double>& locked,
                                  const ContactOptions& o) {
-  const KinematicTree tree(model);
   const std::vector<std::string>& names = tree.joint_names();
   std::vector<Poses> out;
   for (Eigen::VectorXd q : sample_configurations(model, names, o.samples, o.seed)) {
@@ -126,12 +115,6 @@ std::vector<Poses> sampled_poses(const RobotModel& model,
     out.push_back(tree.link_poses(q));
   }
   return out;
-}
-
-std::size_t link_index(const RobotModel& model, const std::string& name) {
-  for (std::size_t i = 0; i < model.links.size(); ++i)
-    if (model.links[i].name == name) return i;
-  throw std::invalid_argument("contact_regions: no link '" + name + "'");
 }
 
 }  // namespace
@@ -158,16 +141,17 @@ std::map<std::string, ProtrusionWeights> contact_regions(
   validate(o);
   if (solids.size() != model.links.size())
     throw std::invalid_argument("contact_regions: one solid per model link is needed");
+  const KinematicTree tree(model);  // its links in the model's order
   std::vector<std::optional<LinkSurface>> surface(solids.size());
   std::vector<std::pair<std::size_t, std::size_t>> pairs;
   for (const LinkPairClass& p : matrix.pairs) {
     if (p.ignored) continue;
-    const std::size_t a = link_index(model, p.link1), b = link_index(model, p.link2);
+    const std::size_t a = tree.link_index(p.link1), b = tree.link_index(p.link2);
     for (std::size_t i : {a, b})
       if (!surface[i]) surface[i] = link_surface(solids[i], o.band);
     if (surface[a] && surface[b]) pairs.emplace_back(a, b);
   }
-  const std::vector<Poses> poses = sampled_poses(model, locked, o);
+  const std::vector<Poses> poses = sampled_poses(model, tree, locked, o);
   // Per pair, the points found on each side (a's region, b's region).
   std::vector<std::array<Points, 2>> found(pairs.size());
   const long long n = static_cast<long long>(pairs.size());
