@@ -443,6 +443,29 @@ MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsig
   return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
 }
 
+// The lanes of `open` whose joint positions fall in a free cell of self pair k's table
+// (pair_table.h): the pair's sets are farther apart than the margin there, so its test
+// would find no collision. In doubles per lane (the lanes of the pass's half).
+template <class V>
+MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned open) {
+  const PairTableView& t = c.robot.table[k];
+  if (t.bits == nullptr) return 0;
+  const double* q = c.b.q + (V::W == kLanes ? 0 : c.b.half * kHalf);
+  unsigned out = 0;
+  for (int lane = 0; lane < V::W; ++lane) {
+    if (!(open >> lane & 1)) continue;
+    std::uint32_t cell = 0;
+    bool inside = true;
+    for (int j = 0; j < t.sources; ++j) {
+      const double x = (q[t.source[j] * kLanes + lane] - t.lower[j]) * t.inverse[j];
+      inside = inside && x >= 0.0 && x < t.cells[j];
+      cell += inside ? static_cast<std::uint32_t>(x) * t.stride[j] : 0u;
+    }
+    if (inside && (t.bits[cell >> 6] >> (cell & 63) & 1)) out |= 1u << lane;
+  }
+  return out;
+}
+
 // The bounding-sphere tests of every link against the scene, for the lanes `open`, into
 // near[0 .. links): independent of one another, so run back to back (their look-ups
 // overlap) before any finer test.
@@ -554,10 +577,10 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
 
 // The spheres mode: the tests (each link against the scene, each self pair) in the
 // robot's order (test_order.h), each in the lanes still open, a self pair's bounding
-// spheres only when it is reached. The links' bounding spheres against the scene
-// (near_links) run after the order's first robot.head tests (those that find most
-// configurations colliding: when they leave no lane open, the look-ups are spared), a
-// head link's own on its turn. Any order gives the same verdicts: a lane leaves `open`
+// spheres only when it is reached, its sets only in the lanes its table (if any) leaves. The links'
+// bounding spheres against the scene (near_links) run after the order's first robot.head tests
+// (those that find most configurations colliding: when they leave no lane open, the look-ups are
+// spared), a head link's own on its turn. Any order gives the same verdicts: a lane leaves `open`
 // only by a certain collision, and every test runs in every other lane. With b.hits
 // (learning), every test runs in every lane and counts the lanes it finds colliding.
 template <class V>
@@ -575,7 +598,8 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
     } else if (c.b.self) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
-      const unsigned need = pair_near(c, a, o, open);
+      unsigned need = pair_near(c, a, o, open);
+      if (need && robot.table) need &= ~table_free(c, k - robot.links, need);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
                            maybe);
