@@ -552,12 +552,12 @@ TEST_CASE("pair tables: the verdicts of every pair tested, at 1e-12 of self-cont
   // contact sit where a cell wrongly marked free would flip a verdict; tables of few cells
   // (coarse cells, large motion bounds) and of many (cells near contact) are compared with
   // no tables, on both paths, in floats and doubles, and against brute force.
-  const RobotModel arm = test::capsule_arm(5);
+  const RobotModel arm = test::capsule_arm(5), fine = test::capsule_arm(9);
   const check::Scene empty;
   for (const double margin : {0.0, 0.01}) {
     check::CheckerOptions none = options(margin);
     none.pair_table_cells = 0;
-    const check::RobotChecker reference(arm, empty, none);
+    const check::RobotChecker reference(arm, empty, none, &fine);
     CHECK(reference.pair_tables() == 0);
     const std::vector<double> q = near_contact(reference, test::capsule_arm_configs(1500, 21));
     const std::vector<Verdict> expected = run(reference, q, Mode::spheres);
@@ -580,7 +580,7 @@ TEST_CASE("pair tables: the verdicts of every pair tested, at 1e-12 of self-cont
           o.pair_table_cells = cells;
           o.float_tests = floats;
           o.simd = simd;
-          const check::RobotChecker checker(arm, empty, o);
+          const check::RobotChecker checker(arm, empty, o, &fine);
           INFO("cells " << cells << ", floats " << floats << ", scalar "
                         << (simd == check::Simd::scalar) << ", tables " << checker.pair_tables()
                         << ", free " << checker.pair_tables_free());
@@ -589,6 +589,24 @@ TEST_CASE("pair tables: the verdicts of every pair tested, at 1e-12 of self-cont
           CHECK(run(checker, q, Mode::spheres) == expected);
           CHECK(run(checker, q, Mode::spheres, 2) == expected);
           CHECK(run(checker, q, Mode::bounds) == run(reference, q, Mode::bounds));
+          // The bounds' undecided pairs too: a pair a table proves free is free anyway.
+          const std::size_t n = 600;
+          std::vector<Verdict> va(n), vb(n);
+          std::vector<std::vector<check::UndecidedPair>> pa(n), pb(n);
+          checker.check_bounds(q.data(), n, va.data(), pa.data(), 1);
+          reference.check_bounds(q.data(), n, vb.data(), pb.data(), 1);
+          CHECK(va == vb);
+          std::size_t undecided = 0, same = 0;
+          for (std::size_t i = 0; i < n; ++i) {
+            undecided += va[i] == Verdict::undecided;
+            same += pa[i].size() == pb[i].size() &&
+                    std::equal(pa[i].begin(), pa[i].end(), pb[i].begin(),
+                               [](const check::UndecidedPair& x, const check::UndecidedPair& y) {
+                                 return x.link == y.link && x.other == y.other && x.self == y.self;
+                               });
+          }
+          CHECK(same == n);
+          CHECK(undecided > 10);
           std::vector<Verdict> a(100), b(100);
           checker.check_edges(q.data(), q.data() + 8, 100, 0.05, Mode::spheres, a.data(), 1);
           reference.check_edges(q.data(), q.data() + 8, 100, 0.05, Mode::spheres, b.data(), 1);

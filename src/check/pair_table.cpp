@@ -81,6 +81,7 @@ struct PairBake {
   double lower[3] = {0, 0, 0}, upper[3] = {0, 0, 0};
   double weight[3] = {0, 0, 0};  // m per unit of each position
   int n[3] = {1, 1, 1};
+  std::vector<Vector3d> posed[2];  // gap()'s workspace
 
   int slot(int source_index) const {
     for (int j = 0; j < sources; ++j)
@@ -89,8 +90,7 @@ struct PairBake {
   }
 
   // The sets' least gap at positions q (per slot), posed in the common ancestor frame.
-  double gap(const double* q) const {
-    std::vector<Vector3d> posed[2];
+  double gap(const double* q) {
     for (int k = 0; k < 2; ++k) {
       Matrix3d R = Matrix3d::Identity();
       Vector3d p = Vector3d::Zero();
@@ -102,13 +102,14 @@ struct PairBake {
         p = R * u + p;
         R = R * r;
       }
-      for (const Vector3d& c : side[k].centre) posed[k].push_back(R * c + p);
+      posed[k].resize(side[k].centre.size());
+      for (std::size_t i = 0; i < side[k].centre.size(); ++i) posed[k][i] = R * side[k].centre[i] + p;
     }
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < posed[0].size(); ++i)
       for (std::size_t j = 0; j < posed[1].size(); ++j)
-        best = std::min(best,
-                        (posed[0][i] - posed[1][j]).norm() - side[0].radius[i] - side[1].radius[j]);
+        best = std::min(best, (posed[0][i] - posed[1][j]).norm() - side[0].radius[i] -
+                                  side[1].radius[j]);
     return best;
   }
 
