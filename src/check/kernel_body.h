@@ -443,27 +443,50 @@ MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsig
   return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
 }
 
+// The fine index (pair_table.h) of every table slot's position in each lane of the pass
+// (0 beyond its limits) and the lanes within them, computed on a pass's first table
+// look-up.
+struct TableCells {
+  bool ready = false;
+  unsigned inside[kMaxTableSlots];
+  std::uint32_t fine[kMaxTableSlots * kLanes];
+};
+
 // The lanes of `open` whose joint positions fall in a free cell of self pair k's table
 // (pair_table.h): the pair's sets are farther apart than the margin there, so its test
-// would find no collision. In doubles per lane (the lanes of the pass's half).
+// would find no collision. From the positions in doubles (the lanes of the pass's half).
 template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned open) {
+MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned open,
+                                             TableCells& cells) {
+  constexpr int W = V::W;
   const PairTableView& t = c.robot.table[k];
   if (t.bits == nullptr) return 0;
-  const double* q = c.b.q + (V::W == kLanes ? 0 : c.b.half * kHalf);
-  unsigned out = 0;
-  for (int lane = 0; lane < V::W; ++lane) {
-    if (!(open >> lane & 1)) continue;
-    std::uint32_t cell = 0;
-    bool inside = true;
-    for (int j = 0; j < t.sources; ++j) {
-      const double x = (q[t.source[j] * kLanes + lane] - t.lower[j]) * t.inverse[j];
-      inside = inside && x >= 0.0 && x < t.cells[j];
-      cell += inside ? static_cast<std::uint32_t>(x) * t.stride[j] : 0u;
+  if (!cells.ready) {
+    const double* q = c.b.q + (W == kLanes ? 0 : c.b.half * kHalf);
+    for (int s = 0; s < c.robot.table_slots; ++s) {
+      const TableSlot& slot = c.robot.table_slot[s];
+      unsigned inside = 0;
+      for (int lane = 0; lane < W; ++lane) {
+        const double x = (q[slot.source * kLanes + lane] - slot.lower) * slot.inverse;
+        const bool in = x >= 0.0 && x < kFineCells;
+        inside |= unsigned(in) << lane;
+        cells.fine[s * kLanes + lane] = static_cast<std::uint32_t>(in ? x : 0.0);
+      }
+      cells.inside[s] = inside;
     }
-    if (inside && (t.bits[cell >> 6] >> (cell & 63) & 1)) out |= 1u << lane;
+    cells.ready = true;
   }
-  return out;
+  unsigned inside = open;
+  for (int j = 0; j < t.sources; ++j) inside &= cells.inside[t.slot[j]];
+  if (!inside || t.all_free) return inside;
+  unsigned out = 0;
+  for (int lane = 0; lane < W; ++lane) {
+    std::uint32_t cell = 0;
+    for (int j = 0; j < t.sources; ++j)
+      cell += (cells.fine[t.slot[j] * kLanes + lane] >> t.shift[j]) * t.stride[j];
+    out |= static_cast<unsigned>(t.bits[cell >> 6] >> (cell & 63) & 1) << lane;
+  }
+  return out & inside;
 }
 
 // The bounding-sphere tests of every link against the scene, for the lanes `open`, into
@@ -550,6 +573,7 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = pending[k] = 0;
   if (probe == 0) near_all(c, c.p.lanes, pending);
   unsigned open = c.p.lanes, maybe_hit = 0;
+  TableCells cells;
   for (int level = 0; level < (robot.fine && probe == 0 ? 2 : 1); ++level)
     for (int t = probe > 0 ? c.b.probe_from : 0; t < tests && open; ++t) {
       const int k = static_cast<int>(robot.bounds_order[t]);
@@ -561,7 +585,7 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
       // A self pair's table proves its planner covering sets apart: free in those lanes.
       if (p && level == 0 && o >= 0 && robot.table && robot.link[a].spheres == kOuter &&
           robot.link[o].spheres == kOuter)
-        p &= ~table_free(c, k - robot.links, p);
+        p &= ~table_free(c, k - robot.links, p, cells);
       if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
       if (c.b.hits)
         c.b.hits[k] += static_cast<std::uint32_t>(__builtin_popcount(hit));
@@ -592,6 +616,7 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
   unsigned char* near = c.p.pending;
   unsigned open = c.p.lanes, maybe = 0;
+  TableCells cells;
   for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
     if (t == robot.head) near_links(c, open, near);
     const int k = static_cast<int>(robot.order[t]);
@@ -603,7 +628,7 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
       unsigned need = pair_near(c, a, o, open);
-      if (need && robot.table) need &= ~table_free(c, k - robot.links, need);
+      if (need && robot.table) need &= ~table_free(c, k - robot.links, need, cells);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
                            maybe);

@@ -103,13 +103,14 @@ struct PairBake {
         R = R * r;
       }
       posed[k].resize(side[k].centre.size());
-      for (std::size_t i = 0; i < side[k].centre.size(); ++i) posed[k][i] = R * side[k].centre[i] + p;
+      for (std::size_t i = 0; i < side[k].centre.size(); ++i)
+        posed[k][i] = R * side[k].centre[i] + p;
     }
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < posed[0].size(); ++i)
       for (std::size_t j = 0; j < posed[1].size(); ++j)
-        best = std::min(best, (posed[0][i] - posed[1][j]).norm() - side[0].radius[i] -
-                                  side[1].radius[j]);
+        best = std::min(best,
+                        (posed[0][i] - posed[1][j]).norm() - side[0].radius[i] - side[1].radius[j]);
     return best;
   }
 
@@ -147,7 +148,7 @@ struct PairBake {
       double most = 0.0;
       for (int j = 0; j < sources; ++j) {
         const double move = weight[j] * (upper[j] - lower[j]) / n[j];
-        if (move > most && n[j] < (1 << 20)) best = j, most = move;
+        if (move > most && n[j] < static_cast<int>(kFineCells)) best = j, most = move;
       }
       if (best < 0 || total * 2 > max_cells) return;
       n[best] *= 2;
@@ -213,7 +214,20 @@ PairTables::PairTables(const RobotModel& model, const RobotLayout& layout, doubl
       }
       ok = ok && !b.side[s].centre.empty();
     }
+    // Every position a slot, at most kMaxTableSlots of them.
+    int slot[3] = {0, 0, 0};
+    for (int j = 0; j < b.sources && ok; ++j) {
+      slot[j] = -1;
+      for (std::size_t i = 0; i < slots_.size(); ++i)
+        if (slots_[i].source == b.source[j]) slot[j] = static_cast<int>(i);
+      if (slot[j] < 0 && slots_.size() + 1 > std::size_t(kMaxTableSlots)) ok = false;
+    }
     if (!ok) continue;
+    for (int j = 0; j < b.sources; ++j)
+      if (slot[j] < 0) {
+        slot[j] = static_cast<int>(slots_.size());
+        slots_.push_back({b.source[j], b.lower[j], kFineCells / (b.upper[j] - b.lower[j])});
+      }
     b.weigh();
     b.size(max_cells);
     PairTableView& v = views_[k];
@@ -221,11 +235,9 @@ PairTables::PairTables(const RobotModel& model, const RobotLayout& layout, doubl
     std::uint32_t stride = 1;
     double h[3] = {0, 0, 0};
     for (int j = 0; j < b.sources; ++j) {
-      v.source[j] = b.source[j];
-      v.lower[j] = b.lower[j];
+      v.slot[j] = slot[j];
+      v.shift[j] = 16 - static_cast<int>(std::lround(std::log2(b.n[j])));
       h[j] = (b.upper[j] - b.lower[j]) / b.n[j];
-      v.inverse[j] = b.n[j] / (b.upper[j] - b.lower[j]);
-      v.cells[j] = b.n[j];
       v.stride[j] = stride;
       stride *= static_cast<std::uint32_t>(b.n[j]);
     }
@@ -271,6 +283,7 @@ PairTables::PairTables(const RobotModel& model, const RobotLayout& layout, doubl
     }
     bits_.push_back(std::move(bits));
     v.bits = bits_.back().data();
+    v.all_free = free == stride;
     ++tables_;
     free_sum += double(free) / stride;
   }

@@ -18,6 +18,7 @@
 // either side moves at most its own side's share of D (the triangle inequality over one
 // position at a time), so the gap anywhere in the cell is at least d(c) - D, and the
 // kernel's test, whose rounding stays within the allowance, finds no collision there.
+// Cells per position are powers of two, at most kFineCells.
 // Free when d(c) - D > threshold + pad (pad:
 // the bake's own rounding, 1e-9 m and 1e-9 relative). A lane's position is found in a cell
 // by (q - lower) * inverse rounded down in doubles: a rounding away from the cell, so the
@@ -32,15 +33,28 @@
 
 namespace medspheres::check::detail {
 
+/// The kernel finds a lane's cell from the position's index on a grid of kFineCells cells
+/// over the position's limits (one per position the tables use, a "slot"), shared by every
+/// table: a table of 2^k cells along it takes the index shifted right by 16 - k.
+inline constexpr double kFineCells = 65536.0;
+inline constexpr int kMaxTableSlots = 64;
+inline constexpr std::uint32_t kOutsideLimits = 0xFFFFFFFFu;
+
 /// One self pair's table, as the kernel reads it (block.h): no table when bits is null.
 struct PairTableView {
-  int sources = 0;              // joint positions (indices into q) the pair's pose hangs on
-  int source[3] = {0, 0, 0};    //
-  double lower[3] = {0, 0, 0};  // the cell of q: (q - lower) * inverse rounded down
-  double inverse[3] = {0, 0, 0};
-  double cells[3] = {1, 1, 1};          // per position
+  int sources = 0;                      // joint positions the pair's pose hangs on
+  int slot[3] = {0, 0, 0};              // of each position, into PairTables::slots()
+  int shift[3] = {0, 0, 0};             // its cells: kFineCells >> shift
   std::uint32_t stride[3] = {0, 0, 0};  // of the cell's index, x fastest
   const std::uint64_t* bits = nullptr;  // one per cell: 1 free
+  bool all_free = false;                // every cell
+};
+
+/// A position the tables use: its index into q, and its fine index (q - lower) * inverse
+/// rounded down, in [0, kFineCells) within the limits.
+struct TableSlot {
+  int source = 0;
+  double lower = 0.0, inverse = 0.0;
 };
 
 class PairTables {
@@ -53,6 +67,7 @@ class PairTables {
 
   /// Per self pair of the layout.
   const std::vector<PairTableView>& views() const noexcept { return views_; }
+  const std::vector<TableSlot>& slots() const noexcept { return slots_; }
   /// How many pairs have a table, and the share of their cells that is free.
   std::size_t tables() const noexcept { return tables_; }
   double free_share() const noexcept { return free_share_; }
@@ -60,6 +75,7 @@ class PairTables {
  private:
   std::vector<std::vector<std::uint64_t>> bits_;
   std::vector<PairTableView> views_;
+  std::vector<TableSlot> slots_;
   std::size_t tables_ = 0;
   double free_share_ = 0.0;
 };

@@ -468,6 +468,8 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   m.tables = std::make_unique<detail::PairTables>(planner, l, options.margin + 2 * m.allowance,
                                                   options.self ? options.pair_table_cells : 0);
   k.table = m.tables->tables() > 0 ? m.tables->views().data() : nullptr;
+  k.table_slots = static_cast<int>(m.tables->slots().size());
+  k.table_slot = m.tables->slots().data();
   m.float_range = float_ranges(planner, l);
   m.slack = float_slack(l, scene, g, m.float_range);
   m.learn_order(planner);
