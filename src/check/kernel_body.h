@@ -627,8 +627,13 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
     } else if (c.b.self) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
-      unsigned need = pair_near(c, a, o, open);
-      if (need && robot.table) need &= ~table_free(c, k - robot.links, need, cells);
+      // A table free everywhere answers by the limits alone, before the bounding spheres;
+      // another after them, in the lanes they leave.
+      const bool everywhere = robot.table && robot.table[k - robot.links].all_free;
+      const unsigned lanes =
+          everywhere ? open & ~table_free(c, k - robot.links, open, cells) : open;
+      unsigned need = lanes ? pair_near(c, a, o, lanes) : 0u;
+      if (need && robot.table && !everywhere) need &= ~table_free(c, k - robot.links, need, cells);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
                            maybe);
