@@ -2,7 +2,6 @@
 
 #include <algorithm>
 #include <cmath>
-#include <functional>
 
 #include <Eigen/Eigenvalues>
 
@@ -73,7 +72,18 @@ void step_pose(const FrameStep& s, double q, Matrix3d& R, Vector3d& p) {
   R = matrix(s.P) + std::cos(t) * matrix(s.C) + std::sin(t) * matrix(s.S);
 }
 
+// The frames from f up to W (f first), by the steps that pose them.
+std::vector<int> ancestors(const std::vector<int>& step_of, const RobotLayout& layout, int f) {
+  std::vector<int> out{f};
+  while (f != 0) {
+    f = layout.steps[static_cast<std::size_t>(step_of[static_cast<std::size_t>(f)])].parent;
+    out.push_back(f);
+  }
+  return out;
+}
+
 struct PairBake {
+  explicit PairBake(const RobotLayout& l) : layout(l) {}
   const RobotLayout& layout;
   Side side[2];
   int sources = 0;
@@ -155,17 +165,78 @@ struct PairBake {
       total *= 2;
     }
   }
-};
 
-// The frames from f up to W (f first), by the steps that pose them.
-std::vector<int> ancestors(const std::vector<int>& step_of, const RobotLayout& layout, int f) {
-  std::vector<int> out{f};
-  while (f != 0) {
-    f = layout.steps[static_cast<std::size_t>(step_of[static_cast<std::size_t>(f)])].parent;
-    out.push_back(f);
+  // Sets the sides' steps (from the common ancestor frame down to each link's frame), their
+  // spheres and the positions of links a and o; false when the pair has no table (more
+  // than three positions, one without finite limits, a side without spheres).
+  bool paths(const RobotModel& model, const std::vector<int>& step_of, int a, int o) {
+    const int link[2] = {a, o};
+    std::vector<int> up[2];
+    for (int s = 0; s < 2; ++s)
+      up[s] = ancestors(step_of, layout, layout.links[static_cast<std::size_t>(link[s])].frame);
+    // Drop the common ancestors (the frames both chains end in).
+    while (up[0].size() > 1 && up[1].size() > 1 &&
+           up[0][up[0].size() - 2] == up[1][up[1].size() - 2])
+      up[0].pop_back(), up[1].pop_back();
+    for (int s = 0; s < 2; ++s) {
+      const LinkLayout& l = layout.links[static_cast<std::size_t>(link[s])];
+      for (std::size_t i = up[s].size() - 1; i-- > 0;) {  // top first, the ancestor excluded
+        const int step = step_of[static_cast<std::size_t>(up[s][i])];
+        side[s].steps.push_back(step);
+        const int q = layout.steps[static_cast<std::size_t>(step)].source;
+        if (slot(q) >= 0) continue;
+        const Joint* j = model.find_joint(layout.joint_names[static_cast<std::size_t>(q)]);
+        if (sources == 3 || j == nullptr || !j->limits || j->type == JointType::kContinuous ||
+            !(j->limits->upper > j->limits->lower) ||
+            !std::isfinite(j->limits->upper - j->limits->lower))
+          return false;
+        source[sources] = q;
+        lower[sources] = j->limits->lower;
+        upper[sources] = j->limits->upper;
+        ++sources;
+      }
+      for (std::uint32_t i = l.begin[l.spheres]; i < l.begin[l.spheres] + l.count[l.spheres]; ++i) {
+        side[s].centre.emplace_back(layout.x[i], layout.y[i], layout.z[i]);
+        side[s].radius.push_back(layout.r[i]);
+      }
+      if (side[s].centre.empty()) return false;
+    }
+    return true;
   }
-  return out;
-}
+
+  // Marks the free cells of the box [lo, hi) (cells per position; h: a cell's width in
+  // each position) in bits, splitting the box where it moves the sets most; returns how
+  // many. Free: the gap at the box's centre less the box's motion bound beyond `limit`.
+  std::size_t mark(const int* lo, const int* hi, const double* h, double limit,
+                   const std::uint32_t* stride, std::vector<std::uint64_t>& bits) {
+    double q[3] = {0, 0, 0}, move = 0.0, widest = 0.0;
+    int split = -1;
+    for (int j = 0; j < sources; ++j) {
+      q[j] = lower[j] + 0.5 * (lo[j] + hi[j]) * h[j];
+      const double half = 0.5 * (hi[j] - lo[j]) * h[j] * (1.0 + 1e-6);
+      move += weight[j] * half;
+      if (hi[j] - lo[j] > 1 && weight[j] * half > widest) split = j, widest = weight[j] * half;
+    }
+    move *= 1.0 + 1e-9;
+    const double d = gap(q);
+    if (d - move > limit) {
+      std::size_t free = 0;
+      for (int z = lo[2]; z < (sources > 2 ? hi[2] : 1); ++z)
+        for (int y = lo[1]; y < (sources > 1 ? hi[1] : 1); ++y)
+          for (int x = lo[0]; x < (sources > 0 ? hi[0] : 1); ++x, ++free) {
+            const std::uint32_t c = static_cast<std::uint32_t>(x) * stride[0] +
+                                    static_cast<std::uint32_t>(y) * stride[1] +
+                                    static_cast<std::uint32_t>(z) * stride[2];
+            bits[c >> 6] |= std::uint64_t(1) << (c & 63);
+          }
+      return free;
+    }
+    if (d + move <= limit || split < 0) return 0;  // no cell of the box is free
+    int mid_hi[3] = {hi[0], hi[1], hi[2]}, mid_lo[3] = {lo[0], lo[1], lo[2]};
+    mid_hi[split] = mid_lo[split] = (lo[split] + hi[split]) / 2;
+    return mark(lo, mid_hi, h, limit, stride, bits) + mark(mid_lo, hi, h, limit, stride, bits);
+  }
+};
 
 }  // namespace
 
@@ -179,41 +250,9 @@ PairTables::PairTables(const RobotModel& model, const RobotLayout& layout, doubl
   const double pad = 1e-9 * (1.0 + layout.extent);
   double free_sum = 0.0;
   for (std::size_t k = 0; k < layout.pair_a.size(); ++k) {
-    PairBake b{layout, {}, 0, {}, {}, {}, {}, {1, 1, 1}};
-    const int link[2] = {static_cast<int>(layout.pair_a[k]), static_cast<int>(layout.pair_b[k])};
-    std::vector<int> up[2];
-    for (int s = 0; s < 2; ++s)
-      up[s] = ancestors(step_of, layout, layout.links[static_cast<std::size_t>(link[s])].frame);
-    // Drop the common ancestors (the frames both chains end in).
-    while (up[0].size() > 1 && up[1].size() > 1 &&
-           up[0][up[0].size() - 2] == up[1][up[1].size() - 2])
-      up[0].pop_back(), up[1].pop_back();
-    bool ok = true;
-    for (int s = 0; s < 2 && ok; ++s) {
-      const LinkLayout& l = layout.links[static_cast<std::size_t>(link[s])];
-      for (std::size_t i = up[s].size() - 1; i-- > 0;) {  // top first, the ancestor excluded
-        const int step = step_of[static_cast<std::size_t>(up[s][i])];
-        b.side[s].steps.push_back(step);
-        const int source = layout.steps[static_cast<std::size_t>(step)].source;
-        if (b.slot(source) >= 0) continue;
-        const Joint* j = model.find_joint(layout.joint_names[static_cast<std::size_t>(source)]);
-        if (b.sources == 3 || j == nullptr || !j->limits || j->type == JointType::kContinuous ||
-            !(j->limits->upper > j->limits->lower) ||
-            !std::isfinite(j->limits->upper - j->limits->lower)) {
-          ok = false;
-          break;
-        }
-        b.source[b.sources] = source;
-        b.lower[b.sources] = j->limits->lower;
-        b.upper[b.sources] = j->limits->upper;
-        ++b.sources;
-      }
-      for (std::uint32_t i = l.begin[l.spheres]; i < l.begin[l.spheres] + l.count[l.spheres]; ++i) {
-        b.side[s].centre.emplace_back(layout.x[i], layout.y[i], layout.z[i]);
-        b.side[s].radius.push_back(layout.r[i]);
-      }
-      ok = ok && !b.side[s].centre.empty();
-    }
+    PairBake b(layout);
+    bool ok = b.paths(model, step_of, static_cast<int>(layout.pair_a[k]),
+                      static_cast<int>(layout.pair_b[k]));
     // Every position a slot, at most kMaxTableSlots of them.
     int slot[3] = {0, 0, 0};
     for (int j = 0; j < b.sources && ok; ++j) {
@@ -242,41 +281,8 @@ PairTables::PairTables(const RobotModel& model, const RobotLayout& layout, doubl
       stride *= static_cast<std::uint32_t>(b.n[j]);
     }
     std::vector<std::uint64_t> bits((stride + 63) / 64, 0);
-    std::size_t free = 0;
-    // Boxes of cells [lo, hi) per position, split where they move the sets most.
-    const std::function<void(const int*, const int*)> bake = [&](const int* lo, const int* hi) {
-      double q[3] = {0, 0, 0}, move = 0.0;
-      int split = -1;
-      double widest = 0.0;
-      for (int j = 0; j < b.sources; ++j) {
-        q[j] = b.lower[j] + 0.5 * (lo[j] + hi[j]) * h[j];
-        const double half = 0.5 * (hi[j] - lo[j]) * h[j] * (1.0 + 1e-6);
-        move += b.weight[j] * half;
-        if (hi[j] - lo[j] > 1 && b.weight[j] * half > widest)
-          split = j, widest = b.weight[j] * half;
-      }
-      move *= 1.0 + 1e-9;
-      const double d = b.gap(q);
-      if (d - move > threshold + pad) {
-        for (int z = lo[2]; z < (b.sources > 2 ? hi[2] : 1); ++z)
-          for (int y = lo[1]; y < (b.sources > 1 ? hi[1] : 1); ++y)
-            for (int x = lo[0]; x < (b.sources > 0 ? hi[0] : 1); ++x) {
-              const std::uint32_t c = static_cast<std::uint32_t>(x) * v.stride[0] +
-                                      static_cast<std::uint32_t>(y) * v.stride[1] +
-                                      static_cast<std::uint32_t>(z) * v.stride[2];
-              bits[c >> 6] |= std::uint64_t(1) << (c & 63);
-              ++free;
-            }
-        return;
-      }
-      if (d + move <= threshold + pad || split < 0) return;  // no cell of the box is free
-      int mid_hi[3] = {hi[0], hi[1], hi[2]}, mid_lo[3] = {lo[0], lo[1], lo[2]};
-      mid_hi[split] = mid_lo[split] = (lo[split] + hi[split]) / 2;
-      bake(lo, mid_hi);
-      bake(mid_lo, hi);
-    };
     const int lo[3] = {0, 0, 0}, hi[3] = {b.n[0], b.n[1], b.n[2]};
-    bake(lo, hi);
+    const std::size_t free = b.mark(lo, hi, h, threshold + pad, v.stride, bits);
     if (free == 0) {
       views_[k] = PairTableView{};
       continue;

@@ -18,12 +18,12 @@
 // either side moves at most its own side's share of D (the triangle inequality over one
 // position at a time), so the gap anywhere in the cell is at least d(c) - D, and the
 // kernel's test, whose rounding stays within the allowance, finds no collision there.
-// Cells per position are powers of two, at most kFineCells.
-// Free when d(c) - D > threshold + pad (pad:
-// the bake's own rounding, 1e-9 m and 1e-9 relative). A lane's position is found in a cell
-// by (q - lower) * inverse rounded down in doubles: a rounding away from the cell, so the
-// half-widths are taken 1e-6 relative larger. Positions outside the limits are never in a
-// cell. Frame: the layout's; units: metres and the joints' units.
+// Free when d(c) - D > threshold + pad (pad: the bake's own rounding, 1e-9 (1 + extent)
+// m; D itself is taken 1e-9 relative larger). Cells per position are powers of two, at
+// most kFineCells. A lane's position is found in a cell by (q - lower) * inverse rounded
+// down in doubles: a rounding away from the cell, so the half-widths are taken 1e-6
+// relative larger. Positions outside the limits are never in a cell. Frame: the layout's;
+// units: metres and the joints' units.
 
 #include <cstdint>
 #include <vector>
