@@ -2,6 +2,9 @@
 
 #include "support/coarse_arm.h"
 
+#include <unistd.h>
+
+#include <filesystem>
 #include <fstream>
 #include <sstream>
 #include <stdexcept>
@@ -126,10 +129,16 @@ std::string coarse_arm_urdf() {
 
 std::string write_coarse_arm(const std::filesystem::path& dir) {
   std::filesystem::create_directories(dir / "meshes");
+  // Each file is written beside its place and renamed into it, so that a process reading
+  // the folder while another writes it (two benchmarks sharing a cache) sees a whole file.
   auto write = [](const std::filesystem::path& p, const std::string& text) {
-    std::ofstream out(p, std::ios::binary | std::ios::trunc);
-    out << text;
-    if (!out) throw std::runtime_error("write_coarse_arm: cannot write " + p.string());
+    const std::filesystem::path tmp = p.string() + ".tmp" + std::to_string(::getpid());
+    {
+      std::ofstream out(tmp, std::ios::binary | std::ios::trunc);
+      out << text;
+      if (!out) throw std::runtime_error("write_coarse_arm: cannot write " + tmp.string());
+    }
+    std::filesystem::rename(tmp, p);
   };
   for (const CoarseArmLink& l : coarse_arm_links())
     write(dir / "meshes" / (l.name + ".obj"), to_obj(l.mesh));
