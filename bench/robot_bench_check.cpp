@@ -338,11 +338,13 @@ void add_sphere_rows(const CheckerBenchInput& in, const check::CheckerOptions& o
   }
 }
 
-// The certified rows: the fallback as built, without trees and order, one configuration at
+// The certified rows: the fallback as built, without the kernel's witnesses, without trees
+// and order, one configuration at
 // a time; and the same checks as a loop of FCL calls.
 void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions& o,
-                        const RobotModel* fine, const fcl::CertifiedChecker& certified,
-                        const std::vector<double>& q, std::vector<Row>& rows) {
+                        const RobotModel* fine, const fcl::FallbackOptions& fallback,
+                        const fcl::CertifiedChecker& certified, const std::vector<double>& q,
+                        std::vector<Row>& rows) {
   const check::RobotChecker& spheres = certified.spheres();
   const std::size_t n = in.configs.size();
   std::vector<Verdict> v(n);
@@ -364,6 +366,28 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
                   stats.configurations, 100.0 * double(stats.configurations) / double(n),
                   stats.witnessed, stats.tabled, stats.pairs, stats.meshes,
                   static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
+    r.note = note;
+    rows.push_back(r);
+  }
+  if (in.order_samples > 0) {
+    // The same without the witnesses in the kernel's inner sets: the fallback tests them.
+    fcl::FallbackOptions f = fallback;
+    f.kernel_witnesses = false;
+    const fcl::CertifiedChecker apart(in.planner->model, fine, in.fine->meshes, in.scene, o, f);
+    Row r{"check/cw-", 1};
+    fcl::FallbackStats stats;
+    r.micros = best_micros(in.repeats, false,
+                           [&] {
+                             stats = {};
+                             apart.check(q.data(), n, v.data(), 1, &stats);
+                           }) /
+               double(n);
+    r.colliding = colliding_of(v);
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "as check/c, the witnesses in the fallback only: %zu to the fallback, %zu by "
+                  "witnesses, %zu to the meshes",
+                  stats.configurations, stats.witnessed, stats.meshes);
     r.note = note;
     rows.push_back(r);
   }
@@ -450,7 +474,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   const std::vector<double> q = rows_of(in.configs);
   std::vector<Row> rows;
   add_sphere_rows(in, o, fine, certified.spheres(), unordered, q, rows);
-  add_certified_rows(in, o, fine, certified, q, rows);
+  add_certified_rows(in, o, fine, fallback, certified, q, rows);
   std::printf("%-10s %7s %10s %10s %10s %10s %7s %7s  %s\n", "checker", "threads", "us/config",
               "ns/config", "vs exact", "colliding", "missed", "alarms", "note");
   for (const Row& r : rows) print_row(r, in);

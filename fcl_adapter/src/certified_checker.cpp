@@ -8,6 +8,8 @@
 #include "medspheres/error.h"
 #include "medspheres/fcl/scene_from_fcl.h"
 
+#include "witness_points.h"
+
 namespace medspheres::fcl {
 namespace {
 
@@ -22,12 +24,26 @@ const RobotModel& certified(const RobotModel& model, const BoundedGeometryOption
   return model;
 }
 
+// The fallback's geometries (the trees' sets, else the fine ones, else the planner's),
+// after the planner's and the fine model's covers are found certified.
+RobotBounds make_bounds(const RobotModel& planner, const RobotModel* fine,
+                        const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                        const check::CheckerOptions& options, const FallbackOptions& fallback);
+
+// The kernel's checker: the planner's sets, with the witnesses' points in their links'
+// inner sets when asked (witness_points.h).
 check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fine,
-                                 const FclScene& scene, const check::CheckerOptions& options,
-                                 const BoundedGeometryOptions& bounds) {
-  certified(planner, bounds);
-  if (fine) certified(*fine, bounds);
-  return check::RobotChecker(planner, scene.scene, options, fine);
+                                 const RobotBounds& bounds, const FclScene& scene,
+                                 const check::CheckerOptions& options,
+                                 const FallbackOptions& fallback) {
+  if (!fallback.kernel_witnesses || bounds.witnesses().empty())
+    return check::RobotChecker(planner, scene.scene, options, fine);
+  check::CheckerOptions with = options;
+  for (auto& [link, points] : detail::witness_points(planner, bounds)) {
+    std::vector<Sphere>& to = with.inner_points[link];
+    to.insert(to.end(), points.begin(), points.end());
+  }
+  return check::RobotChecker(planner, scene.scene, with, fine);
 }
 
 // The learnt order at the checker's margin: learnt at another, its witnesses and pair
@@ -35,6 +51,18 @@ check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fi
 SelfPairOrder order_at(SelfPairOrder order, double margin) {
   order.margin = margin;
   return order;
+}
+
+RobotBounds make_bounds(const RobotModel& planner, const RobotModel* fine,
+                        const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                        const check::CheckerOptions& options, const FallbackOptions& fallback) {
+  certified(planner, fallback.bounds);
+  if (fine) certified(*fine, fallback.bounds);
+  return RobotBounds(fallback.trees ? *fallback.trees
+                     : fine         ? *fine
+                                    : planner,
+                     meshes, options.disabled, fallback.bounds,
+                     order_at(fallback.order, options.margin));
 }
 
 int thread_count(int threads) {
@@ -61,11 +89,8 @@ CertifiedChecker::CertifiedChecker(
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
     const check::CheckerOptions& options, const FallbackOptions& fallback)
-    : checker_(make_checker(planner, fine, converted, options, fallback.bounds)),
-      bounds_(fallback.trees ? *fallback.trees
-              : fine         ? *fine
-                             : planner,
-              meshes, options.disabled, fallback.bounds, order_at(fallback.order, options.margin)),
+    : bounds_(make_bounds(planner, fine, meshes, options, fallback)),
+      checker_(make_checker(planner, fine, bounds_, converted, options, fallback)),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
   if (bounds_.kinematics().joint_names() != checker_.joint_names())

@@ -432,13 +432,18 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   Impl& m = *impl_;
   m.options = options;
   m.kernel = detail::choose_kernel(options.simd);
-  m.layout = detail::make_layout(planner, fine, options.X_WB, options.disabled);
+  m.layout =
+      detail::make_layout(planner, fine, options.X_WB, options.disabled, options.inner_points);
   m.allowance = rounding_allowance(m.layout, scene);
   m.scene_objects = scene.size();
-  // One cell's list answers balls up to the radius of three in four spheres; larger ones
-  // read a few cells (scene_grid.h): short lists for the many, no miss for the few.
+  // One cell's list answers balls up to the radius of three in four spheres (the models'
+  // own: the inner points leave the grid as it was); larger ones read a few cells
+  // (scene_grid.h): short lists for the many, no miss for the few.
   std::vector<double> radii = m.layout.r;
   std::sort(radii.begin(), radii.end());
+  for (const auto& [link, points] : options.inner_points)
+    for (const Sphere& p : points)
+      radii.erase(std::lower_bound(radii.begin(), radii.end(), p.radius));
   const double typical = radii.empty() ? 0.0 : radii[radii.size() * 3 / 4];
   const double reach = typical + options.margin + 2 * m.allowance;
   m.grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
