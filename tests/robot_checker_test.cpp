@@ -6,6 +6,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <set>
 #include <stdexcept>
@@ -370,6 +371,118 @@ TEST_CASE("robot checker: bad input is refused with a message naming it", "[chec
                     Catch::Contains("crate"));
   CHECK_THROWS_WITH(bad.add_mesh(TriangleMesh{{}, {{0, 1, 2}}}, Eigen::Isometry3d::Identity(), "m"),
                     Catch::Contains("out of range"));
+}
+
+namespace {
+
+// Every fifth mesh vertex of each capsule link (on its capsule's surface, so in its closed
+// solid) as inner points of radius 0, in the link frame.
+std::map<std::string, std::vector<Sphere>> vertex_points() {
+  std::map<std::string, std::vector<Sphere>> out;
+  for (const test::CapsuleLink& l : test::capsule_arm_links()) {
+    const std::vector<Eigen::Vector3d> v = test::capsule_link_mesh(l).vertices;
+    for (std::size_t k = 0; k < v.size(); k += 5) out[l.name].push_back({v[k], 0.0});
+  }
+  return out;
+}
+
+// Brute force: some inner sphere or point of a self pair within `margin` of one of the
+// other link, or within `margin` of the scene.
+bool inner_within(const RobotModel& model, const std::map<std::string, std::vector<Sphere>>& extra,
+                  const Eigen::VectorXd& q, double margin) {
+  const KinematicTree tree(model);
+  const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
+  std::vector<std::vector<Sphere>> posed(model.links.size());
+  for (std::size_t l = 0; l < model.links.size(); ++l) {
+    std::vector<Sphere> all = model.links[l].spheres.inner.spheres;
+    const auto e = extra.find(model.links[l].name);
+    if (e != extra.end()) all.insert(all.end(), e->second.begin(), e->second.end());
+    for (const Sphere& s : all) posed[l].push_back({X[l] * s.center, s.radius});
+  }
+  for (const auto& set : posed)
+    for (const Sphere& s : set)
+      if (test_scene().distance(s.center) - s.radius <= margin) return true;
+  std::set<std::pair<std::string, std::string>> skip = {{"l7", "tool"}, {"tool", "l7"}};
+  for (const Joint& j : model.joints) {
+    skip.insert({j.parent, j.child});
+    skip.insert({j.child, j.parent});
+  }
+  for (std::size_t a = 0; a < posed.size(); ++a)
+    for (std::size_t b = a + 1; b < posed.size(); ++b) {
+      if (skip.count({model.links[a].name, model.links[b].name})) continue;
+      for (const Sphere& s : posed[a])
+        for (const Sphere& t : posed[b])
+          if ((s.center - t.center).norm() - s.radius - t.radius <= margin) return true;
+    }
+  return false;
+}
+
+}  // namespace
+
+TEST_CASE("inner points: the bounds mode proves collisions by them, each within the margin",
+          "[check]") {
+  const RobotModel arm = test::capsule_arm(3);
+  const double margin = 0.01;
+  check::CheckerOptions o = options(margin);
+  const check::RobotChecker plain(arm, test_scene().scene, o);
+  o.inner_points = vertex_points();
+  o.simd = check::Simd::scalar;
+  const check::RobotChecker scalar(arm, test_scene().scene, o);
+  o.simd = check::Simd::automatic;
+  const check::RobotChecker with(arm, test_scene().scene, o);
+  std::vector<double> q = test::capsule_arm_configs(700, 31);
+  // Configurations bisected to 1e-12 of where the points' proofs begin.
+  const std::vector<Verdict> first = run(with, q, Mode::bounds);
+  std::vector<double> at(8), extra;
+  for (std::size_t i = 1; i < first.size() && extra.size() < 8 * 2 * 60; ++i) {
+    if ((first[i] == Verdict::colliding) == (first[i - 1] == Verdict::colliding)) continue;
+    auto point = [&](double t) {
+      for (std::size_t j = 0; j < 8; ++j)
+        at[j] = q[8 * (i - 1) + j] + t * (q[8 * i + j] - q[8 * (i - 1) + j]);
+      return at;
+    };
+    double lo = 0.0, hi = 1.0;  // lo on first[i - 1]'s side
+    while (hi - lo > 1e-12) {
+      const double mid = (lo + hi) / 2;
+      const bool c = with.check(point(mid).data(), Mode::bounds) == Verdict::colliding;
+      (c == (first[i - 1] == Verdict::colliding) ? lo : hi) = mid;
+    }
+    for (double t : {lo, hi})
+      for (double x : point(t)) extra.push_back(x);
+  }
+  q.insert(q.end(), extra.begin(), extra.end());
+  const std::size_t n = q.size() / 8;
+  REQUIRE(n > 760);
+  const std::vector<Verdict> b = run(with, q, Mode::bounds), p = run(plain, q, Mode::bounds);
+  CHECK(run(with, q, Mode::spheres) == run(plain, q, Mode::spheres));
+  CHECK(run(scalar, q, Mode::bounds) == b);
+  CHECK(run(with, q, Mode::bounds, 2) == b);
+  std::size_t gained = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
+    INFO("configuration " << i);
+    // The covers are the same: free where they were. A proof rests on an inner pair
+    // within the margin; an inner pair within the margin less a hair is proved.
+    CHECK((b[i] == Verdict::free) == (p[i] == Verdict::free));
+    if (p[i] == Verdict::colliding) CHECK(b[i] == Verdict::colliding);
+    if (b[i] == Verdict::colliding) CHECK(inner_within(arm, o.inner_points, qi, margin));
+    if (b[i] != Verdict::colliding)
+      CHECK_FALSE(inner_within(arm, o.inner_points, qi, margin - 1e-7));
+    gained += b[i] == Verdict::colliding && p[i] != Verdict::colliding;
+  }
+  CHECK(gained > 20);
+  // Bad points are refused, naming the link.
+  o.inner_points = {{"nope", {{Eigen::Vector3d::Zero(), 0.0}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, test_scene().scene, o), Catch::Contains("nope"));
+  o.inner_points = {{"l2", {{Eigen::Vector3d::Zero(), -1e-3}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, test_scene().scene, o), Catch::Contains("l2"));
+  o.inner_points = {{"l3", {{Eigen::Vector3d(0, std::nan(""), 0), 0.0}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, test_scene().scene, o), Catch::Contains("l3"));
+  RobotModel bare = arm;
+  bare.links[4].spheres.outer = {};
+  o.inner_points = {{"l4", {{Eigen::Vector3d::Zero(), 0.0}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(bare, test_scene().scene, o),
+                    Catch::Contains("l4") && Catch::Contains("covering"));
 }
 
 TEST_CASE("float tests: the verdicts of the double tests, also at 1e-12 of contact", "[check]") {

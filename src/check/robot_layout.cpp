@@ -106,8 +106,8 @@ void check_inner_points(const RobotModel& planner,
                                     "spheres mode's)");
     for (const Sphere& s : spheres)
       if (!s.center.allFinite() || !std::isfinite(s.radius) || s.radius < 0.0)
-        throw InputError(kSource, "an inner point of link \"" + name +
-                                      "\" is not finite or has a radius < 0");
+        throw InputError(
+            kSource, "an inner point of link \"" + name + "\" is not finite or has a radius < 0");
   }
 }
 
@@ -117,9 +117,9 @@ void add_link(const Link& planner, const Link* fine, int frame, const Eigen::Iso
               const std::vector<Sphere>* extra, RobotLayout& out) {
   std::vector<Sphere> inner = *held_inner(planner.spheres);
   if (extra) inner.insert(inner.end(), extra->begin(), extra->end());
-  const std::vector<Sphere>* sets[kLevels] = {
-      &planner.spheres.outer.spheres, &inner, fine ? &fine->spheres.outer.spheres : nullptr,
-      fine ? held_inner(fine->spheres) : nullptr};
+  const std::vector<Sphere>* sets[kLevels] = {&planner.spheres.outer.spheres, &inner,
+                                              fine ? &fine->spheres.outer.spheres : nullptr,
+                                              fine ? held_inner(fine->spheres) : nullptr};
   LinkLayout l;
   l.frame = frame;
   l.spheres = planner.spheres.outer.empty() ? kInner : kOuter;

@@ -42,11 +42,11 @@
 /// lane, all runs stepped together, stopping at the first colliding one.
 ///
 /// Errors: InputError (source "robot checker") for a fine model that is not the planner's
-/// robot, a disabled pair naming an unknown link, or bad CheckerOptions::inner_points; std::invalid_argument for a margin or
-/// resolution that is negative or not finite, a configuration with a non-finite entry or
-/// one beyond +-1e6 (the reduction of angles is exact below 2^26), or Simd::avx2 on a
-/// processor without it. Threads: immutable after construction; every const member may run
-/// from many threads at once.
+/// robot, a disabled pair naming an unknown link, or bad CheckerOptions::inner_points;
+/// std::invalid_argument for a margin or resolution that is negative or not finite, a configuration
+/// with a non-finite entry or one beyond +-1e6 (the reduction of angles is exact below 2^26), or
+/// Simd::avx2 on a processor without it. Threads: immutable after construction; every const member
+/// may run from many threads at once.
 
 #include <cstddef>
 #include <cstdint>
