@@ -103,6 +103,12 @@ CertifiedChecker::CertifiedChecker(
       throw InputError(link, "the fallback's model has no sets for this link");
     geometry_of_.push_back(g);
   }
+  // The witnesses the kernel has not tested already (those of links it took none for).
+  const std::map<std::string, std::vector<Sphere>>& in_kernel = checker_.options().inner_points;
+  for (const SelfWitness& w : bounds_.witnesses())
+    if (!fallback.kernel_witnesses || !in_kernel.count(bounds_.geometries()[w.a].link()) ||
+        !in_kernel.count(bounds_.geometries()[w.b].link()))
+      witnesses_.push_back(w);
   const std::size_t G = bounds_.geometries().size();
   rank_.assign(G * G, bounds_.self_pairs().size());
   for (std::size_t k = 0; k < bounds_.self_pairs().size(); ++k) {
@@ -174,7 +180,7 @@ CertifiedChecker::Poses CertifiedChecker::poses(const double* q) const {
 // pairs (RobotBounds takes options.disabled as the checker does).
 bool CertifiedChecker::witnessed(const Poses& X) const {
   if (!checker_.options().self) return false;
-  for (const SelfWitness& w : bounds_.witnesses())
+  for (const SelfWitness& w : witnesses_)
     if (witness_holds(w, X, checker_.options().margin)) return true;
   return false;
 }

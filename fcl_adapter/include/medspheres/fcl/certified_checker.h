@@ -88,7 +88,8 @@ struct FallbackOptions {
   /// mode's). Every witness point of a link is then tested against every inner sphere of
   /// the other link of each pair the covering sets leave open, in the first pass in
   /// floats: the configurations a witness settles no longer reach the fallback, and the
-  /// probe (robot_checker.h) learns the pairs they prove. false: the planner's sets as
+  /// probe (robot_checker.h) learns the pairs they prove; the fallback no longer tests
+  /// them (only those of a link the kernel took none for). false: the planner's sets as
   /// they are, the witnesses tested in the fallback only.
   bool kernel_witnesses = true;
 };
@@ -150,6 +151,9 @@ class CertifiedChecker {
   std::vector<const ::fcl::CollisionObjectd*> scene_;
   std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
   std::vector<std::size_t> geometry_of_;   // checker link -> index in bounds_.geometries()
+  // The witnesses the fallback tests: bounds_.witnesses() but those whose points the
+  // kernel's inner sets hold (FallbackOptions::kernel_witnesses).
+  std::vector<SelfWitness> witnesses_;
   // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
   // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;
