@@ -249,6 +249,8 @@ void print_test_order(const check::RobotChecker& spheres) {
     }
     std::printf("\n");
   };
+  std::printf("pair tables: %zu of %zu self pairs, %.1f%% of their cells free\n",
+              spheres.pair_tables(), pairs.size(), 100.0 * spheres.pair_tables_free());
   std::printf("test order (%zu samples): %zu tests, head %zu; first:",
               spheres.options().order_samples, order.tests.size(), order.head);
   first(order.tests);

@@ -108,8 +108,10 @@ check::CheckerOptions options(double margin) {
   return o;
 }
 
-// Brute force: every covering sphere against the scene and every self pair.
-bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin) {
+// Brute force: every covering sphere against the scene (unless `scene` is false) and every
+// self pair.
+bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin,
+                 bool scene = true) {
   const KinematicTree tree(model);
   const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
   std::vector<std::vector<Sphere>> posed(model.links.size());
@@ -118,7 +120,7 @@ bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margi
       posed[l].push_back({X[l] * s.center, s.radius});
   for (const auto& set : posed)
     for (const Sphere& s : set)
-      if (test_scene().distance(s.center) - s.radius <= margin) return true;
+      if (scene && test_scene().distance(s.center) - s.radius <= margin) return true;
   std::set<std::pair<std::string, std::string>> skip = {{"l7", "tool"}, {"tool", "l7"}};
   for (const Joint& j : model.joints) {
     skip.insert({j.parent, j.child});
@@ -653,5 +655,75 @@ TEST_CASE("test order: the same verdicts and undecided pairs whatever order the 
       }
     }
     CHECK(undecided > 10);
+  }
+}
+
+TEST_CASE("pair tables: the verdicts of every pair tested, at 1e-12 of self-contact", "[check]") {
+  // A self pair whose pose hangs on at most three joints is skipped in a configuration of a
+  // free cell of its table (proven apart beyond the margin over the whole cell). Without a
+  // scene every contact is a self pair's, and the configurations bisected to 1e-12 of
+  // contact sit where a cell wrongly marked free would flip a verdict; tables of few cells
+  // (coarse cells, large motion bounds) and of many (cells near contact) are compared with
+  // no tables, on both paths, in floats and doubles, and against brute force.
+  const RobotModel arm = test::capsule_arm(5), fine = test::capsule_arm(9);
+  const check::Scene empty;
+  for (const double margin : {0.0, 0.01}) {
+    check::CheckerOptions none = options(margin);
+    none.pair_table_cells = 0;
+    const check::RobotChecker reference(arm, empty, none, &fine);
+    CHECK(reference.pair_tables() == 0);
+    const std::vector<double> q = near_contact(reference, test::capsule_arm_configs(1500, 21));
+    const std::vector<Verdict> expected = run(reference, q, Mode::spheres);
+    std::size_t colliding = 0;
+    for (Verdict v : expected) colliding += v == Verdict::colliding;
+    INFO("margin " << margin << ": " << colliding << " of " << expected.size() << " colliding");
+    CHECK(colliding > expected.size() / 10);
+    CHECK(colliding < expected.size() * 9 / 10);
+    CHECK(q.size() >= 8 * (1500 + 2 * 100));
+    std::size_t disagree = 0;
+    for (std::size_t i = 0; i < 1500; ++i) {
+      const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
+      disagree += brute_force(arm, qi, margin, false) != (expected[i] == Verdict::colliding);
+    }
+    CHECK(disagree == 0);
+    for (const std::size_t cells : {std::size_t(64), std::size_t(1) << 16})
+      for (const bool floats : {true, false})
+        for (const check::Simd simd : {check::Simd::automatic, check::Simd::scalar}) {
+          check::CheckerOptions o = options(margin);
+          o.pair_table_cells = cells;
+          o.float_tests = floats;
+          o.simd = simd;
+          const check::RobotChecker checker(arm, empty, o, &fine);
+          INFO("cells " << cells << ", floats " << floats << ", scalar "
+                        << (simd == check::Simd::scalar) << ", tables " << checker.pair_tables()
+                        << ", free " << checker.pair_tables_free());
+          CHECK(checker.pair_tables() >= 5);
+          CHECK(checker.pair_tables_free() > 0.1);
+          CHECK(run(checker, q, Mode::spheres) == expected);
+          CHECK(run(checker, q, Mode::spheres, 2) == expected);
+          CHECK(run(checker, q, Mode::bounds) == run(reference, q, Mode::bounds));
+          // The bounds' undecided pairs too: a pair a table proves free is free anyway.
+          const std::size_t n = 600;
+          std::vector<Verdict> va(n), vb(n);
+          std::vector<std::vector<check::UndecidedPair>> pa(n), pb(n);
+          checker.check_bounds(q.data(), n, va.data(), pa.data(), 1);
+          reference.check_bounds(q.data(), n, vb.data(), pb.data(), 1);
+          CHECK(va == vb);
+          std::size_t undecided = 0, same = 0;
+          for (std::size_t i = 0; i < n; ++i) {
+            undecided += va[i] == Verdict::undecided;
+            same += pa[i].size() == pb[i].size() &&
+                    std::equal(pa[i].begin(), pa[i].end(), pb[i].begin(),
+                               [](const check::UndecidedPair& x, const check::UndecidedPair& y) {
+                                 return x.link == y.link && x.other == y.other && x.self == y.self;
+                               });
+          }
+          CHECK(same == n);
+          CHECK(undecided > 10);
+          std::vector<Verdict> a(100), b(100);
+          checker.check_edges(q.data(), q.data() + 8, 100, 0.05, Mode::spheres, a.data(), 1);
+          reference.check_edges(q.data(), q.data() + 8, 100, 0.05, Mode::spheres, b.data(), 1);
+          CHECK(a == b);
+        }
   }
 }

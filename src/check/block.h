@@ -11,6 +11,7 @@
 
 #include <cstdint>
 
+#include "pair_table.h"
 #include "robot_layout.h"
 #include "scene_grid.h"
 
@@ -56,6 +57,11 @@ struct KernelRobot {
   KernelSpheres<float> f;
   int pairs = 0;
   const std::uint32_t *pair_a = nullptr, *pair_b = nullptr;
+  /// Per self pair, its joint-space table (pair_table.h; the spheres mode skips the pair
+  /// in a lane whose positions fall in a free cell), or none (bits null); null: no tables.
+  const PairTableView* table = nullptr;
+  int table_slots = 0;  // the positions the tables use (at most kMaxTableSlots)
+  const TableSlot* table_slot = nullptr;
   bool fine = false;
   /// The tests in the order they run (the bounds mode: within each level): links + pairs
   /// entries, k < links link k against the scene, else self pair k - links (test_order.h).

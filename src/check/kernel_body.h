@@ -443,6 +443,52 @@ MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsig
   return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
 }
 
+// The fine index (pair_table.h) of every table slot's position in each lane of the pass
+// (0 beyond its limits) and the lanes within them, computed on a pass's first table
+// look-up.
+struct TableCells {
+  bool ready = false;
+  unsigned inside[kMaxTableSlots];
+  std::uint32_t fine[kMaxTableSlots * kLanes];
+};
+
+// The lanes of `open` whose joint positions fall in a free cell of self pair k's table
+// (pair_table.h): the pair's sets are farther apart than the margin there, so its test
+// would find no collision. From the positions in doubles (the lanes of the pass's half).
+template <class V>
+MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned open,
+                                             TableCells& cells) {
+  constexpr int W = V::W;
+  const PairTableView& t = c.robot.table[k];
+  if (t.bits == nullptr) return 0;
+  if (!cells.ready) {
+    const double* q = c.b.q + (W == kLanes ? 0 : c.b.half * kHalf);
+    for (int s = 0; s < c.robot.table_slots; ++s) {
+      const TableSlot& slot = c.robot.table_slot[s];
+      unsigned inside = 0;
+      for (int lane = 0; lane < W; ++lane) {
+        const double x = (q[slot.source * kLanes + lane] - slot.lower) * slot.inverse;
+        const bool in = x >= 0.0 && x < kFineCells;
+        inside |= unsigned(in) << lane;
+        cells.fine[s * kLanes + lane] = static_cast<std::uint32_t>(in ? x : 0.0);
+      }
+      cells.inside[s] = inside;
+    }
+    cells.ready = true;
+  }
+  unsigned inside = open;
+  for (int j = 0; j < t.sources; ++j) inside &= cells.inside[t.slot[j]];
+  if (!inside || t.all_free) return inside;
+  unsigned out = 0;
+  for (int lane = 0; lane < W; ++lane) {
+    std::uint32_t cell = 0;
+    for (int j = 0; j < t.sources; ++j)
+      cell += (cells.fine[t.slot[j] * kLanes + lane] >> t.shift[j]) * t.stride[j];
+    out |= static_cast<unsigned>(t.bits[cell >> 6] >> (cell & 63) & 1) << lane;
+  }
+  return out & inside;
+}
+
 // The bounding-sphere tests of every link against the scene, for the lanes `open`, into
 // near[0 .. links): independent of one another, so run back to back (their look-ups
 // overlap) before any finer test.
@@ -527,6 +573,7 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = pending[k] = 0;
   if (probe == 0) near_all(c, c.p.lanes, pending);
   unsigned open = c.p.lanes, maybe_hit = 0;
+  TableCells cells;
   for (int level = 0; level < (robot.fine && probe == 0 ? 2 : 1); ++level)
     for (int t = probe > 0 ? c.b.probe_from : 0; t < tests && open; ++t) {
       const int k = static_cast<int>(robot.bounds_order[t]);
@@ -535,6 +582,10 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
                 o = k < robot.links ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
       if (probe > 0) pending[k] = probe_near(c, a, o, open);
       unsigned p = pending[k] & open, m = near[k], hit = 0;
+      // A self pair's table proves its planner covering sets apart: free in those lanes.
+      if (p && level == 0 && o >= 0 && robot.table && robot.link[a].spheres == kOuter &&
+          robot.link[o].spheres == kOuter)
+        p &= ~table_free(c, k - robot.links, p, cells);
       if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
       if (c.b.hits)
         c.b.hits[k] += static_cast<std::uint32_t>(__builtin_popcount(hit));
@@ -554,10 +605,10 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
 
 // The spheres mode: the tests (each link against the scene, each self pair) in the
 // robot's order (test_order.h), each in the lanes still open, a self pair's bounding
-// spheres only when it is reached. The links' bounding spheres against the scene
-// (near_links) run after the order's first robot.head tests (those that find most
-// configurations colliding: when they leave no lane open, the look-ups are spared), a
-// head link's own on its turn. Any order gives the same verdicts: a lane leaves `open`
+// spheres only when it is reached, its sets only in the lanes its table (if any) leaves. The links'
+// bounding spheres against the scene (near_links) run after the order's first robot.head tests
+// (those that find most configurations colliding: when they leave no lane open, the look-ups are
+// spared), a head link's own on its turn. Any order gives the same verdicts: a lane leaves `open`
 // only by a certain collision, and every test runs in every other lane. With b.hits
 // (learning), every test runs in every lane and counts the lanes it finds colliding.
 template <class V>
@@ -565,6 +616,7 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
   unsigned char* near = c.p.pending;
   unsigned open = c.p.lanes, maybe = 0;
+  TableCells cells;
   for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
     if (t == robot.head) near_links(c, open, near);
     const int k = static_cast<int>(robot.order[t]);
@@ -575,7 +627,13 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
     } else if (c.b.self) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
-      const unsigned need = pair_near(c, a, o, open);
+      // A table free everywhere answers by the limits alone, before the bounding spheres;
+      // another after them, in the lanes they leave.
+      const bool everywhere = robot.table && robot.table[k - robot.links].all_free;
+      const unsigned lanes =
+          everywhere ? open & ~table_free(c, k - robot.links, open, cells) : open;
+      unsigned need = lanes ? pair_near(c, a, o, lanes) : 0u;
+      if (need && robot.table && !everywhere) need &= ~table_free(c, k - robot.links, need, cells);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
                            maybe);

@@ -99,6 +99,7 @@ struct RobotChecker::Impl {
   detail::RobotLayout layout;
   std::unique_ptr<detail::SceneGrid> grid;
   std::unique_ptr<detail::DistanceField> field;
+  std::unique_ptr<detail::PairTables> tables;  // kernel_robot.table
   detail::SphereArrays<double> spheres_d;
   detail::SphereArrays<float> spheres_f;
   detail::KernelRobot kernel_robot;
@@ -467,6 +468,13 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();
   k.fine = l.fine;
+  // Beyond margin + 2 allowance: the bounds mode's covering test (margin + allowance) in
+  // doubles finds such a pair free too.
+  m.tables = std::make_unique<detail::PairTables>(planner, l, options.margin + 2 * m.allowance,
+                                                  options.self ? options.pair_table_cells : 0);
+  k.table = m.tables->tables() > 0 ? m.tables->views().data() : nullptr;
+  k.table_slots = static_cast<int>(m.tables->slots().size());
+  k.table_slot = m.tables->slots().data();
   m.float_range = float_ranges(planner, l);
   m.slack = float_slack(l, scene, g, m.float_range);
   m.learn_order(planner);
@@ -507,6 +515,12 @@ TestOrder RobotChecker::test_order() const {
   out.bounds_tests.assign(impl_->bounds_order.begin(), impl_->bounds_order.end());
   out.probe.assign(impl_->probe.begin(), impl_->probe.end());
   return out;
+}
+std::size_t RobotChecker::pair_tables() const noexcept {
+  return impl_->tables->tables();
+}
+double RobotChecker::pair_tables_free() const noexcept {
+  return impl_->tables->free_share();
 }
 GridStats RobotChecker::grid() const noexcept {
   const detail::SceneGrid& g = *impl_->grid;

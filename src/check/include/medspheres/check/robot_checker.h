@@ -102,6 +102,16 @@ struct CheckerOptions {
   /// covering set (its inner set is the spheres mode's), or a point or radius that is not
   /// finite or a radius < 0.
   std::map<std::string, std::vector<Sphere>> inner_points;
+  /// Joint-space tables of the self pairs whose relative pose hangs on at most three joint
+  /// positions with finite limits: at construction, a grid of at most this many cells per
+  /// pair over those positions, a cell marked free when the pair's spheres-mode sets are
+  /// proven farther apart than margin + 2 allowance() at every configuration in it (the
+  /// sets' gap at the cell's centre less a bound of how far the cell's joints move them).
+  /// The spheres mode skips such a pair in a configuration that falls in a free cell, and
+  /// so does the bounds mode when the spheres-mode sets are both links' covering sets (the
+  /// pair is free there). 0: none. The verdicts and undecided pairs are the same with or
+  /// without.
+  std::size_t pair_table_cells = 1u << 16;
 };
 
 /// A pair left undecided by the bounds: `link` indexes links(); `other` is a link index
@@ -154,6 +164,10 @@ class RobotChecker {
   double allowance() const noexcept;  ///< m (see the file comment)
   GridStats grid() const noexcept;
   TestOrder test_order() const;
+  /// How many self pairs have a joint-space table (CheckerOptions::pair_table_cells), and
+  /// the share of their cells that is free (averaged over the tables; 0 without).
+  std::size_t pair_tables() const noexcept;
+  double pair_tables_free() const noexcept;
 
   /// Throws std::invalid_argument (file comment) unless each of the \p n configurations
   /// (rows as below) is finite and within +-1e6.
