@@ -340,6 +340,22 @@ void add_sphere_rows(const CheckerBenchInput& in, const check::CheckerOptions& o
   }
 }
 
+// A certified checker's row on one thread (best of `repeats`): its time, its verdicts in v,
+// the fallback's stats of the last run.
+Row certified_row(const char* name, const fcl::CertifiedChecker& c, int repeats,
+                  const std::vector<double>& q, std::vector<Verdict>& v,
+                  fcl::FallbackStats& stats) {
+  Row r{name, 1};
+  r.micros = best_micros(repeats, false,
+                         [&] {
+                           stats = {};
+                           c.check(q.data(), v.size(), v.data(), 1, &stats);
+                         }) /
+             double(v.size());
+  r.colliding = colliding_of(v);
+  return r;
+}
+
 // The certified rows: the fallback as built, without the kernel's witnesses, without trees
 // and order, one configuration at
 // a time; and the same checks as a loop of FCL calls.
@@ -376,15 +392,8 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
     fcl::FallbackOptions f = fallback;
     f.kernel_witnesses = false;
     const fcl::CertifiedChecker apart(in.planner->model, fine, in.fine->meshes, in.scene, o, f);
-    Row r{"check/cw-", 1};
     fcl::FallbackStats stats;
-    r.micros = best_micros(in.repeats, false,
-                           [&] {
-                             stats = {};
-                             apart.check(q.data(), n, v.data(), 1, &stats);
-                           }) /
-               double(n);
-    r.colliding = colliding_of(v);
+    Row r = certified_row("check/cw-", apart, in.repeats, q, v, stats);
     char note[160];
     std::snprintf(note, sizeof note,
                   "as check/c, the witnesses in the fallback only: %zu to the fallback, %zu by "
@@ -397,15 +406,8 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
     // The same without the trees' sets and the learnt order: the fine sets as the sphere
     // trees, the bounds' order, no witnesses.
     const fcl::CertifiedChecker without(in.planner->model, fine, in.fine->meshes, in.scene, o);
-    Row r{"check/c-", 1};
     fcl::FallbackStats stats;
-    r.micros = best_micros(in.repeats, false,
-                           [&] {
-                             stats = {};
-                             without.check(q.data(), n, v.data(), 1, &stats);
-                           }) /
-               double(n);
-    r.colliding = colliding_of(v);
+    Row r = certified_row("check/c-", without, in.repeats, q, v, stats);
     char note[160];
     std::snprintf(note, sizeof note,
                   "as check/c, the fine sets as the trees, no order: %zu pairs, %zu to the meshes",

@@ -135,6 +135,17 @@ double solid_self_distance(const mf::CertifiedChecker& c, const RobotModel& arm,
   return best;
 }
 
+// The witnesses' tests' fallback: the sphere trees \p trees (finer than the bounds' inner
+// sets, whose witnesses would have decided already) and witnesses learnt from 400
+// configurations.
+mf::FallbackOptions witness_fallback(const RobotModel& trees) {
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  fallback.order.samples = 400;
+  fallback.order.seed = 5;
+  return fallback;
+}
+
 check::CheckerOptions options(double margin) {
   check::CheckerOptions o;
   o.margin = margin;
@@ -287,10 +298,7 @@ TEST_CASE(
   const RobotModel trees = test::capsule_arm(24);
   const double margin = 0.01;
   constexpr std::size_t kConfigs = 1500;
-  mf::FallbackOptions fallback;
-  fallback.trees = &trees;
-  fallback.order.samples = 400;
-  fallback.order.seed = 5;
+  mf::FallbackOptions fallback = witness_fallback(trees);
   fallback.kernel_witnesses = false;  // the fallback tests them (the kernel's: below)
   // No scene: every fallback is a self pair's, where the witnesses are.
   const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
@@ -338,10 +346,7 @@ TEST_CASE("certified checker: every witness that holds is a pair of solids withi
   const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
   const RobotModel trees = test::capsule_arm(24);
   const double margin = 0.01;
-  mf::FallbackOptions fallback;
-  fallback.trees = &trees;
-  fallback.order.samples = 400;
-  fallback.order.seed = 5;
+  mf::FallbackOptions fallback = witness_fallback(trees);
   const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
   const mf::RobotBounds& rb = learnt.fallback();
   REQUIRE(!rb.witnesses().empty());
@@ -367,10 +372,7 @@ TEST_CASE("certified checker: the witnesses in the kernel prove only collisions 
   const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
   const RobotModel trees = test::capsule_arm(24);
   const double margin = 0.01;
-  mf::FallbackOptions fallback;
-  fallback.trees = &trees;
-  fallback.order.samples = 400;
-  fallback.order.seed = 5;
+  mf::FallbackOptions fallback = witness_fallback(trees);
   check::CheckerOptions o = options(margin);
   const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, o, fallback);
   o.simd = check::Simd::scalar;

@@ -108,16 +108,15 @@ check::CheckerOptions options(double margin) {
   return o;
 }
 
-// Brute force: every covering sphere against the scene (unless `scene` is false) and every
-// self pair.
-bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin,
-                 bool scene = true) {
+// Brute force: some sphere of sets[l] (link l's, in its frame) within `margin` of the scene
+// (unless `scene` is false) or of a sphere of another link it is paired with.
+bool sets_within(const RobotModel& model, const std::vector<std::vector<Sphere>>& sets,
+                 const Eigen::VectorXd& q, double margin, bool scene) {
   const KinematicTree tree(model);
   const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
   std::vector<std::vector<Sphere>> posed(model.links.size());
   for (std::size_t l = 0; l < model.links.size(); ++l)
-    for (const Sphere& s : model.links[l].spheres.outer.spheres)
-      posed[l].push_back({X[l] * s.center, s.radius});
+    for (const Sphere& s : sets[l]) posed[l].push_back({X[l] * s.center, s.radius});
   for (const auto& set : posed)
     for (const Sphere& s : set)
       if (scene && test_scene().distance(s.center) - s.radius <= margin) return true;
@@ -134,6 +133,15 @@ bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margi
           if ((s.center - t.center).norm() - s.radius - t.radius <= margin) return true;
     }
   return false;
+}
+
+// Brute force: every covering sphere against the scene (unless `scene` is false) and every
+// self pair.
+bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin,
+                 bool scene = true) {
+  std::vector<std::vector<Sphere>> sets;
+  for (const Link& l : model.links) sets.push_back(l.spheres.outer.spheres);
+  return sets_within(model, sets, q, margin, scene);
 }
 
 std::vector<Verdict> run(const check::RobotChecker& c, const std::vector<double>& q, Mode mode,
@@ -388,35 +396,17 @@ std::map<std::string, std::vector<Sphere>> vertex_points() {
   return out;
 }
 
-// Brute force: some inner sphere or point of a self pair within `margin` of one of the
-// other link, or within `margin` of the scene.
+// Brute force: some inner sphere or point (`extra`) of a self pair within `margin` of one
+// of the other link, or within `margin` of the scene.
 bool inner_within(const RobotModel& model, const std::map<std::string, std::vector<Sphere>>& extra,
                   const Eigen::VectorXd& q, double margin) {
-  const KinematicTree tree(model);
-  const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
-  std::vector<std::vector<Sphere>> posed(model.links.size());
-  for (std::size_t l = 0; l < model.links.size(); ++l) {
-    std::vector<Sphere> all = model.links[l].spheres.inner.spheres;
-    const auto e = extra.find(model.links[l].name);
-    if (e != extra.end()) all.insert(all.end(), e->second.begin(), e->second.end());
-    for (const Sphere& s : all) posed[l].push_back({X[l] * s.center, s.radius});
+  std::vector<std::vector<Sphere>> sets;
+  for (const Link& l : model.links) {
+    sets.push_back(l.spheres.inner.spheres);
+    const auto e = extra.find(l.name);
+    if (e != extra.end()) sets.back().insert(sets.back().end(), e->second.begin(), e->second.end());
   }
-  for (const auto& set : posed)
-    for (const Sphere& s : set)
-      if (test_scene().distance(s.center) - s.radius <= margin) return true;
-  std::set<std::pair<std::string, std::string>> skip = {{"l7", "tool"}, {"tool", "l7"}};
-  for (const Joint& j : model.joints) {
-    skip.insert({j.parent, j.child});
-    skip.insert({j.child, j.parent});
-  }
-  for (std::size_t a = 0; a < posed.size(); ++a)
-    for (std::size_t b = a + 1; b < posed.size(); ++b) {
-      if (skip.count({model.links[a].name, model.links[b].name})) continue;
-      for (const Sphere& s : posed[a])
-        for (const Sphere& t : posed[b])
-          if ((s.center - t.center).norm() - s.radius - t.radius <= margin) return true;
-    }
-  return false;
+  return sets_within(model, sets, q, margin, true);
 }
 
 }  // namespace
