@@ -10,6 +10,7 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include <catch2/catch.hpp>
 
@@ -264,6 +265,31 @@ TEST_CASE("bounds with pairs: check()'s verdicts, and each configuration's undec
     CHECK(undecided > 10);
     CHECK(lanes_beyond_first > 5);
   }
+  // The float pass gives the pairs of its lanes whose tests were all certain: the double
+  // pass's self pairs, and at least its scene objects (those within the slack more).
+  check::CheckerOptions d = options(0.01);
+  d.float_tests = false;
+  const check::RobotChecker doubles(arm, test_scene().scene, d, &fine);
+  std::vector<Verdict> vf(n), vd(n);
+  std::vector<std::vector<check::UndecidedPair>> pf(n), pd(n);
+  checker.check_bounds(q.data(), n, vf.data(), pf.data(), 1);
+  doubles.check_bounds(q.data(), n, vd.data(), pd.data(), 1);
+  CHECK(vf == vd);
+  std::size_t scene_pairs = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::set<std::tuple<std::size_t, std::size_t, bool>> in_floats, self_floats, self_doubles;
+    for (const check::UndecidedPair& p : pf[i]) {
+      in_floats.insert({p.link, p.other, p.self});
+      if (p.self) self_floats.insert({p.link, p.other, p.self});
+    }
+    for (const check::UndecidedPair& p : pd[i]) {
+      CHECK(in_floats.count({p.link, p.other, p.self}) == 1);
+      if (p.self) self_doubles.insert({p.link, p.other, p.self});
+      scene_pairs += !p.self;
+    }
+    CHECK(self_floats == self_doubles);
+  }
+  CHECK(scene_pairs > 0);
 }
 
 TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contact", "[check]") {

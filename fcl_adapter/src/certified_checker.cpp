@@ -214,15 +214,13 @@ std::vector<std::size_t> CertifiedChecker::unwitnessed(const double* q, std::siz
   return rest;
 }
 
-// One configuration: the bounds; when undecided, the witnesses, then the bounds again for
-// its undecided pairs and settle_pairs() on them.
+// One configuration: the bounds with its undecided pairs; when undecided, the witnesses,
+// then settle_pairs() on the pairs.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
-  check::Verdict v = checker_.check(q, check::Mode::bounds);
+  std::vector<check::UndecidedPair> pairs;
+  check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
   std::vector<Poses> X;
   if (unwitnessed(q, 1, &v, X, 1, stats).empty()) return v;
-  std::vector<check::UndecidedPair> pairs;
-  v = checker_.check(q, check::Mode::bounds, &pairs);
-  if (v != check::Verdict::undecided) return v;
   return settle_pairs(q, X[0], pairs, stats);
 }
 
@@ -284,25 +282,19 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
-  checker_.check(q, n, check::Mode::bounds, out, threads);
-  // The undecided configurations the witnesses leave open again, eight to a block, now
-  // with their undecided pairs.
+  // The bounds of the batch with each undecided configuration's pairs, in one pass; then
+  // the witnesses, and the pairs of the configurations they leave open.
+  std::vector<std::vector<check::UndecidedPair>> pairs(n);
+  checker_.check_bounds(q, n, out, pairs.data(), threads);
   FallbackStats s;
   std::vector<Poses> X;
   const std::vector<std::size_t> open = unwitnessed(q, n, out, X, threads, s);
   const std::size_t dof = checker_.num_positions();
-  std::vector<double> rows;
-  for (std::size_t i : open) rows.insert(rows.end(), q + i * dof, q + (i + 1) * dof);
-  std::vector<check::Verdict> again(open.size());
-  std::vector<std::vector<check::UndecidedPair>> pairs(open.size());
-  checker_.check_bounds(rows.data(), open.size(), again.data(), pairs.data(), threads);
   std::vector<FallbackStats> each(open.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
-    const std::size_t j = std::size_t(k);
-    out[open[j]] = again[j] == check::Verdict::undecided
-                       ? settle_pairs(rows.data() + j * dof, X[j], pairs[j], each[j])
-                       : again[j];
+    const std::size_t j = std::size_t(k), i = open[j];
+    out[i] = settle_pairs(q + i * dof, X[j], pairs[i], each[j]);
   }
   if (!stats) return;
   *stats += s;

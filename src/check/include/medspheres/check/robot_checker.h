@@ -180,9 +180,13 @@ class RobotChecker {
   Verdict check(const double* q, Mode mode, std::vector<UndecidedPair>* undecided = nullptr) const;
   /// Mode::bounds for \p n configurations (rows as above) with the pairs each leaves
   /// undecided: undecided[i] (cleared first) receives those of configuration i when out[i]
-  /// is undecided, as the one-configuration check() gives them. Every test runs in doubles
-  /// (the same verdicts as check()'s), eight configurations to a block: for the few
-  /// configurations that check() left undecided, cheaper than one check() each.
+  /// is undecided, as the one-configuration check() gives them (the same verdicts as
+  /// check()'s), eight configurations to a block, as check() runs them (the probe's rounds
+  /// too): a whole batch's verdicts and the undecided ones' pairs in one call. The pairs
+  /// are those of the tests in doubles: a lane whose float tests were all certain gives its
+  /// pairs from them (each test has the same outcome in doubles), except that a link's
+  /// scene objects are then those within the float tests' slack more of its posed
+  /// covering spheres (a few more objects, never fewer).
   void check_bounds(const double* q, std::size_t n, Verdict* out,
                     std::vector<UndecidedPair>* undecided, int threads = 1) const;
 
