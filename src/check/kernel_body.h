@@ -573,7 +573,6 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
   for (int k = 0; k < robot.links + robot.pairs; ++k) near[k] = pending[k] = 0;
   if (probe == 0) near_all(c, c.p.lanes, pending);
   unsigned open = c.p.lanes, maybe_hit = 0;
-  TableCells cells;
   for (int level = 0; level < (robot.fine && probe == 0 ? 2 : 1); ++level)
     for (int t = probe > 0 ? c.b.probe_from : 0; t < tests && open; ++t) {
       const int k = static_cast<int>(robot.bounds_order[t]);
@@ -582,10 +581,6 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
                 o = k < robot.links ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
       if (probe > 0) pending[k] = probe_near(c, a, o, open);
       unsigned p = pending[k] & open, m = near[k], hit = 0;
-      // A self pair's table proves its planner covering sets apart: free in those lanes.
-      if (p && level == 0 && o >= 0 && robot.table && robot.link[a].spheres == kOuter &&
-          robot.link[o].spheres == kOuter)
-        p &= ~table_free(c, k - robot.links, p, cells);
       if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
       if (c.b.hits)
         c.b.hits[k] += static_cast<std::uint32_t>(__builtin_popcount(hit));

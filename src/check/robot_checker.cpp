@@ -476,9 +476,7 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();
   k.fine = l.fine;
-  // Beyond margin + 2 allowance: the bounds mode's covering test (margin + allowance) in
-  // doubles finds such a pair free too.
-  m.tables = std::make_unique<detail::PairTables>(planner, l, options.margin + 2 * m.allowance,
+  m.tables = std::make_unique<detail::PairTables>(planner, l, options.margin + m.allowance,
                                                   options.self ? options.pair_table_cells : 0);
   k.table = m.tables->tables() > 0 ? m.tables->views().data() : nullptr;
   k.table_slots = static_cast<int>(m.tables->slots().size());

@@ -105,12 +105,10 @@ struct CheckerOptions {
   /// Joint-space tables of the self pairs whose relative pose hangs on at most three joint
   /// positions with finite limits: at construction, a grid of at most this many cells per
   /// pair over those positions, a cell marked free when the pair's spheres-mode sets are
-  /// proven farther apart than margin + 2 allowance() at every configuration in it (the
+  /// proven farther apart than margin + allowance() at every configuration in it (the
   /// sets' gap at the cell's centre less a bound of how far the cell's joints move them).
-  /// The spheres mode skips such a pair in a configuration that falls in a free cell, and
-  /// so does the bounds mode when the spheres-mode sets are both links' covering sets (the
-  /// pair is free there). 0: none. The verdicts and undecided pairs are the same with or
-  /// without.
+  /// The spheres mode skips such a pair in a configuration that falls in a free cell (the
+  /// bounds mode does not use them). 0: none. The verdicts are the same with or without.
   std::size_t pair_table_cells = 1u << 16;
 };
 
