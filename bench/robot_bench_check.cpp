@@ -340,11 +340,29 @@ void add_sphere_rows(const CheckerBenchInput& in, const check::CheckerOptions& o
   }
 }
 
-// The certified rows: the fallback as built, without trees and order, one configuration at
+// A certified checker's row on one thread (best of `repeats`): its time, its verdicts in v,
+// the fallback's stats of the last run.
+Row certified_row(const char* name, const fcl::CertifiedChecker& c, int repeats,
+                  const std::vector<double>& q, std::vector<Verdict>& v,
+                  fcl::FallbackStats& stats) {
+  Row r{name, 1};
+  r.micros = best_micros(repeats, false,
+                         [&] {
+                           stats = {};
+                           c.check(q.data(), v.size(), v.data(), 1, &stats);
+                         }) /
+             double(v.size());
+  r.colliding = colliding_of(v);
+  return r;
+}
+
+// The certified rows: the fallback as built, without the kernel's witnesses, without trees
+// and order, one configuration at
 // a time; and the same checks as a loop of FCL calls.
 void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions& o,
-                        const RobotModel* fine, const fcl::CertifiedChecker& certified,
-                        const std::vector<double>& q, std::vector<Row>& rows) {
+                        const RobotModel* fine, const fcl::FallbackOptions& fallback,
+                        const fcl::CertifiedChecker& certified, const std::vector<double>& q,
+                        std::vector<Row>& rows) {
   const check::RobotChecker& spheres = certified.spheres();
   const std::size_t n = in.configs.size();
   std::vector<Verdict> v(n);
@@ -369,19 +387,27 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
     r.note = note;
     rows.push_back(r);
   }
+  if (in.order_samples > 0) {
+    // The same without the witnesses in the kernel's inner sets: the fallback tests them.
+    fcl::FallbackOptions f = fallback;
+    f.kernel_witnesses = false;
+    const fcl::CertifiedChecker apart(in.planner->model, fine, in.fine->meshes, in.scene, o, f);
+    fcl::FallbackStats stats;
+    Row r = certified_row("check/cw-", apart, in.repeats, q, v, stats);
+    char note[160];
+    std::snprintf(note, sizeof note,
+                  "as check/c, the witnesses in the fallback only: %zu to the fallback, %zu by "
+                  "witnesses, %zu to the meshes",
+                  stats.configurations, stats.witnessed, stats.meshes);
+    r.note = note;
+    rows.push_back(r);
+  }
   if (in.trees || in.order_samples > 0) {
     // The same without the trees' sets and the learnt order: the fine sets as the sphere
     // trees, the bounds' order, no witnesses.
     const fcl::CertifiedChecker without(in.planner->model, fine, in.fine->meshes, in.scene, o);
-    Row r{"check/c-", 1};
     fcl::FallbackStats stats;
-    r.micros = best_micros(in.repeats, false,
-                           [&] {
-                             stats = {};
-                             without.check(q.data(), n, v.data(), 1, &stats);
-                           }) /
-               double(n);
-    r.colliding = colliding_of(v);
+    Row r = certified_row("check/c-", without, in.repeats, q, v, stats);
     char note[160];
     std::snprintf(note, sizeof note,
                   "as check/c, the fine sets as the trees, no order: %zu pairs, %zu to the meshes",
@@ -452,7 +478,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   const std::vector<double> q = rows_of(in.configs);
   std::vector<Row> rows;
   add_sphere_rows(in, o, fine, certified.spheres(), unordered, q, rows);
-  add_certified_rows(in, o, fine, certified, q, rows);
+  add_certified_rows(in, o, fine, fallback, certified, q, rows);
   std::printf("%-10s %7s %10s %10s %10s %10s %7s %7s  %s\n", "checker", "threads", "us/config",
               "ns/config", "vs exact", "colliding", "missed", "alarms", "note");
   for (const Row& r : rows) print_row(r, in);

@@ -135,6 +135,17 @@ double solid_self_distance(const mf::CertifiedChecker& c, const RobotModel& arm,
   return best;
 }
 
+// The witnesses' tests' fallback: the sphere trees \p trees (finer than the bounds' inner
+// sets, whose witnesses would have decided already) and witnesses learnt from 400
+// configurations.
+mf::FallbackOptions witness_fallback(const RobotModel& trees) {
+  mf::FallbackOptions fallback;
+  fallback.trees = &trees;
+  fallback.order.samples = 400;
+  fallback.order.seed = 5;
+  return fallback;
+}
+
 check::CheckerOptions options(double margin) {
   check::CheckerOptions o;
   o.margin = margin;
@@ -251,6 +262,7 @@ TEST_CASE("certified checker: a learnt pair order and witnesses change no verdic
   mf::FallbackOptions fallback;
   fallback.order.samples = 400;
   fallback.order.margin = margin;
+  fallback.kernel_witnesses = false;  // the fallback's witnesses (the kernel's: below)
   const mf::CertifiedChecker learnt(arm, &fine, world().meshes, world().scene(), options(margin),
                                     fallback);
   REQUIRE(!learnt.fallback().witnesses().empty());
@@ -286,10 +298,8 @@ TEST_CASE(
   const RobotModel trees = test::capsule_arm(24);
   const double margin = 0.01;
   constexpr std::size_t kConfigs = 1500;
-  mf::FallbackOptions fallback;
-  fallback.trees = &trees;
-  fallback.order.samples = 400;
-  fallback.order.seed = 5;
+  mf::FallbackOptions fallback = witness_fallback(trees);
+  fallback.kernel_witnesses = false;  // the fallback tests them (the kernel's: below)
   // No scene: every fallback is a self pair's, where the witnesses are.
   const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
   const std::vector<double> q = test::capsule_arm_configs(kConfigs, 24);
@@ -336,10 +346,7 @@ TEST_CASE("certified checker: every witness that holds is a pair of solids withi
   const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
   const RobotModel trees = test::capsule_arm(24);
   const double margin = 0.01;
-  mf::FallbackOptions fallback;
-  fallback.trees = &trees;
-  fallback.order.samples = 400;
-  fallback.order.seed = 5;
+  mf::FallbackOptions fallback = witness_fallback(trees);
   const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, options(margin), fallback);
   const mf::RobotBounds& rb = learnt.fallback();
   REQUIRE(!rb.witnesses().empty());
@@ -358,6 +365,55 @@ TEST_CASE("certified checker: every witness that holds is a pair of solids withi
     }
   }
   CHECK(held > 20);
+}
+
+TEST_CASE("certified checker: the witnesses in the kernel prove only collisions of the solids",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const RobotModel trees = test::capsule_arm(24);
+  const double margin = 0.01;
+  mf::FallbackOptions fallback = witness_fallback(trees);
+  check::CheckerOptions o = options(margin);
+  const mf::CertifiedChecker learnt(arm, &fine, world().meshes, {}, o, fallback);
+  o.simd = check::Simd::scalar;
+  const mf::CertifiedChecker scalar(arm, &fine, world().meshes, {}, o, fallback);
+  fallback.kernel_witnesses = false;
+  const mf::CertifiedChecker apart(arm, &fine, world().meshes, {}, options(margin), fallback);
+  REQUIRE(!learnt.fallback().witnesses().empty());
+  constexpr std::size_t kConfigs = 1500;
+  const std::vector<double> q = test::capsule_arm_configs(kConfigs, 26);
+  std::vector<Verdict> kb(kConfigs), ab(kConfigs), sb(kConfigs);
+  learnt.spheres().check(q.data(), kConfigs, check::Mode::bounds, kb.data(), 1);
+  apart.spheres().check(q.data(), kConfigs, check::Mode::bounds, ab.data(), 1);
+  scalar.spheres().check(q.data(), kConfigs, check::Mode::bounds, sb.data(), 2);
+  CHECK(sb == kb);
+  // Each lane the witnesses' points prove colliding (and the planner's and fine sets do
+  // not) collides by the exact answer: the solids' distance (FCL's GJK on the convex
+  // capsules). No scene: the witnesses are self pairs' points.
+  std::size_t proved = 0;
+  for (std::size_t i = 0; i < kConfigs; ++i) {
+    if (ab[i] == Verdict::colliding) CHECK(kb[i] == Verdict::colliding);
+    CHECK((kb[i] == Verdict::free) == (ab[i] == Verdict::free));
+    if (kb[i] != Verdict::colliding || ab[i] == Verdict::colliding) continue;
+    ++proved;
+    const double* qi = q.data() + 8 * i;
+    const double d = solid_self_distance(learnt, arm, qi);
+    INFO("configuration " << i << ": distance " << d);
+    CHECK(d <= margin + kGjkTolerance);
+  }
+  INFO("proved by the witnesses' points " << proved);
+  CHECK(proved > 5);
+  // The certified verdicts are the same, with fewer configurations for the fallback, on
+  // either path and any thread count.
+  std::vector<Verdict> k(kConfigs), a(kConfigs), s(kConfigs);
+  mf::FallbackStats sk, sa;
+  learnt.check(q.data(), kConfigs, k.data(), 1, &sk);
+  apart.check(q.data(), kConfigs, a.data(), 2, &sa);
+  scalar.check(q.data(), kConfigs, s.data(), 2);
+  CHECK(k == a);
+  CHECK(s == k);
+  CHECK(std::count(k.begin(), k.end(), Verdict::undecided) == 0);
+  CHECK(sk.configurations + proved == sa.configurations);
 }
 
 TEST_CASE("certified checker: joint-space tables for the pairs two revolute joints apart",

@@ -6,9 +6,11 @@
 
 #include <algorithm>
 #include <cmath>
+#include <map>
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <tuple>
 
 #include <catch2/catch.hpp>
 
@@ -107,16 +109,15 @@ check::CheckerOptions options(double margin) {
   return o;
 }
 
-// Brute force: every covering sphere against the scene (unless `scene` is false) and every
-// self pair.
-bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin,
-                 bool scene = true) {
+// Brute force: some sphere of sets[l] (link l's, in its frame) within `margin` of the scene
+// (unless `scene` is false) or of a sphere of another link it is paired with.
+bool sets_within(const RobotModel& model, const std::vector<std::vector<Sphere>>& sets,
+                 const Eigen::VectorXd& q, double margin, bool scene) {
   const KinematicTree tree(model);
   const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
   std::vector<std::vector<Sphere>> posed(model.links.size());
   for (std::size_t l = 0; l < model.links.size(); ++l)
-    for (const Sphere& s : model.links[l].spheres.outer.spheres)
-      posed[l].push_back({X[l] * s.center, s.radius});
+    for (const Sphere& s : sets[l]) posed[l].push_back({X[l] * s.center, s.radius});
   for (const auto& set : posed)
     for (const Sphere& s : set)
       if (scene && test_scene().distance(s.center) - s.radius <= margin) return true;
@@ -133,6 +134,15 @@ bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margi
           if ((s.center - t.center).norm() - s.radius - t.radius <= margin) return true;
     }
   return false;
+}
+
+// Brute force: every covering sphere against the scene (unless `scene` is false) and every
+// self pair.
+bool brute_force(const RobotModel& model, const Eigen::VectorXd& q, double margin,
+                 bool scene = true) {
+  std::vector<std::vector<Sphere>> sets;
+  for (const Link& l : model.links) sets.push_back(l.spheres.outer.spheres);
+  return sets_within(model, sets, q, margin, scene);
 }
 
 std::vector<Verdict> run(const check::RobotChecker& c, const std::vector<double>& q, Mode mode,
@@ -255,6 +265,31 @@ TEST_CASE("bounds with pairs: check()'s verdicts, and each configuration's undec
     CHECK(undecided > 10);
     CHECK(lanes_beyond_first > 5);
   }
+  // The float pass gives the pairs of its lanes whose tests were all certain: the double
+  // pass's self pairs, and at least its scene objects (those within the slack more).
+  check::CheckerOptions d = options(0.01);
+  d.float_tests = false;
+  const check::RobotChecker doubles(arm, test_scene().scene, d, &fine);
+  std::vector<Verdict> vf(n), vd(n);
+  std::vector<std::vector<check::UndecidedPair>> pf(n), pd(n);
+  checker.check_bounds(q.data(), n, vf.data(), pf.data(), 1);
+  doubles.check_bounds(q.data(), n, vd.data(), pd.data(), 1);
+  CHECK(vf == vd);
+  std::size_t scene_pairs = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    std::set<std::tuple<std::size_t, std::size_t, bool>> in_floats, self_floats, self_doubles;
+    for (const check::UndecidedPair& p : pf[i]) {
+      in_floats.insert({p.link, p.other, p.self});
+      if (p.self) self_floats.insert({p.link, p.other, p.self});
+    }
+    for (const check::UndecidedPair& p : pd[i]) {
+      CHECK(in_floats.count({p.link, p.other, p.self}) == 1);
+      if (p.self) self_doubles.insert({p.link, p.other, p.self});
+      scene_pairs += !p.self;
+    }
+    CHECK(self_floats == self_doubles);
+  }
+  CHECK(scene_pairs > 0);
 }
 
 TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contact", "[check]") {
@@ -372,6 +407,100 @@ TEST_CASE("robot checker: bad input is refused with a message naming it", "[chec
                     Catch::Contains("crate"));
   CHECK_THROWS_WITH(bad.add_mesh(TriangleMesh{{}, {{0, 1, 2}}}, Eigen::Isometry3d::Identity(), "m"),
                     Catch::Contains("out of range"));
+}
+
+namespace {
+
+// Every fifth mesh vertex of each capsule link (on its capsule's surface, so in its closed
+// solid) as inner points of radius 0, in the link frame.
+std::map<std::string, std::vector<Sphere>> vertex_points() {
+  std::map<std::string, std::vector<Sphere>> out;
+  for (const test::CapsuleLink& l : test::capsule_arm_links()) {
+    const std::vector<Eigen::Vector3d> v = test::capsule_link_mesh(l).vertices;
+    for (std::size_t k = 0; k < v.size(); k += 5) out[l.name].push_back({v[k], 0.0});
+  }
+  return out;
+}
+
+// Brute force: some inner sphere or point (`extra`) of a self pair within `margin` of one
+// of the other link, or within `margin` of the scene.
+bool inner_within(const RobotModel& model, const std::map<std::string, std::vector<Sphere>>& extra,
+                  const Eigen::VectorXd& q, double margin) {
+  std::vector<std::vector<Sphere>> sets;
+  for (const Link& l : model.links) {
+    sets.push_back(l.spheres.inner.spheres);
+    const auto e = extra.find(l.name);
+    if (e != extra.end()) sets.back().insert(sets.back().end(), e->second.begin(), e->second.end());
+  }
+  return sets_within(model, sets, q, margin, true);
+}
+
+}  // namespace
+
+TEST_CASE("inner points: the bounds mode proves collisions by them, each within the margin",
+          "[check]") {
+  const RobotModel arm = test::capsule_arm(3);
+  const double margin = 0.01;
+  check::CheckerOptions o = options(margin);
+  const check::RobotChecker plain(arm, test_scene().scene, o);
+  o.inner_points = vertex_points();
+  o.simd = check::Simd::scalar;
+  const check::RobotChecker scalar(arm, test_scene().scene, o);
+  o.simd = check::Simd::automatic;
+  const check::RobotChecker with(arm, test_scene().scene, o);
+  std::vector<double> q = test::capsule_arm_configs(700, 31);
+  // Configurations bisected to 1e-12 of where the points' proofs begin.
+  const std::vector<Verdict> first = run(with, q, Mode::bounds);
+  std::vector<double> at(8), extra;
+  for (std::size_t i = 1; i < first.size() && extra.size() < 8 * 2 * 60; ++i) {
+    if ((first[i] == Verdict::colliding) == (first[i - 1] == Verdict::colliding)) continue;
+    auto point = [&](double t) {
+      for (std::size_t j = 0; j < 8; ++j)
+        at[j] = q[8 * (i - 1) + j] + t * (q[8 * i + j] - q[8 * (i - 1) + j]);
+      return at;
+    };
+    double lo = 0.0, hi = 1.0;  // lo on first[i - 1]'s side
+    while (hi - lo > 1e-12) {
+      const double mid = (lo + hi) / 2;
+      const bool c = with.check(point(mid).data(), Mode::bounds) == Verdict::colliding;
+      (c == (first[i - 1] == Verdict::colliding) ? lo : hi) = mid;
+    }
+    for (double t : {lo, hi})
+      for (double x : point(t)) extra.push_back(x);
+  }
+  q.insert(q.end(), extra.begin(), extra.end());
+  const std::size_t n = q.size() / 8;
+  REQUIRE(n > 760);
+  const std::vector<Verdict> b = run(with, q, Mode::bounds), p = run(plain, q, Mode::bounds);
+  CHECK(run(with, q, Mode::spheres) == run(plain, q, Mode::spheres));
+  CHECK(run(scalar, q, Mode::bounds) == b);
+  CHECK(run(with, q, Mode::bounds, 2) == b);
+  std::size_t gained = 0;
+  for (std::size_t i = 0; i < n; ++i) {
+    const Eigen::Map<const Eigen::VectorXd> qi(q.data() + 8 * i, 8);
+    INFO("configuration " << i);
+    // The covers are the same: free where they were. A proof rests on an inner pair
+    // within the margin; an inner pair within the margin less a hair is proved.
+    CHECK((b[i] == Verdict::free) == (p[i] == Verdict::free));
+    if (p[i] == Verdict::colliding) CHECK(b[i] == Verdict::colliding);
+    if (b[i] == Verdict::colliding) CHECK(inner_within(arm, o.inner_points, qi, margin));
+    if (b[i] != Verdict::colliding)
+      CHECK_FALSE(inner_within(arm, o.inner_points, qi, margin - 1e-7));
+    gained += b[i] == Verdict::colliding && p[i] != Verdict::colliding;
+  }
+  CHECK(gained > 20);
+  // Bad points are refused, naming the link.
+  o.inner_points = {{"nope", {{Eigen::Vector3d::Zero(), 0.0}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, test_scene().scene, o), Catch::Contains("nope"));
+  o.inner_points = {{"l2", {{Eigen::Vector3d::Zero(), -1e-3}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, test_scene().scene, o), Catch::Contains("l2"));
+  o.inner_points = {{"l3", {{Eigen::Vector3d(0, std::nan(""), 0), 0.0}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(arm, test_scene().scene, o), Catch::Contains("l3"));
+  RobotModel bare = arm;
+  bare.links[4].spheres.outer = {};
+  o.inner_points = {{"l4", {{Eigen::Vector3d::Zero(), 0.0}}}};
+  CHECK_THROWS_WITH(check::RobotChecker(bare, test_scene().scene, o),
+                    Catch::Contains("l4") && Catch::Contains("covering"));
 }
 
 TEST_CASE("float tests: the verdicts of the double tests, also at 1e-12 of contact", "[check]") {

@@ -8,6 +8,8 @@
 #include "medspheres/error.h"
 #include "medspheres/fcl/scene_from_fcl.h"
 
+#include "witness_points.h"
+
 namespace medspheres::fcl {
 namespace {
 
@@ -22,12 +24,26 @@ const RobotModel& certified(const RobotModel& model, const BoundedGeometryOption
   return model;
 }
 
+// The fallback's geometries (the trees' sets, else the fine ones, else the planner's),
+// after the planner's and the fine model's covers are found certified.
+RobotBounds make_bounds(const RobotModel& planner, const RobotModel* fine,
+                        const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                        const check::CheckerOptions& options, const FallbackOptions& fallback);
+
+// The kernel's checker: the planner's sets, with the witnesses' points in their links'
+// inner sets when asked (witness_points.h).
 check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fine,
-                                 const FclScene& scene, const check::CheckerOptions& options,
-                                 const BoundedGeometryOptions& bounds) {
-  certified(planner, bounds);
-  if (fine) certified(*fine, bounds);
-  return check::RobotChecker(planner, scene.scene, options, fine);
+                                 const RobotBounds& bounds, const FclScene& scene,
+                                 const check::CheckerOptions& options,
+                                 const FallbackOptions& fallback) {
+  if (!fallback.kernel_witnesses || bounds.witnesses().empty())
+    return check::RobotChecker(planner, scene.scene, options, fine);
+  check::CheckerOptions with = options;
+  for (auto& [link, points] : detail::witness_points(planner, bounds)) {
+    std::vector<Sphere>& to = with.inner_points[link];
+    to.insert(to.end(), points.begin(), points.end());
+  }
+  return check::RobotChecker(planner, scene.scene, with, fine);
 }
 
 // The learnt order at the checker's margin: learnt at another, its witnesses and pair
@@ -35,6 +51,18 @@ check::RobotChecker make_checker(const RobotModel& planner, const RobotModel* fi
 SelfPairOrder order_at(SelfPairOrder order, double margin) {
   order.margin = margin;
   return order;
+}
+
+RobotBounds make_bounds(const RobotModel& planner, const RobotModel* fine,
+                        const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
+                        const check::CheckerOptions& options, const FallbackOptions& fallback) {
+  certified(planner, fallback.bounds);
+  if (fine) certified(*fine, fallback.bounds);
+  return RobotBounds(fallback.trees ? *fallback.trees
+                     : fine         ? *fine
+                                    : planner,
+                     meshes, options.disabled, fallback.bounds,
+                     order_at(fallback.order, options.margin));
 }
 
 int thread_count(int threads) {
@@ -61,11 +89,8 @@ CertifiedChecker::CertifiedChecker(
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
     const check::CheckerOptions& options, const FallbackOptions& fallback)
-    : checker_(make_checker(planner, fine, converted, options, fallback.bounds)),
-      bounds_(fallback.trees ? *fallback.trees
-              : fine         ? *fine
-                             : planner,
-              meshes, options.disabled, fallback.bounds, order_at(fallback.order, options.margin)),
+    : bounds_(make_bounds(planner, fine, meshes, options, fallback)),
+      checker_(make_checker(planner, fine, bounds_, converted, options, fallback)),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
   if (bounds_.kinematics().joint_names() != checker_.joint_names())
@@ -78,6 +103,12 @@ CertifiedChecker::CertifiedChecker(
       throw InputError(link, "the fallback's model has no sets for this link");
     geometry_of_.push_back(g);
   }
+  // The witnesses the kernel has not tested already (those of links it took none for).
+  const std::map<std::string, std::vector<Sphere>>& in_kernel = checker_.options().inner_points;
+  for (const SelfWitness& w : bounds_.witnesses())
+    if (!fallback.kernel_witnesses || !in_kernel.count(bounds_.geometries()[w.a].link()) ||
+        !in_kernel.count(bounds_.geometries()[w.b].link()))
+      witnesses_.push_back(w);
   const std::size_t G = bounds_.geometries().size();
   rank_.assign(G * G, bounds_.self_pairs().size());
   for (std::size_t k = 0; k < bounds_.self_pairs().size(); ++k) {
@@ -149,7 +180,7 @@ CertifiedChecker::Poses CertifiedChecker::poses(const double* q) const {
 // pairs (RobotBounds takes options.disabled as the checker does).
 bool CertifiedChecker::witnessed(const Poses& X) const {
   if (!checker_.options().self) return false;
-  for (const SelfWitness& w : bounds_.witnesses())
+  for (const SelfWitness& w : witnesses_)
     if (witness_holds(w, X, checker_.options().margin)) return true;
   return false;
 }
@@ -183,15 +214,13 @@ std::vector<std::size_t> CertifiedChecker::unwitnessed(const double* q, std::siz
   return rest;
 }
 
-// One configuration: the bounds; when undecided, the witnesses, then the bounds again for
-// its undecided pairs and settle_pairs() on them.
+// One configuration: the bounds with its undecided pairs; when undecided, the witnesses,
+// then settle_pairs() on the pairs.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
-  check::Verdict v = checker_.check(q, check::Mode::bounds);
+  std::vector<check::UndecidedPair> pairs;
+  check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
   std::vector<Poses> X;
   if (unwitnessed(q, 1, &v, X, 1, stats).empty()) return v;
-  std::vector<check::UndecidedPair> pairs;
-  v = checker_.check(q, check::Mode::bounds, &pairs);
-  if (v != check::Verdict::undecided) return v;
   return settle_pairs(q, X[0], pairs, stats);
 }
 
@@ -253,25 +282,19 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
-  checker_.check(q, n, check::Mode::bounds, out, threads);
-  // The undecided configurations the witnesses leave open again, eight to a block, now
-  // with their undecided pairs.
+  // The bounds of the batch with each undecided configuration's pairs, in one pass; then
+  // the witnesses, and the pairs of the configurations they leave open.
+  std::vector<std::vector<check::UndecidedPair>> pairs(n);
+  checker_.check_bounds(q, n, out, pairs.data(), threads);
   FallbackStats s;
   std::vector<Poses> X;
   const std::vector<std::size_t> open = unwitnessed(q, n, out, X, threads, s);
   const std::size_t dof = checker_.num_positions();
-  std::vector<double> rows;
-  for (std::size_t i : open) rows.insert(rows.end(), q + i * dof, q + (i + 1) * dof);
-  std::vector<check::Verdict> again(open.size());
-  std::vector<std::vector<check::UndecidedPair>> pairs(open.size());
-  checker_.check_bounds(rows.data(), open.size(), again.data(), pairs.data(), threads);
   std::vector<FallbackStats> each(open.size());
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (long k = 0; k < static_cast<long>(open.size()); ++k) {
-    const std::size_t j = std::size_t(k);
-    out[open[j]] = again[j] == check::Verdict::undecided
-                       ? settle_pairs(rows.data() + j * dof, X[j], pairs[j], each[j])
-                       : again[j];
+    const std::size_t j = std::size_t(k), i = open[j];
+    out[i] = settle_pairs(q + i * dof, X[j], pairs[i], each[j]);
   }
   if (!stats) return;
   *stats += s;

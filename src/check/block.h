@@ -88,8 +88,10 @@ struct Pass {
 };
 
 struct Block;
-/// Called by the double pass (bounds mode) for a pair left undecided in a lane: scene
-/// pairs with other = -1 (the callee finds the objects near the posed spheres).
+/// Called (bounds mode) for a pair left undecided in a lane: by the double pass (lane of
+/// the half block.half), and by the float pass for its lanes whose every test was certain
+/// (lane of kLanes, block.half -1); scene pairs with other = -1 (the callee finds the
+/// objects near the posed spheres: in floats, within the slack more).
 using UndecidedSink = void (*)(Block& block, int lane, int link, int other);
 
 struct Block {
@@ -123,7 +125,7 @@ struct Block {
   unsigned rechecked = 0;  // the lanes the floats left unsure (checked again in doubles)
   UndecidedSink sink = nullptr;
   void* context = nullptr;  // the sink's
-  int half = 0;             // the half the double pass is in (for the sink's lane)
+  int half = 0;  // the half the double pass is in (for the sink's lane); -1: the float pass
 };
 
 using KernelFn = void (*)(const KernelRobot& robot, const SceneGrid& scene, Block& block);

@@ -650,6 +650,17 @@ unsigned run_pass(const Ctx<V>& c, unsigned& unsure) {
   return c.p.lanes & ~open;
 }
 
+// The bounds mode's undecided pairs to the sink: those pending in the lanes `open`, of
+// `width` lanes (a half's in doubles, b.half its index; every lane in floats, b.half -1).
+void sink_pairs(const KernelRobot& robot, Block& b, unsigned open, int width) {
+  for (int k = 0; k < robot.links + robot.pairs; ++k)
+    for (int lane = 0; lane < width; ++lane)
+      if (b.pending[k] & open & 1u << lane)
+        k < robot.links ? b.sink(b, lane, k, -1)
+                        : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
+                                 static_cast<int>(robot.pair_b[k - robot.links]));
+}
+
 // The double pass over the lanes `lanes` of half h: the documented tests; the sink sees
 // the undecided pairs.
 void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int h,
@@ -668,13 +679,7 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   unsigned unsure = 0;
   const unsigned hit = run_pass(c, unsure);
   const unsigned open = lanes & ~hit;
-  if (b.sink && b.bounds)
-    for (int k = 0; k < robot.links + robot.pairs; ++k)
-      for (int lane = 0; lane < kHalf; ++lane)
-        if (b.pending[k] & open & 1u << lane)
-          k < robot.links ? b.sink(b, lane, k, -1)
-                          : b.sink(b, lane, static_cast<int>(robot.pair_a[k - robot.links]),
-                                   static_cast<int>(robot.pair_b[k - robot.links]));
+  if (b.sink && b.bounds) sink_pairs(robot, b, open, kHalf);
   const unsigned shift = static_cast<unsigned>(h * kHalf);
   b.colliding |= hit << shift;
   b.undecided = undecided | (b.undecided & open) << shift;
@@ -701,6 +706,12 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
     recheck = b.probe > 0 ? 0u : unsure & ~b.colliding;  // a probe's open lanes run again
     b.undecided &= ~(b.colliding | recheck);
     b.rechecked = recheck;
+    // A lane the floats leave undecided with every test certain has the double pass's
+    // pending pairs (each test's outcome is the same in doubles): the sink takes them now.
+    if (b.sink && b.bounds && b.undecided) {
+      b.half = -1;
+      sink_pairs(robot, b, b.undecided, kLanes);
+    }
   }
   for (int h = 0; h < 2; ++h) {
     const unsigned lanes = recheck >> (h * kHalf) & 0xFu;

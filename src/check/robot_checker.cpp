@@ -163,8 +163,10 @@ struct RobotChecker::Impl {
   // learning run (block.h), in doubles; `probe_from`, `probe_to`: a probe (block.h).
   detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs,
                     std::uint32_t* hits = nullptr, int probe_from = 0, int probe_to = 0) const;
-  // Mode::bounds by probe and regrouping (batch); false when the checker has no probe.
-  bool probed_bounds(const double* q, std::size_t n, Verdict* out, int threads) const;
+  // Mode::bounds by probe and regrouping (batch), with `undecided` (may be null) each
+  // configuration's undecided pairs; false when the checker has no probe.
+  bool probed_bounds(const double* q, std::size_t n, Verdict* out,
+                     std::vector<UndecidedPair>* undecided, int threads) const;
   // Sets `order` from options.order_samples configurations of `planner`.
   void learn_order(const RobotModel& planner);
   // One edge in rake order (robot_checker.h); `checked` counts the samples run.
@@ -175,7 +177,7 @@ struct RobotChecker::Impl {
 namespace {
 
 // The objects near a lane's posed covering spheres (the last level's), or every object
-// when the link has no covering set.
+// when the link has no covering set; in the float pass, also those within its slack more.
 void scene_objects(const detail::RobotLayout& layout, const detail::SceneGrid& grid,
                    const detail::Block& b, int lane, int link, std::vector<std::uint32_t>& out) {
   const detail::LinkLayout& l = layout.links[static_cast<std::size_t>(link)];
@@ -185,10 +187,15 @@ void scene_objects(const detail::RobotLayout& layout, const detail::SceneGrid& g
     out.push_back(UINT32_MAX);
     return;
   }
+  // The float pass's posed points (b.half < 0) lie within the slack of the double ones.
+  const bool floats = b.half < 0;
+  const double reach = b.margin + b.allowance + (floats ? double(b.slack) : 0.0);
   for (std::uint32_t i = l.begin[slot]; i < l.begin[slot] + l.count[slot]; ++i) {
     double p[3];
-    for (int k = 0; k < 3; ++k) p[k] = b.posed[(3 * i + k) * detail::kHalf + lane];
-    grid.objects_within(p, layout.r[i] + b.margin + b.allowance, out);
+    for (int k = 0; k < 3; ++k)
+      p[k] = floats ? double(b.posed_f[(3 * i + k) * detail::kLanes + lane])
+                    : b.posed[(3 * i + k) * detail::kHalf + lane];
+    grid.objects_within(p, layout.r[i] + reach, out);
   }
 }
 
@@ -199,10 +206,10 @@ struct SinkContext {
   detail::Workspace* w;
 };
 
-// The sink of the double pass: `lane` is a lane of the half b.half.
+// The sink: `lane` is a lane of the half b.half, or of the block (the float pass, b.half -1).
 void record_pair(detail::Block& b, int lane, int link, int other) {
   const auto* c = static_cast<const SinkContext*>(b.context);
-  std::vector<UndecidedPair>* pairs = c->w->pairs[b.half * detail::kHalf + lane];
+  std::vector<UndecidedPair>* pairs = c->w->pairs[std::max(b.half, 0) * detail::kHalf + lane];
   if (pairs == nullptr) return;
   if (other >= 0) {
     pairs->push_back({std::size_t(link), std::size_t(other), true});
@@ -230,8 +237,9 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.lanes = lanes;
   b.bounds = mode == Mode::bounds;
   b.self = options.self;
-  // The sink sees the double pass only: a lane the floats decide never reaches it.
-  b.floats = options.float_tests && !want_pairs && hits == nullptr && floats_hold(w.q);
+  // The sink sees the undecided lanes of the float pass whose tests were certain, and the
+  // double pass.
+  b.floats = options.float_tests && hits == nullptr && floats_hold(w.q);
   b.hits = hits;
   b.probe_from = probe_from;
   b.probe = mode == Mode::bounds ? probe_to : 0;
@@ -433,13 +441,18 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   Impl& m = *impl_;
   m.options = options;
   m.kernel = detail::choose_kernel(options.simd);
-  m.layout = detail::make_layout(planner, fine, options.X_WB, options.disabled);
+  m.layout =
+      detail::make_layout(planner, fine, options.X_WB, options.disabled, options.inner_points);
   m.allowance = rounding_allowance(m.layout, scene);
   m.scene_objects = scene.size();
-  // One cell's list answers balls up to the radius of three in four spheres; larger ones
-  // read a few cells (scene_grid.h): short lists for the many, no miss for the few.
+  // One cell's list answers balls up to the radius of three in four spheres (the models'
+  // own: the inner points leave the grid as it was); larger ones read a few cells
+  // (scene_grid.h): short lists for the many, no miss for the few.
   std::vector<double> radii = m.layout.r;
   std::sort(radii.begin(), radii.end());
+  for (const auto& [link, points] : options.inner_points)
+    for (const Sphere& p : points)
+      radii.erase(std::lower_bound(radii.begin(), radii.end(), p.radius));
   const double typical = radii.empty() ? 0.0 : radii[radii.size() * 3 / 4];
   const double reach = typical + options.margin + 2 * m.allowance;
   m.grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
@@ -607,13 +620,15 @@ void RobotChecker::Impl::learn_order(const RobotModel& planner) {
 // block, for the next round, and at last run whole: a block's
 // cost hardly depends on how many of its lanes are open, so a lane that is free or
 // undecided no longer holds seven decided lanes' worth of tests. Each configuration's
-// verdict is that of its own run (the kernel's lanes are independent). Not for
-// check_bounds(): its configurations are mostly those the bounds left undecided
-// (CertifiedChecker), which a probe does not decide.
+// verdict is that of its own run (the kernel's lanes are independent). With `undecided`
+// (check_bounds()), the last round's runs give each configuration's undecided pairs (the
+// probe's rounds decide colliding lanes only, which have none).
 bool RobotChecker::Impl::probed_bounds(const double* q, std::size_t n, Verdict* out,
-                                       int threads) const {
+                                       std::vector<UndecidedPair>* undecided, int threads) const {
   if (probe.empty() || n <= std::size_t(detail::kLanes)) return false;
   const std::size_t dof = layout.dof;
+  if (undecided)
+    for (std::size_t i = 0; i < n; ++i) undecided[i].clear();
   std::vector<std::size_t> rest(n);
   for (std::size_t i = 0; i < n; ++i) rest[i] = i;
   std::vector<unsigned char> open(n, 1);
@@ -630,11 +645,15 @@ bool RobotChecker::Impl::probed_bounds(const double* q, std::size_t n, Verdict* 
         const std::size_t first = std::size_t(k) * detail::kLanes;
         fill_block(w.q, q, first, m, dof, rest.data());
         const std::size_t count = std::min<std::size_t>(detail::kLanes, m - first);
-        const detail::Block b = run(w, (1u << count) - 1, Mode::bounds, false, nullptr, from, to);
+        const bool pairs = whole && undecided;
+        for (std::size_t l = 0; l < std::size_t(detail::kLanes); ++l)
+          w.pairs[l] = pairs && l < count ? &undecided[rest[first + l]] : nullptr;
+        const detail::Block b = run(w, (1u << count) - 1, Mode::bounds, pairs, nullptr, from, to);
         for (std::size_t l = 0; l < count; ++l) {
           const std::size_t i = rest[first + l];
           out[i] = verdict_of(b, int(l));  // a probe's: colliding, or open
           open[i] = !whole && out[i] != Verdict::colliding;
+          if (pairs && out[i] != Verdict::undecided) undecided[i].clear();
         }
       }
     }
@@ -646,15 +665,14 @@ bool RobotChecker::Impl::probed_bounds(const double* q, std::size_t n, Verdict* 
   return true;
 }
 
-// Blocks of kLanes configurations, run in parallel; with `undecided`, the double pass for
-// every lane and each configuration's undecided pairs. The bounds mode without pairs by
-// probed_bounds when the checker has a probe.
+// Blocks of kLanes configurations, run in parallel; with `undecided`, each configuration's
+// undecided pairs. The bounds mode by probed_bounds when the checker has a probe.
 void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdict* out,
                                std::vector<UndecidedPair>* undecided, int threads) const {
   if (n == 0) return;
   const std::size_t dof = layout.dof;
   for (std::size_t i = 0; i < n; ++i) validate(q + i * dof, i);
-  if (mode == Mode::bounds && !undecided && probed_bounds(q, n, out, threads)) return;
+  if (mode == Mode::bounds && probed_bounds(q, n, out, undecided, threads)) return;
   const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
   const int chunk = undecided ? 4 : 16;
 #pragma omp parallel num_threads(thread_count(threads))

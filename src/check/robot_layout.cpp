@@ -93,12 +93,33 @@ const std::vector<Sphere>* held_inner(const LinkSpheres& s) {
   return s.inner_filled && !s.outer.empty() ? &none : &s.inner.spheres;
 }
 
-// A link's sets in its frame (X_FL places the link in the frame), level by level.
+// The inner points of make_layout, checked against the planner's links.
+void check_inner_points(const RobotModel& planner,
+                        const std::map<std::string, std::vector<Sphere>>& points) {
+  for (const auto& [name, spheres] : points) {
+    const Link* l = planner.find_link(name);
+    if (l == nullptr)
+      throw InputError(kSource, "inner points name an unknown link \"" + name + "\"");
+    if (l->spheres.outer.empty() && !spheres.empty())
+      throw InputError(kSource, "inner points for link \"" + name +
+                                    "\", which has no covering set (its inner set is the "
+                                    "spheres mode's)");
+    for (const Sphere& s : spheres)
+      if (!s.center.allFinite() || !std::isfinite(s.radius) || s.radius < 0.0)
+        throw InputError(
+            kSource, "an inner point of link \"" + name + "\" is not finite or has a radius < 0");
+  }
+}
+
+// A link's sets in its frame (X_FL places the link in the frame), level by level; `extra`
+// (may be null) joins the planner's inner set.
 void add_link(const Link& planner, const Link* fine, int frame, const Eigen::Isometry3d& X_FL,
-              RobotLayout& out) {
-  const std::vector<Sphere>* sets[kLevels] = {
-      &planner.spheres.outer.spheres, held_inner(planner.spheres),
-      fine ? &fine->spheres.outer.spheres : nullptr, fine ? held_inner(fine->spheres) : nullptr};
+              const std::vector<Sphere>* extra, RobotLayout& out) {
+  std::vector<Sphere> inner = *held_inner(planner.spheres);
+  if (extra) inner.insert(inner.end(), extra->begin(), extra->end());
+  const std::vector<Sphere>* sets[kLevels] = {&planner.spheres.outer.spheres, &inner,
+                                              fine ? &fine->spheres.outer.spheres : nullptr,
+                                              fine ? held_inner(fine->spheres) : nullptr};
   LinkLayout l;
   l.frame = frame;
   l.spheres = planner.spheres.outer.empty() ? kInner : kOuter;
@@ -129,9 +150,11 @@ void add_link(const Link& planner, const Link* fine, int frame, const Eigen::Iso
 
 RobotLayout make_layout(const RobotModel& planner, const RobotModel* fine,
                         const Eigen::Isometry3d& X_WB,
-                        const std::vector<std::pair<std::string, std::string>>& disabled) {
+                        const std::vector<std::pair<std::string, std::string>>& disabled,
+                        const std::map<std::string, std::vector<Sphere>>& inner_points) {
   const KinematicTree tree(planner, kSource);
   if (fine != nullptr) check_same_robot(planner, *fine);
+  check_inner_points(planner, inner_points);
   RobotLayout out;
   out.dof = tree.num_positions();
   out.joint_names = tree.joint_names();
@@ -157,7 +180,8 @@ RobotLayout make_layout(const RobotModel& planner, const RobotModel* fine,
     const bool any = !l.spheres.inner.empty() || !l.spheres.outer.empty() ||
                      (f && (!f->spheres.inner.empty() || !f->spheres.outer.empty()));
     if (!any) continue;
-    add_link(l, f, frame[i], X_FL[i], out);
+    const auto extra = inner_points.find(l.name);
+    add_link(l, f, frame[i], X_FL[i], extra != inner_points.end() ? &extra->second : nullptr, out);
     names.push_back(l.name);
   }
   add_self_pairs(planner, names, disabled, out);

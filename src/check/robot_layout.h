@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <string>
 #include <utility>
 #include <vector>
@@ -59,9 +60,13 @@ struct RobotLayout {
 /// null). Self pairs: every two links with geometry but the two links of a joint and the
 /// pairs \p disabled (names, either order).
 /// \throws InputError (source "robot checker") for a fine model whose links or joints
-/// are not the planner's, or a disabled pair naming an unknown link.
+/// are not the planner's, a disabled pair naming an unknown link, or inner points naming an
+/// unknown link or a link without a covering set, or not finite, or of a radius < 0.
+/// \p inner_points: spheres (radius >= 0) added to the planner's inner set of their links
+/// (CheckerOptions::inner_points).
 RobotLayout make_layout(const RobotModel& planner, const RobotModel* fine,
                         const Eigen::Isometry3d& X_WB,
-                        const std::vector<std::pair<std::string, std::string>>& disabled);
+                        const std::vector<std::pair<std::string, std::string>>& disabled,
+                        const std::map<std::string, std::vector<Sphere>>& inner_points = {});
 
 }  // namespace medspheres::check::detail

@@ -81,6 +81,17 @@ struct FallbackOptions {
   /// construction at the checker's margin; the fallback asks it before the pair's sphere
   /// trees. 0: no tables.
   std::size_t table_cells = 0;
+  /// With order.samples > 0: the witnesses' two points also join the inner sets of their
+  /// links in spheres(), the kernel's planner level (each is an inner ball or a mesh
+  /// vertex of its link's solid, so the bounds mode may prove a pair colliding by them as
+  /// by any inner sphere; a link without a covering set keeps its inner set, the spheres
+  /// mode's). Every witness point of a link is then tested against every inner sphere of
+  /// the other link of each pair the covering sets leave open, in the first pass in
+  /// floats: the configurations a witness settles no longer reach the fallback, and the
+  /// probe (robot_checker.h) learns the pairs they prove; the fallback no longer tests
+  /// them (only those of a link the kernel took none for). false: the planner's sets as
+  /// they are, the witnesses tested in the fallback only.
+  bool kernel_witnesses = true;
 };
 
 class CertifiedChecker {
@@ -135,11 +146,14 @@ class CertifiedChecker {
                               FallbackStats& stats) const;
   void bake_tables(const RobotModel& model, std::size_t cells);
 
+  RobotBounds bounds_;  // before checker_, whose inner sets may take its witnesses
   check::RobotChecker checker_;
-  RobotBounds bounds_;
   std::vector<const ::fcl::CollisionObjectd*> scene_;
   std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
   std::vector<std::size_t> geometry_of_;   // checker link -> index in bounds_.geometries()
+  // The witnesses the fallback tests: bounds_.witnesses() but those whose points the
+  // kernel's inner sets hold (FallbackOptions::kernel_witnesses).
+  std::vector<SelfWitness> witnesses_;
   // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
   // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;

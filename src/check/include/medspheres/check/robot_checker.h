@@ -42,14 +42,15 @@
 /// lane, all runs stepped together, stopping at the first colliding one.
 ///
 /// Errors: InputError (source "robot checker") for a fine model that is not the planner's
-/// robot or a disabled pair naming an unknown link; std::invalid_argument for a margin or
-/// resolution that is negative or not finite, a configuration with a non-finite entry or
-/// one beyond +-1e6 (the reduction of angles is exact below 2^26), or Simd::avx2 on a
-/// processor without it. Threads: immutable after construction; every const member may run
-/// from many threads at once.
+/// robot, a disabled pair naming an unknown link, or bad CheckerOptions::inner_points;
+/// std::invalid_argument for a margin or resolution that is negative or not finite, a configuration
+/// with a non-finite entry or one beyond +-1e6 (the reduction of angles is exact below 2^26), or
+/// Simd::avx2 on a processor without it. Threads: immutable after construction; every const member
+/// may run from many threads at once.
 
 #include <cstddef>
 #include <cstdint>
+#include <map>
 #include <memory>
 #include <string>
 #include <utility>
@@ -90,6 +91,17 @@ struct CheckerOptions {
   /// The seed of those configurations. A benchmark that times random configurations should
   /// learn on another seed than it times on, or it times configurations it learnt from.
   std::uint64_t order_seed = 1;
+  /// Points (radius 0) or balls of the links' solids, by link name, each in its link's
+  /// frame, added to the link's inner set at the planner's level for the bounds mode: each
+  /// must lie in its link's closed solid (a mesh vertex, an inner ball; the caller vouches
+  /// for it, as for the inner sets), so that two of them within the margin prove the pair
+  /// colliding. For a link whose inner set lies in its filled solid (LinkSpheres::
+  /// inner_filled), they are its inner set. The spheres mode does not see them. The
+  /// fcl_adapter's CertifiedChecker passes its learnt witnesses here
+  /// (FallbackOptions::kernel_witnesses). InputError for an unknown link, a link without a
+  /// covering set (its inner set is the spheres mode's), or a point or radius that is not
+  /// finite or a radius < 0.
+  std::map<std::string, std::vector<Sphere>> inner_points;
   /// Joint-space tables of the self pairs whose relative pose hangs on at most three joint
   /// positions with finite limits: at construction, a grid of at most this many cells per
   /// pair over those positions, a cell marked free when the pair's spheres-mode sets are
@@ -166,9 +178,13 @@ class RobotChecker {
   Verdict check(const double* q, Mode mode, std::vector<UndecidedPair>* undecided = nullptr) const;
   /// Mode::bounds for \p n configurations (rows as above) with the pairs each leaves
   /// undecided: undecided[i] (cleared first) receives those of configuration i when out[i]
-  /// is undecided, as the one-configuration check() gives them. Every test runs in doubles
-  /// (the same verdicts as check()'s), eight configurations to a block: for the few
-  /// configurations that check() left undecided, cheaper than one check() each.
+  /// is undecided, as the one-configuration check() gives them (the same verdicts as
+  /// check()'s), eight configurations to a block, as check() runs them (the probe's rounds
+  /// too): a whole batch's verdicts and the undecided ones' pairs in one call. The pairs
+  /// are those of the tests in doubles: a lane whose float tests were all certain gives its
+  /// pairs from them (each test has the same outcome in doubles), except that a link's
+  /// scene objects are then those within the float tests' slack more of its posed
+  /// covering spheres (a few more objects, never fewer).
   void check_bounds(const double* q, std::size_t n, Verdict* out,
                     std::vector<UndecidedPair>* undecided, int threads = 1) const;
 
