@@ -20,7 +20,7 @@ using test::sampled_gap;
 TEST_CASE("bake_cover: certified, within budget, on generated solids at K = 1..64", "[cover]") {
   for (const test::NamedSolid& solid : test::cover_solids()) {
     const MeshQuery query(solid.mesh);
-    double first_excess = 0.0;
+    double first_excess = 0.0, first_protrusion = 0.0;
     double excess_4 = 0.0;
     for (std::size_t k : {1, 2, 3, 4, 8, 16, 32, 64}) {
       INFO(solid.name << " K = " << k);
@@ -35,12 +35,16 @@ TEST_CASE("bake_cover: certified, within budget, on generated solids at K = 1..6
       const double V = *solid_volume(solid.mesh);
       CHECK(r.stats.excess_volume == Approx((r.stats.union_volume - V) / V));
       CHECK(r.stats.max_protrusion > 0.0);
-      if (k == 1) first_excess = r.stats.excess_volume;
+      if (k == 1) first_excess = r.stats.excess_volume, first_protrusion = r.stats.max_protrusion;
       if (k == 4) excess_4 = r.stats.excess_volume;
-      // Never looser than the bounding sphere, and strictly tighter where one ball is not
-      // already the best cover (for the sphere it is; for the torus up to K = 4 the
-      // bounding ball's volume is below that of any union of up to 4 balls covering it).
-      if (k >= 2) CHECK(r.stats.excess_volume <= first_excess * (1 + 1e-9));
+      // Never looser than the bounding sphere unless it sticks out at most half as far, and
+      // strictly tighter where one ball is not already the best cover (for the sphere it
+      // is; for the torus up to K = 4 the bounding ball's volume is below that of any union
+      // of up to 4 balls covering it, but 4 balls around the ring stick out far less than
+      // the ball whose centre lies in the hole).
+      const bool half = r.stats.max_protrusion <= 0.5 * first_protrusion * (1 + 1e-9);
+      if (k >= 2) CHECK((r.stats.excess_volume <= first_excess * (1 + 1e-9) || half));
+      if (k == 4 && solid.name == "torus") CHECK(half);
       if (k >= 2 && (solid.name == "box" || solid.name == "capsule"))
         CHECK(r.stats.excess_volume < first_excess);
       if (k == 64) CHECK(r.stats.excess_volume <= excess_4 * (1 + 1e-9));  // falls with K
