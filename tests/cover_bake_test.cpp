@@ -75,6 +75,42 @@ TEST_CASE("bake_cover: the same spheres for every thread count", "[cover]") {
   test::check_same_spheres(a.spheres.spheres, b.spheres.spheres);
 }
 
+TEST_CASE("bake_cover: the same spheres for every thread count at K = 4 and 8", "[cover]") {
+  // Up to K = 8 the volume stage runs from both starts at three caps, and at K = 4 the
+  // torus's cover is the 4 balls around the ring rather than the single ball.
+  CoverOptions one, two;
+  one.threads = 1;
+  two.threads = 2;
+  const MeshQuery torus(make_torus(1.0, 0.3, 32, 12));
+  test::check_same_spheres(bake_cover(torus, 4, one).spheres.spheres,
+                           bake_cover(torus, 4, two).spheres.spheres);
+  const MeshQuery box(make_box(Eigen::Vector3d(1.0, 0.6, 0.3), 2));
+  test::check_same_spheres(bake_cover(box, 8, one).spheres.spheres,
+                           bake_cover(box, 8, two).spheres.spheres);
+}
+
+TEST_CASE("bake_cover: the torus at K = 4, four balls around the ring", "[cover]") {
+  // Torus R = 1, r = 0.3. Closed forms: the single ball is centred on the axis (radius
+  // R + r = 1.3, its centre 0.7 outside the solid): protrusion 2.0; along the x axis into
+  // the tube the radius grows as fast as the depth, so moving it inward gains nothing.
+  // Four balls centred on the core circle at 90 degrees apart, each holding its quarter,
+  // reach the outer rim at 45 degrees, |(1.3 cos 45 - 1, 1.3 sin 45)| = 0.9227, at depth
+  // 0.3: protrusion 0.6227, far below half the single ball's, with a union (4 balls of
+  // radius 0.92) larger than its. The bake keeps such a cover (it sticks out at most half
+  // as far as the single ball), and the polygonal torus is within a few percent of these.
+  const TriangleMesh torus = make_torus(1.0, 0.3, 32, 12);
+  const MeshQuery query(torus);
+  const CoverResult r1 = bake_cover(query, 1), r4 = bake_cover(query, 4);
+  CHECK(r1.stats.max_protrusion == Approx(2.0).epsilon(0.02));
+  REQUIRE(r4.stats.certified);
+  CHECK(r4.spheres.size() == 4);
+  CHECK(sampled_gap(torus, r4.spheres.spheres) == 0.0);
+  CHECK(r4.stats.max_protrusion <= 0.5 * r1.stats.max_protrusion);
+  // At most the hand cover's protrusion with the volume stage's allowance on top.
+  CHECK(r4.stats.max_protrusion <= (1.0 + CoverOptions().protrusion_allowance) * 0.6227 * 1.02);
+  CHECK(r4.stats.union_volume > r1.stats.union_volume);
+}
+
 TEST_CASE("bake_cover: the record says cover, certified, and the measures", "[cover]") {
   const TriangleMesh mesh = make_capsule(0.3, 0.8, 24, 6);
   const CoverResult r = bake_cover(MeshQuery(mesh), 8);

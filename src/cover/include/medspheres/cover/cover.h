@@ -31,7 +31,7 @@
 ///    most 10% beyond the cap, one minimax round of step 2 follows from those centres. The
 ///    penalties aim at the cap without certainty: while some ball protrudes beyond it, the
 ///    stage runs at most twice more from the same start, its aim lowered by the first
-///    overshoot (aim = cap (cap / overshoot)^n). For K <= 16 it runs at three caps,
+///    overshoot (aim = cap (cap / overshoot)^n). For K <= 8 it runs at three caps,
 ///    (1 + a/4) P, (1 + a/2) P and (1 + a) P (a = protrusion_allowance, P step 2's largest
 ///    protrusion), from each of step 2's two starts; above, once at (1 + a) P from step 2's
 ///    result. Each result whose balls all keep to its cap is a candidate.
