@@ -60,8 +60,9 @@ constexpr double kRetryOvershoot = 0.10;
 // Up to this budget the volume stage runs at kCaps caps, the allowance halved between them
 // (P0 (1 + a/4), P0 (1 + a/2), P0 (1 + a)), from each start of the protrusion stage: a single
 // cap's flow ends in one local optimum, and which cap reaches the least union varies from
-// solid to solid (bench_budget at allowances 0.06 to 0.25 on the pairs of the spheretree
-// comparison: neither P nor the union is monotone in the allowance). Above it, one run at
+// solid to solid (with a single cap, one bench_budget run each at allowances 0.06 to 0.25
+// on the pairs of the spheretree comparison: neither P nor the union was monotone in the
+// allowance; docs/covers.md). Above it, one run at
 // the cap from the protrusion stage's result: each run costs more there, and at K = 16 the
 // six runs took the scanned dragon to 1.04 CPU s (bench_budget --k 16).
 constexpr std::size_t kPortfolioBudget = 8;
