@@ -387,6 +387,12 @@ Clustering local_search(const MeshQuery& query, const Elements& e, Clustering c,
 
 }  // namespace
 
+Clustering minimax_rounds(const MeshQuery& query, const Elements& e, Clustering c, int rounds,
+                          int threads) {
+  int run = 0;
+  return minimax(query, e, std::move(c), rounds, threads, run, BallWeights{});
+}
+
 double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls, int threads) {
   return largest_weighted_protrusion(query, balls, BallWeights{}, threads);
 }
@@ -416,7 +422,8 @@ ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, cons
     double q = 0.0;
     Clustering d = local_search(query, e, spread_start(query, e, fine, budget, threads), budget,
                                 rounds, threads, q, out.rounds, weights);
-    if (q < p) c = std::move(d);
+    if (q < p) std::swap(c, d);
+    out.others.push_back(std::move(d));
   }
   out.clustering = std::move(c);
   return out;

@@ -16,6 +16,9 @@ namespace medspheres::detail {
 struct ProtrusionStage {
   Clustering clustering;  // over the elements
   int rounds = 0;         // minimax rounds run, over all moves
+  // The other start's result, of no smaller P (for budgets up to kSpreadBudget; else none):
+  // another local optimum, from which the volume stage may reach a smaller union.
+  std::vector<Clustering> others;
 };
 
 // At most \p budget balls holding every element of \p e: the threshold start over the
@@ -33,6 +36,10 @@ ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, cons
 
 // One ball: the minimum enclosing ball of the surface elements of \p e, moved inward.
 Clustering one_ball(const MeshQuery& query, const Elements& e, int threads);
+
+// Minimax rounds (at most \p rounds) from \p c: the protrusion stage's local step.
+Clustering minimax_rounds(const MeshQuery& query, const Elements& e, Clustering c, int rounds,
+                          int threads);
 
 // The largest protrusion of the balls of radius > 0 (0 for none).
 double largest_protrusion(const MeshQuery& query, const std::vector<Sphere>& balls, int threads);

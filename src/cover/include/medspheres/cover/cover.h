@@ -26,19 +26,22 @@
 ///    surface, and the result of lower P is kept.
 /// 3. Volume stage (volume_descent): all balls move and resize at once, by gradient steps,
 ///    down the union's volume plus penalties that keep the patches of step 2 held and each
-///    protrusion within (1 + protrusion_allowance) P; each element then goes to the ball
-///    that must grow least to hold it, and balls shrink to what no other ball holds. The
+///    protrusion within a cap; each element then goes to the ball that must grow least to
+///    hold it, and balls shrink to what no other ball holds; when that leaves some ball at
+///    most 10% beyond the cap, one minimax round of step 2 follows from those centres. The
 ///    penalties aim at the cap without certainty: while some ball protrudes beyond it, the
-///    stage runs at most twice more from step 2's balls, its aim lowered by the first
-///    overshoot (aim = cap (cap / overshoot)^n). A candidate when no ball protrudes beyond
-///    the cap.
+///    stage runs at most twice more from the same start, its aim lowered by the first
+///    overshoot (aim = cap (cap / overshoot)^n). For K <= 8 it runs at three caps,
+///    (1 + a/4) P, (1 + a/2) P and (1 + a) P (a = protrusion_allowance, P step 2's largest
+///    protrusion), from each of step 2's two starts; above, once at (1 + a) P from step 2's
+///    result. Each result whose balls all keep to its cap is a candidate.
 /// 4. Of the candidates (steps 2 and 3, and the single ball: the minimum enclosing ball of
 ///    the surface, moved inward to stick out least) whose union is no larger than the
-///    single ball's, the one of least product of the volume outside the solid (U - V; on an
-///    open mesh V is the interior points' cells) and the largest protrusion is kept (ties:
-///    in that order). In it, the elements that bind a ball's radius are split (at most 3
-///    times, and no deeper than the certificate's max_depth) and handed to the balls that
-///    hold their pieces.
+///    single ball's, or whose largest protrusion is at most half the single ball's, the one
+///    of least product of the volume outside the solid (U - V; on an open mesh V is the
+///    interior points' cells) and the largest protrusion is kept (ties: in that order). In
+///    it, the elements that bind a ball's radius are split (at most 3 times, and no deeper
+///    than the certificate's max_depth) and handed to the balls that hold their pieces.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
@@ -77,8 +80,10 @@ struct CoverOptions {
   int threads = 0;                      ///< 0: all cores
   bool volume_descent = true;           ///< step 3, the volume stage
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
-  /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2).
-  double protrusion_allowance = 0.03;
+  /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2). Step 4 keeps
+  /// a result that uses it only when the product of its volume outside the solid and its
+  /// protrusion is least.
+  double protrusion_allowance = 0.25;
   /// bake_cover only: where the balls should stick out less (protrusion_weights.h). When
   /// active, step 2 lowers the largest weighted protrusion and its result is the candidate
   /// kept (step 3 and step 4's choice, which weigh every ball alike, are skipped); step 4's
