@@ -71,8 +71,8 @@ std::string bake_cache_key(const std::string& mesh_sha256, const std::string& ex
   if (!ext.empty() && ext.front() == '.') ext.erase(0, 1);
   for (char& c : ext) c = static_cast<char>(std::tolower(static_cast<unsigned char>(c)));
   return sha256_hex(std::string("medspheres bake cache 1\nversion=") + MEDSPHERES_VERSION_STRING +
-                    "\nmesh=" + mesh_sha256 + "\nextension=" + ext + "\n" +
-                    bake_request_text(request));
+                    "\nrevision=" + std::to_string(MEDSPHERES_OUTPUT_REVISION) + "\nmesh=" +
+                    mesh_sha256 + "\nextension=" + ext + "\n" + bake_request_text(request));
 }
 
 BakeCache::BakeCache(std::string dir) : dir_(std::move(dir)) {

@@ -213,6 +213,7 @@ std::string robot_output_relative(const std::string& relative) {
 std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha256,
                             const RobotJob& job, const std::string& relative) {
   std::string t = std::string("medspheres robot cache 2\nversion=") + MEDSPHERES_VERSION_STRING +
+                  "\nrevision=" + std::to_string(MEDSPHERES_OUTPUT_REVISION) +
                   "\nurdf=" + relative + " " + urdf_sha256 + "\n";
   std::set<std::string> hashed;
   for (const UrdfLink& link : robot.links)
