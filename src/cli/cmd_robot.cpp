@@ -291,12 +291,8 @@ int run_robot(const RobotArgs& a) {
   return kExitOk;
 }
 
-}  // namespace
-
-Runner register_robot(CLI::App& app) {
-  auto a = std::make_shared<RobotArgs>();
-  CLI::App* sub = app.add_subcommand(
-      "robot", "Bake every link of a URDF robot and write its spheres in the planners' formats");
+// The robot, its outputs and which set the planner formats carry.
+void add_robot_input_options(CLI::App* sub, RobotArgs* a) {
   sub->add_option("urdf", a->urdfs,
                   "Robot description (URDF); several files or folders bake a batch, each robot "
                   "into its own folder under -o");
@@ -313,6 +309,10 @@ Runner register_robot(CLI::App& app) {
   sub->add_option("--package", a->packages, "PKG=DIR: where package://PKG/ lives (repeatable)");
   sub->add_flag("--from-visual", a->from_visual,
                 "Use visual geometry for links without collision geometry");
+}
+
+// How each link is baked: budgets, resolution, dilation, solid, covers.
+void add_robot_bake_options(CLI::App* sub, RobotArgs* a) {
   sub->add_option("--spheres-per-link", a->spheres_per_link,
                   "At most K spheres per link (default 32 unless --budget, --target-error or "
                   "--resolution is given)");
@@ -346,6 +346,10 @@ Runner register_robot(CLI::App& app) {
                   "planner's own set that need not cover, become each link's certified covering "
                   "set of at most as many spheres, tightened; links it lacks are baked to "
                   "their budget");
+}
+
+// The planner files: tool frames, the self-collision matrix, contact-aware covers.
+void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
   sub->add_option("--tool-frame", a->tool_frames,
                   "A link the planner files report (repeatable; the first is the primary end "
                   "effector; default: the SRDF's end effectors, else per branch the link that "
@@ -383,6 +387,17 @@ Runner register_robot(CLI::App& app) {
                   "A contact region keeps the places partners came to in at least this share "
                   "of the samples")
       ->capture_default_str();
+}
+
+}  // namespace
+
+Runner register_robot(CLI::App& app) {
+  auto a = std::make_shared<RobotArgs>();
+  CLI::App* sub = app.add_subcommand(
+      "robot", "Bake every link of a URDF robot and write its spheres in the planners' formats");
+  add_robot_input_options(sub, a.get());
+  add_robot_bake_options(sub, a.get());
+  add_robot_planner_options(sub, a.get());
   sub->add_flag("-q,--quiet", a->quiet, "No progress lines or summary");
   add_batch_flags(*sub, a->batch, robot_batch(RobotJob{}));
   return [a, sub] {
