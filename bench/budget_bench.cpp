@@ -23,7 +23,9 @@
 //   of it, and how the tightened set compares with the grown one.
 //   Cover rows also give lb%L, a lower bound on the max protrusion of ANY set of K balls
 //   covering the surface (cover_lower_bound.h; --lb-resolution, --lb-refine: its depth
-//   grid and refinement queries), its wall clock and CPU seconds (lb_sec, lb_cpu) and the
+//   grid and refinement queries; --lb-count, --lb-count-witnesses: its counting argument's
+//   boxes per pass and witnesses, --lb-count 0 for pairs alone), its wall clock and CPU
+//   seconds (lb_sec, lb_cpu) and the
 //   solid it bounds (closed mesh, or an open mesh's winding solid, under the assumption the
 //   header states); the tally counts the links where that bound alone exceeds a third of
 //   the grown set's (the target is out of reach there), how many links can meet the target
@@ -147,12 +149,16 @@ void print(const std::string& mesh, std::size_t k, const char* method, const Row
 int bound_resolution = CoverLowerBoundOptions{}.resolution;
 std::size_t bound_refine = CoverLowerBoundOptions{}.refine_queries;
 std::size_t bound_candidates = CoverLowerBoundOptions{}.candidates;
+std::size_t bound_count = CoverLowerBoundOptions{}.count_queries;
+std::size_t bound_count_witnesses = CoverLowerBoundOptions{}.count_witnesses;
 
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
   o.resolution = bound_resolution;
   o.refine_queries = bound_refine;
   o.candidates = bound_candidates;
+  o.count_queries = bound_count;
+  o.count_witnesses = bound_count_witnesses;
   const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
@@ -480,6 +486,10 @@ int main(int argc, char** argv) {
                  "Depth grid cells along L of the lower bound (cover rows)");
   app.add_option("--lb-refine", bound_refine, "Refinement queries of the lower bound");
   app.add_option("--lb-candidates", bound_candidates, "Candidate witnesses of the lower bound");
+  app.add_option("--lb-count", bound_count,
+                 "Boxes per pass of the lower bound's counting argument (0: pairs only)");
+  app.add_option("--lb-count-witnesses", bound_count_witnesses,
+                 "Surface points the counting argument weighs");
   app.add_option("--protrusion-allowance", protrusion_allowance,
                  "The cover's volume stage may raise the largest protrusion by this fraction");
   std::string curobo_file =

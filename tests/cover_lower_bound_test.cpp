@@ -112,6 +112,8 @@ TEST_CASE("cover lower bound: never above a certified bake_cover", "[cover_lower
       REQUIRE(cover.stats.certified);
       CoverLowerBoundOptions lo;
       lo.threads = 2;
+      lo.count_queries = 5000;  // any budget and witnesses give a valid bound; these are cheap
+      lo.count_witnesses = 256;
       const CoverLowerBound lb = cover_protrusion_lower_bound(fit.query(), K, lo);
       INFO("bound " << lb.bound / L << " L, cover " << cover.stats.max_protrusion / L << " L");
       CHECK(lb.bound <= cover.stats.max_protrusion);
@@ -149,6 +151,131 @@ TEST_CASE("cover lower bound: no ball holding two witnesses protrudes less (samp
     CHECK(query.closest_point(w).distance() <= 1e-9 * largest_side(mesh));
 }
 
+TEST_CASE("cover lower bound: the counting argument on a thin plate, between closed forms",
+          "[cover_lower_bound]") {
+  // Plate [-1, 1]^2 x [-0.05, 0.05]. A ball of protrusion t has r <= t + D(c), and D(c) <=
+  // 0.05 - |z| inside, so it holds at most 2 pi (t^2 + 0.1 t) of the two faces' area 8 (a
+  // disk of radius^2 r^2 - (0.05 -+ z)^2 on each; less outside): K balls need
+  // 2 pi K (t^2 + 0.1 t) >= 8, the area bound t*. The hand cover: a 4 x 4 grid of balls,
+  // each through the corners of its 0.5 x 0.5 x 0.1 block, protrudes by sqrt(0.125 +
+  // 0.0025) - 0.05. The counting bound must lie between, and reach most of t*.
+  const double b = 0.05;
+  const TriangleMesh mesh = make_box(Eigen::Vector3d(1.0, 1.0, b), 8);
+  const MeshQuery query(mesh);
+  const std::size_t K = 16;
+  std::vector<Sphere> hand;
+  for (int i = 0; i < 4; ++i)
+    for (int j = 0; j < 4; ++j)
+      hand.push_back({Eigen::Vector3d(-0.75 + 0.5 * i, -0.75 + 0.5 * j, 0.0),
+                      std::sqrt(0.125 + b * b) * (1 + 1e-9)});
+  REQUIRE(certify_cover(mesh, hand).certified);
+  const double achieved = max_protrusion(query, hand);
+  const double area_bound =
+      0.5 * (-2 * b + std::sqrt(4 * b * b + 4 * 8.0 / (2 * M_PI * static_cast<double>(K))));
+  CoverLowerBoundOptions o;
+  o.threads = 2;
+  const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
+  o.count_queries = 0;
+  const CoverLowerBound pairs = cover_protrusion_lower_bound(query, K, o);
+  INFO("bound " << lb.bound << " (pairs " << lb.pair_bound << ", counting " << lb.count_bound
+                << ") area bound " << area_bound << " hand cover " << achieved);
+  CHECK(area_bound < achieved);  // the closed forms themselves
+  CHECK(lb.bound <= achieved);
+  CHECK(lb.pair_bound == pairs.bound);  // the pair argument is untouched
+  CHECK(lb.bound >= pairs.bound);
+  CHECK(lb.count_bound >= 0.75 * area_bound);
+  CHECK(lb.count_points.size() > K + 1);
+}
+
+TEST_CASE("cover lower bound: counting proves more than pairs on a torus at K = 16",
+          "[cover_lower_bound]") {
+  // Where one ball can straddle the tube, pairs of witnesses prove little; a K-th of the
+  // surface held by one ball proves more. Both stay below a certified cover.
+  const FitEvaluator fit(make_torus(1.0, 0.3, 32, 12), 2);
+  const std::size_t K = 16;
+  CoverLowerBoundOptions o;
+  o.threads = 2;
+  const CoverLowerBound lb = cover_protrusion_lower_bound(fit.query(), K, o);
+  CoverOptions co;
+  co.threads = 2;
+  const CoverResult cover = bake_cover(fit.query(), K, co);
+  REQUIRE(cover.stats.certified);
+  INFO("pairs " << lb.pair_bound << " counting " << lb.count_bound << " cover "
+                << cover.stats.max_protrusion);
+  CHECK(lb.count_bound > 1.5 * lb.pair_bound);
+  CHECK(lb.bound == std::max(lb.pair_bound, lb.count_bound));
+  CHECK(lb.bound <= max_protrusion(fit.query(), cover.spheres.spheres));
+}
+
+TEST_CASE("cover lower bound: one ball covers a sphere, so no K proves more",
+          "[cover_lower_bound]") {
+  // Any K >= 1 may use a single ball: the unit ball at the origin covers the icosphere, so
+  // every bound is at most its protrusion 1 - D(0), however many witnesses are counted.
+  const TriangleMesh mesh = make_icosphere(1.0, 3);
+  const MeshQuery query(mesh);
+  const std::vector<Sphere> ball{{Eigen::Vector3d::Zero(), 1.0 + 1e-12}};
+  const double truth = max_protrusion(query, ball);
+  CoverLowerBoundOptions o;
+  o.threads = 2;
+  o.count_queries = 10000;
+  o.count_witnesses = 256;
+  for (std::size_t K : {2, 8, 32}) {
+    const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
+    INFO("K = " << K << " bound " << lb.bound << " counting " << lb.count_bound << " one ball "
+                << truth);
+    CHECK(lb.count_bound >= 0.0);
+    CHECK(lb.bound <= truth + 1e-9);
+  }
+}
+
+TEST_CASE("cover lower bound: no ball holding a K-th of the weight protrudes less (sampled)",
+          "[cover_lower_bound]") {
+  // Brute force on the counting claim: at every centre c, a ball holding weight >= ceil(Y /
+  // K) of the counted witnesses has radius >= d_y(c), so it protrudes by >= d_y(c) - D(c).
+  // The least of that over random centres, and over centres near the witnesses and deep
+  // inside, must not fall below the counting bound.
+  const TriangleMesh mesh = make_torus(1.0, 0.3, 32, 12);
+  const MeshQuery query(mesh);
+  const std::size_t K = 12;
+  CoverLowerBoundOptions o;
+  o.threads = 2;
+  const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
+  REQUIRE(lb.count_bound > 0.0);
+  REQUIRE(lb.count_points.size() == lb.count_weights.size());
+  long total = 0;
+  for (long w : lb.count_weights) total += w;
+  const long need = (total + static_cast<long>(K) - 1) / static_cast<long>(K);
+  const auto reach = [&](const Eigen::Vector3d& c) {
+    std::vector<std::pair<double, long>> d;
+    for (std::size_t i = 0; i < lb.count_points.size(); ++i)
+      d.emplace_back((c - lb.count_points[i]).norm(), lb.count_weights[i]);
+    std::sort(d.begin(), d.end());
+    long held = 0;
+    for (const auto& [r, w] : d)
+      if ((held += w) >= need) return r;
+    return std::numeric_limits<double>::infinity();
+  };
+  std::mt19937_64 rng(11);
+  const Eigen::AlignedBox3d box = mesh.bounds();
+  std::uniform_real_distribution<double> u(0.0, 1.0);
+  std::normal_distribution<double> jitter(0.0, 0.05);
+  double least = std::numeric_limits<double>::infinity();
+  for (int s = 0; s < 6000; ++s) {
+    Eigen::Vector3d c =
+        box.min() + Eigen::Vector3d(u(rng), u(rng), u(rng)).cwiseProduct(box.sizes());
+    if (s % 2 == 1) {  // on the torus's core circle, where balls are deepest
+      const double a = 2 * M_PI * u(rng);
+      c = Eigen::Vector3d(std::cos(a), std::sin(a), 0.0) +
+          Eigen::Vector3d(jitter(rng), jitter(rng), jitter(rng));
+    }
+    least = std::min(least, reach(c) - depth(query, c));
+  }
+  INFO("counting bound " << lb.count_bound << " sampled least " << least);
+  CHECK(least >= lb.count_bound);
+  for (const Eigen::Vector3d& w : lb.count_points)
+    CHECK(query.closest_point(w).distance() <= 1e-9 * largest_side(mesh));
+}
+
 TEST_CASE("cover lower bound: an open mesh's winding solid, on request", "[cover_lower_bound]") {
   TriangleMesh open = make_box(Eigen::Vector3d(1.0, 0.4, 0.2), 3);
   open.triangles.pop_back();  // a hole of one triangle
@@ -158,6 +285,8 @@ TEST_CASE("cover lower bound: an open mesh's winding solid, on request", "[cover
   CHECK_THROWS_AS(cover_protrusion_lower_bound(query, 4), InputError);
   CoverLowerBoundOptions o;
   o.winding_solid = true;
+  o.count_queries = 5000;
+  o.count_witnesses = 256;
   for (std::size_t K : {1, 4, 8}) {
     INFO("K = " << K);
     const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
@@ -201,6 +330,8 @@ TEST_CASE("cover lower bound: the same for every thread count", "[cover_lower_bo
   const CoverLowerBound b = cover_protrusion_lower_bound(query, 6, two);
   CHECK(a.bound == b.bound);
   CHECK(a.witnesses == b.witnesses);
+  CHECK(a.count_bound == b.count_bound);
+  CHECK(a.count_weights == b.count_weights);
 }
 
 TEST_CASE("cover lower bound rejects bad input", "[cover_lower_bound]") {
@@ -223,6 +354,9 @@ TEST_CASE("cover lower bound rejects bad input", "[cover_lower_bound]") {
   o = {};
   o.starts = 0;
   rejects(o, "starts");
+  o = {};
+  o.count_witnesses = 1;
+  rejects(o, "count_witnesses");
   o = {};
   o.threads = -1;
   rejects(o, "threads");

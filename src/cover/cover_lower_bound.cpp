@@ -14,6 +14,7 @@
 #include <utility>
 #include <vector>
 
+#include "cover_count_bound.h"
 #include "medspheres/cover/cover.h"
 #include "medspheres/error.h"
 #include "medspheres/measure/fit_metrics.h"
@@ -115,18 +116,16 @@
 // least bound to the others is largest, while that strictly raises the least bound over
 // pairs), and its pairs are refined (step 9).
 // Every step runs in a fixed order, so the result does not depend on the thread count.
+//
+// The bound returned is the larger of this pair bound and the counting argument's
+// (cover_count_bound.cpp: many weighted witnesses, a K-th of the weight in one ball); each
+// is a valid bound on its own.
 
 namespace medspheres {
 
 namespace {
 
-constexpr double kAmbiguousWinding = 0.1;
-
-// The hierarchical winding number \p w at p, or the direct sum when w is more than
-// kAmbiguousWinding from an integer (step 6).
-double settled_winding(const MeshQuery& query, const Eigen::Vector3d& p, double w) {
-  return std::abs(w - std::round(w)) > kAmbiguousWinding ? query.winding_number_exact(p) : w;
-}
+using detail::settled_winding;
 constexpr std::size_t kSamplesPerCandidate = 8;
 
 void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBoundOptions& o) {
@@ -138,6 +137,9 @@ void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBou
     throw std::invalid_argument("candidates must be >= 2, got " + std::to_string(o.candidates));
   if (o.starts < 1)
     throw std::invalid_argument("starts must be >= 1, got " + std::to_string(o.starts));
+  if (o.count_witnesses < 2)
+    throw std::invalid_argument("count_witnesses must be >= 2, got " +
+                                std::to_string(o.count_witnesses));
   check_threads(o.threads);
   if (!o.winding_solid && !solid_volume(query.mesh()))
     throw InputError(ErrorKind::kUnsupported, "mesh",
@@ -693,6 +695,17 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
                                4.0 * cover_radius_slack(L, X), options.refine_queries, 1e-4 * L);
     out.bound = std::max(0.0, out.bound);
     for (std::size_t c : chosen[best]) out.witnesses.push_back(points[c]);
+  }
+  out.pair_bound = out.bound;
+  if (options.count_queries > 0) {
+    const detail::CountBound c = detail::count_lower_bound(
+        query, closed, budget, candidates(mesh, options.count_witnesses, options.seed),
+        {&grid.points, &grid.depth}, 4.0 * cover_radius_slack(L, X), options.count_queries,
+        options.threads);
+    out.count_bound = c.bound;
+    out.count_points = c.points;
+    out.count_weights = c.weights;
+    out.bound = std::max(out.bound, c.bound);
   }
   out.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return out;

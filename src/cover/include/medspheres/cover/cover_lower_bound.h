@@ -6,12 +6,16 @@
 /// inside; fit_metrics.h). So no covering method, bake_cover included, can reach a max
 /// protrusion below it at that budget.
 ///
-/// Method (derivation in cover_lower_bound.cpp): K + 1 surface points (the witnesses) are
-/// chosen so that every ball holding two of them protrudes by at least `bound`; K balls
-/// covering the surface hold all K + 1, so one of them holds two. The protrusion of a ball
-/// holding two points is bounded below through an upper bound on the depth D over a ball,
-/// taken from D on a grid of `resolution` cells along L (the largest side of the box), and
-/// for the witnesses' worst pairs by branch and bound on finer boxes.
+/// Method: the larger of two arguments. Pairs (derivation in cover_lower_bound.cpp): K + 1
+/// surface points (the witnesses) are chosen so that every ball holding two of them
+/// protrudes by at least `pair_bound`; K balls covering the surface hold all K + 1, so one
+/// of them holds two. The protrusion of a ball holding two points is bounded below through
+/// an upper bound on the depth D over a ball, taken from D on a grid of `resolution` cells
+/// along L (the largest side of the box), and for the witnesses' worst pairs by branch and
+/// bound on finer boxes. Counting (cover_count_bound.cpp): up to `count_witnesses` surface
+/// points with integer weights; K covering balls hold the total weight, so one holds a
+/// K-th of it, and every ball holding that much protrudes by at least `count_bound`
+/// (branch and bound over the balls' centres). The weights are chosen where balls are dear.
 ///
 /// Assumptions: a closed mesh (solid_volume defined), its query built on the oriented mesh
 /// (as FitEvaluator builds it); inside is the query's winding number > 1/2 and distances are
@@ -47,6 +51,11 @@ struct CoverLowerBoundOptions {
   /// the G1's links 200,000 and 1,000,000 give the same bounds; 20,000 a lower one on 15 of
   /// 33, for 8% less CPU).
   std::size_t refine_queries = 200000;
+  /// The counting argument (file comment): boxes of centres evaluated in each of its two
+  /// passes (branch and bound); 0: the pair argument alone.
+  std::size_t count_queries = 50000;
+  /// Surface points the counting argument weighs, >= 2.
+  std::size_t count_witnesses = 1024;
 };
 
 struct CoverLowerBound {
@@ -57,8 +66,15 @@ struct CoverLowerBound {
   std::size_t grid_points = 0;    ///< depth grid points, and of them
   std::size_t inside_points = 0;  ///< those inside the solid
   double cell_reach = 0.0;        ///< the farthest any point of the box is from a grid point
-  bool closed = true;             ///< false: an open mesh's winding solid (winding_solid)
-  double seconds = 0.0;           ///< the whole call
+  double pair_bound = 0.0;        ///< the pair argument's bound (witnesses above)
+  double count_bound = 0.0;       ///< the counting argument's bound (0: not run or nothing)
+  /// Its witnesses (points of the surface, p_MoW_M) and their weights (>= 1): every cover
+  /// has a ball holding witnesses of total weight >= ceil(total / K), which protrudes by
+  /// >= count_bound.
+  std::vector<Eigen::Vector3d> count_points;
+  std::vector<long> count_weights;
+  bool closed = true;    ///< false: an open mesh's winding solid (winding_solid)
+  double seconds = 0.0;  ///< the whole call
 };
 
 /// The bound of the file comment for \p budget balls on the solid of query.mesh().
