@@ -463,6 +463,48 @@ void print_bound_tally(const char* which, bool links) {
       q.empty() ? 0.0 : q.back(), slow, slowest, slow_cpu, slowest_cpu);
 }
 
+// The G1 rows' tallies against cuRobo's grown set and the lower bound (methods: curobo).
+void print_curobo_tallies(CuroboTally& tally) {
+  if (tally.links > 0)
+    std::printf(
+        "cover at cuRobo's counts on %d links: max protrusion <= 1/3 of the grown set's on "
+        "%d (%.0f%%), excess volume <= 1/2 of it on %d (%.0f%%)\n",
+        tally.links, tally.protrusion_third, 100.0 * tally.protrusion_third / tally.links,
+        tally.excess_half, 100.0 * tally.excess_half / tally.links);
+  if (!tally.tight_over_grown.empty()) {
+    std::vector<double>& q = tally.tight_over_grown;
+    std::sort(q.begin(), q.end());
+    std::printf(
+        "tight (cuRobo's spheres through tighten_cover) against grown on %d links: certified on "
+        "%d, excess volume lower on %d (ratio median %.2f, range %.2f to %.2f), max protrusion "
+        "no higher on %d\n",
+        tally.links, tally.tight_certified, tally.tight_excess_lower, median_of(q), q.front(),
+        q.back(), tally.tight_protrusion_no_higher);
+  }
+  if (tally.links > 0) {
+    std::vector<double>& q = tally.cover_over_bound;
+    std::sort(q.begin(), q.end());
+    const double median = median_of(q);
+    std::printf(
+        "lower bound lb%%L on any K-ball cover: above 1/3 of the grown set's max protrusion "
+        "(target out of reach for every K-ball cover) on %d of %d links (%d of the %d closed "
+        "ones); cover max protrusion / bound: median %.2f over the %zu links with a positive "
+        "bound\n",
+        tally.bound_above_third, tally.links, tally.bound_above_third_closed, tally.closed, median,
+        q.size());
+    const int open = tally.links - tally.closed;
+    const int open_above = tally.bound_above_third - tally.bound_above_third_closed;
+    std::printf(
+        "so at most %d of %d links (%.0f%%) can meet the protrusion target with any K-ball "
+        "cover; counting the bound on the %d open links' winding solids (assumption of "
+        "cover_lower_bound.h), at most %d (%.0f%%)\n",
+        tally.links - tally.bound_above_third_closed, tally.links,
+        100.0 * (tally.links - tally.bound_above_third_closed) / tally.links, open,
+        tally.links - tally.bound_above_third_closed - open_above,
+        100.0 * (tally.links - tally.bound_above_third) / tally.links);
+  }
+}
+
 }  // namespace
 
 int main(int argc, char** argv) {
@@ -540,44 +582,7 @@ int main(int argc, char** argv) {
       std::printf("%-34s failed: %s\n", name.c_str(), e.what());
     }
   }
-  if (curobo && tally.links > 0)
-    std::printf(
-        "cover at cuRobo's counts on %d links: max protrusion <= 1/3 of the grown set's on "
-        "%d (%.0f%%), excess volume <= 1/2 of it on %d (%.0f%%)\n",
-        tally.links, tally.protrusion_third, 100.0 * tally.protrusion_third / tally.links,
-        tally.excess_half, 100.0 * tally.excess_half / tally.links);
-  if (curobo && !tally.tight_over_grown.empty()) {
-    std::vector<double>& q = tally.tight_over_grown;
-    std::sort(q.begin(), q.end());
-    std::printf(
-        "tight (cuRobo's spheres through tighten_cover) against grown on %d links: certified on "
-        "%d, excess volume lower on %d (ratio median %.2f, range %.2f to %.2f), max protrusion "
-        "no higher on %d\n",
-        tally.links, tally.tight_certified, tally.tight_excess_lower, median_of(q), q.front(),
-        q.back(), tally.tight_protrusion_no_higher);
-  }
-  if (curobo && tally.links > 0) {
-    std::vector<double>& q = tally.cover_over_bound;
-    std::sort(q.begin(), q.end());
-    const double median = median_of(q);
-    std::printf(
-        "lower bound lb%%L on any K-ball cover: above 1/3 of the grown set's max protrusion "
-        "(target out of reach for every K-ball cover) on %d of %d links (%d of the %d closed "
-        "ones); cover max protrusion / bound: median %.2f over the %zu links with a positive "
-        "bound\n",
-        tally.bound_above_third, tally.links, tally.bound_above_third_closed, tally.closed, median,
-        q.size());
-    const int open = tally.links - tally.closed;
-    const int open_above = tally.bound_above_third - tally.bound_above_third_closed;
-    std::printf(
-        "so at most %d of %d links (%.0f%%) can meet the protrusion target with any K-ball "
-        "cover; counting the bound on the %d open links' winding solids (assumption of "
-        "cover_lower_bound.h), at most %d (%.0f%%)\n",
-        tally.links - tally.bound_above_third_closed, tally.links,
-        100.0 * (tally.links - tally.bound_above_third_closed) / tally.links, open,
-        tally.links - tally.bound_above_third_closed - open_above,
-        100.0 * (tally.links - tally.bound_above_third) / tally.links);
-  }
+  if (curobo) print_curobo_tallies(tally);
   if (!comparisons.empty()) {
     print_summary();
     print_peer_tally("classic meshes", false);
