@@ -55,11 +55,15 @@
 //    multiplicative weights (kRounds rounds, each lowering by kStep the weights of the
 //    heaviest ball's witnesses) look for weights under which every such ball holds less
 //    than a K-th of the total, and t is bisected to the largest at which they find them
-//    (kBisections steps). Those weights, scaled to integers 0 .. kScale, go to the branch
+//    (kBisections steps; a t at which no ball holds any witness is feasible with any
+//    weights). Those weights, scaled to integers 0 .. kScale, go to the branch
 //    and bound (step 5). Then the kFound boxes of least value (the cheapest balls the
 //    grid missed) join the centres and the weights are chosen again (kPasses passes in
-//    all); the largest bound is kept. On more than kCoarse witnesses the weights are
-//    chosen on the first kCoarse (spread: farthest-point order) and each witness takes its
+//    all); the largest bound is kept. A last pass blends in the pair argument's K + 1
+//    witnesses, each of weight Y / (kBlend K) beside the best pass's weights (total Y):
+//    then a ball must hold several pair witnesses, or some of them and a share of the
+//    surface, or a larger share of the surface alone. On more than kCoarse witnesses the weights
+//    are chosen on the first kCoarse (spread: farthest-point order) and each witness takes its
 //    nearest one's.
 // Every step runs in a fixed order, so the result does not depend on the thread count.
 
@@ -221,6 +225,7 @@ constexpr int kBisections = 14;
 constexpr long kScale = 1000;        // integer weights 0 .. kScale
 constexpr int kPasses = 2;           // weights chosen, bound proven; then again with the cheapest
 constexpr std::size_t kFound = 256;  // boxes found as cheap centres
+constexpr double kBlend = 2.0;       // a pair witness weighs the total / (kBlend K)
 
 // Weights (step 8) that make the balls of protrusion t on the cheap centres hold little:
 // multiplicative weights against the heaviest ball, the best ratio total / heaviest kept.
@@ -234,7 +239,12 @@ double weights_at(const std::vector<std::vector<int>>& holds,
   for (int round = 0; round <= kRounds; ++round) {
     const std::size_t top =
         static_cast<std::size_t>(std::max_element(sum.begin(), sum.end()) - sum.begin());
-    const double ratio = sum[top] > 0.0 ? total / sum[top] : 0.0;
+    // No ball holds any witness: every ball holds less than a K-th, whatever the weights.
+    if (sum[top] <= 0.0) {
+      weight = y;
+      return std::numeric_limits<double>::infinity();
+    }
+    const double ratio = total / sum[top];
     if (ratio > best) {
       best = ratio;
       weight = y;
@@ -310,11 +320,38 @@ std::vector<long> spread(const std::vector<Eigen::Vector3d>& pool,
   return out;
 }
 
+// Step 5 on \p points with \p weight: keeps the bound in \p out when it is the largest so
+// far, and returns the centres of the kFound boxes of least value.
+std::vector<Eigen::Vector3d> prove(const MeshQuery& query, bool closed, std::size_t budget,
+                                   const std::vector<Eigen::Vector3d>& points,
+                                   const std::vector<long>& weight, double slack,
+                                   std::size_t queries, double finest, CountBound& out) {
+  WeightedWitnesses w(points, weight, budget);
+  if (w.size() == 0) return {};
+  CountRefinement r(query, closed, w);
+  while (r.queries() < queries && r.split(finest)) {
+  }
+  const double bound = std::max(0.0, r.bound() - slack);
+  out.queries += r.queries();
+  if (bound > out.bound) {
+    out.bound = bound;
+    out.points.clear();
+    out.weights.clear();
+    for (std::size_t i = 0; i < points.size(); ++i)
+      if (weight[i] > 0) {
+        out.points.push_back(points[i]);
+        out.weights.push_back(weight[i]);
+      }
+  }
+  return r.lowest(kFound);
+}
+
 }  // namespace
 
 CountBound count_lower_bound(const MeshQuery& query, bool closed, std::size_t budget,
                              const std::vector<Eigen::Vector3d>& pool, const DepthSamples& samples,
-                             double slack, std::size_t queries, int threads) {
+                             const std::vector<Eigen::Vector3d>& pairs, double slack,
+                             std::size_t queries, int threads) {
   const double L = query.mesh().bounds().sizes().maxCoeff();
   const double finest = 1e-4 * L;
   Centres cheap;
@@ -327,31 +364,29 @@ CountBound count_lower_bound(const MeshQuery& query, bool closed, std::size_t bu
   const std::vector<Eigen::Vector3d> coarse(
       pool.begin(), pool.begin() + static_cast<long>(std::min(pool.size(), kCoarse)));
   CountBound out;
+  std::vector<long> best;
   for (int pass = 0; pass < kPasses; ++pass) {
     const std::vector<long> weight =
         spread(pool, coarse, chosen_weights(coarse, cheap, budget, L, threads));
-    WeightedWitnesses w(pool, weight, budget);
-    if (w.size() == 0) break;
-    CountRefinement r(query, closed, w);
-    while (r.queries() < queries && r.split(finest)) {
-    }
-    const double bound = std::max(0.0, r.bound() - slack);
-    out.queries += r.queries();
-    if (bound > out.bound) {
-      out.bound = bound;
-      out.points.clear();
-      out.weights.clear();
-      for (std::size_t i = 0; i < pool.size(); ++i)
-        if (weight[i] > 0) {
-          out.points.push_back(pool[i]);
-          out.weights.push_back(weight[i]);
-        }
-    }
-    for (const Eigen::Vector3d& c : r.lowest(kFound)) {
+    const double before = out.bound;
+    for (const Eigen::Vector3d& c :
+         prove(query, closed, budget, pool, weight, slack, queries, finest, out)) {
       const double d = query.closest_point(c).distance();
       cheap.point.push_back(c);
       cheap.depth.push_back(query.inside(c) ? d : -d);
     }
+    if (best.empty() || out.bound > before) best = weight;
+  }
+  // Step 7's blend: the pair argument's witnesses join the best weights, each weighing a
+  // share of their total, so that a ball must hold pair witnesses and surface both.
+  if (!pairs.empty() && !best.empty() && budget > 1) {
+    long total = 0;
+    for (long y : best) total += y;
+    std::vector<Eigen::Vector3d> points = pool;
+    points.insert(points.end(), pairs.begin(), pairs.end());
+    std::vector<long> weight = best;
+    weight.resize(points.size(), std::max<long>(1, total / static_cast<long>(kBlend * budget)));
+    prove(query, closed, budget, points, weight, slack, queries, finest, out);
   }
   return out;
 }

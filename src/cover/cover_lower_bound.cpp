@@ -700,8 +700,8 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   if (options.count_queries > 0) {
     const detail::CountBound c = detail::count_lower_bound(
         query, closed, budget, candidates(mesh, options.count_witnesses, options.seed),
-        {&grid.points, &grid.depth}, 4.0 * cover_radius_slack(L, X), options.count_queries,
-        options.threads);
+        {&grid.points, &grid.depth}, out.witnesses, 4.0 * cover_radius_slack(L, X),
+        options.count_queries, options.threads);
     out.count_bound = c.bound;
     out.count_points = c.points;
     out.count_weights = c.weights;
