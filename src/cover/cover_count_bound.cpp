@@ -223,7 +223,7 @@ constexpr int kRounds = 300;               // multiplicative-weight rounds per t
 constexpr double kStep = 0.1;              // their factor 1 - kStep
 constexpr int kBisections = 14;
 constexpr long kScale = 1000;        // integer weights 0 .. kScale
-constexpr int kPasses = 2;           // weights chosen, bound proven; then again with the cheapest
+constexpr int kPasses = 3;           // weights chosen, bound proven; then again with the cheapest
 constexpr std::size_t kFound = 256;  // boxes found as cheap centres
 constexpr double kBlend = 2.0;       // a pair witness weighs the total / (kBlend K)
 
