@@ -8,6 +8,7 @@
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/min_enclosing_ball.h"
 #include "medspheres/self_pairs.h"
+#include "medspheres/sphere_set.h"
 
 namespace medspheres::check::detail {
 namespace {
@@ -104,10 +105,10 @@ void check_inner_points(const RobotModel& planner,
       throw InputError(kSource, "inner points for link \"" + name +
                                     "\", which has no covering set (its inner set is the "
                                     "spheres mode's)");
-    for (const Sphere& s : spheres)
-      if (!s.center.allFinite() || !std::isfinite(s.radius) || s.radius < 0.0)
-        throw InputError(
-            kSource, "an inner point of link \"" + name + "\" is not finite or has a radius < 0");
+    SphereSet set;
+    set.spheres = spheres;
+    validate_sphere_set(set, std::string(kSource) + ": the inner points of link \"" + name + "\"",
+                        /*allow_points=*/true);
   }
 }
 
