@@ -98,8 +98,14 @@ double volume_of(const MeshQuery& query, const Elements& e, const CoverOptions& 
 // above the cap, one minimax round (the protrusion stage's local step) from the flow's
 // centres brings it back near the least protrusion of that layout, which keeps most of the
 // flow's gain in volume (bunny, K = 4: union 11% below the protrusion stage's, P 4% above).
-Clustering volume_stage(const MeshQuery& query, const Elements& e, const Elements& flow_elements,
-                        Clustering c, double cap, int threads) {
+// The volume stage's result and its largest protrusion.
+struct VolumeResult {
+  Clustering clustering;
+  double protrusion = 0.0;
+};
+
+VolumeResult volume_stage(const MeshQuery& query, const Elements& e, const Elements& flow_elements,
+                          Clustering c, double cap, int threads) {
   detail::drop_empty(c);
   detail::FlowOptions fo;
   fo.cap = cap;
@@ -110,10 +116,12 @@ Clustering volume_stage(const MeshQuery& query, const Elements& e, const Element
   detail::hold_all(e, c, threads);
   detail::shrink(e, c);
   detail::drop_empty(c);
-  const double p = detail::largest_protrusion(query, c.balls, threads);
-  if (p > cap && p <= (1.0 + kRetryOvershoot) * cap)
+  double p = detail::largest_protrusion(query, c.balls, threads);
+  if (p > cap && p <= (1.0 + kRetryOvershoot) * cap) {
     c = detail::minimax_rounds(query, e, std::move(c), 1, threads);
-  return c;
+    p = detail::largest_protrusion(query, c.balls, threads);
+  }
+  return {std::move(c), p};
 }
 
 // The volume stage from \p start under the cap, or nothing when it ends beyond the cap. The
@@ -123,14 +131,13 @@ Clustering volume_stage(const MeshQuery& query, const Elements& e, const Element
 std::optional<Clustering> capped_volume_stage(const MeshQuery& query, const Elements& e,
                                               const Elements& fine, const Clustering& start,
                                               double cap, int threads) {
-  Clustering v = volume_stage(query, e, fine, start, cap, threads);
-  const double over = detail::largest_protrusion(query, v.balls, threads);
+  VolumeResult v = volume_stage(query, e, fine, start, cap, threads);
+  const double over = v.protrusion;
   const int retries = over <= (1.0 + kRetryOvershoot) * cap ? 2 : 0;
-  for (int retry = 1; retry <= retries && detail::largest_protrusion(query, v.balls, threads) > cap;
-       ++retry)
+  for (int retry = 1; retry <= retries && v.protrusion > cap; ++retry)
     v = volume_stage(query, e, fine, start, cap * std::pow(cap / over, retry), threads);
-  if (detail::largest_protrusion(query, v.balls, threads) > cap) return std::nullopt;
-  return v;
+  if (v.protrusion > cap) return std::nullopt;
+  return std::move(v.clustering);
 }
 
 // A result and the elements it holds (refined where they bind its radii).
@@ -314,10 +321,10 @@ CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& sta
     const double cap = detail::largest_protrusion(query, c.balls, threads);
     const Elements fine =
         detail::make_patches(e, start_balls.size(), kFinePatchFloor, query.mesh().bounds().min());
-    Clustering v = volume_stage(query, e, fine, c, cap, threads);
-    if (detail::union_volume(v.balls) < detail::union_volume(c.balls) &&
-        detail::largest_protrusion(query, v.balls, threads) <= cap)
-      c = std::move(v);
+    VolumeResult v = volume_stage(query, e, fine, c, cap, threads);
+    if (detail::union_volume(v.clustering.balls) < detail::union_volume(c.balls) &&
+        v.protrusion <= cap)
+      c = std::move(v.clustering);
   }
   finish(query, refined(e, std::move(c), options).clustering, options, start, out);
   return out;
