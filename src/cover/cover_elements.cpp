@@ -356,6 +356,14 @@ double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c
   return reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
 }
 
+void FarthestAtoms::pivot(const Eigen::Vector3d& x, double delta) {
+  pivot_ = x, delta_ = delta;
+  const double R = reach_from(atoms_, x);
+  near_.clear();
+  for (const Sphere& a : atoms_)
+    if ((a.center - x).norm() + a.radius >= R - 2.0 * delta) near_.push_back(a);
+}
+
 // The minimum enclosing ball of the points of the elements in \p members, by a core set:
 // the minimum ball of a subset (first the extreme points along the axes and the
 // diagonals) is the answer once it holds every point; otherwise the farthest points

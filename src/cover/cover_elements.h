@@ -83,6 +83,31 @@ std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& 
 double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
 // reach_from raised by 4 ulps, so that the rounding of distances never leaves an atom out.
 double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
+// reach_from(atoms, y) for points y near a pivot x0, exactly, from a subset: an atom with
+// |a - x0| + r_a < R(x0) - 2 delta (R the reach at x0) is nearer than R - delta to any y
+// within delta of x0, while the atom farthest from x0 is at least that far from y; so
+// only the others are scanned. The pivot moves (a full scan) when y leaves its delta
+// ball or the asked delta falls below an eighth of the pivot's. \p atoms must outlive it.
+class FarthestAtoms {
+ public:
+  explicit FarthestAtoms(const std::vector<Sphere>& atoms) : atoms_(atoms) {}
+  double operator()(const Eigen::Vector3d& y, double delta) {
+    return reach_from(near(y, delta), y);
+  }
+  // The subset that gives reach_from(atoms, z) for every z within delta of y.
+  const std::vector<Sphere>& near(const Eigen::Vector3d& y, double delta) {
+    if (near_.empty() || delta > delta_ || 8.0 * delta < delta_ || (y - pivot_).norm() > delta_)
+      pivot(y, delta);
+    return near_;
+  }
+
+ private:
+  void pivot(const Eigen::Vector3d& x, double delta);
+  const std::vector<Sphere>& atoms_;
+  std::vector<Sphere> near_;
+  Eigen::Vector3d pivot_ = Eigen::Vector3d::Zero();
+  double delta_ = 0.0;
+};
 // The minimum enclosing ball of the points of the elements in \p members.
 Sphere fit(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark);
 

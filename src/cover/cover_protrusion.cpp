@@ -48,34 +48,6 @@ constexpr int kMoves = 6, kMovesAbove16 = 3;  // moves at most, up to K = 16 and
 constexpr std::size_t kSpreadBudget = 16;     // the spread start runs up to this budget
 constexpr int kMoveRounds = 2;
 
-// reach_from(atoms, y) for points y near a pivot x0, exactly, from a subset: an atom with
-// |a - x0| + r_a < R(x0) - 2 delta (R the reach at x0) is nearer than R - delta to any y
-// within delta of x0, while the atom farthest from x0 is at least that far from y; so
-// only the others are scanned. The pivot moves (a full scan) when y leaves its delta
-// ball or the asked delta falls below an eighth of the pivot's.
-class FarthestAtoms {
- public:
-  explicit FarthestAtoms(const std::vector<Sphere>& atoms) : atoms_(atoms) {}
-  double operator()(const Eigen::Vector3d& y, double delta) {
-    if (near_.empty() || delta > delta_ || 8.0 * delta < delta_ || (y - pivot_).norm() > delta_)
-      pivot(y, delta);
-    return reach_from(near_, y);
-  }
-
- private:
-  void pivot(const Eigen::Vector3d& x, double delta) {
-    pivot_ = x, delta_ = delta;
-    const double R = reach_from(atoms_, x);
-    near_.clear();
-    for (const Sphere& a : atoms_)
-      if ((a.center - x).norm() + a.radius >= R - 2.0 * delta) near_.push_back(a);
-  }
-  const std::vector<Sphere>& atoms_;
-  std::vector<Sphere> near_;
-  Eigen::Vector3d pivot_ = Eigen::Vector3d::Zero();
-  double delta_ = 0.0;
-};
-
 // The pattern search of deepen (file comment): the six axis steps, halved on failure, from
 // \p first times the radius down to 1e-3 of it, each centre to lower the radius needed to
 // hold its elements minus its depth; the radius is then the distance to the farthest point.
