@@ -72,6 +72,11 @@ constexpr int kCaps = 3;
 // 1.1 and 0.05% off the union, a fourth 0.04%; on its right ankle pitch link at K = 8, 3.0
 // and 0.4%, then nothing.
 constexpr int kPolishSweeps = 3;
+// The polish runs up to this budget. At K = 64 each ball meets more others, so each measure
+// of the union costs more: with a cost per sweep bounded as at K = 32 (cover_polish.cpp) it
+// still took 1 to 3 CPU s (bench_budget --k 64 on the asteroids and the ellipsoid), beyond
+// the bake's second per link.
+constexpr std::size_t kPolishBudget = 32;
 // A cover whose union is larger than the single ball's is kept only when it sticks out at
 // most this share of the single ball's protrusion (and costs less).
 constexpr double kSingleBallShare = 0.5;
@@ -230,7 +235,7 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
     if (cost < least || (cost == least && r < best)) least = cost, best = r;
   }
   Candidate out = refined(e, std::move(results[best]), options);
-  if (options.volume_polish) polish(query, out, threads);
+  if (options.volume_polish && budget <= kPolishBudget) polish(query, out, threads);
   return out;
 }
 

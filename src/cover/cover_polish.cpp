@@ -46,6 +46,10 @@ constexpr double kFirst = 0.1, kLast = 1e-3;  // the search's steps, relative to
 constexpr double kTravel = 0.5;      // how far a centre moves in one sweep, relative to its radius
 constexpr double kGain = 1e-9;       // least gain kept, relative to the union
 constexpr double kSweepGain = 1e-3;  // a sweep gaining less (relative) ends the polish
+// Each ball's search stops once its measures of the union have taken kWork / K balls in all
+// (K balls), so that a sweep's measures cost about the same at every budget (the first sweep
+// on the G1's head link at K = 29 took 17,500 without the bound).
+constexpr std::size_t kWork = 24000;
 
 // The six axes and the eight diagonals, unit length.
 const std::array<Eigen::Vector3d, 14>& directions() {
@@ -79,22 +83,27 @@ class OutsideOthers {
     if (near.empty()) return 4.0 / 3.0 * M_PI * b.radius * b.radius * b.radius;
     std::vector<Sphere> s;
     for (std::size_t o : near) s.push_back(balls_[o]);
-    if (near != near_) near_ = near, without_ = union_volume(s);
+    if (near != near_) near_ = near, without_ = union_volume(s), work_ += s.size();
     s.push_back(b);
+    work_ += s.size();
     return union_volume(s) - without_;
   }
+  // The balls measured so far, over all unions: the search's cost.
+  std::size_t work() const { return work_; }
 
  private:
   const std::vector<Sphere>& balls_;
   std::size_t j_;
   std::vector<std::size_t> near_;
   double without_ = 0.0;
+  std::size_t work_ = 0;
 };
 
 // The pattern search (file comment) on ball j of \p balls, with \p atoms what it must
 // hold. \p balls is only read. Returns the ball found.
 Sphere search_ball(const MeshQuery& query, const std::vector<Sphere>& balls, std::size_t j,
-                   const std::vector<Sphere>& atoms, double cap, double least_gain) {
+                   const std::vector<Sphere>& atoms, double cap, double least_gain,
+                   std::size_t work) {
   Sphere ball = balls[j];
   const Eigen::Vector3d x0 = ball.center;
   Eigen::Vector3d x = x0;
@@ -105,9 +114,9 @@ Sphere search_ball(const MeshQuery& query, const std::vector<Sphere>& balls, std
   FarthestAtoms reach(atoms);
   const auto& dirs = directions();
   std::size_t last = 0;  // the direction that helped last, tried first
-  for (double step = kFirst * r0; step > kLast * r0;) {
+  for (double step = kFirst * r0; step > kLast * r0 && outside.work() < work;) {
     bool moved = false;
-    for (std::size_t k = 0; k < dirs.size() && !moved; ++k) {
+    for (std::size_t k = 0; k < dirs.size() && !moved && outside.work() < work; ++k) {
       const std::size_t axis = (last + k) % dirs.size();
       const Eigen::Vector3d y = x + step * dirs[axis];
       if ((y - x0).norm() > kTravel * r0) continue;
@@ -196,6 +205,7 @@ void unsettle_near_changes(const Elements& e, const std::vector<Sphere>& before,
 void sweep_balls(const MeshQuery& query, const Elements& e, Clustering& c, double cap,
                  const std::vector<char>& active, double least_gain, int threads) {
   const auto members = members_of(c.owner, c.balls.size());
+  const std::size_t work = kWork / std::max<std::size_t>(c.balls.size(), 1);
   for (const std::vector<std::size_t>& group : apart_classes(c.balls, active)) {
     std::vector<Sphere> found(group.size());
     const long long n = static_cast<long long>(group.size());
@@ -206,9 +216,9 @@ void sweep_balls(const MeshQuery& query, const Elements& e, Clustering& c, doubl
       for (long long g = 0; g < n; ++g) {
         const std::size_t j = group[static_cast<std::size_t>(g)];
         found[static_cast<std::size_t>(g)] =
-            members[j].empty()
-                ? c.balls[j]
-                : search_ball(query, c.balls, j, atoms_of(e, members[j], mark), cap, least_gain);
+            members[j].empty() ? c.balls[j]
+                               : search_ball(query, c.balls, j, atoms_of(e, members[j], mark), cap,
+                                             least_gain, work);
       }
     }
     for (std::size_t g = 0; g < group.size(); ++g) c.balls[group[g]] = found[g];
