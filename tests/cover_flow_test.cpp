@@ -11,7 +11,9 @@
 
 #include "../src/cover/cover_elements.h"
 #include "../src/cover/cover_flow.h"
+#include "../src/cover/cover_polish.h"
 #include "medspheres/cover/cover.h"
+#include "medspheres/measure/fit_metrics.h"
 #include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "support/cover_solids.h"
@@ -173,5 +175,71 @@ TEST_CASE("bake_cover rejects a protrusion allowance that is negative or not fin
     CoverOptions o;
     o.protrusion_allowance = a;
     CHECK_THROWS_AS(bake_cover(query, 4, o), std::invalid_argument);
+  }
+}
+
+TEST_CASE("volume polish: a lone ball goes to the box's centre, half its diagonal the radius",
+          "[cover][polish]") {
+  // Closed form: with no other ball, the union is the ball, so the polish lowers its radius
+  // alone: the least ball holding the box's surface is centred at the centre, of radius half
+  // the diagonal. The search's last step is 1e-3 of the radius, so it ends within a few of
+  // those of it. Its protrusion there, half the diagonal less half the thinnest side, is below
+  // the start's, which is the cap.
+  const Eigen::Vector3d half(1.0, 0.6, 0.3);
+  const TriangleMesh box = make_box(half, 2);
+  const MeshQuery query(box);
+  const Elements e = detail::make_elements(query, 1, 0, 1);
+  Clustering c;
+  c.balls = {{Eigen::Vector3d(0.07, -0.04, 0.02), 0.0}};
+  c.owner.assign(e.size(), 0);
+  detail::hold_members(e, c);
+  const double cap = sphere_protrusions(query, c.balls, 1)[0];
+  const double half_diagonal = half.norm();
+  REQUIRE(c.balls[0].radius > 1.02 * half_diagonal);
+  const Clustering p = detail::volume_polish(query, e, c, cap, 10, 1);
+  REQUIRE(p.balls.size() == 1);
+  CHECK(all_held(e, p));
+  CHECK(p.balls[0].radius >= half_diagonal);
+  CHECK(p.balls[0].radius <= (1.0 + 5e-3) * half_diagonal);
+  CHECK(p.balls[0].center.norm() <= 5e-3 * half_diagonal);
+  CHECK(sphere_protrusions(query, p.balls, 1)[0] <= cap);
+}
+
+TEST_CASE("volume polish: the union falls, every element held, no ball beyond the cap",
+          "[cover][polish]") {
+  // Oracles: the exact union (measure_union), a direct check that every element lies in the
+  // ball that owns it, the protrusions of fit_metrics and the sampled gap.
+  for (const test::NamedSolid& solid : test::cover_solids()) {
+    CAPTURE(solid.name);
+    const MeshQuery query(solid.mesh);
+    const double L = solid.mesh.bounds().sizes().maxCoeff();
+    const Elements e = detail::make_elements(query, 8, 12, 1);
+    Clustering c = loose_cover(e, solid.mesh.bounds(), 8);
+    detail::shrink(e, c);
+    detail::drop_empty(c);
+    const std::vector<double> start = sphere_protrusions(query, c.balls, 1);
+    const double cap = *std::max_element(start.begin(), start.end());
+    const Clustering p = detail::volume_polish(query, e, c, cap, 3, 2);
+    CHECK(all_held(e, p));
+    CHECK(test::sampled_gap(solid.mesh, p.balls) == 0.0);
+    for (double q : sphere_protrusions(query, p.balls, 1)) CHECK(q <= cap + 1e-12 * L);
+    CHECK(measure_union(p.balls).volume < measure_union(c.balls).volume);
+  }
+}
+
+TEST_CASE("volume polish: the same balls for every thread count", "[cover][polish][threads]") {
+  const TriangleMesh torus = make_torus(1.0, 0.3, 32, 12);
+  const MeshQuery query(torus);
+  const Elements e = detail::make_elements(query, 16, 12, 1);
+  Clustering c = loose_cover(e, torus.bounds(), 16);
+  detail::shrink(e, c);
+  detail::drop_empty(c);
+  const std::vector<double> q = sphere_protrusions(query, c.balls, 1);
+  const double cap = *std::max_element(q.begin(), q.end());
+  const Clustering one = detail::volume_polish(query, e, c, cap, 2, 1);
+  for (int threads : {2, 3}) {
+    const Clustering more = detail::volume_polish(query, e, c, cap, 2, threads);
+    test::check_same_spheres(one.balls, more.balls);
+    CHECK(one.owner == more.owner);
   }
 }

@@ -235,7 +235,8 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
     if (cost < least || (cost == least && r < best)) least = cost, best = r;
   }
   Candidate out = refined(e, std::move(results[best]), options);
-  if (options.volume_polish && budget <= kPolishBudget) polish(query, out, threads);
+  if (options.volume_descent && options.volume_polish && budget <= kPolishBudget)
+    polish(query, out, threads);
   return out;
 }
 

@@ -42,12 +42,12 @@
 ///    interior points' cells) and the largest protrusion is kept (ties: in that order). In
 ///    it, the elements that bind a ball's radius are split (at most 3 times, and no deeper
 ///    than the certificate's max_depth) and handed to the balls that hold their pieces.
-///    Then the volume polish (volume_polish): one ball at a time, its centre moves by a
-///    pattern search (steps along the axes and diagonals, halved down to 1e-3 of its
-///    radius), its radius what its elements need there, while the exact volume of the union
-///    falls and the ball protrudes no farther than the largest protrusion before the polish;
-///    then balls shrink to what no other ball holds; at most 3 sweeps. It is kept when
-///    neither the largest protrusion nor the union rose.
+///    For K <= 32, then the volume polish (volume_polish, with volume_descent): one ball at
+///    a time, its centre moves by a pattern search (steps along the axes and diagonals,
+///    halved down to 1e-3 of its radius), its radius what its elements need there, while the
+///    exact volume of the union falls and the ball protrudes no farther than the largest
+///    protrusion before the polish; then balls shrink to what no other ball holds; at most
+///    3 sweeps. It is kept when neither the largest protrusion nor the union rose.
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
@@ -85,7 +85,7 @@ struct CoverOptions {
   CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
   int threads = 0;                      ///< 0: all cores
   bool volume_descent = true;           ///< step 3, the volume stage
-  bool volume_polish = true;            ///< step 4's polish (bake_cover)
+  bool volume_polish = true;            ///< step 4's polish (bake_cover, with volume_descent)
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
   /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2). Step 4 keeps
   /// a result that uses it only when the product of its volume outside the solid and its
