@@ -58,6 +58,7 @@
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
+#include <nlohmann/json.hpp>
 
 #include "bench_args.h"
 #include "medspheres/batch/batch_robot.h"
@@ -403,13 +404,15 @@ void print_ideal(const LinkSolids& solids, const Planner& p,
   std::printf("\n");
 }
 
-// The links whose covering set was baked on their filled solid (metadata "cover_solid").
+// The links whose covering set was baked on their filled solid (the robot's metadata:
+// "cover_solid": "filled" in the link's entry).
 std::vector<std::size_t> filled_links(const RobotModel& m) {
+  const nlohmann::json links = nlohmann::json::parse(m.metadata_json)["links"];
   std::vector<std::size_t> out;
-  for (std::size_t i = 0; i < m.links.size(); ++i)
-    if (m.links[i].spheres.outer.metadata_json.find("\"cover_solid\":\"filled\"") !=
-        std::string::npos)
-      out.push_back(i);
+  for (std::size_t i = 0; i < m.links.size(); ++i) {
+    const auto it = links.find(m.links[i].name);
+    if (it != links.end() && it->value("cover_solid", "") == "filled") out.push_back(i);
+  }
   return out;
 }
 

@@ -9,6 +9,7 @@
 #include <vector>
 
 #include <catch2/catch.hpp>
+#include <nlohmann/json.hpp>
 
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/filled_solid.h"
@@ -17,6 +18,7 @@
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
+#include "medspheres/robot_file.h"
 #include "support/mesh_writers.h"
 #include "support/random_points.h"
 #include "support/temp_dir.h"
@@ -126,6 +128,14 @@ TEST_CASE("filled covers: a thin open shell's cover on its filled solid", "[fill
   CHECK(records_filled_cover(f));
   CHECK_FALSE(records_filled_cover(t));
   CHECK_FALSE(records_filled_cover(filled.model.links[1].spheres));
+  CHECK(filled.links[0].outer_filled);
+  CHECK_FALSE(filled.links[1].outer_filled);
+  CHECK_FALSE(thin.links[0].outer_filled);
+  // The robot file records it in the link's entry of the robot's metadata, and reads back.
+  const RobotModel loaded = parse_robot(robot_to_json(filled.model), "box.robot.json");
+  CHECK(nlohmann::json::parse(loaded.metadata_json)["links"]["shell"]["cover_solid"] == "filled");
+  CHECK_FALSE(
+      nlohmann::json::parse(thin.model.metadata_json)["links"]["shell"].contains("cover_solid"));
   const std::vector<Sphere>& block_f = filled.model.links[1].spheres.outer.spheres;
   const std::vector<Sphere>& block_t = thin.model.links[1].spheres.outer.spheres;
   REQUIRE(block_f.size() == block_t.size());

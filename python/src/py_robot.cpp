@@ -58,6 +58,7 @@ py::dict stats_dict(const LinkBakeStats& s) {
   d["baked_as"] = s.baked_as;
   d["note"] = s.note;
   d["inner_filled"] = s.inner_filled;
+  d["outer_filled"] = s.outer_filled;
   return d;
 }
 

@@ -253,6 +253,10 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
                              " m (thinner ones enclosed nothing)"
                        : "");
   if (!job.outer) return;
+  stats.outer_filled = job.outer->record.extra_strings.count("cover_solid") > 0;
+  if (stats.outer_filled)
+    stats.note += std::string(stats.note.empty() ? "" : "; ") +
+                  "covering set on its filled solid (a thin shell)";
   const bool one = solid.parts.size() == 1;
   const CoverResult& cover = *job.outer->cover;
   spheres.outer.spheres =
@@ -301,6 +305,7 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"note", s.note}};
     if (!record_seconds) links[s.link].erase("bake_seconds");
     if (s.inner_filled) links[s.link][fcl::kInnerSolidKey] = fcl::kInnerSolidFilled;
+    if (s.outer_filled) links[s.link]["cover_solid"] = "filled";
   }
   j["links"] = links;
   return j.dump();

@@ -91,6 +91,9 @@ struct LinkBakeStats {
   /// Its inner set was baked on its filled solid (RobotBakeOptions::fill_thin_shells); the
   /// robot's metadata then records "inner_solid": "filled" for the link.
   bool inner_filled = false;
+  /// Its outer set was baked on its filled solid (RobotBakeOptions::fill_thin_shell_covers);
+  /// the robot's metadata then records "cover_solid": "filled" for the link.
+  bool outer_filled = false;
 };
 
 /// Called once per link as its spheres are ready (in completion order, one call at a
