@@ -66,6 +66,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/self_collision_report.h"
+#include "medspheres/formats/sphere_document.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
 #include "medspheres/measure/fit_metrics.h"
@@ -101,6 +102,7 @@ struct Options {
   std::vector<double> ideal;                   // margins of the ideal planner, metres
   std::vector<std::string> link_budgets;       // NAME=K
   std::vector<std::string> buffers;            // NAME=M, added to the medspheres row's
+  std::string cover_start;                     // a per-link sphere file the covers start from
   bool fill_covers = false;                    // add the row of thin shells' covers filled
   int fill_resolution = kFillCoverResolution;  // of their filled solid
   bool contact = false;                        // add the contact-aware row
@@ -134,6 +136,8 @@ RobotJob robot_job(const Options& o, bool fill_covers = false) {
   RobotJob job;
   job.bake.fill_thin_shell_covers = fill_covers;
   job.bake.fill_cover_resolution = o.fill_resolution;
+  if (!o.cover_start.empty())
+    job.bake.outer_start = formats::read_link_sphere_map(o.cover_start, "--cover-start");
   job.bake.budget.per_link = o.spheres_per_link;
   for (const auto& [link, k] : name_values(o.link_budgets, "--link"))
     job.bake.budget.links[link] = static_cast<std::size_t>(k);
@@ -624,6 +628,9 @@ int main(int argc, char** argv) {
   args.app().add_option("--buffer", o.buffers,
                         "NAME=M: add M metres to link NAME's self-collision buffer in the "
                         "medspheres row (negative: the spheres shrink and no longer cover)");
+  args.add("--cover-start", o.cover_start,
+           "A per-link sphere file: those links' covers are tightened from its spheres "
+           "(robot --cover-start), in every row");
   args.app().add_flag("--fill-covers", o.fill_covers,
                       "Add the row of thin shells' covers baked on their filled solids (robot "
                       "--fill-covers) and what their filled solids alone report");
