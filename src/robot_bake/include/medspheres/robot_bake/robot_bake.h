@@ -134,8 +134,10 @@ struct RobotBakeOptions {
   /// covering set baked on its filled solid at fill_cover_resolution (make_filled_solid),
   /// certified on the link's real surface as every covering set is: its balls may sit in the
   /// cavity and hug the outside instead of sticking out on both sides of the thin material,
-  /// and they fill the cavity's opening. The link's entry records "cover_solid": "filled"
-  /// in its outer set's metadata. docs/self-collision.md, "Covers of thin shells".
+  /// and they fill the cavity's opening. Its outer set's metadata and the link's entry of
+  /// the robot's record "cover_solid": "filled" (LinkBakeStats::outer_filled); the stats'
+  /// outer_max_protrusion is then against the filled solid. docs/self-collision.md,
+  /// "Covers of thin shells".
   bool fill_thin_shell_covers = false;
   /// The resolution of the filled solid the covers of fill_thin_shell_covers are baked on,
   /// in [8, 1024]: its excess over the link's convex parts is below
