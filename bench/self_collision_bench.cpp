@@ -5,7 +5,9 @@
 //
 // Rows: "medspheres", the robot command's defaults (covering sets of --spheres-per-link
 // spheres, the matrix from --samples seeded configurations, its tool frames and default
-// configuration); with --contact also "contact", the same with contact-aware covers
+// configuration); with --fill-covers also "filled", the same with thin shells' covers baked
+// on their filled solids (`robot --fill-covers`, at --fill-resolution); with --contact also
+// "contact", the same with contact-aware covers
 // (contact_regions.h: --contact-samples, --contact-band, --contact-weight); for the G1 also
 // "curobo", cuRobo's shipped configuration of the G1 (its spheres, self_collision_ignore and
 // self_collision_buffer, links the URDF lacks left out, its cspace default_joint_position as its
@@ -36,16 +38,21 @@
 //
 // What-ifs on the medspheres row: --link NAME=K bakes link NAME to K spheres (the others to
 // --spheres-per-link); --buffer NAME=M adds M metres to its self-collision buffer (negative:
-// its spheres shrink and no longer cover, so false negatives may appear). Diagnostics:
+// its spheres shrink and no longer cover, so false negatives may appear); --cover-start FILE
+// tightens the covers of the links FILE names from its spheres, in every row (`robot
+// --cover-start`). Diagnostics:
 // --gaps N tallies, for each row's N pairs that alone make the most false-positive
 // configurations, the evaluation's configurations by the pair's mesh gap and how many of
 // them its spheres report; --ideal D (repeatable) counts the false-positive configurations
 // of an ideal planner that checks the medspheres row's pairs and reports a pair exactly when
-// its solids are within D, the least a cover sticking out by D / 2 everywhere can reach.
+// its solids are within D, the least a cover sticking out by D / 2 everywhere can reach;
+// with --fill-covers, the free configurations where a checked partner meets a filled link's
+// filled solid (the least its cover reports).
 //
 // Usage: bench_self_collision [--urdf FILE]... [--samples N] [--eval N] [--seed S]
 //          [--spheres-per-link K] [--link NAME=K]... [--buffer NAME=M]... [--gaps N]
-//          [--ideal D]... [--arms N] [--threads T] [--cache DIR] [--no-g1] [--no-coarse-arm]
+//          [--ideal D]... [--cover-start FILE] [--fill-covers [--fill-resolution N]]
+//          [--contact ...] [--arms N] [--threads T] [--cache DIR] [--no-g1] [--no-coarse-arm]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
