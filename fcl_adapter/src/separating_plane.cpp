@@ -190,10 +190,15 @@ std::uint32_t VertexSupport::build(std::uint32_t begin, std::uint32_t end) {
   return index;
 }
 
-VertexSupport::Extreme VertexSupport::max_along(const Eigen::Vector3d& n) const {
+VertexSupport::Extreme VertexSupport::max_along(const Eigen::Vector3d& n,
+                                                std::uint32_t* hint) const {
   const double length = n.norm() * (1.0 + 1e-15);
-  double best = -std::numeric_limits<double>::infinity();
-  std::uint32_t arg = 0;
+  auto value = [&](const Eigen::Vector4d& p) {
+    return n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
+  };
+  // The hint's point first: a point near the extreme prunes most of the tree at once.
+  std::uint32_t arg = hint != nullptr && *hint < points_.size() ? *hint : 0;
+  double best = value(points_[arg]);
   auto bound = [&](const Node& node) { return n.dot(node.centre) + node.radius * length; };
   std::array<std::uint32_t, 128> stack;
   std::size_t top = 0;
@@ -203,8 +208,7 @@ VertexSupport::Extreme VertexSupport::max_along(const Eigen::Vector3d& n) const 
     if (bound(node) <= best) continue;
     if (node.left == 0) {
       for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const Eigen::Vector4d& p = points_[i];
-        const double d = n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
+        const double d = value(points_[i]);
         if (d > best) best = d, arg = i;
       }
       continue;
@@ -214,8 +218,9 @@ VertexSupport::Extreme VertexSupport::max_along(const Eigen::Vector3d& n) const 
     const std::uint32_t first = l >= r ? node.left : node.right;
     const std::uint32_t second = l >= r ? node.right : node.left;
     if (std::min(l, r) > best) stack[top++] = second;
-    stack[top++] = first;
+    if (std::max(l, r) > best) stack[top++] = first;
   }
+  if (hint != nullptr) *hint = arg;
   const Eigen::Vector4d& p = points_[arg];
   const Eigen::Vector3d reach =
       p.w() > 0.0 && length > 0.0 ? Eigen::Vector3d((p.w() / length) * n) : Eigen::Vector3d::Zero();
@@ -235,9 +240,10 @@ PlaneResult separated(const VertexSupport& a, const ::fcl::Transform3d& X_WA,
   // B's least and A's greatest projection on the unit u, and the points of B - A giving
   // them.
   double gap = 0.0;
+  std::uint32_t hint_a = 0, hint_b = 0;  // the last extremes: each step's start
   auto support = [&](const Eigen::Vector3d& u) {
-    const VertexSupport::Extreme e_a = a.max_along(R_A.transpose() * u);
-    const VertexSupport::Extreme e_b = b.max_along(-(R_B.transpose() * u));
+    const VertexSupport::Extreme e_a = a.max_along(R_A.transpose() * u, &hint_a);
+    const VertexSupport::Extreme e_b = b.max_along(-(R_B.transpose() * u), &hint_b);
     gap = (u.dot(p_B) - e_b.value) - (e_a.value + u.dot(p_A));
     ++out.steps;
     return Eigen::Vector3d(X_WB * e_b.point - X_WA * e_a.point);

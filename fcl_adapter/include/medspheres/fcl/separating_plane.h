@@ -67,12 +67,14 @@ class VertexSupport {
 
   /// The greatest n . x over the vertices x (over the balls' points: n . c + r |n|), as
   /// computed (see the file comment for its rounding), and a point of the set that
-  /// reaches it.
+  /// reaches it. \p hint, when given, is the index of a point to start from (a former
+  /// extreme for a nearby direction prunes most of the tree at once; any value is
+  /// accepted) and receives the extreme's.
   struct Extreme {
     double value;
     Eigen::Vector3d point;
   };
-  Extreme max_along(const Eigen::Vector3d& n) const;
+  Extreme max_along(const Eigen::Vector3d& n, std::uint32_t* hint = nullptr) const;
 
   std::size_t size() const noexcept { return points_.size(); }
   /// The largest |x|_1 + r of a vertex or ball (the magnitude of the rounding rule).
