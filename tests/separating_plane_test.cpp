@@ -36,16 +36,21 @@ Eigen::Isometry3d random_pose(std::mt19937& rng, double reach) {
   return pose_of(t, M_PI * u(rng), M_PI * u(rng), M_PI * u(rng));
 }
 
-// The solids the tests pose: convex (a ball, a capsule, a box) and not (a torus, whose
-// hull holds its hole).
-std::vector<TriangleMesh> solids() {
-  std::vector<TriangleMesh> out;
-  out.push_back(make_icosphere(0.05, 2));
-  out.push_back(make_capsule(0.03, 0.06, 16, 4));
-  out.push_back(make_box({0.04, 0.02, 0.07}, 2));
-  out.push_back(make_torus(0.06, 0.015, 24, 8));
-  return out;
-}
+// The solids the tests pose, as FCL meshes and supports: convex (a ball, a capsule, a box)
+// and not (a torus, whose hull holds its hole).
+struct Solids {
+  std::vector<std::shared_ptr<mf::MeshModel>> models;
+  std::vector<mf::VertexSupport> supports;
+
+  Solids() {
+    for (const TriangleMesh& m :
+         {make_icosphere(0.05, 2), make_capsule(0.03, 0.06, 16, 4), make_box({0.04, 0.02, 0.07}, 2),
+          make_torus(0.06, 0.015, 24, 8)}) {
+      models.push_back(test::make_bvh<::fcl::OBBRSSd>(m));
+      supports.emplace_back(*models.back());
+    }
+  }
+};
 
 }  // namespace
 
@@ -79,18 +84,14 @@ TEST_CASE("separating plane: the supports are the vertices' and balls' extremes"
 
 TEST_CASE("separating plane: every pair proved free is farther apart than the margin",
           "[check][fcl]") {
-  const std::vector<TriangleMesh> meshes = solids();
-  std::vector<std::shared_ptr<mf::MeshModel>> models;
-  std::vector<mf::VertexSupport> supports;
-  for (const TriangleMesh& m : meshes) {
-    models.push_back(test::make_bvh<::fcl::OBBRSSd>(m));
-    supports.emplace_back(*models.back());
-  }
+  const Solids solids;
+  const auto& models = solids.models;
+  const auto& supports = solids.supports;
   std::mt19937 rng(42);
   const double margin = 0.01;
   std::size_t proved = 0, within = 0, free_unproved = 0;
   for (int k = 0; k < 3000; ++k) {
-    const std::size_t a = rng() % meshes.size(), b = rng() % meshes.size();
+    const std::size_t a = rng() % models.size(), b = rng() % models.size();
     const Eigen::Isometry3d X_A = random_pose(rng, 0.1), X_B = random_pose(rng, 0.1);
     const double d = mesh_distance(models[a], X_A, models[b], X_B);
     const mf::PlaneResult r = mf::separated(supports[a], X_A, supports[b], X_B, margin,
@@ -111,13 +112,9 @@ TEST_CASE("separating plane: every pair proved free is farther apart than the ma
 
 TEST_CASE("separating plane: a pair bisected to the margin is never proved free within it",
           "[check][fcl]") {
-  const std::vector<TriangleMesh> meshes = solids();
-  std::vector<std::shared_ptr<mf::MeshModel>> models;
-  std::vector<mf::VertexSupport> supports;
-  for (const TriangleMesh& m : meshes) {
-    models.push_back(test::make_bvh<::fcl::OBBRSSd>(m));
-    supports.emplace_back(*models.back());
-  }
+  const Solids solids;
+  const auto& models = solids.models;
+  const auto& supports = solids.supports;
   std::mt19937 rng(43);
   const double margin = 0.01;
   std::size_t near_proved = 0, tried = 0;
