@@ -25,11 +25,11 @@
 /// most 8 eps (|x|_1 + |p|_1) |u|_1 (eps = 2^-53); a ball of the tree is skipped when its
 /// centre's projection plus its radius (rounded up by a relative 1e-14) cannot exceed the
 /// best vertex found, so the computed extremes are within 16 eps of the magnitudes of the
-/// exact ones; |u| is within 4 eps of 1. The proof asks m_B - h_A to exceed the margin by
-/// gap_allowance (1e-12 of the magnitudes: the two frames' origins, the meshes' largest
-/// coordinates and the margin), more than 10^3 times these errors. So a pair proved free
-/// has an exact distance (and FCL's, within its own few ulps) above margin + 1e-12 of the
-/// magnitudes: the verdict the meshes would give.
+/// exact ones (a ball's value is c . n + r |n|, |n| grown by a relative 1e-15); |u| is within 4 eps
+/// of 1. The proof asks m_B - h_A to exceed the margin by gap_allowance (1e-12 of the magnitudes:
+/// the two frames' origins, the meshes' largest coordinates and the margin), more than 10^3 times
+/// these errors. So a pair proved free has an exact distance (and FCL's, within its own few ulps)
+/// above margin + 1e-12 of the magnitudes: the verdict the meshes would give.
 ///
 /// Frames and units: vertices in the link frame, poses X_W* in the world frame W, metres.
 /// Degenerate input: a mesh without vertices has no VertexSupport (the constructor
