@@ -10,7 +10,12 @@
 //   V gather_cells(const GridView<T>& g, V ux, V uy, V uz, unsigned inside, V& cx, V& cy,
 //     V& cz, V& upper) (in the lanes `inside`, the cell (i, j, k) = ((int)ux, (int)uy,
 //     (int)uz) of the field: its lower byte (returned) and upper byte, and i, j, k in cx,
-//     cy, cz; 0 in the other lanes).
+//     cy, cz; 0 in the other lanes);
+//   void truncate_cells(VD x, unsigned in, uint32_t* out) (out[l] = (uint32_t)x[l] in the
+//     lanes `in`, each within [0, 2^16), else 0);
+//   unsigned table_bits(const PairTableView& t, const uint32_t* fine) (per lane l of kLanes,
+//     bit c of t.bits, c = sum over j < t.sources of (fine[t.slot[j] * kLanes + l] >>
+//     t.shift[j]) * t.stride[j], each fine index < 2^16).
 // Included by kernel_scalar.cpp and kernel_avx2.cpp only. Everything here is internal to
 // the including file (an unnamed namespace), and it calls no inline function of another
 // file but float_sincos.h's template, instantiated on this file's own lane types (so
@@ -444,13 +449,28 @@ MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsig
 }
 
 // The fine index (pair_table.h) of every table slot's position in each lane of the pass
-// (0 beyond its limits) and the lanes within them, computed on a pass's first table
-// look-up.
+// (0 beyond its limits, and in the lanes past the pass's width) and the lanes within
+// them, computed on a pass's first table look-up.
 struct TableCells {
   bool ready = false;
   unsigned inside[kMaxTableSlots];
-  std::uint32_t fine[kMaxTableSlots * kLanes];
+  alignas(32) std::uint32_t fine[kMaxTableSlots * kLanes];
 };
+
+// The fine indices of the positions q[0 .. W) of a table slot: (q - lower) * inverse in
+// doubles, rounded down, within [0, kFineCells) (else 0) into out; returns the lanes within.
+template <int W>
+MEDSPHERES_KERNEL_INLINE unsigned slot_cells(const TableSlot& slot, const double* q,
+                                             std::uint32_t* out) {
+  unsigned inside = 0;
+  for (int h = 0; h < W / kHalf; ++h) {
+    const VD x = (load(q + h * kHalf) - splat(slot.lower)) * splat(slot.inverse);
+    const unsigned in = le_bits(splat(0.0), x) & ~le_bits(splat(kFineCells), x);
+    truncate_cells(x, in, out + h * kHalf);
+    inside |= in << (h * kHalf);
+  }
+  return inside;
+}
 
 // The lanes of `open` whose joint positions fall in a free cell of self pair k's table
 // (pair_table.h): the pair's sets are farther apart than the margin there, so its test
@@ -465,28 +485,15 @@ MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned op
     const double* q = c.b.q + (W == kLanes ? 0 : c.b.half * kHalf);
     for (int s = 0; s < c.robot.table_slots; ++s) {
       const TableSlot& slot = c.robot.table_slot[s];
-      unsigned inside = 0;
-      for (int lane = 0; lane < W; ++lane) {
-        const double x = (q[slot.source * kLanes + lane] - slot.lower) * slot.inverse;
-        const bool in = x >= 0.0 && x < kFineCells;
-        inside |= unsigned(in) << lane;
-        cells.fine[s * kLanes + lane] = static_cast<std::uint32_t>(in ? x : 0.0);
-      }
-      cells.inside[s] = inside;
+      cells.inside[s] = slot_cells<W>(slot, q + slot.source * kLanes, cells.fine + s * kLanes);
+      for (int lane = W; lane < kLanes; ++lane) cells.fine[s * kLanes + lane] = 0;
     }
     cells.ready = true;
   }
   unsigned inside = open;
   for (int j = 0; j < t.sources; ++j) inside &= cells.inside[t.slot[j]];
   if (!inside || t.all_free) return inside;
-  unsigned out = 0;
-  for (int lane = 0; lane < W; ++lane) {
-    std::uint32_t cell = 0;
-    for (int j = 0; j < t.sources; ++j)
-      cell += (cells.fine[t.slot[j] * kLanes + lane] >> t.shift[j]) * t.stride[j];
-    out |= static_cast<unsigned>(t.bits[cell >> 6] >> (cell & 63) & 1) << lane;
-  }
-  return out & inside;
+  return table_bits(t, cells.fine) & inside;
 }
 
 // The bounding-sphere tests of every link against the scene, for the lanes `open`, into
