@@ -346,31 +346,48 @@ MEDSPHERES_KERNEL_INLINE unsigned grid_near(const Ctx<V>& c, const typename V::T
   return open & ~clear;
 }
 
+// The lanes of `near` in which point i of a posed set (radius + add: rq) is within rq of
+// the scene by the grid's lists (exact, lane by lane): certainly (added to `hit`), or
+// maybe (added to `maybe`: within the slack of it).
+template <class V>
+MEDSPHERES_KERNEL_INLINE void scan_lanes(const Ctx<V>& c, const typename V::T* set, int i,
+                                         double rq, unsigned near, unsigned& hit, unsigned& maybe) {
+  for (int lane = 0; lane < V::W && near; ++lane) {
+    if (!(near >> lane & 1)) continue;
+    near &= ~(1u << lane);
+    double p[3];
+    lane_point<V>(set, i, lane, p);
+    const int v = c.scene.classify(p, rq, double(c.p.slack));
+    if (v == 1) hit |= 1u << lane;
+    if (v == 2) maybe |= 1u << lane;
+  }
+}
+
 // Lanes of `need` in which some sphere of the link's set `slot` is within r + add of the
-// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it).
+// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it). The
+// field's look-ups of a run of spheres first, then the lists in the lanes and spheres they
+// leave open: a lane that a later sphere's look-up settles reads no list.
 template <class V>
 unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned need,
                    unsigned& maybe) {
+  constexpr int kRun = 32;
   const LinkLayout& l = c.robot.link[link];
   const typename V::T* set = posed(c, link, slot);
-  const int begin = static_cast<int>(l.begin[slot]);
-  prefetch_points<V>(c.sp.grid, set, 0, static_cast<int>(l.count[slot]));
+  const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
+  prefetch_points<V>(c.sp.grid, set, 0, count);
   unsigned hit = 0;
-  for (int i = 0; i < static_cast<int>(l.count[slot]) && (need & ~hit); ++i) {
-    const double rq = double(c.sp.r[begin + i]) + add;
-    unsigned certain = 0;
-    unsigned near = grid_near(c, set, i, rq, need & ~hit, certain);
-    hit |= certain;
-    near &= ~certain;
-    for (int lane = 0; lane < V::W && near; ++lane) {
-      if (!(near >> lane & 1)) continue;
-      near &= ~(1u << lane);
-      double p[3];
-      lane_point<V>(set, i, lane, p);
-      const int v = c.scene.classify(p, rq, double(c.p.slack));
-      if (v == 1) hit |= 1u << lane;
-      if (v == 2) maybe |= 1u << lane;
+  unsigned char near[kRun];
+  for (int first = 0; first < count && (need & ~hit); first += kRun) {
+    const int n = count - first < kRun ? count - first : kRun;
+    for (int i = 0; i < n && (need & ~hit); ++i) {
+      unsigned certain = 0;
+      near[i] = static_cast<unsigned char>(grid_near(
+          c, set, first + i, double(c.sp.r[begin + first + i]) + add, need & ~hit, certain));
+      hit |= certain;
     }
+    for (int i = 0; i < n && (need & ~hit); ++i)
+      scan_lanes(c, set, first + i, double(c.sp.r[begin + first + i]) + add, near[i] & need & ~hit,
+                 hit, maybe);
   }
   return hit;
 }
