@@ -42,6 +42,11 @@ template <class T>
 struct KernelSpheres {
   const T *x = nullptr, *y = nullptr, *z = nullptr, *r = nullptr;  // per sphere
   const T* bound = nullptr;  // per link: x, y, z, r in its frame
+  /// Per self pair (a, o): the square of T(r_a + r_o + margin + allowance) + slack, in T,
+  /// r the links' bounding radii in T (the Block's margin, allowance and slack; slack 0 in
+  /// doubles): the pair's bounding spheres may meet where their centres' squared distance
+  /// is at most this.
+  const T* pair_reach2 = nullptr;
   GridView<T> grid;
 };
 

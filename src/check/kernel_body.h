@@ -449,20 +449,17 @@ MEDSPHERES_KERNEL_INLINE unsigned scene_near(const Ctx<V>& c, int link, unsigned
   return grid_near(c, posed(c, link, kBoundSlot), 0, rq, open, hit);
 }
 
-// The lanes of `open` in which the bounding spheres of links a and o may come within the
-// margin of each other.
+// The lanes of `open` in which the bounding spheres of self pair k's links may come within
+// the margin of each other.
 template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
+MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int k, unsigned open) {
   using T = typename V::T;
   constexpr int W = V::W;
-  const T* ba = posed(c, a, kBoundSlot);
-  const T* bo = posed(c, o, kBoundSlot);
+  const T* ba = posed(c, static_cast<int>(c.robot.pair_a[k]), kBoundSlot);
+  const T* bo = posed(c, static_cast<int>(c.robot.pair_b[k]), kBoundSlot);
   const V dx = load(ba) - load(bo), dy = load(ba + W) - load(bo + W),
           dz = load(ba + 2 * W) - load(bo + 2 * W);
-  const T reach = T(double(c.sp.bound[4 * a + 3]) + double(c.sp.bound[4 * o + 3]) + c.b.margin +
-                    c.b.allowance) +
-                  c.p.slack;
-  return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
+  return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(c.sp.pair_reach2[k]));
 }
 
 // The fine index (pair_table.h) of every table slot's position in each lane of the pass
@@ -531,10 +528,7 @@ void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
   const KernelRobot& robot = c.robot;
   near_links(c, open, near);
   for (int k = 0; k < robot.pairs; ++k)
-    near[robot.links + k] =
-        static_cast<unsigned char>(c.b.self ? pair_near(c, static_cast<int>(robot.pair_a[k]),
-                                                        static_cast<int>(robot.pair_b[k]), open)
-                                            : 0u);
+    near[robot.links + k] = static_cast<unsigned char>(c.b.self ? pair_near(c, k, open) : 0u);
 }
 
 // Bounds mode, one level of a pair (link against the scene when o < 0, else the self pair
@@ -580,11 +574,14 @@ unsigned pair_level(const Ctx<V>& c, int link, int o, int level, unsigned& pendi
 // lane and counts the lanes it proves colliding). A probe (b.probe > 0) runs the order's tests
 // [b.probe_from, b.probe) at the planner's level only: a lane it proves colliding is proved by
 // the same test in the whole run.
-// A probe's bounding-sphere test of link a against the scene (o < 0) or against link o,
-// in the lanes `open` (kept out of run_bounds' loop, which runs without a probe mostly).
+// A probe's bounding-sphere test of test k (link k against the scene, or self pair k -
+// links), in the lanes `open` (kept out of run_bounds' loop, which runs without a probe
+// mostly).
 template <class V>
-__attribute__((noinline)) unsigned char probe_near(const Ctx<V>& c, int a, int o, unsigned open) {
-  return static_cast<unsigned char>(o < 0 ? scene_near(c, a, open) : pair_near(c, a, o, open));
+__attribute__((noinline)) unsigned char probe_near(const Ctx<V>& c, int k, unsigned open) {
+  const int links = c.robot.links;
+  return static_cast<unsigned char>(k < links ? scene_near(c, k, open)
+                                              : pair_near(c, k - links, open));
 }
 
 template <class V>
@@ -603,7 +600,7 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
       if (k >= robot.links && !c.b.self) continue;
       const int a = k < robot.links ? k : static_cast<int>(robot.pair_a[k - robot.links]),
                 o = k < robot.links ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
-      if (probe > 0) pending[k] = probe_near(c, a, o, open);
+      if (probe > 0) pending[k] = probe_near(c, k, open);
       unsigned p = pending[k] & open, m = near[k], hit = 0;
       if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
       if (c.b.hits)
@@ -651,7 +648,7 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
       const bool everywhere = robot.table && robot.table[k - robot.links].all_free;
       const unsigned lanes =
           everywhere ? open & ~table_free(c, k - robot.links, open, cells) : open;
-      unsigned need = lanes ? pair_near(c, a, o, lanes) : 0u;
+      unsigned need = lanes ? pair_near(c, k - robot.links, lanes) : 0u;
       if (need && robot.table && !everywhere) need &= ~table_free(c, k - robot.links, need, cells);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,

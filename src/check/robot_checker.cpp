@@ -53,7 +53,7 @@ struct Workspace {
 // A layout's spheres and bounding spheres in precision T, and the grid's view in T.
 template <class T>
 struct SphereArrays {
-  std::vector<T> x, y, z, r, bound;
+  std::vector<T> x, y, z, r, bound, pair_reach2;
   KernelSpheres<T> view(const SceneGrid& g, const DistanceField& f) const {
     KernelSpheres<T> k;
     k.x = x.data();
@@ -61,6 +61,7 @@ struct SphereArrays {
     k.z = z.data();
     k.r = r.data();
     k.bound = bound.data();
+    k.pair_reach2 = pair_reach2.data();
     if (!f.empty()) {
       for (int d = 0; d < 3; ++d) {
         k.grid.origin[d] = T(f.origin()[d]);
@@ -89,6 +90,19 @@ SphereArrays<T> sphere_arrays(const RobotLayout& l) {
   a.r.assign(l.r.begin(), l.r.end());
   for (const LinkLayout& link : l.links) a.bound.insert(a.bound.end(), link.bound, link.bound + 4);
   return a;
+}
+
+// KernelSpheres::pair_reach2 of the arrays a (slack: 0 in doubles).
+template <class T>
+void set_pair_reach(SphereArrays<T>& a, const RobotLayout& l, double margin, double allowance,
+                    T slack) {
+  a.pair_reach2.resize(l.pair_a.size());
+  for (std::size_t k = 0; k < l.pair_a.size(); ++k) {
+    const T reach = T(double(a.bound[4 * l.pair_a[k] + 3]) + double(a.bound[4 * l.pair_b[k] + 3]) +
+                      margin + allowance) +
+                    slack;
+    a.pair_reach2[k] = reach * reach;
+  }
 }
 
 }  // namespace
@@ -483,6 +497,10 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.table_slot = m.tables->slots().data();
   m.float_range = float_ranges(planner, l);
   m.slack = float_slack(l, scene, g, m.float_range);
+  detail::set_pair_reach(m.spheres_d, l, options.margin, m.allowance, 0.0);
+  detail::set_pair_reach(m.spheres_f, l, options.margin, m.allowance, m.slack);
+  k.d = m.spheres_d.view(g, *m.field);
+  k.f = m.spheres_f.view(g, *m.field);
   m.learn_order(planner);
 }
 
