@@ -86,6 +86,8 @@ struct Pass {
   const T* frames = nullptr;            // frames * 12 * W: X_WF rows of R, then p
   T* posed = nullptr;                   // per sphere 3 * W, then per link 3 * W (bounding spheres)
   unsigned char* posed_flag = nullptr;  // links * kSlots
+  unsigned char* near = nullptr;        // per sphere: lanes its field look-up left open
+  int* lists = nullptr;                 // per link (spheres mode)
   unsigned char* pending = nullptr;     // per link and self pair (bounds mode)
   unsigned char* unsure = nullptr;      // per link and self pair (bounds mode, floats)
   unsigned lanes = 0;                   // the lanes that hold a configuration (bits)
@@ -123,6 +125,8 @@ struct Block {
   double* posed = nullptr;              // (spheres + links) * 3 * kHalf
   float* posed_f = nullptr;             // (spheres + links) * 3 * kLanes
   unsigned char* posed_flag = nullptr;  // links * kSlots
+  unsigned char* near = nullptr;        // spheres
+  int* lists = nullptr;                 // links
   unsigned char* pending = nullptr;     // links + self pairs
   unsigned char* unsure = nullptr;      // links + self pairs
   // Output (lane bits).

@@ -363,33 +363,50 @@ MEDSPHERES_KERNEL_INLINE void scan_lanes(const Ctx<V>& c, const typename V::T* s
   }
 }
 
-// Lanes of `need` in which some sphere of the link's set `slot` is within r + add of the
-// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it). The
-// field's look-ups of a run of spheres first, then the lists in the lanes and spheres they
-// leave open: a lane that a later sphere's look-up settles reads no list.
+// A link's set `slot` against the scene by the field alone, in the lanes `need`: returns
+// the lanes in which some sphere is certainly within r + add of it, and keeps per sphere
+// (p.near) the lanes its look-up leaves open, for set_lists.
 template <class V>
-unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned need,
-                   unsigned& maybe) {
-  constexpr int kRun = 32;
+unsigned set_field(const Ctx<V>& c, int link, int slot, double add, unsigned need) {
   const LinkLayout& l = c.robot.link[link];
   const typename V::T* set = posed(c, link, slot);
   const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
   prefetch_points<V>(c.sp.grid, set, 0, count);
   unsigned hit = 0;
-  unsigned char near[kRun];
-  for (int first = 0; first < count && (need & ~hit); first += kRun) {
-    const int n = count - first < kRun ? count - first : kRun;
-    for (int i = 0; i < n && (need & ~hit); ++i) {
-      unsigned certain = 0;
-      near[i] = static_cast<unsigned char>(grid_near(
-          c, set, first + i, double(c.sp.r[begin + first + i]) + add, need & ~hit, certain));
-      hit |= certain;
-    }
-    for (int i = 0; i < n && (need & ~hit); ++i)
-      scan_lanes(c, set, first + i, double(c.sp.r[begin + first + i]) + add, near[i] & need & ~hit,
-                 hit, maybe);
+  for (int i = 0; i < count; ++i) {
+    unsigned certain = 0;
+    c.p.near[begin + i] = static_cast<unsigned char>(
+        grid_near(c, set, i, double(c.sp.r[begin + i]) + add, need & ~hit, certain));
+    hit |= certain;
   }
   return hit;
+}
+
+// After set_field of the same set and `add`: the lanes of `lanes` in which some sphere
+// whose look-up left them open is within r + add of the scene by the grid's lists:
+// certainly (returned), or maybe (added to `maybe`).
+template <class V>
+unsigned set_lists(const Ctx<V>& c, int link, int slot, double add, unsigned lanes,
+                   unsigned& maybe) {
+  const LinkLayout& l = c.robot.link[link];
+  const typename V::T* set = posed(c, link, slot);
+  const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
+  unsigned hit = 0;
+  for (int i = 0; i < count && (lanes & ~hit); ++i)
+    scan_lanes(c, set, i, double(c.sp.r[begin + i]) + add, c.p.near[begin + i] & lanes & ~hit, hit,
+               maybe);
+  return hit;
+}
+
+// Lanes of `need` in which some sphere of the link's set `slot` is within r + add of the
+// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it). The
+// field's look-ups of every sphere first, then the lists in the lanes and spheres they
+// leave open: a lane that a later sphere's look-up settles reads no list.
+template <class V>
+unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned need,
+                   unsigned& maybe) {
+  const unsigned hit = set_field(c, link, slot, add, need);
+  return hit | set_lists(c, link, slot, add, need & ~hit, maybe);
 }
 
 // The lanes in which some sphere of link a's set slot_a is within `add` + radii of some
@@ -620,7 +637,9 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
 }
 
 // The spheres mode: the tests (each link against the scene, each self pair) in the
-// robot's order (test_order.h), each in the lanes still open, a self pair's bounding
+// robot's order (test_order.h), each in the lanes still open (a link's lists, which its
+// field's look-ups leave open, in the lanes still open after every test: a lane that
+// another test finds colliding reads none), a self pair's bounding
 // spheres only when it is reached, its sets only in the lanes its table (if any) leaves. The links'
 // bounding spheres against the scene (near_links) run after the order's first robot.head tests
 // (those that find most configurations colliding: when they leave no lane open, the look-ups are
@@ -633,13 +652,21 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
   unsigned char* near = c.p.pending;
   unsigned open = c.p.lanes, maybe = 0;
   TableCells cells;
+  int* lists = c.p.lists;  // the links whose lists wait for the end (not when learning)
+  int waiting = 0;
   for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
     if (t == robot.head) near_links(c, open, near);
     const int k = static_cast<int>(robot.order[t]);
     unsigned hit = 0;
     if (k < robot.links) {
       const unsigned need = (t < robot.head ? scene_near(c, k, open) : near[k]) & open;
-      if (need) hit = set_scene(c, k, robot.link[k].spheres, c.b.margin, need, maybe);
+      if (need) {
+        hit = set_field(c, k, robot.link[k].spheres, c.b.margin, need);
+        if (c.b.hits)
+          hit |= set_lists(c, k, robot.link[k].spheres, c.b.margin, need & ~hit, maybe);
+        else
+          lists[waiting++] = k;
+      }
     } else if (c.b.self) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
@@ -659,6 +686,8 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
     else
       open &= ~hit;
   }
+  for (int w = 0; w < waiting && open; ++w)
+    open &= ~set_lists(c, lists[w], robot.link[lists[w]].spheres, c.b.margin, open, maybe);
   unsure = maybe & open;
   return open;
 }
@@ -690,6 +719,8 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   p.frames = b.frames + h * robot.frames * 12 * kHalf;
   p.posed = b.posed;
   p.posed_flag = b.posed_flag;
+  p.near = b.near;
+  p.lists = b.lists;
   p.pending = b.pending;
   p.unsure = b.unsure;
   p.lanes = lanes;
@@ -717,6 +748,8 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
     p.frames = b.frames_f;
     p.posed = b.posed_f;
     p.posed_flag = b.posed_flag;
+    p.near = b.near;
+    p.lists = b.lists;
     p.pending = b.pending;
     p.unsure = b.unsure;
     p.lanes = b.lanes;

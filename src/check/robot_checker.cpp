@@ -46,7 +46,8 @@ struct Workspace {
   std::vector<float> frames_f;
   std::unique_ptr<double[]> posed;
   std::unique_ptr<float[]> posed_f;
-  std::vector<unsigned char> flags, pending, unsure;
+  std::vector<unsigned char> flags, near, pending, unsure;
+  std::vector<int> lists;
   std::vector<UndecidedPair>* pairs[kLanes] = {};
 };
 
@@ -148,6 +149,8 @@ struct RobotChecker::Impl {
     w.posed.reset(new double[points * 3 * detail::kHalf]);
     w.posed_f.reset(new float[points * 3 * detail::kLanes]);
     w.flags.assign(layout.links.size() * detail::kSlots, 0);
+    w.near.assign(layout.x.size(), 0);
+    w.lists.assign(layout.links.size(), 0);
     w.pending.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.unsure.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.q.assign(layout.dof * detail::kLanes, 0.0);
@@ -265,6 +268,8 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.posed = w.posed.get();
   b.posed_f = w.posed_f.get();
   b.posed_flag = w.flags.data();
+  b.near = w.near.data();
+  b.lists = w.lists.data();
   b.pending = w.pending.data();
   b.unsure = w.unsure.data();
   SinkContext context{&layout, grid.get(), scene_objects, &w};
