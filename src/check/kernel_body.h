@@ -373,12 +373,14 @@ unsigned set_field(const Ctx<V>& c, int link, int slot, double add, unsigned nee
   const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
   prefetch_points<V>(c.sp.grid, set, 0, count);
   unsigned hit = 0;
-  for (int i = 0; i < count; ++i) {
+  int i = 0;
+  for (; i < count && (need & ~hit); ++i) {
     unsigned certain = 0;
     c.p.near[begin + i] = static_cast<unsigned char>(
         grid_near(c, set, i, double(c.sp.r[begin + i]) + add, need & ~hit, certain));
     hit |= certain;
   }
+  for (; i < count; ++i) c.p.near[begin + i] = 0;  // every lane of `need` settled
   return hit;
 }
 
