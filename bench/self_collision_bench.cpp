@@ -5,7 +5,9 @@
 //
 // Rows: "medspheres", the robot command's defaults (covering sets of --spheres-per-link
 // spheres, the matrix from --samples seeded configurations, its tool frames and default
-// configuration); with --contact also "contact", the same with contact-aware covers
+// configuration); with --fill-covers also "filled", the same with thin shells' covers baked
+// on their filled solids (`robot --fill-covers`, at --fill-resolution); with --contact also
+// "contact", the same with contact-aware covers
 // (contact_regions.h: --contact-samples, --contact-band, --contact-weight); for the G1 also
 // "curobo", cuRobo's shipped configuration of the G1 (its spheres, self_collision_ignore and
 // self_collision_buffer, links the URDF lacks left out, its cspace default_joint_position as its
@@ -36,27 +38,34 @@
 //
 // What-ifs on the medspheres row: --link NAME=K bakes link NAME to K spheres (the others to
 // --spheres-per-link); --buffer NAME=M adds M metres to its self-collision buffer (negative:
-// its spheres shrink and no longer cover, so false negatives may appear). Diagnostics:
+// its spheres shrink and no longer cover, so false negatives may appear); --cover-start FILE
+// tightens the covers of the links FILE names from its spheres, in every row (`robot
+// --cover-start`). Diagnostics:
 // --gaps N tallies, for each row's N pairs that alone make the most false-positive
 // configurations, the evaluation's configurations by the pair's mesh gap and how many of
 // them its spheres report; --ideal D (repeatable) counts the false-positive configurations
 // of an ideal planner that checks the medspheres row's pairs and reports a pair exactly when
-// its solids are within D, the least a cover sticking out by D / 2 everywhere can reach.
+// its solids are within D, the least a cover sticking out by D / 2 everywhere can reach;
+// with --fill-covers, the free configurations where a checked partner meets a filled link's
+// filled solid (the least its cover reports).
 //
 // Usage: bench_self_collision [--urdf FILE]... [--samples N] [--eval N] [--seed S]
 //          [--spheres-per-link K] [--link NAME=K]... [--buffer NAME=M]... [--gaps N]
-//          [--ideal D]... [--arms N] [--threads T] [--cache DIR] [--no-g1] [--no-coarse-arm]
+//          [--ideal D]... [--cover-start FILE] [--fill-covers [--fill-resolution N]]
+//          [--contact ...] [--arms N] [--threads T] [--cache DIR] [--no-g1] [--no-coarse-arm]
 #include <algorithm>
 #include <chrono>
 #include <cstdio>
 #include <cstdlib>
 #include <filesystem>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 #include <vector>
 
 #include <yaml-cpp/yaml.h>
+#include <nlohmann/json.hpp>
 
 #include "bench_args.h"
 #include "medspheres/batch/batch_robot.h"
@@ -64,9 +73,11 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/self_collision_report.h"
+#include "medspheres/formats/sphere_document.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
 #include "medspheres/measure/fit_metrics.h"
+#include "medspheres/mesh/filled_solid.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
 #include "medspheres/number_text.h"
@@ -93,13 +104,16 @@ struct Options {
   std::string cache;
   bool g1 = true;
   bool coarse_arm = true;
-  std::size_t top = 0;                    // pairs named per row
-  std::size_t gaps = 0;                   // pairs whose gaps are tallied, per row
-  std::vector<double> ideal;              // margins of the ideal planner, metres
-  std::vector<std::string> link_budgets;  // NAME=K
-  std::vector<std::string> buffers;       // NAME=M, added to the medspheres row's
-  bool contact = false;                   // add the contact-aware row
-  bool contact_regions = false;           // and print its regions' protrusions
+  std::size_t top = 0;                         // pairs named per row
+  std::size_t gaps = 0;                        // pairs whose gaps are tallied, per row
+  std::vector<double> ideal;                   // margins of the ideal planner, metres
+  std::vector<std::string> link_budgets;       // NAME=K
+  std::vector<std::string> buffers;            // NAME=M, added to the medspheres row's
+  std::string cover_start;                     // a per-link sphere file the covers start from
+  bool fill_covers = false;                    // add the row of thin shells' covers filled
+  int fill_resolution = kFillCoverResolution;  // of their filled solid
+  bool contact = false;                        // add the contact-aware row
+  bool contact_regions = false;                // and print its regions' protrusions
   ContactOptions contact_options;
 };
 
@@ -125,8 +139,12 @@ struct Baked {
   std::vector<LinkSolid> solids;
 };
 
-RobotJob robot_job(const Options& o) {
+RobotJob robot_job(const Options& o, bool fill_covers = false) {
   RobotJob job;
+  job.bake.fill_thin_shell_covers = fill_covers;
+  job.bake.fill_cover_resolution = o.fill_resolution;
+  if (!o.cover_start.empty())
+    job.bake.outer_start = formats::read_link_sphere_map(o.cover_start, "--cover-start");
   job.bake.budget.per_link = o.spheres_per_link;
   for (const auto& [link, k] : name_values(o.link_budgets, "--link"))
     job.bake.budget.links[link] = static_cast<std::size_t>(k);
@@ -149,13 +167,15 @@ RobotModel cached_model(const Options& o, const std::string& name, const Make& m
 }
 
 // The robot command's bake; with \p contact the contact-aware one (rebake_contact_aware, the
-// matrix as the medspheres row computes it).
-Baked bake(const std::string& urdf, const Options& o, bool contact = false) {
+// matrix as the medspheres row computes it); with \p fill_covers thin shells' covers baked on
+// their filled solids (`robot --fill-covers`).
+Baked bake(const std::string& urdf, const Options& o, bool contact = false,
+           bool fill_covers = false) {
   const UrdfRobot robot = read_urdf(urdf);
   Baked b;
   b.name = robot.model.name;
   b.solids = load_link_solids(robot);
-  const RobotJob job = robot_job(o);
+  const RobotJob job = robot_job(o, fill_covers);
   const std::string key =
       robot_cache_key(robot, file_sha256(urdf), job, fs::path(urdf).filename().string());
   b.model = cached_model(o, key + ".robot.json",
@@ -395,6 +415,78 @@ void print_ideal(const LinkSolids& solids, const Planner& p,
   std::printf("\n");
 }
 
+// The links whose covering set was baked on their filled solid (the robot's metadata:
+// "cover_solid": "filled" in the link's entry).
+std::vector<std::size_t> filled_links(const RobotModel& m) {
+  const nlohmann::json links = nlohmann::json::parse(m.metadata_json)["links"];
+  std::vector<std::size_t> out;
+  for (std::size_t i = 0; i < m.links.size(); ++i) {
+    const auto it = links.find(m.links[i].name);
+    if (it != links.end() && it->value("cover_solid", "") == "filled") out.push_back(i);
+  }
+  return out;
+}
+
+// The solids with each filled link's solid replaced by its filled solid (at the bake's
+// resolution; in the part's frame, as the bake builds it, then placed), bounded by the
+// real link's inner set (inside the real solid, so inside the filled one) and the filled
+// row's cover (certified on the filled solid's boundary).
+LinkSolids filled_solids(const Baked& b, const std::vector<std::size_t>& links, int resolution) {
+  RobotModel model = b.model;
+  std::vector<LinkSolid> solids = b.solids;
+  for (const std::size_t i : links) {
+    LinkSolid& s = solids[i];
+    const bool one = s.parts.size() == 1;
+    TriangleMesh mesh =
+        make_filled_solid(one ? s.parts[0].mesh : s.placed_mesh(), s.link, resolution).mesh;
+    if (one)
+      for (Eigen::Vector3d& v : mesh.vertices) v = s.parts[0].origin * v;
+    LinkSolidPart part;
+    part.mesh = std::move(mesh);
+    part.source = "filled " + s.link;
+    s.parts = {std::move(part)};
+    s.spheres.clear();
+  }
+  return LinkSolids(model, solids);
+}
+
+// The least the filled covers can reach: over the evaluation's configurations where no pair
+// of real solids collides, those where some checked pair collides once each filled link's
+// solid is its filled solid (a partner enters a cavity's closing or the filled solid's
+// excess), per filled link and over all: a cover of the filled solid reports them all.
+void print_filled_floor(const Baked& filled, const Planner& p,
+                        const std::set<std::pair<std::size_t, std::size_t>>& judged,
+                        const std::vector<Poses>& eval, const std::vector<std::vector<char>>& truth,
+                        const Options& o) {
+  const std::vector<std::size_t> links = filled_links(filled.model);
+  if (links.empty()) return;
+  const LinkSolids solids = filled_solids(filled, links, o.fill_resolution);
+  const std::vector<LinkPair> pairs(judged.begin(), judged.end());
+  // hits[s][l]: a checked partner meets filled link l's filled solid in free configuration s
+  std::vector<std::vector<char>> hits(eval.size(), std::vector<char>(links.size(), 0));
+#pragma omp parallel for schedule(dynamic, 16) num_threads(o.threads)
+  for (std::size_t s = 0; s < eval.size(); ++s) {
+    if (std::find(truth[s].begin(), truth[s].end(), 1) != truth[s].end()) continue;
+    for (std::size_t l = 0; l < links.size(); ++l)
+      for (std::size_t k = 0; k < pairs.size() && !hits[s][l]; ++k) {
+        const auto [a, c] = pairs[k];
+        if ((a != links[l] && c != links[l]) || !p.checked.count(pairs[k])) continue;
+        hits[s][l] = solids.has(a) && solids.has(c) && solids.within(eval[s], a, c, 0.0);
+      }
+  }
+  std::vector<std::size_t> per_link(links.size(), 0);
+  std::size_t any = 0;
+  for (const std::vector<char>& h : hits) {
+    for (std::size_t l = 0; l < links.size(); ++l) per_link[l] += h[l];
+    any += std::find(h.begin(), h.end(), 1) != h.end();
+  }
+  std::printf("  %s: free configurations where a checked partner meets a filled solid:",
+              p.row.c_str());
+  for (std::size_t l = 0; l < links.size(); ++l)
+    std::printf(" %s %zu;", filled.model.links[links[l]].name.c_str(), per_link[l]);
+  std::printf(" any %zu (of %zu)\n", any, eval.size());
+}
+
 void print_row(const Planner& p, const Tally& t, std::size_t eval) {
   const auto n = [&](PairClass k) {
     const auto it = p.classes.find(k);
@@ -460,6 +552,11 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
   std::set<std::pair<std::size_t, std::size_t>> judged;
   std::vector<Planner> rows;
   rows.push_back(medspheres_planner(b, o, judged));
+  std::optional<Baked> filled;
+  if (o.fill_covers) {
+    filled = bake(urdf, o, false, true);
+    rows.push_back(medspheres_planner(*filled, o, judged, "filled"));
+  }
   if (o.contact) {
     const Baked c = bake(urdf, o, true);
     rows.push_back(medspheres_planner(c, o, judged, "contact"));
@@ -495,6 +592,7 @@ void run_robot(const std::string& urdf, const std::string& curobo_yml, const Opt
     print_row(p, tallies.back(), o.eval);
   }
   if (!o.ideal.empty()) print_ideal(solids, rows[0], judged, eval, truth, o.ideal, o.threads);
+  if (filled) print_filled_floor(*filled, rows[1], judged, eval, truth, o);
   for (std::size_t r = 0; r < rows.size() && o.gaps > 0; ++r)
     print_gaps(b, solids, rows[r], tallies[r], eval, o.gaps);
   if (o.top == 0) return;
@@ -537,6 +635,14 @@ int main(int argc, char** argv) {
   args.app().add_option("--buffer", o.buffers,
                         "NAME=M: add M metres to link NAME's self-collision buffer in the "
                         "medspheres row (negative: the spheres shrink and no longer cover)");
+  args.add("--cover-start", o.cover_start,
+           "A per-link sphere file: those links' covers are tightened from its spheres "
+           "(robot --cover-start), in every row");
+  args.app().add_flag("--fill-covers", o.fill_covers,
+                      "Add the row of thin shells' covers baked on their filled solids (robot "
+                      "--fill-covers) and what their filled solids alone report");
+  args.add("--fill-resolution", o.fill_resolution,
+           "With --fill-covers: the filled solid's resolution (cells along L)");
   args.app().add_flag("--contact", o.contact,
                       "Add the row of contact-aware covers (contact_regions.h)");
   args.app().add_flag("--contact-regions", o.contact_regions,

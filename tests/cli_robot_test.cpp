@@ -223,7 +223,7 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
         std::string(" --srdf ") + shell_quote(dir.file("missing.srdf")),
         std::string(" --contact --no-self-collision"), std::string(" --contact --no-outer"),
         std::string(" --contact --contact-band 0"), std::string(" --contact --contact-weight 0.5"),
-        std::string(" --contact --contact-samples 0")}) {
+        std::string(" --contact --contact-samples 0"), std::string(" --fill-covers --no-outer")}) {
     INFO(bad);
     const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);
     CHECK(r.exit_code == 2);

@@ -58,6 +58,7 @@ py::dict stats_dict(const LinkBakeStats& s) {
   d["baked_as"] = s.baked_as;
   d["note"] = s.note;
   d["inner_filled"] = s.inner_filled;
+  d["outer_filled"] = s.outer_filled;
   return d;
 }
 
@@ -83,7 +84,8 @@ struct RobotArgs {
   std::optional<int> resolution;
   BakeFlags flags;
   bool measure, outer;
-  bool fill = false;  // thin-shelled links' inner sets on their filled solid
+  bool fill = false;         // thin-shelled links' inner sets on their filled solid
+  bool fill_covers = false;  // and their covering sets
   std::map<std::string, std::vector<Sphere>> cover_start;
   PlannerRequest planner;
 };
@@ -111,6 +113,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   options.jobs = a.jobs;
   options.outer = a.outer;
   options.fill_thin_shells = a.fill;
+  options.fill_thin_shell_covers = a.fill_covers;
   options.outer_start = a.cover_start;
   validate(a.planner.self_collision);
   const std::optional<formats::SphereChoice> set = formats::parse_set_choice(a.set);
@@ -236,10 +239,10 @@ void register_robot(py::module_& m) {
          bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
          const py::object& cover, std::uint64_t seed, const std::string& solid,
          int robust_resolution, const py::object& robust_thickness, bool measure, bool outer,
-         const py::object& cover_start, bool fill, const std::vector<std::string>& tool_frames,
-         const py::object& srdf, bool self_collision, std::size_t self_collision_samples,
-         unsigned self_collision_seed, double self_collision_threshold,
-         double self_collision_margin) {
+         const py::object& cover_start, bool fill, bool fill_covers,
+         const std::vector<std::string>& tool_frames, const py::object& srdf, bool self_collision,
+         std::size_t self_collision_samples, unsigned self_collision_seed,
+         double self_collision_threshold, double self_collision_margin) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -262,6 +265,7 @@ void register_robot(py::module_& m) {
         a.outer = outer;
         a.cover_start = link_spheres_arg(cover_start);
         a.fill = fill;
+        a.fill_covers = fill_covers;
         a.planner.tool_frames = tool_frames;
         if (!srdf.is_none()) a.planner.srdf = path_of(srdf);
         a.planner.sample = self_collision;
@@ -282,7 +286,7 @@ void register_robot(py::module_& m) {
       py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed,
       py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
       py::arg("robust_thickness") = py::none(), py::arg("measure") = true, py::arg("outer") = true,
-      py::arg("cover_start") = py::none(), py::arg("fill") = false,
+      py::arg("cover_start") = py::none(), py::arg("fill") = false, py::arg("fill_covers") = false,
       py::arg("tool_frames") = std::vector<std::string>{}, py::arg("srdf") = py::none(),
       py::arg("self_collision") = true,
       py::arg("self_collision_samples") = SelfCollisionOptions{}.samples,
@@ -299,7 +303,9 @@ void register_robot(py::module_& m) {
       "spheres} in link frames, a planner's own set: each such link's covering set is made "
       "from it (tighten_cover) instead of baked; links with no meshed part are named in a "
       "UserWarning. fill: a thin-shelled link's inner set on its filled solid (--fill; its "
-      "stats row says inner_filled). measure=False skips the exact volume error. solid, "
+      "stats row says inner_filled). fill_covers: a thin-shelled link's covering set baked on "
+      "its filled solid and certified on its real surface (--fill-covers). measure=False skips the "
+      "exact volume error. solid, "
       "robust_resolution, "
       "robust_thickness: each link's solid, as in bake. Lengths (vertex_tolerance, "
       "max_protrusion, cover, robust_thickness) are numbers in metres (the URDF's unit, in "

@@ -295,3 +295,27 @@ def test_bake_robot_fill_equals_cli(cli, tmp_path):
     assert ours["nerr"] <= 0.3 < 0.5 < theirs["nerr"]
     for side in ("py", "cli"):
         assert '"inner_solid": "filled"' in (tmp_path / side / "cup.robot.json").read_text()
+
+
+def test_bake_robot_fill_covers_equals_cli(cli, tmp_path):
+    """fill_covers=True: a thin-shelled link's covering set baked on its filled solid, as
+    --fill-covers bakes it, certified and marked in the robot file; the inner set unchanged."""
+    _thin_cup_stl(tmp_path / "cup.stl")
+    urdf = tmp_path / "cup.urdf"
+    urdf.write_text('<robot name="cup"><link name="cup"><collision><geometry>'
+                    '<mesh filename="cup.stl"/></geometry></collision></link></robot>\n')
+    filled = medspheres.bake_robot(urdf, tmp_path / "py", fill_covers=True, formats=["robot"],
+                                   self_collision=False, measure=False, spheres_per_link=8)
+    cli("robot", urdf, "-o", tmp_path / "cli", "--fill-covers", "--format", "robot",
+        "--no-self-collision", "--no-measure", "--spheres-per-link", "8", "-q")
+    for which in ("inner", "outer"):
+        ours = medspheres.load(tmp_path / "py" / "cup.robot.json", set=which).links["cup"]
+        theirs = medspheres.load(tmp_path / "cli" / "cup.robot.json", set=which).links["cup"]
+        assert ours.tobytes() == theirs.tobytes(), which
+    plain = medspheres.bake_robot(urdf, self_collision=False, measure=False, spheres_per_link=8)
+    assert filled.stats[0]["outer_filled"] and not plain.stats[0]["outer_filled"]
+    assert filled.stats[0]["outer_certified"]
+    assert filled.links["cup"]["inner"].tobytes() == plain.links["cup"]["inner"].tobytes()
+    assert filled.links["cup"]["outer"].tobytes() != plain.links["cup"]["outer"].tobytes()
+    for side in ("py", "cli"):
+        assert '"cover_solid": "filled"' in (tmp_path / side / "cup.robot.json").read_text()

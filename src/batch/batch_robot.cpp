@@ -231,6 +231,9 @@ std::string robot_cache_key(const UrdfRobot& robot, const std::string& urdf_sha2
     t += "outer_start=" + link + " " + spheres_text(spheres) + "\n";
   t += std::string("outer=") + (job.bake.outer ? "1" : "0") +
        "\nfill=" + (job.bake.fill_thin_shells ? "1" : "0") +
+       (job.bake.fill_thin_shell_covers
+            ? "\nfill_covers=" + std::to_string(job.bake.fill_cover_resolution)
+            : std::string()) +
        "\nfrom_visual=" + (job.read.from_visual ? "1" : "0") + "\nformats=";
   for (formats::SphereFormat f : chosen_formats(job))
     t += std::string(formats::sphere_format_name(f)) + ",";

@@ -49,6 +49,7 @@ struct RobotArgs {
   bool no_measure = false;
   bool no_outer = false;
   bool fill = false;
+  bool fill_covers = false;
   std::string cover_start;  ///< a per-link sphere file the outer sets start from
   std::string set = "auto";
   std::vector<std::string> tool_frames;
@@ -186,6 +187,7 @@ std::string options_json(const RobotArgs& a) {
   o["measure"] = !a.no_measure;
   o["outer"] = !a.no_outer;
   o["fill"] = a.fill;
+  o["fill_covers"] = a.fill_covers;
   o["cover_start"] = a.cover_start.empty() ? nlohmann::ordered_json(nullptr)
                                            : nlohmann::ordered_json(a.cover_start);
   o["set"] = a.set;
@@ -222,6 +224,10 @@ RobotJob robot_job(const RobotArgs& a) {
   job.bake.jobs = a.batch.jobs;
   job.bake.outer = !a.no_outer;
   job.bake.fill_thin_shells = a.fill;
+  if (a.fill_covers && a.no_outer)
+    throw InputError::option(ErrorKind::kConflict, "fill_covers", "",
+                             "fills the covering sets, which --no-outer leaves out");
+  job.bake.fill_thin_shell_covers = a.fill_covers;
   check_threads(a.batch.jobs);
   job.formats = formats::robot_output_formats(a.formats);
   job.set = formats::parse_set_choice(a.set);
@@ -341,6 +347,11 @@ void add_robot_bake_options(CLI::App* sub, RobotArgs* a) {
                 "Bake the inner set of a link whose solid is a thin shell (less than 0.2 of its "
                 "filled solid's volume) on its filled solid, its cavity filled; its covering "
                 "set stays on the real surface (docs/robots.md, Thin shells)");
+  sub->add_flag("--fill-covers", a->fill_covers,
+                "Bake the covering set of a thin-shelled link on its filled solid: the balls "
+                "fill its cavity and hug its outside instead of sticking out on both sides of "
+                "the thin material; still certified on the real surface "
+                "(docs/self-collision.md, Covers of thin shells)");
   sub->add_option("--cover-start", a->cover_start,
                   "A per-link sphere file (cuRobo, XRDF, ...; link frames) whose spheres, a "
                   "planner's own set that need not cover, become each link's certified covering "

@@ -87,9 +87,18 @@ std::vector<Sphere> placed(const std::vector<Sphere>& spheres, const Eigen::Isom
   return out;
 }
 
+// Which of a thin-shelled link's sets are baked on its filled solid (RobotBakeOptions).
+struct FillChoice {
+  bool inner = false;
+  bool covers = false;
+  int resolution = kFillCoverResolution;  ///< the covers' filled solid's
+};
+
 // The cover of a job's mesh to the job's budget (the request's, or the default).
+// With \p fill_covers, a thin shell's cover is baked on its filled solid (filled_inner.h).
 BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const BakeRequest& inner,
-                       const BakeJob& job, const std::string& name, const std::string& sha256) {
+                       const BakeJob& job, const std::string& name, const std::string& sha256,
+                       const FillChoice& fill, double fraction) {
   BakeRequest request;
   request.method = BakeMethod::kCover;
   request.medial.threads = inner.medial.threads;
@@ -105,6 +114,11 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
     request.cover_start = job.outer_start;
   } else {
     request.cover_weights = job.outer_weights;
+  }
+  if (fill.covers) {
+    std::optional<BakeOutcome> filled = bake_filled_cover(fit.query().mesh(), report, request, name,
+                                                          sha256, fraction, fill.resolution);
+    if (filled) return std::move(*filled);
   }
   return bake_mesh(fit, report, request, name, sha256);
 }
@@ -124,7 +138,7 @@ std::string outer_certificate_json(const CoverResult& cover, bool moved, double 
 }
 
 void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int threads, bool outer,
-             bool fill) {
+             const FillChoice& fill) {
   const Clock::time_point start = Clock::now();
   try {
     BakeRequest request = base;
@@ -140,12 +154,15 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
     // checked before it is built, as bake_mesh(mesh, ...) would.
     validate(request);
     const FitEvaluator fit(mesh, threads);
+    const double fraction = fill.inner || (outer && fill.covers)
+                                ? fill_fraction(mesh, report, request, name)
+                                : std::numeric_limits<double>::quiet_NaN();
     std::optional<BakeOutcome> filled;
-    if (fill) filled = bake_filled_inner(mesh, report, request, name, sha);
+    if (fill.inner) filled = bake_filled_inner(mesh, report, request, name, sha, fraction);
     job.outcome = filled ? std::move(*filled) : bake_mesh(fit, report, request, name, sha);
     if (outer) {
       const Clock::time_point cover_start = Clock::now();
-      job.outer = bake_outer(fit, report, request, job, name, sha);
+      job.outer = bake_outer(fit, report, request, job, name, sha, fill, fraction);
       job.outer_seconds = seconds_since(cover_start);
     }
   } catch (...) {
@@ -159,7 +176,7 @@ void run_job(BakeJob& job, const LinkSolid& solid, const BakeRequest& base, int 
 // call at a time. After a failure only jobs of a lower index than the lowest failure so far
 // still run, so the lowest failing job is always known, whatever the order of completion.
 void run_jobs(std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
-              const BakeRequest& request, bool outer, bool fill, int workers,
+              const BakeRequest& request, bool outer, const FillChoice& fill, int workers,
               const std::function<void(std::size_t)>& done) {
   const int per_bake = std::max(1, thread_count(request.medial.threads) / workers);
   std::vector<std::size_t> order(jobs.size());
@@ -236,6 +253,10 @@ void fill_from_job(LinkBakeStats& stats, LinkSpheres& spheres, const LinkSolid& 
                              " m (thinner ones enclosed nothing)"
                        : "");
   if (!job.outer) return;
+  stats.outer_filled = job.outer->record.extra_strings.count("cover_solid") > 0;
+  if (stats.outer_filled)
+    stats.note += std::string(stats.note.empty() ? "" : "; ") +
+                  "covering set on its filled solid (a thin shell)";
   const bool one = solid.parts.size() == 1;
   const CoverResult& cover = *job.outer->cover;
   spheres.outer.spheres =
@@ -284,6 +305,7 @@ std::string robot_metadata(const UrdfRobot& robot, const std::vector<LinkSolid>&
                      {"note", s.note}};
     if (!record_seconds) links[s.link].erase("bake_seconds");
     if (s.inner_filled) links[s.link][fcl::kInnerSolidKey] = fcl::kInnerSolidFilled;
+    if (s.outer_filled) links[s.link]["cover_solid"] = "filled";
   }
   j["links"] = links;
   return j.dump();
@@ -399,8 +421,9 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
   };
   const int workers = static_cast<int>(
       std::min<std::size_t>(jobs.size(), static_cast<std::size_t>(thread_count(options.jobs))));
-  run_jobs(jobs, solids, options.request, options.outer, options.fill_thin_shells,
-           std::max(1, workers), finish_links);
+  const FillChoice fill{options.fill_thin_shells, options.fill_thin_shell_covers,
+                        options.fill_cover_resolution};
+  run_jobs(jobs, solids, options.request, options.outer, fill, std::max(1, workers), finish_links);
 
   for (const BakeJob& job : jobs) {  // in link order: the first failing link is reported
     if (!job.error) continue;

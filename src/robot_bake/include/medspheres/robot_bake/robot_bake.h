@@ -34,6 +34,7 @@
 #include <vector>
 
 #include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/mesh/filled_solid.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_model.h"
@@ -90,6 +91,9 @@ struct LinkBakeStats {
   /// Its inner set was baked on its filled solid (RobotBakeOptions::fill_thin_shells); the
   /// robot's metadata then records "inner_solid": "filled" for the link.
   bool inner_filled = false;
+  /// Its outer set was baked on its filled solid (RobotBakeOptions::fill_thin_shell_covers);
+  /// the robot's metadata then records "cover_solid": "filled" for the link.
+  bool outer_filled = false;
 };
 
 /// Called once per link as its spheres are ready (in completion order, one call at a
@@ -126,6 +130,19 @@ struct RobotBakeOptions {
   /// read: their inner bounds of such a link are those of the filled solid. Off by
   /// default for that reason (`robot --fill`).
   bool fill_thin_shells = false;
+  /// With request.solid kAuto and `outer`: a link whose mesh is a thin shell gets its
+  /// covering set baked on its filled solid at fill_cover_resolution (make_filled_solid),
+  /// certified on the link's real surface as every covering set is: its balls may sit in the
+  /// cavity and hug the outside instead of sticking out on both sides of the thin material,
+  /// and they fill the cavity's opening. Its outer set's metadata and the link's entry of
+  /// the robot's record "cover_solid": "filled" (LinkBakeStats::outer_filled); the stats'
+  /// outer_max_protrusion is then against the filled solid. docs/self-collision.md,
+  /// "Covers of thin shells".
+  bool fill_thin_shell_covers = false;
+  /// The resolution of the filled solid the covers of fill_thin_shell_covers are baked on,
+  /// in [8, 1024]: its excess over the link's convex parts is below
+  /// (1 + sqrt(3)/2 + sqrt(3)) L / resolution (robust_solid.h).
+  int fill_cover_resolution = kFillCoverResolution;
 };
 
 struct RobotBakeResult {
