@@ -378,24 +378,28 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
                            }) /
                double(n);
     r.colliding = colliding_of(v);
-    char note[192];
+    char note[224];
     std::snprintf(note, sizeof note,
                   "certified: %zu configurations (%.2f%%) to the fallback, %zu by witnesses, "
-                  "%zu pairs by tables, %zu pairs, %zu to the meshes; %zu undecided",
+                  "%zu pairs by tables, %zu pairs, %zu by planes, %zu to the meshes; %zu undecided",
                   stats.configurations, 100.0 * double(stats.configurations) / double(n),
-                  stats.witnessed, stats.tabled, stats.pairs, stats.meshes,
+                  stats.witnessed, stats.tabled, stats.pairs, stats.planes, stats.meshes,
                   static_cast<std::size_t>(std::count(v.begin(), v.end(), Verdict::undecided)));
     r.note = note;
     rows.push_back(r);
   }
+  // A row of the certified checker built with other fallback options, and its stats.
+  fcl::FallbackStats stats;
+  auto variant = [&](const char* name, const fcl::FallbackOptions& f) {
+    const fcl::CertifiedChecker c(in.planner->model, fine, in.fine->meshes, in.scene, o, f);
+    return certified_row(name, c, in.repeats, q, v, stats);
+  };
+  char note[160];
   if (in.order_samples > 0) {
     // The same without the witnesses in the kernel's inner sets: the fallback tests them.
     fcl::FallbackOptions f = fallback;
     f.kernel_witnesses = false;
-    const fcl::CertifiedChecker apart(in.planner->model, fine, in.fine->meshes, in.scene, o, f);
-    fcl::FallbackStats stats;
-    Row r = certified_row("check/cw-", apart, in.repeats, q, v, stats);
-    char note[160];
+    Row r = variant("check/cw-", f);
     std::snprintf(note, sizeof note,
                   "as check/c, the witnesses in the fallback only: %zu to the fallback, %zu by "
                   "witnesses, %zu to the meshes",
@@ -403,13 +407,20 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
     r.note = note;
     rows.push_back(r);
   }
+  {
+    // The same without the separating planes: the meshes settle every pair left open.
+    fcl::FallbackOptions f = fallback;
+    f.separating_planes = false;
+    Row r = variant("check/cp-", f);
+    std::snprintf(note, sizeof note, "as check/c, no separating planes: %zu pairs to the meshes",
+                  stats.meshes);
+    r.note = note;
+    rows.push_back(r);
+  }
   if (in.trees || in.order_samples > 0) {
     // The same without the trees' sets and the learnt order: the fine sets as the sphere
     // trees, the bounds' order, no witnesses.
-    const fcl::CertifiedChecker without(in.planner->model, fine, in.fine->meshes, in.scene, o);
-    fcl::FallbackStats stats;
-    Row r = certified_row("check/c-", without, in.repeats, q, v, stats);
-    char note[160];
+    Row r = variant("check/c-", fcl::FallbackOptions{});
     std::snprintf(note, sizeof note,
                   "as check/c, the fine sets as the trees, no order: %zu pairs, %zu to the meshes",
                   stats.pairs, stats.meshes);
@@ -420,7 +431,6 @@ void add_certified_rows(const CheckerBenchInput& in, const check::CheckerOptions
     // The certified mode as it ran before check_bounds(): the bounds batch, then each
     // undecided configuration alone (its bounds again, one to a block, then its pairs).
     Row r{"check/c1", 1};
-    fcl::FallbackStats stats;
     const std::size_t dof = spheres.num_positions();
     r.micros = best_micros(in.repeats, false,
                            [&] {

@@ -24,7 +24,9 @@ struct PairTally {
   std::size_t undecided = 0;  // configurations in which the bounds left the pair open
   std::size_t trees_colliding = 0, trees_free = 0, meshes = 0, meshes_colliding = 0;
   double tree_micros = 0.0, mesh_micros = 0.0;
-  std::size_t cells = 0;  // octree pairs also settled by OctreeCells
+  std::size_t planes = 0;     // of the meshes' pairs, proved free by a separating plane
+  double plane_micros = 0.0;  // the planes' search on every pair the trees left open
+  std::size_t cells = 0;      // octree pairs also settled by OctreeCells
   double cells_micros = 0.0;
   std::vector<double> mesh_distance;  // settled pairs: FCL's distance (capped above margin)
 };
@@ -70,7 +72,7 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
   std::vector<std::unique_ptr<const fcl::OctreeCells::Link>> cell_links;
   for (const fcl::BoundedGeometry& g : rb.geometries())
     cell_links.push_back(g.mesh() ? std::make_unique<const fcl::OctreeCells::Link>(g) : nullptr);
-  std::size_t cells_disagree = 0;
+  std::size_t cells_disagree = 0, planes_disagree = 0;
   std::map<std::string, PairTally> tally;
   double t_bounds = 0, t_poses = 0, t_trees = 0, t_meshes = 0;
   std::size_t configs = 0, pairs_total = 0, truth_colliding = 0, decided_by_trees = 0,
@@ -117,6 +119,10 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
         continue;
       }
       t = thread_cpu_micros();
+      const bool plane = certified.plane_free(p, X, r);
+      s.plane_micros += thread_cpu_micros() - t;
+      s.planes += plane;
+      t = thread_cpu_micros();
       const fcl::CollideResult m =
           p.self ? fcl::settle(r, rb.geometries()[a], X[a], rb.geometries()[geo[p.other]],
                                X[geo[p.other]], margin)
@@ -126,6 +132,7 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
       ++s.meshes;
       s.mesh_micros += dm;
       s.meshes_colliding += m.verdict == BoundsVerdict::colliding;
+      planes_disagree += plane && m.verdict != BoundsVerdict::free;
       if (!p.self && cells[object] && cell_links[a]) {
         t = thread_cpu_micros();
         const bool hit = cells[object]->distance(*cell_links[a], X[a], margin) <= margin;
@@ -156,6 +163,11 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
       "octree pairs: FCL's octree query and OctreeCells disagree in %zu (the mesh us column is "
       "FCL's; cells us: OctreeCells on the same pairs)\n",
       cells_disagree);
+  std::printf(
+      "separating planes: %zu of the meshes' pairs proved free by a plane where the meshes "
+      "did not find them free (plane: the pairs a plane proved free; plane us: its search, per "
+      "pair the trees left open)\n",
+      planes_disagree);
   const double per = configs ? 1.0 / double(configs) : 0.0;
   std::printf(
       "per undecided configuration (us, thread CPU): bounds again %.1f, poses %.1f, sphere trees "
@@ -166,8 +178,9 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
     return a.second.tree_micros + a.second.mesh_micros >
            b.second.tree_micros + b.second.mesh_micros;
   });
-  std::printf("%-52s %6s %6s %6s %6s %6s %9s %9s %9s %8s %8s\n", "pair", "open", "tr/hit",
-              "tr/free", "mesh", "m/hit", "tree us", "mesh us", "cells us", "free d10", "free d50");
+  std::printf("%-52s %6s %6s %6s %6s %6s %6s %9s %9s %9s %9s %8s %8s\n", "pair", "open", "tr/hit",
+              "tr/free", "mesh", "m/hit", "plane", "tree us", "mesh us", "plane us", "cells us",
+              "free d10", "free d50");
   for (std::size_t k = 0; k < rows.size() && k < 30; ++k) {
     PairTally& s = rows[k].second;
     std::sort(s.mesh_distance.begin(), s.mesh_distance.end());
@@ -177,10 +190,11 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
                  : s.mesh_distance[std::size_t(f * double(s.mesh_distance.size() - 1))];
     };
     std::printf(
-        "%-52s %6zu %6zu %6zu %6zu %6zu %9.1f %9.1f %9s %8.4f %8.4f\n", rows[k].first.c_str(),
-        s.undecided, s.trees_colliding, s.trees_free, s.meshes, s.meshes_colliding,
-        s.undecided ? s.tree_micros / double(s.undecided) : 0.0,
+        "%-52s %6zu %6zu %6zu %6zu %6zu %6zu %9.1f %9.1f %9.1f %9s %8.4f %8.4f\n",
+        rows[k].first.c_str(), s.undecided, s.trees_colliding, s.trees_free, s.meshes,
+        s.meshes_colliding, s.planes, s.undecided ? s.tree_micros / double(s.undecided) : 0.0,
         s.meshes ? s.mesh_micros / double(s.meshes) : 0.0,
+        s.meshes ? s.plane_micros / double(s.meshes) : 0.0,
         s.cells ? std::to_string(s.cells_micros / double(s.cells)).substr(0, 7).c_str() : "-",
         pct(0.1), pct(0.5));
   }

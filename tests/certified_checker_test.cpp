@@ -543,3 +543,48 @@ TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near
   CHECK(std::count(b.begin(), b.end(), Verdict::undecided) == 0);
   CHECK(sb.meshes <= sa.meshes);
 }
+
+TEST_CASE("certified checker: separating planes change no verdict, near contact too",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const double margin = 0.01;
+  mf::FallbackOptions without;
+  without.separating_planes = false;
+  const mf::CertifiedChecker planes(arm, &fine, world().meshes, world().scene(), options(margin));
+  const mf::CertifiedChecker meshes(arm, &fine, world().meshes, world().scene(), options(margin),
+                                    without);
+  std::vector<double> q = test::capsule_arm_configs(400, 23);
+  std::vector<Verdict> v(400);
+  meshes.check(q.data(), 400, v.data(), 1);
+  // Configurations bisected to where the verdict changes, on both sides of it.
+  for (std::size_t i = 0; i + 1 < 400; ++i) {
+    if (v[i] == v[i + 1]) continue;
+    double lo = 0.0, hi = 1.0;  // lo on v[i]'s side
+    std::vector<double> at(8);
+    auto put = [&](double t) {
+      for (int j = 0; j < 8; ++j) at[j] = q[8 * i + j] + t * (q[8 * i + 8 + j] - q[8 * i + j]);
+      return at.data();
+    };
+    for (int step = 0; step < 40; ++step) {
+      const double t = 0.5 * (lo + hi);
+      (meshes.check(put(t)) == v[i] ? lo : hi) = t;
+    }
+    for (double t : {lo, hi}) {
+      put(t);
+      q.insert(q.end(), at.begin(), at.end());
+    }
+  }
+  const std::size_t n = q.size() / 8;
+  REQUIRE(n > 440);
+  std::vector<Verdict> a(n), b(n), c(n);
+  mf::FallbackStats sa, sb;
+  meshes.check(q.data(), n, a.data(), 1, &sa);
+  planes.check(q.data(), n, b.data(), 1, &sb);
+  planes.check(q.data(), n, c.data(), 2);
+  CHECK(a == b);
+  CHECK(b == c);
+  CHECK(std::count(b.begin(), b.end(), Verdict::undecided) == 0);
+  CHECK(sa.planes == 0);
+  CHECK(sb.planes > 0);
+  CHECK(sb.meshes + sb.planes == sa.meshes);
+}

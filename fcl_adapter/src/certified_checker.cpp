@@ -126,6 +126,54 @@ CertifiedChecker::CertifiedChecker(
   for (std::size_t g = 0; octree && g < G; ++g)
     if (bounds_.geometries()[g].mesh() != nullptr)
       cell_links_[g] = std::make_unique<const OctreeCells::Link>(bounds_.geometries()[g]);
+  if (fallback.separating_planes) make_supports();
+}
+
+// The sides' supports for separating planes: a link's mesh vertices, or its balls when
+// its sets are the solid itself (exact_balls); each scene object's, where it has one.
+void CertifiedChecker::make_supports() {
+  for (const BoundedGeometry& g : bounds_.geometries()) {
+    std::unique_ptr<const VertexSupport> s;
+    if (g.mesh() != nullptr) {
+      s = std::make_unique<const VertexSupport>(*g.mesh());
+    } else if (g.exact_balls()) {
+      std::vector<Sphere> balls;
+      for (std::size_t i = 0; i < g.outer().num_spheres(); ++i)
+        balls.push_back(g.outer().sphere(i));
+      s = std::make_unique<const VertexSupport>(balls);
+    }
+    supports_.push_back(std::move(s));
+  }
+  for (const ::fcl::CollisionObjectd* o : scene_)
+    scene_supports_.push_back(support_of(*o->collisionGeometry()));
+}
+
+// Whether a plane between the pair's two sides clears the margin (separating_plane.h),
+// GJK starting along the inner pair that gave the trees' upper bound, else along the
+// links' bounding balls.
+bool CertifiedChecker::plane_free(const check::UndecidedPair& p,
+                                  const std::vector<::fcl::Transform3d>& X,
+                                  const CollideResult& decided) const {
+  if (supports_.empty()) return false;
+  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+  const std::size_t a = geometry_of_[p.link];
+  const VertexSupport* s_a = supports_[a].get();
+  const VertexSupport* s_b = p.self ? supports_[geometry_of_[p.other]].get()
+                                    : scene_supports_[scene_source_[p.other]].get();
+  if (s_a == nullptr || s_b == nullptr) return false;
+  const ::fcl::Transform3d& X_WB =
+      p.self ? X[geometry_of_[p.other]] : scene_[scene_source_[p.other]]->getTransform();
+  const Eigen::Vector3d from = X[a] * g[a].outer().bounding_ball(0).center;
+  Eigen::Vector3d guess = X_WB.translation() - from;
+  if (p.self) {
+    const BoundedGeometry& o = g[geometry_of_[p.other]];
+    const DistanceBounds& d = decided.bounds;
+    guess = d.upper_a >= 0 && d.upper_b >= 0
+                ? Eigen::Vector3d(X_WB * o.inner().sphere(std::size_t(d.upper_b)).center -
+                                  X[a] * g[a].inner().sphere(std::size_t(d.upper_a)).center)
+                : Eigen::Vector3d(X_WB * o.outer().bounding_ball(0).center - from);
+  }
+  return separated(*s_a, X[a], *s_b, X_WB, checker_.options().margin, guess).free;
 }
 
 // The pairs in the order decide() takes them: as robot_collide, the self pairs seen
@@ -254,6 +302,10 @@ check::Verdict CertifiedChecker::settle_pairs(const double* q, const Poses& X,
   }
   bool undecided = false;
   for (const auto& [p, decided] : open) {
+    if (plane_free(*p, X, decided)) {
+      ++stats.planes;
+      continue;
+    }
     ++stats.meshes;
     const std::size_t a = geometry_of_[p->link];
     const OctreeCells* cells = p->self ? nullptr : cells_[scene_source_[p->other]].get();

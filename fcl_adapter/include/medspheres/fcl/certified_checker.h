@@ -8,7 +8,9 @@
 /// the links' BoundedGeometry (their sphere trees, with the meshes' surface points), then,
 /// when no pair is certainly colliding, settle() by the exact meshes (as robot_collide); a
 /// link's mesh against an fcl::OcTree by OctreeCells (octree_cells.h): FCL's mesh-to-box
-/// distance on the cells near the link, the leaf tests of FCL's own octree query.
+/// distance on the cells near the link, the leaf tests of FCL's own octree query. Before
+/// the meshes, a plane between the two sides' vertices may prove a pair free
+/// (separating_plane.h, FallbackOptions::separating_planes).
 ///
 /// Verdicts: colliding when some link pair is within the margin, free when none is, each
 /// certified (never a missed collision): by the certified covers and the inner sets, and
@@ -39,6 +41,7 @@
 #include "medspheres/fcl/pair_joint_table.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/fcl/scene_from_fcl.h"
+#include "medspheres/fcl/separating_plane.h"
 
 namespace medspheres::fcl {
 
@@ -48,6 +51,7 @@ struct FallbackStats {
   std::size_t witnessed = 0;       ///< of these, settled by a witness (no pair walked)
   std::size_t tabled = 0;          ///< pairs a PairJointTable settled
   std::size_t pairs = 0;           ///< pairs given to decide() (the links' sphere trees)
+  std::size_t planes = 0;          ///< pairs a separating plane proved free
   std::size_t meshes = 0;          ///< pairs that the exact meshes settled
 
   FallbackStats& operator+=(const FallbackStats& o) {
@@ -55,6 +59,7 @@ struct FallbackStats {
     witnessed += o.witnessed;
     tabled += o.tabled;
     pairs += o.pairs;
+    planes += o.planes;
     meshes += o.meshes;
     return *this;
   }
@@ -92,6 +97,12 @@ struct FallbackOptions {
   /// them (only those of a link the kernel took none for). false: the planner's sets as
   /// they are, the witnesses tested in the fallback only.
   bool kernel_witnesses = true;
+  /// Before a pair's exact meshes: a plane between the two sides' vertices
+  /// (separating_plane.h: a link's mesh vertices, or its balls when it is made of sphere
+  /// primitives; a scene object's vertices, corners or balls), found by GJK on them and
+  /// checked with the rounding bounded, that clears the margin proves the pair free, as
+  /// the meshes would. false: the meshes settle every pair the trees leave open.
+  bool separating_planes = true;
 };
 
 class CertifiedChecker {
@@ -121,6 +132,14 @@ class CertifiedChecker {
   /// the configurations checked by the spheres.
   check::Verdict check_edge(const double* q0, const double* q1, double resolution,
                             std::size_t* checked = nullptr, FallbackStats* stats = nullptr) const;
+  /// Whether a separating plane proves the pair \p p (as check_bounds names it) free at the
+  /// fallback's poses \p X (fallback().poses(q, options().X_WB)), GJK starting from what
+  /// decide() gave (\p decided: the inner pair of its upper bound). False without
+  /// FallbackOptions::separating_planes, or when a side has no support. True only when the
+  /// exact distance of the pair exceeds the margin (separating_plane.h).
+  bool plane_free(const check::UndecidedPair& p, const std::vector<::fcl::Transform3d>& X,
+                  const CollideResult& decided) const;
+
   /// \p n edges; returns the configurations checked by the spheres.
   std::size_t check_edges(const double* q0, const double* q1, std::size_t n, double resolution,
                           check::Verdict* out, int threads = 1,
@@ -145,6 +164,7 @@ class CertifiedChecker {
                               const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
   void bake_tables(const RobotModel& model, std::size_t cells);
+  void make_supports();
 
   RobotBounds bounds_;  // before checker_, whose inner sets may take its witnesses
   check::RobotChecker checker_;
@@ -162,6 +182,10 @@ class CertifiedChecker {
   // OctreeCells takes it (null without a mesh or without an octree in the scene).
   std::vector<std::unique_ptr<const OctreeCells>> cells_;
   std::vector<std::unique_ptr<const OctreeCells::Link>> cell_links_;
+  // FallbackOptions::separating_planes: by geometry, the support of its mesh's vertices
+  // (or of its balls), else null; by index in scene_, the object's, else null.
+  std::vector<std::unique_ptr<const VertexSupport>> supports_;
+  std::vector<std::unique_ptr<const VertexSupport>> scene_supports_;
 };
 
 }  // namespace medspheres::fcl
