@@ -47,6 +47,7 @@ struct Options : mb::RobotBenchOptions {
   bool fcl_loop = true;
   bool all_cores = true;
   int repeats = 3;
+  int spheres_repeats = 0;
   bool fallback_report = false;
 };
 
@@ -67,6 +68,8 @@ Options parse(int argc, char** argv) {
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
+  args.add("--spheres-repeats", o.spheres_repeats,
+           "check/s on one thread: the best of this many runs (0: --repeats; for a profile)");
   app.add_flag("!--no-fcl-loop", o.fcl_loop, "Leave out the loop of FCL calls");
   app.add_flag("!--one-thread", o.all_cores, "Leave out the rows on every core");
   app.add_flag("--fallback-report", o.fallback_report,
@@ -117,6 +120,7 @@ int run(const Options& o) {
   in.edge_length = o.edge_length;
   in.resolution = o.resolution;
   in.repeats = o.repeats;
+  in.spheres_repeats = o.spheres_repeats;
   in.fcl_loop = o.fcl_loop;
   in.all_cores = o.all_cores;
   const Eigen::Isometry3d I = Eigen::Isometry3d::Identity();

@@ -296,8 +296,9 @@ void add_sphere_rows(const CheckerBenchInput& in, const check::CheckerOptions& o
   for (int threads : {1, 0}) {
     if (threads != 1 && !in.all_cores) continue;
     Row r{"check/s", threads};
+    const int repeats = threads == 1 && in.spheres_repeats > 0 ? in.spheres_repeats : in.repeats;
     r.micros =
-        best_micros(in.repeats, threads != 1,
+        best_micros(repeats, threads != 1,
                     [&] { spheres.check(q.data(), n, check::Mode::spheres, v.data(), threads); }) /
         double(n);
     r.colliding = colliding_of(v);

@@ -38,6 +38,7 @@ struct CheckerBenchInput {
   double edge_length = 0.5;   ///< joint-space length of the edges (rad, m)
   double resolution = 0.02;   ///< of the edges
   int repeats = 3;            ///< each timing the best of this many runs
+  int spheres_repeats = 0;    ///< check/s on one thread: the best of this many (0: repeats)
   bool fcl_loop = true;       ///< the row of FCL calls on the same spheres
   bool all_cores = true;      ///< the rows on every core besides those on one thread
 };

@@ -702,6 +702,16 @@ TEST_CASE("pair tables: the verdicts of every pair tested, at 1e-12 of self-cont
       disagree += brute_force(arm, qi, margin, false) != (expected[i] == Verdict::colliding);
     }
     CHECK(disagree == 0);
+    // Positions beyond the joints' limits (+-2.8) fall in no cell: blocks whose lanes mix
+    // positions within and beyond them, every third coordinate stretched.
+    std::vector<double> wide = q;
+    std::size_t beyond = 0;
+    for (std::size_t i = 0; i < wide.size(); i += 3) {
+      wide[i] *= 4.0;
+      beyond += std::abs(wide[i]) > 2.8;
+    }
+    CHECK(beyond > wide.size() / 10);
+    const std::vector<Verdict> expected_wide = run(reference, wide, Mode::spheres);
     for (const std::size_t cells : {std::size_t(64), std::size_t(1) << 16})
       for (const bool floats : {true, false})
         for (const check::Simd simd : {check::Simd::automatic, check::Simd::scalar}) {
@@ -717,6 +727,7 @@ TEST_CASE("pair tables: the verdicts of every pair tested, at 1e-12 of self-cont
           CHECK(checker.pair_tables_free() > 0.1);
           CHECK(run(checker, q, Mode::spheres) == expected);
           CHECK(run(checker, q, Mode::spheres, 2) == expected);
+          CHECK(run(checker, wide, Mode::spheres) == expected_wide);
           // The bounds mode does not use the tables.
           CHECK(run(checker, q, Mode::bounds) == run(reference, q, Mode::bounds));
           std::vector<Verdict> a(100), b(100);

@@ -42,6 +42,11 @@ template <class T>
 struct KernelSpheres {
   const T *x = nullptr, *y = nullptr, *z = nullptr, *r = nullptr;  // per sphere
   const T* bound = nullptr;  // per link: x, y, z, r in its frame
+  /// Per self pair (a, o): the square of T(r_a + r_o + margin + allowance) + slack, in T,
+  /// r the links' bounding radii in T (the Block's margin, allowance and slack; slack 0 in
+  /// doubles): the pair's bounding spheres may meet where their centres' squared distance
+  /// is at most this.
+  const T* pair_reach2 = nullptr;
   GridView<T> grid;
 };
 
@@ -81,6 +86,8 @@ struct Pass {
   const T* frames = nullptr;            // frames * 12 * W: X_WF rows of R, then p
   T* posed = nullptr;                   // per sphere 3 * W, then per link 3 * W (bounding spheres)
   unsigned char* posed_flag = nullptr;  // links * kSlots
+  unsigned char* near = nullptr;        // per sphere: lanes its field look-up left open
+  int* lists = nullptr;                 // per link (spheres mode)
   unsigned char* pending = nullptr;     // per link and self pair (bounds mode)
   unsigned char* unsure = nullptr;      // per link and self pair (bounds mode, floats)
   unsigned lanes = 0;                   // the lanes that hold a configuration (bits)
@@ -118,6 +125,8 @@ struct Block {
   double* posed = nullptr;              // (spheres + links) * 3 * kHalf
   float* posed_f = nullptr;             // (spheres + links) * 3 * kLanes
   unsigned char* posed_flag = nullptr;  // links * kSlots
+  unsigned char* near = nullptr;        // spheres
+  int* lists = nullptr;                 // links
   unsigned char* pending = nullptr;     // links + self pairs
   unsigned char* unsure = nullptr;      // links + self pairs
   // Output (lane bits).

@@ -138,6 +138,30 @@ void prefetch_cells(const GridView<typename V::T>& g, V ux, V uy, V uz, unsigned
           _MM_HINT_T0);
 }
 
+void truncate_cells(VD x, unsigned in, std::uint32_t* out) {
+  const __m128i mask = _mm256_castsi256_si128(mask8(in));
+  _mm_storeu_si128(reinterpret_cast<__m128i*>(out), _mm_and_si128(_mm256_cvttpd_epi32(x.v), mask));
+}
+
+// The table's bits read as 32-bit words (x86-64 is little-endian: bit c of the 64-bit
+// words is bit c & 31 of 32-bit word c >> 5).
+unsigned table_bits(const PairTableView& t, const std::uint32_t* fine) {
+  __m256i cell = _mm256_setzero_si256();
+  for (int j = 0; j < t.sources; ++j) {
+    const __m256i f =
+        _mm256_load_si256(reinterpret_cast<const __m256i*>(fine + t.slot[j] * kLanes));
+    cell = _mm256_add_epi32(cell, _mm256_mullo_epi32(_mm256_srli_epi32(f, t.shift[j]),
+                                                     _mm256_set1_epi32(int(t.stride[j]))));
+  }
+  const __m256i word =
+      _mm256_i32gather_epi32(reinterpret_cast<const int*>(t.bits), _mm256_srli_epi32(cell, 5), 4);
+  const __m256i one = _mm256_set1_epi32(1);
+  const __m256i bit =
+      _mm256_and_si256(_mm256_srlv_epi32(word, _mm256_and_si256(cell, _mm256_set1_epi32(31))), one);
+  return static_cast<unsigned>(
+      _mm256_movemask_ps(_mm256_castsi256_ps(_mm256_cmpeq_epi32(bit, one))));
+}
+
 }  // namespace
 }  // namespace medspheres::check::detail
 

@@ -10,7 +10,12 @@
 //   V gather_cells(const GridView<T>& g, V ux, V uy, V uz, unsigned inside, V& cx, V& cy,
 //     V& cz, V& upper) (in the lanes `inside`, the cell (i, j, k) = ((int)ux, (int)uy,
 //     (int)uz) of the field: its lower byte (returned) and upper byte, and i, j, k in cx,
-//     cy, cz; 0 in the other lanes).
+//     cy, cz; 0 in the other lanes);
+//   void truncate_cells(VD x, unsigned in, uint32_t* out) (out[l] = (uint32_t)x[l] in the
+//     lanes `in`, each within [0, 2^16), else 0);
+//   unsigned table_bits(const PairTableView& t, const uint32_t* fine) (per lane l of kLanes,
+//     bit c of t.bits, c = sum over j < t.sources of (fine[t.slot[j] * kLanes + l] >>
+//     t.shift[j]) * t.stride[j], each fine index < 2^16).
 // Included by kernel_scalar.cpp and kernel_avx2.cpp only. Everything here is internal to
 // the including file (an unnamed namespace), and it calls no inline function of another
 // file but float_sincos.h's template, instantiated on this file's own lane types (so
@@ -341,33 +346,69 @@ MEDSPHERES_KERNEL_INLINE unsigned grid_near(const Ctx<V>& c, const typename V::T
   return open & ~clear;
 }
 
-// Lanes of `need` in which some sphere of the link's set `slot` is within r + add of the
-// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it).
+// The lanes of `near` in which point i of a posed set (radius + add: rq) is within rq of
+// the scene by the grid's lists (exact, lane by lane): certainly (added to `hit`), or
+// maybe (added to `maybe`: within the slack of it).
 template <class V>
-unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned need,
+MEDSPHERES_KERNEL_INLINE void scan_lanes(const Ctx<V>& c, const typename V::T* set, int i,
+                                         double rq, unsigned near, unsigned& hit, unsigned& maybe) {
+  for (int lane = 0; lane < V::W && near; ++lane) {
+    if (!(near >> lane & 1)) continue;
+    near &= ~(1u << lane);
+    double p[3];
+    lane_point<V>(set, i, lane, p);
+    const int v = c.scene.classify(p, rq, double(c.p.slack));
+    if (v == 1) hit |= 1u << lane;
+    if (v == 2) maybe |= 1u << lane;
+  }
+}
+
+// A link's set `slot` against the scene by the field alone, in the lanes `need`: returns
+// the lanes in which some sphere is certainly within r + add of it, and keeps per sphere
+// (p.near) the lanes its look-up leaves open, for set_lists.
+template <class V>
+unsigned set_field(const Ctx<V>& c, int link, int slot, double add, unsigned need) {
+  const LinkLayout& l = c.robot.link[link];
+  const typename V::T* set = posed(c, link, slot);
+  const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
+  prefetch_points<V>(c.sp.grid, set, 0, count);
+  unsigned hit = 0;
+  int i = 0;
+  for (; i < count && (need & ~hit); ++i) {
+    unsigned certain = 0;
+    c.p.near[begin + i] = static_cast<unsigned char>(
+        grid_near(c, set, i, double(c.sp.r[begin + i]) + add, need & ~hit, certain));
+    hit |= certain;
+  }
+  for (; i < count; ++i) c.p.near[begin + i] = 0;  // every lane of `need` settled
+  return hit;
+}
+
+// After set_field of the same set and `add`: the lanes of `lanes` in which some sphere
+// whose look-up left them open is within r + add of the scene by the grid's lists:
+// certainly (returned), or maybe (added to `maybe`).
+template <class V>
+unsigned set_lists(const Ctx<V>& c, int link, int slot, double add, unsigned lanes,
                    unsigned& maybe) {
   const LinkLayout& l = c.robot.link[link];
   const typename V::T* set = posed(c, link, slot);
-  const int begin = static_cast<int>(l.begin[slot]);
-  prefetch_points<V>(c.sp.grid, set, 0, static_cast<int>(l.count[slot]));
+  const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
   unsigned hit = 0;
-  for (int i = 0; i < static_cast<int>(l.count[slot]) && (need & ~hit); ++i) {
-    const double rq = double(c.sp.r[begin + i]) + add;
-    unsigned certain = 0;
-    unsigned near = grid_near(c, set, i, rq, need & ~hit, certain);
-    hit |= certain;
-    near &= ~certain;
-    for (int lane = 0; lane < V::W && near; ++lane) {
-      if (!(near >> lane & 1)) continue;
-      near &= ~(1u << lane);
-      double p[3];
-      lane_point<V>(set, i, lane, p);
-      const int v = c.scene.classify(p, rq, double(c.p.slack));
-      if (v == 1) hit |= 1u << lane;
-      if (v == 2) maybe |= 1u << lane;
-    }
-  }
+  for (int i = 0; i < count && (lanes & ~hit); ++i)
+    scan_lanes(c, set, i, double(c.sp.r[begin + i]) + add, c.p.near[begin + i] & lanes & ~hit, hit,
+               maybe);
   return hit;
+}
+
+// Lanes of `need` in which some sphere of the link's set `slot` is within r + add of the
+// scene: certainly (returned), or maybe (added to `maybe`: within the slack of it). The
+// field's look-ups of every sphere first, then the lists in the lanes and spheres they
+// leave open: a lane that a later sphere's look-up settles reads no list.
+template <class V>
+unsigned set_scene(const Ctx<V>& c, int link, int slot, double add, unsigned need,
+                   unsigned& maybe) {
+  const unsigned hit = set_field(c, link, slot, add, need);
+  return hit | set_lists(c, link, slot, add, need & ~hit, maybe);
 }
 
 // The lanes in which some sphere of link a's set slot_a is within `add` + radii of some
@@ -427,30 +468,42 @@ MEDSPHERES_KERNEL_INLINE unsigned scene_near(const Ctx<V>& c, int link, unsigned
   return grid_near(c, posed(c, link, kBoundSlot), 0, rq, open, hit);
 }
 
-// The lanes of `open` in which the bounding spheres of links a and o may come within the
-// margin of each other.
+// The lanes of `open` in which the bounding spheres of self pair k's links may come within
+// the margin of each other.
 template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int a, int o, unsigned open) {
+MEDSPHERES_KERNEL_INLINE unsigned pair_near(const Ctx<V>& c, int k, unsigned open) {
   using T = typename V::T;
   constexpr int W = V::W;
-  const T* ba = posed(c, a, kBoundSlot);
-  const T* bo = posed(c, o, kBoundSlot);
+  const T* ba = posed(c, static_cast<int>(c.robot.pair_a[k]), kBoundSlot);
+  const T* bo = posed(c, static_cast<int>(c.robot.pair_b[k]), kBoundSlot);
   const V dx = load(ba) - load(bo), dy = load(ba + W) - load(bo + W),
           dz = load(ba + 2 * W) - load(bo + 2 * W);
-  const T reach = T(double(c.sp.bound[4 * a + 3]) + double(c.sp.bound[4 * o + 3]) + c.b.margin +
-                    c.b.allowance) +
-                  c.p.slack;
-  return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(reach * reach));
+  return open & le_bits((dx * dx + dy * dy) + dz * dz, splat(c.sp.pair_reach2[k]));
 }
 
 // The fine index (pair_table.h) of every table slot's position in each lane of the pass
-// (0 beyond its limits) and the lanes within them, computed on a pass's first table
-// look-up.
+// (0 beyond its limits, and in the lanes past the pass's width) and the lanes within
+// them, computed on a pass's first table look-up.
 struct TableCells {
   bool ready = false;
   unsigned inside[kMaxTableSlots];
-  std::uint32_t fine[kMaxTableSlots * kLanes];
+  alignas(32) std::uint32_t fine[kMaxTableSlots * kLanes];
 };
+
+// The fine indices of the positions q[0 .. W) of a table slot: (q - lower) * inverse in
+// doubles, rounded down, within [0, kFineCells) (else 0) into out; returns the lanes within.
+template <int W>
+MEDSPHERES_KERNEL_INLINE unsigned slot_cells(const TableSlot& slot, const double* q,
+                                             std::uint32_t* out) {
+  unsigned inside = 0;
+  for (int h = 0; h < W / kHalf; ++h) {
+    const VD x = (load(q + h * kHalf) - splat(slot.lower)) * splat(slot.inverse);
+    const unsigned in = le_bits(splat(0.0), x) & ~le_bits(splat(kFineCells), x);
+    truncate_cells(x, in, out + h * kHalf);
+    inside |= in << (h * kHalf);
+  }
+  return inside;
+}
 
 // The lanes of `open` whose joint positions fall in a free cell of self pair k's table
 // (pair_table.h): the pair's sets are farther apart than the margin there, so its test
@@ -465,28 +518,15 @@ MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned op
     const double* q = c.b.q + (W == kLanes ? 0 : c.b.half * kHalf);
     for (int s = 0; s < c.robot.table_slots; ++s) {
       const TableSlot& slot = c.robot.table_slot[s];
-      unsigned inside = 0;
-      for (int lane = 0; lane < W; ++lane) {
-        const double x = (q[slot.source * kLanes + lane] - slot.lower) * slot.inverse;
-        const bool in = x >= 0.0 && x < kFineCells;
-        inside |= unsigned(in) << lane;
-        cells.fine[s * kLanes + lane] = static_cast<std::uint32_t>(in ? x : 0.0);
-      }
-      cells.inside[s] = inside;
+      cells.inside[s] = slot_cells<W>(slot, q + slot.source * kLanes, cells.fine + s * kLanes);
+      for (int lane = W; lane < kLanes; ++lane) cells.fine[s * kLanes + lane] = 0;
     }
     cells.ready = true;
   }
   unsigned inside = open;
   for (int j = 0; j < t.sources; ++j) inside &= cells.inside[t.slot[j]];
   if (!inside || t.all_free) return inside;
-  unsigned out = 0;
-  for (int lane = 0; lane < W; ++lane) {
-    std::uint32_t cell = 0;
-    for (int j = 0; j < t.sources; ++j)
-      cell += (cells.fine[t.slot[j] * kLanes + lane] >> t.shift[j]) * t.stride[j];
-    out |= static_cast<unsigned>(t.bits[cell >> 6] >> (cell & 63) & 1) << lane;
-  }
-  return out & inside;
+  return table_bits(t, cells.fine) & inside;
 }
 
 // The bounding-sphere tests of every link against the scene, for the lanes `open`, into
@@ -507,10 +547,7 @@ void near_all(const Ctx<V>& c, unsigned open, unsigned char* near) {
   const KernelRobot& robot = c.robot;
   near_links(c, open, near);
   for (int k = 0; k < robot.pairs; ++k)
-    near[robot.links + k] =
-        static_cast<unsigned char>(c.b.self ? pair_near(c, static_cast<int>(robot.pair_a[k]),
-                                                        static_cast<int>(robot.pair_b[k]), open)
-                                            : 0u);
+    near[robot.links + k] = static_cast<unsigned char>(c.b.self ? pair_near(c, k, open) : 0u);
 }
 
 // Bounds mode, one level of a pair (link against the scene when o < 0, else the self pair
@@ -556,11 +593,14 @@ unsigned pair_level(const Ctx<V>& c, int link, int o, int level, unsigned& pendi
 // lane and counts the lanes it proves colliding). A probe (b.probe > 0) runs the order's tests
 // [b.probe_from, b.probe) at the planner's level only: a lane it proves colliding is proved by
 // the same test in the whole run.
-// A probe's bounding-sphere test of link a against the scene (o < 0) or against link o,
-// in the lanes `open` (kept out of run_bounds' loop, which runs without a probe mostly).
+// A probe's bounding-sphere test of test k (link k against the scene, or self pair k -
+// links), in the lanes `open` (kept out of run_bounds' loop, which runs without a probe
+// mostly).
 template <class V>
-__attribute__((noinline)) unsigned char probe_near(const Ctx<V>& c, int a, int o, unsigned open) {
-  return static_cast<unsigned char>(o < 0 ? scene_near(c, a, open) : pair_near(c, a, o, open));
+__attribute__((noinline)) unsigned char probe_near(const Ctx<V>& c, int k, unsigned open) {
+  const int links = c.robot.links;
+  return static_cast<unsigned char>(k < links ? scene_near(c, k, open)
+                                              : pair_near(c, k - links, open));
 }
 
 template <class V>
@@ -579,7 +619,7 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
       if (k >= robot.links && !c.b.self) continue;
       const int a = k < robot.links ? k : static_cast<int>(robot.pair_a[k - robot.links]),
                 o = k < robot.links ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
-      if (probe > 0) pending[k] = probe_near(c, a, o, open);
+      if (probe > 0) pending[k] = probe_near(c, k, open);
       unsigned p = pending[k] & open, m = near[k], hit = 0;
       if (p) hit = pair_level(c, a, o, level, p, m, maybe_hit);
       if (c.b.hits)
@@ -599,7 +639,9 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
 }
 
 // The spheres mode: the tests (each link against the scene, each self pair) in the
-// robot's order (test_order.h), each in the lanes still open, a self pair's bounding
+// robot's order (test_order.h), each in the lanes still open (a link's lists, which its
+// field's look-ups leave open, in the lanes still open after every test: a lane that
+// another test finds colliding reads none), a self pair's bounding
 // spheres only when it is reached, its sets only in the lanes its table (if any) leaves. The links'
 // bounding spheres against the scene (near_links) run after the order's first robot.head tests
 // (those that find most configurations colliding: when they leave no lane open, the look-ups are
@@ -612,13 +654,21 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
   unsigned char* near = c.p.pending;
   unsigned open = c.p.lanes, maybe = 0;
   TableCells cells;
+  int* lists = c.p.lists;  // the links whose lists wait for the end (not when learning)
+  int waiting = 0;
   for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
     if (t == robot.head) near_links(c, open, near);
     const int k = static_cast<int>(robot.order[t]);
     unsigned hit = 0;
     if (k < robot.links) {
       const unsigned need = (t < robot.head ? scene_near(c, k, open) : near[k]) & open;
-      if (need) hit = set_scene(c, k, robot.link[k].spheres, c.b.margin, need, maybe);
+      if (need) {
+        hit = set_field(c, k, robot.link[k].spheres, c.b.margin, need);
+        if (c.b.hits)
+          hit |= set_lists(c, k, robot.link[k].spheres, c.b.margin, need & ~hit, maybe);
+        else
+          lists[waiting++] = k;
+      }
     } else if (c.b.self) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
@@ -627,7 +677,7 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
       const bool everywhere = robot.table && robot.table[k - robot.links].all_free;
       const unsigned lanes =
           everywhere ? open & ~table_free(c, k - robot.links, open, cells) : open;
-      unsigned need = lanes ? pair_near(c, a, o, lanes) : 0u;
+      unsigned need = lanes ? pair_near(c, k - robot.links, lanes) : 0u;
       if (need && robot.table && !everywhere) need &= ~table_free(c, k - robot.links, need, cells);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
@@ -638,6 +688,8 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
     else
       open &= ~hit;
   }
+  for (int w = 0; w < waiting && open; ++w)
+    open &= ~set_lists(c, lists[w], robot.link[lists[w]].spheres, c.b.margin, open, maybe);
   unsure = maybe & open;
   return open;
 }
@@ -669,6 +721,8 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   p.frames = b.frames + h * robot.frames * 12 * kHalf;
   p.posed = b.posed;
   p.posed_flag = b.posed_flag;
+  p.near = b.near;
+  p.lists = b.lists;
   p.pending = b.pending;
   p.unsure = b.unsure;
   p.lanes = lanes;
@@ -696,6 +750,8 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
     p.frames = b.frames_f;
     p.posed = b.posed_f;
     p.posed_flag = b.posed_flag;
+    p.near = b.near;
+    p.lists = b.lists;
     p.pending = b.pending;
     p.unsure = b.unsure;
     p.lanes = b.lanes;

@@ -108,6 +108,21 @@ void prefetch_cells(const GridView<S>& g, Lanes<S, N> ux, Lanes<S, N> uy, Lanes<
                      g.n[0] * (static_cast<int>(uy.v[l]) + g.n[1] * static_cast<int>(uz.v[l]))));
 }
 
+void truncate_cells(VD x, unsigned in, std::uint32_t* out) {
+  for (int l = 0; l < kHalf; ++l) out[l] = in >> l & 1 ? static_cast<std::uint32_t>(x.v[l]) : 0u;
+}
+
+unsigned table_bits(const PairTableView& t, const std::uint32_t* fine) {
+  unsigned out = 0;
+  for (int l = 0; l < kLanes; ++l) {
+    std::uint32_t cell = 0;
+    for (int j = 0; j < t.sources; ++j)
+      cell += (fine[t.slot[j] * kLanes + l] >> t.shift[j]) * t.stride[j];
+    out |= static_cast<unsigned>(t.bits[cell >> 6] >> (cell & 63) & 1) << l;
+  }
+  return out;
+}
+
 }  // namespace
 }  // namespace medspheres::check::detail
 

@@ -46,14 +46,15 @@ struct Workspace {
   std::vector<float> frames_f;
   std::unique_ptr<double[]> posed;
   std::unique_ptr<float[]> posed_f;
-  std::vector<unsigned char> flags, pending, unsure;
+  std::vector<unsigned char> flags, near, pending, unsure;
+  std::vector<int> lists;
   std::vector<UndecidedPair>* pairs[kLanes] = {};
 };
 
 // A layout's spheres and bounding spheres in precision T, and the grid's view in T.
 template <class T>
 struct SphereArrays {
-  std::vector<T> x, y, z, r, bound;
+  std::vector<T> x, y, z, r, bound, pair_reach2;
   KernelSpheres<T> view(const SceneGrid& g, const DistanceField& f) const {
     KernelSpheres<T> k;
     k.x = x.data();
@@ -61,6 +62,7 @@ struct SphereArrays {
     k.z = z.data();
     k.r = r.data();
     k.bound = bound.data();
+    k.pair_reach2 = pair_reach2.data();
     if (!f.empty()) {
       for (int d = 0; d < 3; ++d) {
         k.grid.origin[d] = T(f.origin()[d]);
@@ -89,6 +91,19 @@ SphereArrays<T> sphere_arrays(const RobotLayout& l) {
   a.r.assign(l.r.begin(), l.r.end());
   for (const LinkLayout& link : l.links) a.bound.insert(a.bound.end(), link.bound, link.bound + 4);
   return a;
+}
+
+// KernelSpheres::pair_reach2 of the arrays a (slack: 0 in doubles).
+template <class T>
+void set_pair_reach(SphereArrays<T>& a, const RobotLayout& l, double margin, double allowance,
+                    T slack) {
+  a.pair_reach2.resize(l.pair_a.size());
+  for (std::size_t k = 0; k < l.pair_a.size(); ++k) {
+    const T reach = T(double(a.bound[4 * l.pair_a[k] + 3]) + double(a.bound[4 * l.pair_b[k] + 3]) +
+                      margin + allowance) +
+                    slack;
+    a.pair_reach2[k] = reach * reach;
+  }
 }
 
 }  // namespace
@@ -134,6 +149,8 @@ struct RobotChecker::Impl {
     w.posed.reset(new double[points * 3 * detail::kHalf]);
     w.posed_f.reset(new float[points * 3 * detail::kLanes]);
     w.flags.assign(layout.links.size() * detail::kSlots, 0);
+    w.near.assign(layout.x.size(), 0);
+    w.lists.assign(layout.links.size(), 0);
     w.pending.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.unsure.assign(layout.links.size() + layout.pair_a.size(), 0);
     w.q.assign(layout.dof * detail::kLanes, 0.0);
@@ -251,6 +268,8 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.posed = w.posed.get();
   b.posed_f = w.posed_f.get();
   b.posed_flag = w.flags.data();
+  b.near = w.near.data();
+  b.lists = w.lists.data();
   b.pending = w.pending.data();
   b.unsure = w.unsure.data();
   SinkContext context{&layout, grid.get(), scene_objects, &w};
@@ -483,6 +502,10 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.table_slot = m.tables->slots().data();
   m.float_range = float_ranges(planner, l);
   m.slack = float_slack(l, scene, g, m.float_range);
+  detail::set_pair_reach(m.spheres_d, l, options.margin, m.allowance, 0.0);
+  detail::set_pair_reach(m.spheres_f, l, options.margin, m.allowance, m.slack);
+  k.d = m.spheres_d.view(g, *m.field);
+  k.f = m.spheres_f.view(g, *m.field);
   m.learn_order(planner);
 }
 
