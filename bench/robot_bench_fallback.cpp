@@ -46,6 +46,37 @@ double true_distance(const fcl::BoundedGeometry& a, const ::fcl::Transform3d& X_
   return ::fcl::distance(a.mesh(), X_WA, b, X_WB, request, result);
 }
 
+// The per-pair table of the fallback report: the 30 pairs that cost the trees and the
+// meshes most, first.
+void print_pair_rows(const std::map<std::string, PairTally>& tally) {
+  std::vector<std::pair<std::string, PairTally>> rows(tally.begin(), tally.end());
+  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
+    return a.second.tree_micros + a.second.mesh_micros >
+           b.second.tree_micros + b.second.mesh_micros;
+  });
+  std::printf("%-52s %6s %6s %6s %6s %6s %6s %9s %9s %9s %9s %8s %8s\n", "pair", "open", "tr/hit",
+              "tr/free", "mesh", "m/hit", "plane", "tree us", "mesh us", "plane us", "cells us",
+              "free d10", "free d50");
+  for (std::size_t k = 0; k < rows.size() && k < 30; ++k) {
+    PairTally& s = rows[k].second;
+    std::sort(s.mesh_distance.begin(), s.mesh_distance.end());
+    auto pct = [&](double f) {
+      return s.mesh_distance.empty()
+                 ? -1.0
+                 : s.mesh_distance[std::size_t(f * double(s.mesh_distance.size() - 1))];
+    };
+    std::printf(
+        "%-52s %6zu %6zu %6zu %6zu %6zu %6zu %9.1f %9.1f %9.1f %9s %8.4f %8.4f\n",
+        rows[k].first.c_str(), s.undecided, s.trees_colliding, s.trees_free, s.meshes,
+        s.meshes_colliding, s.planes, s.undecided ? s.tree_micros / double(s.undecided) : 0.0,
+        s.meshes ? s.mesh_micros / double(s.meshes) : 0.0,
+        s.meshes ? s.plane_micros / double(s.meshes) : 0.0,
+        s.cells ? std::to_string(s.cells_micros / double(s.cells)).substr(0, 7).c_str() : "-",
+        pct(0.1), pct(0.5));
+  }
+  std::printf("(%zu pairs in all)\n", rows.size());
+}
+
 }  // namespace
 
 void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChecker& certified) {
@@ -173,32 +204,7 @@ void print_fallback_report(const CheckerBenchInput& in, const fcl::CertifiedChec
       "per undecided configuration (us, thread CPU): bounds again %.1f, poses %.1f, sphere trees "
       "%.1f (up to the first colliding pair), meshes <= %.1f\n",
       t_bounds * per, t_poses * per, t_trees * per, t_meshes * per);
-  std::vector<std::pair<std::string, PairTally>> rows(tally.begin(), tally.end());
-  std::sort(rows.begin(), rows.end(), [](const auto& a, const auto& b) {
-    return a.second.tree_micros + a.second.mesh_micros >
-           b.second.tree_micros + b.second.mesh_micros;
-  });
-  std::printf("%-52s %6s %6s %6s %6s %6s %6s %9s %9s %9s %9s %8s %8s\n", "pair", "open", "tr/hit",
-              "tr/free", "mesh", "m/hit", "plane", "tree us", "mesh us", "plane us", "cells us",
-              "free d10", "free d50");
-  for (std::size_t k = 0; k < rows.size() && k < 30; ++k) {
-    PairTally& s = rows[k].second;
-    std::sort(s.mesh_distance.begin(), s.mesh_distance.end());
-    auto pct = [&](double f) {
-      return s.mesh_distance.empty()
-                 ? -1.0
-                 : s.mesh_distance[std::size_t(f * double(s.mesh_distance.size() - 1))];
-    };
-    std::printf(
-        "%-52s %6zu %6zu %6zu %6zu %6zu %6zu %9.1f %9.1f %9.1f %9s %8.4f %8.4f\n",
-        rows[k].first.c_str(), s.undecided, s.trees_colliding, s.trees_free, s.meshes,
-        s.meshes_colliding, s.planes, s.undecided ? s.tree_micros / double(s.undecided) : 0.0,
-        s.meshes ? s.mesh_micros / double(s.meshes) : 0.0,
-        s.meshes ? s.plane_micros / double(s.meshes) : 0.0,
-        s.cells ? std::to_string(s.cells_micros / double(s.cells)).substr(0, 7).c_str() : "-",
-        pct(0.1), pct(0.5));
-  }
-  std::printf("(%zu pairs in all)\n", rows.size());
+  print_pair_rows(tally);
 }
 
 }  // namespace medspheres::bench
