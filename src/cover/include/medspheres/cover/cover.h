@@ -48,6 +48,11 @@
 ///    exact volume of the union falls and the ball protrudes no farther than the largest
 ///    protrusion before the polish; then balls shrink to what no other ball holds; at most
 ///    3 sweeps. It is kept when neither the largest protrusion nor the union rose.
+///    For K <= 8 (volume_choice, with volume_polish): the polish runs before the choice, on
+///    the candidate of least (U - V) P and on the three of least (U - V) P^0.75, each
+///    refined first; of those whose (U - V) P after it is still at most the least before
+///    it, the one of least (U - V) P^0.75 is kept (the volume counts more than the
+///    protrusion: the largest protrusion may be higher than the choice above would keep).
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
 ///    until certified (at most `repair_rounds`). A set that still fails is reported
@@ -86,6 +91,8 @@ struct CoverOptions {
   int threads = 0;                      ///< 0: all cores
   bool volume_descent = true;           ///< step 3, the volume stage
   bool volume_polish = true;            ///< step 4's polish (bake_cover, with volume_descent)
+  /// Step 4's choice among polished candidates (bake_cover, K <= 8, with volume_polish)
+  bool volume_choice = true;
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
   /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2). Step 4 keeps
   /// a result that uses it only when the product of its volume outside the solid and its
