@@ -220,8 +220,11 @@ Measured measured(const MeshQuery& query, std::size_t index, const Clustering& c
 
 // The choice among polished candidates (kChoiceExponent): of \p eligible (indices into
 // \p results), the one of least cost and the kPolished of least score are refined and
-// polished; of those whose cost is still at most that least cost, the one of least score
-// (ties: the one of least cost first, then by score before the polish).
+// polished; of those whose cost is still at most that least cost and whose union is at
+// most that of the one of least cost polished, the one of least score (ties: the one of
+// least cost first, then by score before the polish). So the choice trades protrusion for
+// volume, never volume for protrusion (on the G1's left wrist roll link at K = 4, without
+// the bar on the union, it took P from 57.7 to 53.9% of L and the excess from 1782 to 1849%).
 Candidate choose_polished(const MeshQuery& query, const Elements& e,
                           const std::vector<Clustering>& results, std::vector<Measured> eligible,
                           double volume, const CoverOptions& options, int threads) {
@@ -237,12 +240,15 @@ Candidate choose_polished(const MeshQuery& query, const Elements& e,
   for (std::size_t k = 0; k < eligible.size() && k < kPolished; ++k)
     if (eligible[k].index != cheapest.index) pool.push_back(eligible[k].index);
   std::optional<Candidate> best;
-  Measured best_m;
+  Measured best_m, first;
   for (std::size_t r : pool) {
     Candidate c = refined(e, results[r], options);
     polish(query, c, threads);
     const Measured m = measured(query, r, c.clustering, volume, threads);
-    if (best && (m.cost() > cheapest.cost() || !(m.score() < best_m.score()))) continue;
+    if (best && (m.cost() > cheapest.cost() || m.union_volume > first.union_volume ||
+                 !(m.score() < best_m.score())))
+      continue;
+    if (!best) first = m;
     best = std::move(c), best_m = m;
   }
   return std::move(*best);

@@ -51,7 +51,8 @@
 ///    For K <= 8 (volume_choice, with volume_polish): the polish runs before the choice, on
 ///    the candidate of least (U - V) P and on the three of least (U - V) P^0.75, each
 ///    refined first; of those whose (U - V) P after it is still at most the least before
-///    it, the one of least (U - V) P^0.75 is kept (the volume counts more than the
+///    it and whose union is at most that of the first polished, the one of least
+///    (U - V) P^0.75 is kept (the volume counts more than the
 ///    protrusion: the largest protrusion may be higher than the choice above would keep).
 /// 5. Radii get a slack of 1e-9 L plus rounding; the certificate runs; any piece it cannot
 ///    certify is repaired by growing the ball that needs the least growth to hold it,
