@@ -1,5 +1,6 @@
 #include <algorithm>
 #include <cmath>
+#include <initializer_list>
 #include <stdexcept>
 #include <string>
 
@@ -153,32 +154,41 @@ TEST_CASE("bake_cover: a bar's budget is used, each ball holding its half", "[co
   CHECK(r2.stats.max_protrusion < 1.05 * two);
 }
 
+// The generated solids and a bar, each baked at each of \p ks with \p off and with the
+// default options: both certified covers, \p check(k, with off, default) on each pair.
+template <class Check>
+void compare_bakes(std::initializer_list<std::size_t> ks, const CoverOptions& off, Check check) {
+  std::vector<test::NamedSolid> meshes = test::cover_solids();
+  meshes.push_back({"bar", make_box(Eigen::Vector3d(5.0, 0.5, 0.5), 4)});
+  for (const test::NamedSolid& m : meshes) {
+    const MeshQuery query(m.mesh);
+    for (std::size_t k : ks) {
+      CAPTURE(m.name, k);
+      const CoverResult a = bake_cover(query, k, off), b = bake_cover(query, k);
+      REQUIRE(b.stats.certified);
+      REQUIRE(b.stats.mesh_volume);
+      CHECK(sampled_gap(m.mesh, b.spheres.spheres) == 0.0);
+      check(k, a, b);
+    }
+  }
+}
+
 TEST_CASE("bake_cover: the volume stage (step 3) never makes a cover costlier", "[cover]") {
   // The oracle: the same bake without step 3. Step 3 keeps its result only when the
   // product of the volume outside the solid and the largest protrusion falls, and it keeps
   // every element held, so the cover stays certified and costs at most what it cost
   // without the step (up to the slack of step 5, 1e-9 L per radius). On these solids it
   // lowers the cost at least once, so the step is not idle.
-  std::vector<test::NamedSolid> meshes = test::cover_solids();
-  meshes.push_back({"bar", make_box(Eigen::Vector3d(5.0, 0.5, 0.5), 4)});
   auto cost = [](const CoverStats& s) {
     return (s.union_volume - *s.mesh_volume) * s.max_protrusion;
   };
   int lower = 0;
-  for (const test::NamedSolid& m : meshes) {
-    const MeshQuery query(m.mesh);
-    for (std::size_t k : {2, 5, 12, 24}) {
-      CAPTURE(m.name, k);
-      CoverOptions off;
-      off.volume_descent = false;
-      const CoverResult a = bake_cover(query, k, off), b = bake_cover(query, k);
-      REQUIRE(b.stats.certified);
-      REQUIRE(b.stats.mesh_volume);
-      CHECK(cost(b.stats) <= cost(a.stats) * (1.0 + 1e-6));
-      CHECK(sampled_gap(m.mesh, b.spheres.spheres) == 0.0);
-      lower += cost(b.stats) < cost(a.stats) * (1.0 - 1e-3);
-    }
-  }
+  CoverOptions off;
+  off.volume_descent = false;
+  compare_bakes({2, 5, 12, 24}, off, [&](std::size_t, const CoverResult& a, const CoverResult& b) {
+    CHECK(cost(b.stats) <= cost(a.stats) * (1.0 + 1e-6));
+    lower += cost(b.stats) < cost(a.stats) * (1.0 - 1e-3);
+  });
   CHECK(lower > 0);
 }
 
@@ -213,36 +223,27 @@ TEST_CASE("bake_cover: the choice among polished candidates lowers (U - V) P^0.7
   // The oracle: the same bake with the choice off, which polishes the candidate of least
   // (U - V) P. That candidate is among those the choice polishes and it is kept unless
   // another polished one has a lower (U - V) P^0.75 (kChoiceExponent) and a union no
-  // larger, so the choice's cover scores at most the other's and its union is no larger (up to the
-  // slack of step 5, 1e-9 L per radius). Above K = 8 the choice does not run and the covers are the
-  // same. On these solids it lowers the score at least once (the bar at K = 8), so it is not idle.
+  // larger, so the choice's cover scores at most the other's and its union is no larger
+  // (up to the slack of step 5, 1e-9 L per radius). Above K = 8 the choice does not run
+  // and the covers are the same. On these solids it lowers the score at least once (the
+  // bar at K = 8), so it is not idle.
   auto score = [](const CoverStats& s) {
     return (s.union_volume - *s.mesh_volume) * std::pow(s.max_protrusion, 0.75);
   };
-  std::vector<test::NamedSolid> meshes = test::cover_solids();
-  meshes.push_back({"bar", make_box(Eigen::Vector3d(5.0, 0.5, 0.5), 4)});
   int lower = 0;
-  for (const test::NamedSolid& m : meshes) {
-    const MeshQuery query(m.mesh);
-    for (std::size_t k : {2, 5, 8, 12}) {
-      CAPTURE(m.name, k);
-      CoverOptions off;
-      off.volume_choice = false;
-      const CoverResult a = bake_cover(query, k, off), b = bake_cover(query, k);
-      REQUIRE(b.stats.certified);
-      REQUIRE(b.stats.mesh_volume);
-      CHECK(score(b.stats) <= score(a.stats) * (1.0 + 1e-6));
-      CHECK(b.stats.union_volume <= a.stats.union_volume * (1.0 + 1e-6));
-      CHECK(sampled_gap(m.mesh, b.spheres.spheres) == 0.0);
-      if (k > 8) {
-        REQUIRE(b.spheres.size() == a.spheres.size());
-        for (std::size_t j = 0; j < a.spheres.size(); ++j) {
-          CHECK(b.spheres.spheres[j].center == a.spheres.spheres[j].center);
-          CHECK(b.spheres.spheres[j].radius == a.spheres.spheres[j].radius);
-        }
+  CoverOptions off;
+  off.volume_choice = false;
+  compare_bakes({2, 5, 8, 12}, off, [&](std::size_t k, const CoverResult& a, const CoverResult& b) {
+    CHECK(score(b.stats) <= score(a.stats) * (1.0 + 1e-6));
+    CHECK(b.stats.union_volume <= a.stats.union_volume * (1.0 + 1e-6));
+    if (k > 8) {
+      REQUIRE(b.spheres.size() == a.spheres.size());
+      for (std::size_t j = 0; j < a.spheres.size(); ++j) {
+        CHECK(b.spheres.spheres[j].center == a.spheres.spheres[j].center);
+        CHECK(b.spheres.spheres[j].radius == a.spheres.spheres[j].radius);
       }
-      lower += score(b.stats) < score(a.stats) * (1.0 - 1e-3);
     }
-  }
+    lower += score(b.stats) < score(a.stats) * (1.0 - 1e-3);
+  });
   CHECK(lower > 0);
 }
