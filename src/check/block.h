@@ -11,7 +11,6 @@
 
 #include <cstdint>
 
-#include "distance_field.h"
 #include "pair_table.h"
 #include "robot_layout.h"
 #include "scene_grid.h"
@@ -33,8 +32,6 @@ struct GridView {
   T side = 0, inverse_side = 0;
   int n[3] = {0, 0, 0};
   const std::uint16_t* field = nullptr;  // DistanceField::bounds(): lower | upper << 8
-  const std::uint8_t* block = nullptr;   // DistanceField::block_lower()
-  int nb[3] = {0, 0, 0};                 // DistanceField::block_dims()
   T unit = 0;
   T pad = 0;  // SceneGrid::pad(): the bounds' own rounding allowance
   T box_min[3] = {0, 0, 0}, box_max[3] = {0, 0, 0};  // the elements' bounds

@@ -51,21 +51,6 @@ DistanceField::DistanceField(const SceneGrid& grid, int split) {
         const std::uint16_t upper = near ? bytes_above(d + pad, unit_) : 255;
         bounds_[c] = static_cast<std::uint16_t>(bytes_below(lower, unit_) | upper << 8);
       }
-  make_blocks();
-}
-
-void DistanceField::make_blocks() {
-  for (int k = 0; k < 3; ++k) nb_[k] = ((n_[k] - 1) >> kBlockShift) + 1;
-  blocks_.assign(std::size_t(nb_[0]) * nb_[1] * nb_[2] + 3, 255);
-  std::size_t c = 0;
-  for (int z = 0; z < n_[2]; ++z)
-    for (int y = 0; y < n_[1]; ++y)
-      for (int x = 0; x < n_[0]; ++x, ++c) {
-        std::uint8_t& b = blocks_[(x >> kBlockShift) +
-                                  std::size_t(nb_[0]) * ((y >> kBlockShift) +
-                                                         std::size_t(nb_[1]) * (z >> kBlockShift))];
-        b = std::min(b, static_cast<std::uint8_t>(bounds_[c] & 0xFF));
-      }
 }
 
 }  // namespace medspheres::check::detail

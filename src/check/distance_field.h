@@ -8,9 +8,7 @@
 // centre; beyond it, reach or the Euclidean distance transform of the cells the elements'
 // boxes touch, whichever is larger, and no upper bound. Every value is rounded outward by
 // `pad` and by the bytes' step; 255 as an upper bound means none is known. Frame W, metres.
-// A coarse level per block of kBlock^3 cells holds the least lower bound of its cells: a
-// lower bound at every cell centre of the block, small enough to stay in cache, read before
-// the cells themselves. Immutable after construction.
+// Immutable after construction.
 
 #include <cstddef>
 #include <cstdint>
@@ -36,24 +34,12 @@ class DistanceField {
     return bounds_.empty() ? nullptr : bounds_.data();
   }
   double unit() const noexcept { return unit_; }
-  /// Cells per block edge, as a shift: block (i, j, k) holds cells (i << kBlockShift ..).
-  static constexpr int kBlockShift = 1;
-  /// Blocks per axis: ceil(dims() / 2^kBlockShift).
-  const int* block_dims() const noexcept { return nb_; }
-  /// Per block (x fastest): the least lower byte of its cells (those inside the field); 3
-  /// bytes follow the last block, so that a 4-byte read at any block stays inside.
-  const std::uint8_t* block_lower() const noexcept {
-    return blocks_.empty() ? nullptr : blocks_.data();
-  }
 
  private:
   double origin_[3] = {0, 0, 0};
   double h_ = 0.0, unit_ = 0.0;
-  int n_[3] = {0, 0, 0}, nb_[3] = {0, 0, 0};
+  int n_[3] = {0, 0, 0};
   std::vector<std::uint16_t> bounds_;
-  std::vector<std::uint8_t> blocks_;
-
-  void make_blocks();
 };
 
 }  // namespace medspheres::check::detail

@@ -121,48 +121,6 @@ VD gather_cells(const GridView<double>& g, VD ux, VD uy, VD uz, unsigned inside,
   return {_mm256_cvtepi32_pd(_mm_and_si128(bytes, ff))};
 }
 
-VF gather_blocks(const GridView<float>& g, VF ux, VF uy, VF uz, unsigned inside, VF& cx, VF& cy,
-                 VF& cz) {
-  const __m256i mask = mask8(inside);
-  const __m256i ix = _mm256_and_si256(_mm256_cvttps_epi32(ux.v), mask);
-  const __m256i iy = _mm256_and_si256(_mm256_cvttps_epi32(uy.v), mask);
-  const __m256i iz = _mm256_and_si256(_mm256_cvttps_epi32(uz.v), mask);
-  cx.v = _mm256_cvtepi32_ps(ix);
-  cy.v = _mm256_cvtepi32_ps(iy);
-  cz.v = _mm256_cvtepi32_ps(iz);
-  constexpr int s = DistanceField::kBlockShift;  // cells per block edge: 1 << s
-  const __m256i block = _mm256_add_epi32(
-      _mm256_srli_epi32(ix, s),
-      _mm256_mullo_epi32(_mm256_set1_epi32(g.nb[0]),
-                         _mm256_add_epi32(_mm256_srli_epi32(iy, s),
-                                          _mm256_mullo_epi32(_mm256_set1_epi32(g.nb[1]),
-                                                             _mm256_srli_epi32(iz, s)))));
-  const __m256i bytes = _mm256_mask_i32gather_epi32(
-      _mm256_setzero_si256(), reinterpret_cast<const int*>(g.block), block, mask, 1);
-  return {_mm256_cvtepi32_ps(_mm256_and_si256(bytes, _mm256_set1_epi32(0xFF)))};
-}
-
-VD gather_blocks(const GridView<double>& g, VD ux, VD uy, VD uz, unsigned inside, VD& cx, VD& cy,
-                 VD& cz) {
-  const __m128i mask = _mm256_castsi256_si128(mask8(inside));
-  const __m128i ix = _mm_and_si128(_mm256_cvttpd_epi32(ux.v), mask);
-  const __m128i iy = _mm_and_si128(_mm256_cvttpd_epi32(uy.v), mask);
-  const __m128i iz = _mm_and_si128(_mm256_cvttpd_epi32(uz.v), mask);
-  cx.v = _mm256_cvtepi32_pd(ix);
-  cy.v = _mm256_cvtepi32_pd(iy);
-  cz.v = _mm256_cvtepi32_pd(iz);
-  constexpr int s = DistanceField::kBlockShift;  // cells per block edge: 1 << s
-  const __m128i block = _mm_add_epi32(
-      _mm_srli_epi32(ix, s),
-      _mm_mullo_epi32(
-          _mm_set1_epi32(g.nb[0]),
-          _mm_add_epi32(_mm_srli_epi32(iy, s),
-                        _mm_mullo_epi32(_mm_set1_epi32(g.nb[1]), _mm_srli_epi32(iz, s)))));
-  const __m128i bytes = _mm_mask_i32gather_epi32(
-      _mm_setzero_si128(), reinterpret_cast<const int*>(g.block), block, mask, 1);
-  return {_mm256_cvtepi32_pd(_mm_and_si128(bytes, _mm_set1_epi32(0xFF)))};
-}
-
 // Asks for the cells that gather_cells would read in the lanes `inside` (no effect on any
 // answer).
 template <class V>

@@ -11,8 +11,6 @@
 //     V& cz, V& upper) (in the lanes `inside`, the cell (i, j, k) = ((int)ux, (int)uy,
 //     (int)uz) of the field: its lower byte (returned) and upper byte, and i, j, k in cx,
 //     cy, cz; 0 in the other lanes);
-//   V gather_blocks(const GridView<T>& g, V ux, V uy, V uz, unsigned inside, V& cx, V& cy,
-//     V& cz) (the same for the cell's block in g.block: its least lower byte);
 //   void truncate_cells(VD x, unsigned in, uint32_t* out) (out[l] = (uint32_t)x[l] in the
 //     lanes `in`, each within [0, 2^16), else 0);
 //   unsigned table_bits(const PairTableView& t, const uint32_t* fine) (per lane l of kLanes,
@@ -290,53 +288,36 @@ MEDSPHERES_KERNEL_INLINE void prefetch_points(const GridView<typename V::T>& g,
   }
 }
 
-// The lanes of `in` in which a point at (dx, dy, dz) from its cell's centre is certainly
-// farther than reach from every element, by a lower bound `lower` (in units) at that centre:
-// clear when lower * unit - reach > |p - centre|. The squared offset into centre2.
+// The lanes in which the point (x, y, z) is certainly farther than `far` from every
+// element (returned), and those in which it is certainly within `near` of one (`hit`):
+// inside the field, by its cell's bounds at the centre and |p - centre|; outside, by the
+// elements' bounding box (no hit). Both less the grid's pad, for the rounding of these
+// tests in doubles (in floats, the slack in far and near covers theirs).
 template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned cell_clear(const GridView<typename V::T>& g, V dx, V dy, V dz,
-                                             V lower, typename V::T reach, unsigned in,
-                                             V& centre2) {
+MEDSPHERES_KERNEL_INLINE unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z,
+                                            typename V::T far, typename V::T near, unsigned& hit) {
   using T = typename V::T;
-  centre2 = (dx * dx + dy * dy) + dz * dz;
-  const V room = lower * splat(g.unit) - splat(reach);
-  return in & ~le_bits(room, splat(T(0))) & ~le_bits(room * room, centre2);
-}
-
-// The offset of (x, y, z) from the centre of the cell (cx, cy, cz).
-template <class V>
-MEDSPHERES_KERNEL_INLINE void cell_offset(const GridView<typename V::T>& g, V x, V y, V z, V cx,
-                                          V cy, V cz, V& dx, V& dy, V& dz) {
-  using T = typename V::T;
-  const V half = splat(T(0.5));
-  dx = x - ((cx + half) * splat(g.side) + splat(g.origin[0]));
-  dy = y - ((cy + half) * splat(g.side) + splat(g.origin[1]));
-  dz = z - ((cz + half) * splat(g.side) + splat(g.origin[2]));
-}
-
-// The block stage of grid_test: the lanes in which the point (x, y, z) is certainly
-// farther than `far` from every element (returned): inside the field by its block's least
-// lower bound (a lower bound at the point's cell centre too: it clears no lane that the
-// cell's own bound would not, by the same operations on a value no larger), outside by
-// the elements' bounding box, less the grid's pad (in floats, the slack in far covers
-// these tests' rounding). The inside lanes it leaves into `fine`, with the point in cell
-// units (ux, uy, uz).
-template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned grid_coarse(const GridView<typename V::T>& g, V x, V y, V z,
-                                              typename V::T far, unsigned& fine, V& ux, V& uy,
-                                              V& uz) {
-  using T = typename V::T;
+  V ux, uy, uz;
   const unsigned inside = grid_cell(g, x, y, z, ux, uy, uz);
   const V zero = splat(T(0));
   const T reach = far + g.pad;
   unsigned clear = 0;
+  hit = 0;
   if (inside) {
-    V cx, cy, cz, dx, dy, dz, centre2;
-    const V least = gather_blocks(g, ux, uy, uz, inside, cx, cy, cz);
-    cell_offset(g, x, y, z, cx, cy, cz, dx, dy, dz);
-    clear = cell_clear(g, dx, dy, dz, least, reach, inside, centre2);
+    V cx, cy, cz, upper;
+    const V lower = gather_cells(g, ux, uy, uz, inside, cx, cy, cz, upper);
+    const V half = splat(T(0.5));
+    const V dx = x - ((cx + half) * splat(g.side) + splat(g.origin[0])),
+            dy = y - ((cy + half) * splat(g.side) + splat(g.origin[1])),
+            dz = z - ((cz + half) * splat(g.side) + splat(g.origin[2]));
+    const V centre2 = (dx * dx + dy * dy) + dz * dz;
+    const V room = lower * splat(g.unit) - splat(reach);  // clear when room > |p - centre|
+    clear = inside & ~le_bits(room, zero) & ~le_bits(room * room, centre2);
+    // upper 255: none known.
+    const V depth = splat(near - g.pad) - upper * splat(g.unit);  // hit when >= |p - centre|
+    hit = inside & ~le_bits(splat(T(254.5)), upper) & le_bits(zero, depth) &
+          le_bits(centre2, depth * depth);
   }
-  fine = inside & ~clear;
   const unsigned outside = ((1u << V::W) - 1) & ~inside;
   if (outside) {
     const V bx = vmax(vmax(splat(g.box_min[0]) - x, x - splat(g.box_max[0])), zero),
@@ -346,43 +327,6 @@ MEDSPHERES_KERNEL_INLINE unsigned grid_coarse(const GridView<typename V::T>& g, 
       clear |= outside & ~le_bits((bx * bx + by * by) + bz * bz, splat(reach * reach));
   }
   return clear;
-}
-
-// The cell stage of grid_test, in the lanes `lanes` inside the field: those in which the
-// point is certainly farther than `far` from every element (returned) by its cell's
-// bounds at the centre and |p - centre|, and those in which it is certainly within `near`
-// of one (`hit`), both less the grid's pad.
-template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned grid_fine(const GridView<typename V::T>& g, V x, V y, V z,
-                                            typename V::T far, typename V::T near, unsigned lanes,
-                                            unsigned& hit) {
-  using T = typename V::T;
-  V ux, uy, uz, cx, cy, cz, dx, dy, dz, centre2, upper;
-  const unsigned in = grid_cell(g, x, y, z, ux, uy, uz) & lanes;
-  hit = 0;
-  if (!in) return 0;
-  const V lower = gather_cells(g, ux, uy, uz, in, cx, cy, cz, upper);
-  cell_offset(g, x, y, z, cx, cy, cz, dx, dy, dz);
-  const unsigned clear = cell_clear(g, dx, dy, dz, lower, far + g.pad, in, centre2);
-  // upper 255: none known.
-  const V depth = splat(near - g.pad) - upper * splat(g.unit);  // hit when >= |p - centre|
-  hit = in & ~le_bits(splat(T(254.5)), upper) & le_bits(splat(T(0)), depth) &
-        le_bits(centre2, depth * depth);
-  return clear;
-}
-
-// The lanes in which the point (x, y, z) is certainly farther than `far` from every
-// element (returned), and those in which it is certainly within `near` of one (`hit`):
-// grid_coarse, then grid_fine in the lanes it leaves (a lane the block clears is farther
-// than far >= near, so its cell would not find it within near: no hit is lost).
-template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned grid_test(const GridView<typename V::T>& g, V x, V y, V z,
-                                            typename V::T far, typename V::T near, unsigned& hit) {
-  V ux, uy, uz;
-  unsigned fine = 0;
-  hit = 0;
-  const unsigned clear = grid_coarse(g, x, y, z, far, fine, ux, uy, uz);
-  return fine ? clear | grid_fine(g, x, y, z, far, near, fine, hit) : clear;
 }
 
 // The lanes of `open` in which point i of the posed set may lie within rq of the scene
@@ -422,58 +366,19 @@ MEDSPHERES_KERNEL_INLINE void scan_lanes(const Ctx<V>& c, const typename V::T* s
 // A link's set `slot` against the scene by the field alone, in the lanes `need`: returns
 // the lanes in which some sphere is certainly within r + add of it, and keeps per sphere
 // (p.near) the lanes its look-up leaves open, for set_lists.
-// Point i of a posed set (sphere begin + i, radius + add: rq) against the field's blocks in
-// the lanes `need`: the lanes it leaves open (not clear of the scene by rq + slack); asks
-// for the cells of those inside the field.
-template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned set_coarse(const Ctx<V>& c, const typename V::T* set, int i,
-                                             int begin, double add, unsigned need) {
-  constexpr int W = V::W;
-  using T = typename V::T;
-  const double rq = double(c.sp.r[begin + i]) + add;
-  V ux, uy, uz;
-  unsigned fine = 0;
-  const unsigned clear =
-      grid_coarse(c.sp.grid, load(set + 3 * i * W), load(set + (3 * i + 1) * W),
-                  load(set + (3 * i + 2) * W), T(rq + double(c.p.slack)), fine, ux, uy, uz);
-  if (fine & need) prefetch_cells(c.sp.grid, ux, uy, uz, fine & need);
-  return need & ~clear;
-}
-
-// The same point against its cells in the lanes `open` that set_coarse left: the lanes
-// clear of the scene by rq + slack (returned), those certainly within rq - slack (`hit`).
-template <class V>
-MEDSPHERES_KERNEL_INLINE unsigned point_fine(const Ctx<V>& c, const typename V::T* set, int i,
-                                             int begin, double add, unsigned open, unsigned& hit) {
-  constexpr int W = V::W;
-  using T = typename V::T;
-  const double rq = double(c.sp.r[begin + i]) + add;
-  return grid_fine(c.sp.grid, load(set + 3 * i * W), load(set + (3 * i + 1) * W),
-                   load(set + (3 * i + 2) * W), T(rq + double(c.p.slack)),
-                   T(rq - double(c.p.slack)), open, hit);
-}
-
 template <class V>
 unsigned set_field(const Ctx<V>& c, int link, int slot, double add, unsigned need) {
   const LinkLayout& l = c.robot.link[link];
   const typename V::T* set = posed(c, link, slot);
   const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
-  if (c.sp.grid.field == nullptr) {  // no element
-    for (int i = 0; i < count; ++i) c.p.near[begin + i] = 0;
-    return 0;
-  }
-  // Every sphere's block first (the blocks stay in cache), asking for the cells of the
-  // lanes they leave, so that the cells' look-ups below overlap their memory latency.
-  for (int i = 0; i < count; ++i)
-    c.p.near[begin + i] = static_cast<unsigned char>(set_coarse(c, set, i, begin, add, need));
+  prefetch_points<V>(c.sp.grid, set, 0, count);
   unsigned hit = 0;
   int i = 0;
   for (; i < count && (need & ~hit); ++i) {
-    const unsigned open = c.p.near[begin + i] & ~hit;
     unsigned certain = 0;
-    const unsigned clear = open ? point_fine(c, set, i, begin, add, open, certain) : 0u;
-    c.p.near[begin + i] = static_cast<unsigned char>(open & ~clear);
-    hit |= certain & open;
+    c.p.near[begin + i] = static_cast<unsigned char>(
+        grid_near(c, set, i, double(c.sp.r[begin + i]) + add, need & ~hit, certain));
+    hit |= certain;
   }
   for (; i < count; ++i) c.p.near[begin + i] = 0;  // every lane of `need` settled
   return hit;

@@ -96,23 +96,6 @@ Lanes<S, N> gather_cells(const GridView<S>& g, Lanes<S, N> ux, Lanes<S, N> uy, L
   return lower;
 }
 
-template <class S, int N>
-Lanes<S, N> gather_blocks(const GridView<S>& g, Lanes<S, N> ux, Lanes<S, N> uy, Lanes<S, N> uz,
-                          unsigned inside, Lanes<S, N>& cx, Lanes<S, N>& cy, Lanes<S, N>& cz) {
-  constexpr int s = DistanceField::kBlockShift;  // cells per block edge: 1 << s
-  Lanes<S, N> lower;
-  for (int l = 0; l < N; ++l) {
-    const bool in = inside >> l & 1;
-    const int i = in ? static_cast<int>(ux.v[l]) : 0, j = in ? static_cast<int>(uy.v[l]) : 0,
-              k = in ? static_cast<int>(uz.v[l]) : 0;
-    cx.v[l] = S(i);
-    cy.v[l] = S(j);
-    cz.v[l] = S(k);
-    lower.v[l] = in ? S(g.block[(i >> s) + g.nb[0] * ((j >> s) + g.nb[1] * (k >> s))]) : S(0);
-  }
-  return lower;
-}
-
 // Asks for the cells that gather_cells would read in the lanes `inside` (no effect on any
 // answer).
 template <class S, int N>

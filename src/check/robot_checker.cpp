@@ -67,9 +67,7 @@ struct SphereArrays {
       for (int d = 0; d < 3; ++d) {
         k.grid.origin[d] = T(f.origin()[d]);
         k.grid.n[d] = f.dims()[d];
-        k.grid.nb[d] = f.block_dims()[d];
       }
-      k.grid.block = f.block_lower();
       k.grid.side = T(f.cell_side());
       k.grid.inverse_side = T(1.0 / f.cell_side());
       k.grid.field = f.bounds();
