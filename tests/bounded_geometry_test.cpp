@@ -23,6 +23,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/point_triangle.h"
 #include "support/fcl_fixtures.h"
 #include "support/robot_fixtures.h"
 #include "support/sphere_fixtures.h"
@@ -254,6 +255,78 @@ TEST_CASE("a geometry of exact balls settles against a mesh without a mesh of it
     }
   }
   CHECK(by_mesh > 0);
+}
+
+// Brute force: the least distance of the balls at X_WA to the mesh's triangles at X_WB
+// (a surface), minus the balls' radii.
+double balls_to_triangles(const SphereSet& balls, const ::fcl::Transform3d& X_WA,
+                          const TriangleMesh& mesh, const ::fcl::Transform3d& X_WB) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const Sphere& b : balls.spheres) {
+    const Eigen::Vector3d c = X_WB.inverse() * (X_WA * b.center);
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+      const Eigen::Vector3d q =
+          closest_point_on_triangle(c, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
+      d = std::min(d, (q - c).norm() - b.radius);
+    }
+  }
+  return d;
+}
+
+TEST_CASE("exact balls against a mesh near contact: FCL's ball-mesh distance and the walk agree",
+          "[bounds]") {
+  // Three 1 cm balls brought towards each solid from outside until the first pose within
+  // the margin, bisected to the brute-force distance = margin, then moved 1e-6 and 1e-4
+  // either side: the settle() through FCL's ball-to-mesh distance (a BoundedGeometry with
+  // its mesh), the tree-target walk (the bare BVHModel) and brute force agree.
+  SphereSet feet;
+  for (const Eigen::Vector3d& c : {Eigen::Vector3d(0.04, 0.0, 0.0), Eigen::Vector3d(-0.03, 0.02, 0),
+                                   Eigen::Vector3d(0.0, -0.03, 0.01)})
+    feet.spheres.push_back({c, 0.01});
+  feet.metadata_json = R"({"certified": true})";
+  const mf::BoundedGeometry foot("foot", feet, feet);
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> unit(-1.0, 1.0);
+  const double margin = 0.01;
+  int checked = 0, colliding = 0;
+  for (const auto& s : solids()) {
+    for (int k = 0; k < 8; ++k) {
+      const ::fcl::Transform3d X_WB = mt::random_pose(rng, 0.2);
+      ::fcl::Transform3d X_WA = mt::random_pose(rng, 0.2);
+      const Eigen::Vector3d dir = Eigen::Vector3d(unit(rng), unit(rng), unit(rng)).normalized();
+      auto at = [&](double t) {
+        ::fcl::Transform3d X = X_WA;
+        X.translation() = X_WB.translation() + t * dir;
+        return X;
+      };
+      auto f = [&](double t) { return balls_to_triangles(feet, at(t), s->mesh, X_WB) - margin; };
+      double far = 1.0, near = far;
+      while (near > 0.0 && f(near) > 0.0) near -= 0.01;
+      if (!(f(near) <= 0.0)) continue;
+      far = near + 0.01;
+      for (int h = 0; h < 60; ++h) (f(0.5 * (near + far)) > 0.0 ? far : near) = 0.5 * (near + far);
+      for (const double eps : {-1e-4, -1e-6, 0.0, 1e-6, 1e-4}) {
+        const ::fcl::Transform3d X = at(far + eps);
+        const double d = balls_to_triangles(feet, X, s->mesh, X_WB);
+        const mf::CollideResult fcl_path = mf::collide(foot, X, *s->geometry, X_WB, margin);
+        const mf::CollideResult swapped = mf::collide(*s->geometry, X_WB, foot, X, margin);
+        const mf::CollideResult walk = mf::collide(foot, X, *s->bvh, X_WB, margin);
+        INFO(s->name << " pose " << k << " eps " << eps << ": brute force " << d);
+        REQUIRE(fcl_path.verdict != BoundsVerdict::undecided);
+        CHECK(fcl_path.verdict == swapped.verdict);
+        // Away from the threshold by more than the methods' rounding.
+        if (std::abs(d - margin) > 1e-9) {
+          CHECK(fcl_path.verdict == walk.verdict);
+          CHECK((fcl_path.verdict == BoundsVerdict::colliding) == (d <= margin));
+          ++checked;
+          colliding += d <= margin;
+        }
+      }
+    }
+  }
+  CHECK(checked >= 60);
+  CHECK(colliding >= 20);
+  CHECK(checked - colliding >= 20);
 }
 
 TEST_CASE("the joint walk gives the two sphere-set distances", "[bounds]") {
