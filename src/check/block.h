@@ -17,11 +17,10 @@
 
 namespace medspheres::check::detail {
 
-inline constexpr int kLanes = 8;                // configurations per block: the float lanes
-inline constexpr int kHalf = 4;                 // the double lanes
-inline constexpr int kBoundSlot = kLevels;      // the posed bounding sphere's slot
-inline constexpr int kGroupSlot = kLevels + 1;  // the posed groups' balls (sphere_groups.h)
-inline constexpr int kSlots = kLevels + 2;
+inline constexpr int kLanes = 8;            // configurations per block: the float lanes
+inline constexpr int kHalf = 4;             // the double lanes
+inline constexpr int kBoundSlot = kLevels;  // the posed bounding sphere's slot
+inline constexpr int kSlots = kLevels + 1;
 
 /// The scene's distance field (distance_field.h), for look-ups inside the kernel (the cell
 /// found by a multiplication: a point a rounding away from its cell is still within the
@@ -43,9 +42,6 @@ template <class T>
 struct KernelSpheres {
   const T *x = nullptr, *y = nullptr, *z = nullptr, *r = nullptr;  // per sphere
   const T* bound = nullptr;  // per link: x, y, z, r in its frame
-  /// Per link, kMaxGroups balls of its spheres-mode set's groups (LinkLayout::groups), in
-  /// its frame; each radius rounded up to T.
-  const T *group_x = nullptr, *group_y = nullptr, *group_z = nullptr, *group_r = nullptr;
   /// Per self pair (a, o): the square of T(r_a + r_o + margin + allowance) + slack, in T,
   /// r the links' bounding radii in T (the Block's margin, allowance and slack; slack 0 in
   /// doubles): the pair's bounding spheres may meet where their centres' squared distance
@@ -87,8 +83,8 @@ struct KernelRobot {
 /// workspace for the posed spheres.
 template <class T>
 struct Pass {
-  const T* frames = nullptr;  // frames * 12 * W: X_WF rows of R, then p
-  T* posed = nullptr;  // per sphere 3 * W, per link 3 * W (bounding spheres), kMaxGroups * 3 * W
+  const T* frames = nullptr;            // frames * 12 * W: X_WF rows of R, then p
+  T* posed = nullptr;                   // per sphere 3 * W, then per link 3 * W (bounding spheres)
   unsigned char* posed_flag = nullptr;  // links * kSlots
   unsigned char* near = nullptr;        // per sphere: lanes its field look-up left open
   int* lists = nullptr;                 // per link (spheres mode)
@@ -126,8 +122,8 @@ struct Block {
   // Workspace, sized by the caller.
   double* frames = nullptr;             // two halves of frames * 12 * kHalf
   float* frames_f = nullptr;            // frames * 12 * kLanes
-  double* posed = nullptr;              // (spheres + links (1 + kMaxGroups)) * 3 * kHalf
-  float* posed_f = nullptr;             // (spheres + links (1 + kMaxGroups)) * 3 * kLanes
+  double* posed = nullptr;              // (spheres + links) * 3 * kHalf
+  float* posed_f = nullptr;             // (spheres + links) * 3 * kLanes
   unsigned char* posed_flag = nullptr;  // links * kSlots
   unsigned char* near = nullptr;        // spheres
   int* lists = nullptr;                 // links

@@ -237,20 +237,13 @@ template <class V>
 MEDSPHERES_KERNEL_INLINE const typename V::T* posed(const Ctx<V>& c, int link, int slot) {
   constexpr int W = V::W;
   const LinkLayout& l = c.robot.link[link];
-  typename V::T* out =
-      slot == kBoundSlot ? c.p.posed + (c.robot.spheres + link) * 3 * W
-      : slot == kGroupSlot
-          ? c.p.posed + (c.robot.spheres + c.robot.links + kMaxGroups * link) * 3 * W
-          : c.p.posed + l.begin[slot] * 3 * W;
+  typename V::T* out = slot == kBoundSlot ? c.p.posed + (c.robot.spheres + link) * 3 * W
+                                          : c.p.posed + l.begin[slot] * 3 * W;
   unsigned char& done = c.p.posed_flag[link * kSlots + slot];
   if (!done) {
     const auto* bound = c.sp.bound + 4 * link;
-    const int g = kMaxGroups * link;
     if (slot == kBoundSlot)
       pose_points<V>(c.p.frames, l.frame, bound, bound + 1, bound + 2, 1, out);
-    else if (slot == kGroupSlot)
-      pose_points<V>(c.p.frames, l.frame, c.sp.group_x + g, c.sp.group_y + g, c.sp.group_z + g,
-                     l.groups.count, out);
     else
       pose_points<V>(c.p.frames, l.frame, c.sp.x + l.begin[slot], c.sp.y + l.begin[slot],
                      c.sp.z + l.begin[slot], static_cast<int>(l.count[slot]), out);
@@ -372,47 +365,19 @@ MEDSPHERES_KERNEL_INLINE void scan_lanes(const Ctx<V>& c, const typename V::T* s
 
 // A link's set `slot` against the scene by the field alone, in the lanes `need`: returns
 // the lanes in which some sphere is certainly within r + add of it, and keeps per sphere
-// (p.near) the lanes its look-up leaves open, for set_lists. The spheres-mode set's groups
-// (sphere_groups.h) first: a sphere is looked up only in the lanes its group's ball leaves
-// open (a ball clear of the scene by its radius + add clears every sphere it holds by
-// theirs), and the set is posed only when some group is open.
+// (p.near) the lanes its look-up leaves open, for set_lists.
 template <class V>
 unsigned set_field(const Ctx<V>& c, int link, int slot, double add, unsigned need) {
   const LinkLayout& l = c.robot.link[link];
-  const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
-  const SphereGroups& groups = l.groups;
-  const bool grouped = slot == l.spheres && groups.count > 0 && c.sp.grid.field != nullptr;
-  unsigned lanes_of[32];  // per sphere of a grouped set: its group's open lanes
-  if (grouped) {
-    const typename V::T* balls = posed(c, link, kGroupSlot);
-    prefetch_points<V>(c.sp.grid, balls, 0, groups.count);
-    unsigned any = 0;
-    for (int g = 0; g < groups.count; ++g) {
-      unsigned ignored = 0;  // a ball within reach says nothing of its spheres
-      const unsigned open =
-          grid_near(c, balls, g, double(c.sp.group_r[kMaxGroups * link + g]) + add, need, ignored);
-      any |= open;
-      for (std::uint32_t m = groups.mask[g]; m; m &= m - 1) lanes_of[__builtin_ctz(m)] = open;
-    }
-    if (!any) {
-      for (int i = 0; i < count; ++i) c.p.near[begin + i] = 0;
-      return 0;
-    }
-  }
   const typename V::T* set = posed(c, link, slot);
-  if (grouped) {
-    for (int i = 0; i < count; ++i)
-      if (lanes_of[i]) prefetch_points<V>(c.sp.grid, set, i, 1);
-  } else {
-    prefetch_points<V>(c.sp.grid, set, 0, count);
-  }
+  const int begin = static_cast<int>(l.begin[slot]), count = static_cast<int>(l.count[slot]);
+  prefetch_points<V>(c.sp.grid, set, 0, count);
   unsigned hit = 0;
   int i = 0;
   for (; i < count && (need & ~hit); ++i) {
     unsigned certain = 0;
-    const unsigned lanes = (grouped ? lanes_of[i] : need) & ~hit;
     c.p.near[begin + i] = static_cast<unsigned char>(
-        grid_near(c, set, i, double(c.sp.r[begin + i]) + add, lanes, certain));
+        grid_near(c, set, i, double(c.sp.r[begin + i]) + add, need & ~hit, certain));
     hit |= certain;
   }
   for (; i < count; ++i) c.p.near[begin + i] = 0;  // every lane of `need` settled

@@ -54,7 +54,7 @@ struct Workspace {
 // A layout's spheres and bounding spheres in precision T, and the grid's view in T.
 template <class T>
 struct SphereArrays {
-  std::vector<T> x, y, z, r, bound, pair_reach2, group_x, group_y, group_z, group_r;
+  std::vector<T> x, y, z, r, bound, pair_reach2;
   KernelSpheres<T> view(const SceneGrid& g, const DistanceField& f) const {
     KernelSpheres<T> k;
     k.x = x.data();
@@ -62,10 +62,6 @@ struct SphereArrays {
     k.z = z.data();
     k.r = r.data();
     k.bound = bound.data();
-    k.group_x = group_x.data();
-    k.group_y = group_y.data();
-    k.group_z = group_z.data();
-    k.group_r = group_r.data();
     k.pair_reach2 = pair_reach2.data();
     if (!f.empty()) {
       for (int d = 0; d < 3; ++d) {
@@ -93,18 +89,7 @@ SphereArrays<T> sphere_arrays(const RobotLayout& l) {
   a.y.assign(l.y.begin(), l.y.end());
   a.z.assign(l.z.begin(), l.z.end());
   a.r.assign(l.r.begin(), l.r.end());
-  for (const LinkLayout& link : l.links) {
-    a.bound.insert(a.bound.end(), link.bound, link.bound + 4);
-    for (int g = 0; g < kMaxGroups; ++g) {
-      const double* ball = link.groups.ball[g];
-      a.group_x.push_back(T(ball[0]));
-      a.group_y.push_back(T(ball[1]));
-      a.group_z.push_back(T(ball[2]));
-      T r = T(ball[3]);
-      if (double(r) < ball[3]) r = std::nextafter(r, std::numeric_limits<T>::infinity());
-      a.group_r.push_back(r);
-    }
-  }
+  for (const LinkLayout& link : l.links) a.bound.insert(a.bound.end(), link.bound, link.bound + 4);
   return a;
 }
 
@@ -160,7 +145,7 @@ struct RobotChecker::Impl {
       for (int l = 0; l < detail::kLanes; ++l) w.frames_f[e * detail::kLanes + l] = 1.0f;
     // The posed points are written before they are read (posed_flag): left uninitialised,
     // so that a workspace for one configuration or one edge costs no fill of its size.
-    const std::size_t points = layout.x.size() + layout.links.size() * (1 + detail::kMaxGroups);
+    const std::size_t points = layout.x.size() + layout.links.size();
     w.posed.reset(new double[points * 3 * detail::kHalf]);
     w.posed_f.reset(new float[points * 3 * detail::kLanes]);
     w.flags.assign(layout.links.size() * detail::kSlots, 0);

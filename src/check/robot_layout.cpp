@@ -13,9 +13,6 @@
 namespace medspheres::check::detail {
 namespace {
 
-// The groups of each link's spheres-mode set (sphere_groups.h).
-constexpr int kLayoutGroups = 2;
-
 constexpr const char* kSource = "robot checker";
 
 void row_major(const Eigen::Matrix3d& m, double* out) {
@@ -187,11 +184,6 @@ RobotLayout make_layout(const RobotModel& planner, const RobotModel* fine,
     const auto extra = inner_points.find(l.name);
     add_link(l, f, frame[i], X_FL[i], extra != inner_points.end() ? &extra->second : nullptr, out);
     names.push_back(l.name);
-  }
-  for (LinkLayout& l : out.links) {
-    const std::uint32_t b = l.begin[l.spheres];
-    l.groups = group_spheres(out.x.data() + b, out.y.data() + b, out.z.data() + b, out.r.data() + b,
-                             static_cast<int>(l.count[l.spheres]), kLayoutGroups, out.extent);
   }
   add_self_pairs(planner, names, disabled, out);
   return out;

@@ -14,7 +14,6 @@
 #include <Eigen/Geometry>
 
 #include "medspheres/robot_model.h"
-#include "sphere_groups.h"
 
 namespace medspheres::check::detail {
 
@@ -41,7 +40,6 @@ struct LinkLayout {
   double bound[4] = {};  // x, y, z, r in the frame: contains every sphere of every level
   std::uint32_t begin[kLevels] = {}, count[kLevels] = {};  // into RobotLayout's spheres
   Level spheres = kOuter;                                  // the spheres-only mode's set
-  SphereGroups groups;  // of the spheres-only mode's set (sphere_groups.h; count 0: none)
 };
 
 struct RobotLayout {
