@@ -220,15 +220,14 @@ MEDSPHERES_KERNEL_INLINE void pose_points(const typename V::T* frames, int f,
                                           const typename V::T* x, const typename V::T* y,
                                           const typename V::T* z, int n, typename V::T* out) {
   constexpr int W = V::W;
-  // The frame's rows loaded where they are used (an array of them was copied to the
-  // stack first, by a string move, on every call).
   const typename V::T* in = frames + f * 12 * W;
+  V R[12];
+  for (int e = 0; e < 12; ++e) R[e] = load(in + e * W);
   for (int i = 0; i < n; ++i) {
     const V px = splat(x[i]), py = splat(y[i]), pz = splat(z[i]);
     for (int r = 0; r < 3; ++r)
-      store(out + (3 * i + r) * W, ((load(in + 3 * r * W) * px + load(in + (3 * r + 1) * W) * py) +
-                                    load(in + (3 * r + 2) * W) * pz) +
-                                       load(in + (9 + r) * W));
+      store(out + (3 * i + r) * W,
+            ((R[3 * r] * px + R[3 * r + 1] * py) + R[3 * r + 2] * pz) + R[9 + r]);
   }
 }
 
@@ -433,10 +432,6 @@ unsigned level_within(const Ctx<V>& c, int a, int o, int slot_a, int slot_o, dou
   const T slack = c.p.slack;
   unsigned hit = 0, near = 0;
   const V bx = load(bound), by = load(bound + W), bz = load(bound + 2 * W);
-  // Per sphere j of o (at most kCullMax), the lanes in which it may come within reach of a's
-  // bounding sphere: the same cull the other way round (every sphere of a lies in it).
-  constexpr int kCullMax = 64;
-  unsigned char lanes_b[kCullMax];
   for (int i = 0; i < na; ++i) {
     const V ax = load(pa + 3 * i * W), ay = load(pa + (3 * i + 1) * W),
             az = load(pa + (3 * i + 2) * W);
@@ -447,26 +442,8 @@ unsigned level_within(const Ctx<V>& c, int a, int o, int slot_a, int slot_o, dou
     const unsigned open =
         need & ~hit & le_bits((ex * ex + ey * ey) + ez * ez, splat(T(cull * cull)));
     if (!open) continue;
-    if (pb == nullptr) {
-      pb = posed(c, o, slot_o);
-      if (nb <= kCullMax) {
-        const T* bound_a = posed(c, a, kBoundSlot);
-        const V cx = load(bound_a), cy = load(bound_a + W), cz = load(bound_a + 2 * W);
-        const double rba = double(c.sp.bound[4 * a + 3]);
-        for (int j = 0; j < nb; ++j) {
-          const double cull_b =
-              double(c.sp.r[bb + j]) + add + rba + 1e-9 * (1.0 + rba) + double(slack);
-          const V fx = load(pb + 3 * j * W) - cx, fy = load(pb + (3 * j + 1) * W) - cy,
-                  fz = load(pb + (3 * j + 2) * W) - cz;
-          lanes_b[j] = cull_b < 0.0
-                           ? 0
-                           : static_cast<unsigned char>(
-                                 le_bits((fx * fx + fy * fy) + fz * fz, splat(T(cull_b * cull_b))));
-        }
-      }
-    }
+    if (pb == nullptr) pb = posed(c, o, slot_o);
     for (int j = 0; j < nb; ++j) {
-      if (nb <= kCullMax && !(lanes_b[j] & open)) continue;
       const T reach = T(ra + double(c.sp.r[bb + j]));
       if (reach + slack < T(0)) continue;
       const V dx = ax - load(pb + 3 * j * W), dy = ay - load(pb + (3 * j + 1) * W),
