@@ -143,4 +143,25 @@ void run_block_scalar(const KernelRobot& robot, const SceneGrid& scene, Block& b
 /// Present only when the library was built for x86-64 (kernel_avx2.cpp).
 void run_block_avx2(const KernelRobot& robot, const SceneGrid& scene, Block& block);
 
+/// Blocks checked together in the spheres mode, their set tests compacted: the bounding
+/// tests of every block first, then each test's sets in groups of kLanes (configuration,
+/// test) items gathered across the blocks (their frames copied into one pass's lanes),
+/// then the double pass of each block's unsure lanes. Each lane's verdict is that of
+/// run_block (every test runs in each lane not found colliding, with the same operations).
+/// The blocks share their workspace but frames_f: each its own (frame 0 W). Not for
+/// learning (hits) or the bounds mode.
+struct Batch {
+  Block* blocks = nullptr;
+  int count = 0;
+  float* frames_f = nullptr;      // the gathered lanes' frames: frames * 12 * kLanes
+  unsigned char* need = nullptr;  // count * (links + self pairs): lanes left to test
+  unsigned* unsure = nullptr;     // count
+};
+
+using BatchFn = void (*)(const KernelRobot& robot, const SceneGrid& scene, Batch& batch);
+
+void run_batch_scalar(const KernelRobot& robot, const SceneGrid& scene, Batch& batch);
+/// Present only when the library was built for x86-64 (kernel_avx2.cpp).
+void run_batch_avx2(const KernelRobot& robot, const SceneGrid& scene, Batch& batch);
+
 }  // namespace medspheres::check::detail

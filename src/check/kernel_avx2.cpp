@@ -173,4 +173,8 @@ void run_block_avx2(const KernelRobot& robot, const SceneGrid& scene, Block& blo
   run_block(robot, scene, block);
 }
 
+void run_batch_avx2(const KernelRobot& robot, const SceneGrid& scene, Batch& batch) {
+  run_batch(robot, scene, batch);
+}
+
 }  // namespace medspheres::check::detail

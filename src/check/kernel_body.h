@@ -529,6 +529,20 @@ MEDSPHERES_KERNEL_INLINE unsigned table_free(const Ctx<V>& c, int k, unsigned op
   return table_bits(t, cells.fine) & inside;
 }
 
+// The lanes of `open` in which self pair k's sets must be tested (spheres mode): those its
+// table (if any) and its bounding spheres leave. A table free everywhere answers by the
+// limits alone, before the bounding spheres; another after them, in the lanes they leave.
+template <class V>
+MEDSPHERES_KERNEL_INLINE unsigned pair_need(const Ctx<V>& c, int k, unsigned open,
+                                            TableCells& cells) {
+  const KernelRobot& robot = c.robot;
+  const bool everywhere = robot.table && robot.table[k].all_free;
+  const unsigned lanes = everywhere ? open & ~table_free(c, k, open, cells) : open;
+  unsigned need = lanes ? pair_near(c, k, lanes) : 0u;
+  if (need && robot.table && !everywhere) need &= ~table_free(c, k, need, cells);
+  return need;
+}
+
 // The bounding-sphere tests of every link against the scene, for the lanes `open`, into
 // near[0 .. links): independent of one another, so run back to back (their look-ups
 // overlap) before any finer test.
@@ -672,13 +686,7 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
     } else if (c.b.self) {
       const int a = static_cast<int>(robot.pair_a[k - robot.links]),
                 o = static_cast<int>(robot.pair_b[k - robot.links]);
-      // A table free everywhere answers by the limits alone, before the bounding spheres;
-      // another after them, in the lanes they leave.
-      const bool everywhere = robot.table && robot.table[k - robot.links].all_free;
-      const unsigned lanes =
-          everywhere ? open & ~table_free(c, k - robot.links, open, cells) : open;
-      unsigned need = lanes ? pair_near(c, k - robot.links, lanes) : 0u;
-      if (need && robot.table && !everywhere) need &= ~table_free(c, k - robot.links, need, cells);
+      const unsigned need = pair_need(c, k - robot.links, open, cells);
       if (need)
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
                            maybe);
@@ -739,6 +747,21 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
   b.undecided = undecided | (b.undecided & open) << shift;
 }
 
+// The float pass over block b's lanes and workspace.
+Pass<float> float_pass(const Block& b) {
+  Pass<float> p;
+  p.frames = b.frames_f;
+  p.posed = b.posed_f;
+  p.posed_flag = b.posed_flag;
+  p.near = b.near;
+  p.lists = b.lists;
+  p.pending = b.pending;
+  p.unsure = b.unsure;
+  p.lanes = b.lanes;
+  p.slack = b.slack;
+  return p;
+}
+
 // The float pass poses the frames in floats; the double pass poses them again in doubles
 // for the halves that hold a lane to check again.
 void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
@@ -746,16 +769,7 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
   unsigned recheck = b.lanes;
   if (b.floats) {
     pose_frames_float(robot, b);
-    Pass<float> p;
-    p.frames = b.frames_f;
-    p.posed = b.posed_f;
-    p.posed_flag = b.posed_flag;
-    p.near = b.near;
-    p.lists = b.lists;
-    p.pending = b.pending;
-    p.unsure = b.unsure;
-    p.lanes = b.lanes;
-    p.slack = b.slack;
+    Pass<float> p = float_pass(b);
     const Ctx<VF> c{robot, robot.f, scene, b, p};
     unsigned unsure = 0;
     b.colliding = run_pass(c, unsure);
@@ -776,6 +790,116 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
     run_doubles(robot, scene, b, h, lanes);
   }
   b.undecided &= ~b.colliding;
+}
+
+// ---- Batches (block.h, Batch): the spheres mode's set tests compacted across blocks.
+
+// Frame f of the items' lanes (block << 3 | lane, n of them) into the batch's frames (the
+// lanes past n repeat item 0's).
+void gather_frame(const Batch& t, int f, const std::uint16_t* items, int n) {
+  float* out = t.frames_f + f * 12 * kLanes;
+  for (int s = 0; s < kLanes; ++s) {
+    const int item = items[s < n ? s : 0];
+    const float* in = t.blocks[item >> 3].frames_f + f * 12 * kLanes + (item & 7);
+    for (int e = 0; e < 12; ++e) out[e * kLanes + s] = in[e * kLanes];
+  }
+}
+
+// Test k's sets (link k against the scene, or self pair k - links) in n <= kLanes items,
+// gathered into the lanes of c's pass (its frames the batch's): the items found colliding
+// to their blocks' `colliding`, those maybe colliding to the batch's `unsure`. The same
+// operations per lane as run_spheres' test of the item in its own block.
+void run_items(const Ctx<VF>& c, Batch& t, int k, const std::uint16_t* items, int n) {
+  const KernelRobot& robot = c.robot;
+  const bool link = k < robot.links;
+  const int a = link ? k : static_cast<int>(robot.pair_a[k - robot.links]),
+            o = link ? -1 : static_cast<int>(robot.pair_b[k - robot.links]);
+  gather_frame(t, robot.link[a].frame, items, n);
+  if (o >= 0 && robot.link[o].frame != robot.link[a].frame)
+    gather_frame(t, robot.link[o].frame, items, n);
+  for (int s = 0; s < kSlots; ++s) {
+    c.p.posed_flag[a * kSlots + s] = 0;
+    if (o >= 0) c.p.posed_flag[o * kSlots + s] = 0;
+  }
+  const unsigned lanes = (1u << n) - 1;
+  c.p.lanes = lanes;
+  unsigned maybe = 0, hit = 0;
+  if (link) {
+    hit = set_field(c, a, robot.link[a].spheres, c.b.margin, lanes);
+    hit |= set_lists(c, a, robot.link[a].spheres, c.b.margin, lanes & ~hit, maybe);
+  } else {
+    hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, lanes,
+                       maybe);
+  }
+  for (int s = 0; s < n; ++s) {
+    const unsigned bit = 1u << (items[s] & 7);
+    if (hit >> s & 1) t.blocks[items[s] >> 3].colliding |= bit;
+    if (maybe >> s & 1) t.unsure[items[s] >> 3] |= bit;
+  }
+}
+
+// Each float block's frames and bounding tests: the lanes each test must run in, into
+// t.need (none for a block in doubles, which runs whole here).
+void batch_bounds(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
+  const int tests = robot.links + robot.pairs;
+  for (int j = 0; j < t.count; ++j) {
+    Block& b = t.blocks[j];
+    unsigned char* need = t.need + j * tests;
+    t.unsure[j] = 0;
+    for (int k = 0; k < tests; ++k) need[k] = 0;
+    if (!b.floats) {
+      run_block(robot, scene, b);
+      continue;
+    }
+    b.colliding = b.undecided = b.rechecked = 0;
+    pose_frames_float(robot, b);
+    Pass<float> p = float_pass(b);
+    const Ctx<VF> c{robot, robot.f, scene, b, p};
+    for (int k = 0; k < robot.links * kSlots; ++k) p.posed_flag[k] = 0;
+    near_links(c, b.lanes, need);
+    TableCells cells;
+    for (int k = 0; b.self && k < robot.pairs; ++k)
+      need[robot.links + k] = static_cast<unsigned char>(pair_need(c, k, b.lanes, cells));
+  }
+}
+
+// The spheres mode over a batch: batch_bounds, then the tests in the robot's order, each in
+// groups of kLanes items (a block's lane that the test must run in and that no test has
+// found colliding), then the double pass of each float block's unsure lanes, as run_block.
+void run_batch(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
+  if (t.count == 0) return;
+  batch_bounds(robot, scene, t);
+  const int tests = robot.links + robot.pairs;
+  Pass<float> p = float_pass(t.blocks[0]);  // margin, slack, self: the same in every block
+  p.frames = t.frames_f;
+  const Ctx<VF> c{robot, robot.f, scene, t.blocks[0], p};
+  std::uint16_t items[kLanes];
+  for (int i = 0; i < tests; ++i) {
+    const int k = static_cast<int>(robot.order[i]);
+    int n = 0;
+    for (int j = 0; j < t.count; ++j)
+      for (unsigned lanes = t.need[j * tests + k] & ~t.blocks[j].colliding; lanes;
+           lanes &= lanes - 1) {
+        items[n++] = static_cast<std::uint16_t>(j << 3 | __builtin_ctz(lanes));
+        if (n == kLanes) {
+          run_items(c, t, k, items, n);
+          n = 0;
+        }
+      }
+    if (n) run_items(c, t, k, items, n);
+  }
+  for (int j = 0; j < t.count; ++j) {
+    Block& b = t.blocks[j];
+    if (!b.floats) continue;
+    b.rechecked = t.unsure[j] & b.lanes & ~b.colliding;
+    for (int h = 0; h < 2; ++h) {
+      const unsigned lanes = b.rechecked >> (h * kHalf) & 0xFu;
+      if (!lanes) continue;
+      pose_frames(robot, b, h);
+      run_doubles(robot, scene, b, h, lanes);
+    }
+    b.undecided &= ~b.colliding;
+  }
 }
 
 }  // namespace

@@ -134,4 +134,8 @@ void run_block_scalar(const KernelRobot& robot, const SceneGrid& scene, Block& b
   run_block(robot, scene, block);
 }
 
+void run_batch_scalar(const KernelRobot& robot, const SceneGrid& scene, Batch& batch) {
+  run_batch(robot, scene, batch);
+}
+
 }  // namespace medspheres::check::detail

@@ -40,6 +40,14 @@ KernelFn choose_kernel(Simd simd) {
   return run_block_scalar;
 }
 
+// The batch kernel of the same build as `kernel`.
+BatchFn batch_kernel(KernelFn kernel) {
+#if defined(MEDSPHERES_CHECK_AVX2)
+  if (kernel == run_block_avx2) return run_batch_avx2;
+#endif
+  return kernel == run_block_scalar ? run_batch_scalar : nullptr;
+}
+
 // One thread's buffers for the kernel.
 struct Workspace {
   std::vector<double> frames, q;
@@ -119,6 +127,7 @@ struct RobotChecker::Impl {
   detail::SphereArrays<float> spheres_f;
   detail::KernelRobot kernel_robot;
   detail::KernelFn kernel = nullptr;
+  detail::BatchFn batch_kernel = nullptr;   // kernel's build
   std::vector<std::uint32_t> order;         // kernel_robot.order
   std::vector<std::uint32_t> bounds_order;  // kernel_robot.bounds_order
   // The bounds mode's probe (block.h) in rounds: round r runs bounds_order's tests
@@ -176,10 +185,15 @@ struct RobotChecker::Impl {
   // check() and check_bounds() (with `undecided`) of n configurations.
   void batch(const double* q, std::size_t n, Mode mode, Verdict* out,
              std::vector<UndecidedPair>* undecided, int threads) const;
+  // The block of configurations q (kLanes, lanes `lanes` real) on w's buffers, not run.
+  detail::Block block(detail::Workspace& w, const std::vector<double>& q, unsigned lanes, Mode mode,
+                      std::uint32_t* hits, int probe_from, int probe_to) const;
   // Runs the kernel on w.q (kLanes configurations, lanes `lanes` real); with `hits`, a
   // learning run (block.h), in doubles; `probe_from`, `probe_to`: a probe (block.h).
   detail::Block run(detail::Workspace& w, unsigned lanes, Mode mode, bool want_pairs,
                     std::uint32_t* hits = nullptr, int probe_from = 0, int probe_to = 0) const;
+  // Mode::spheres of n configurations in batches of blocks (block.h, Batch).
+  void spheres_batches(const double* q, std::size_t n, Verdict* out, int threads) const;
   // Mode::bounds by probe and regrouping (batch), with `undecided` (may be null) each
   // configuration's undecided pairs; false when the checker has no probe.
   bool probed_bounds(const double* q, std::size_t n, Verdict* out,
@@ -246,17 +260,15 @@ void record_pair(detail::Block& b, int lane, int link, int other) {
 
 }  // namespace
 
-detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode mode,
-                                      bool want_pairs, std::uint32_t* hits, int probe_from,
-                                      int probe_to) const {
+detail::Block RobotChecker::Impl::block(detail::Workspace& w, const std::vector<double>& q,
+                                        unsigned lanes, Mode mode, std::uint32_t* hits,
+                                        int probe_from, int probe_to) const {
   detail::Block b;
-  b.q = w.q.data();
+  b.q = q.data();
   b.lanes = lanes;
   b.bounds = mode == Mode::bounds;
   b.self = options.self;
-  // The sink sees the undecided lanes of the float pass whose tests were certain, and the
-  // double pass.
-  b.floats = options.float_tests && hits == nullptr && floats_hold(w.q);
+  b.floats = options.float_tests && hits == nullptr && floats_hold(q);
   b.hits = hits;
   b.probe_from = probe_from;
   b.probe = mode == Mode::bounds ? probe_to : 0;
@@ -272,6 +284,15 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   b.lists = w.lists.data();
   b.pending = w.pending.data();
   b.unsure = w.unsure.data();
+  return b;
+}
+
+detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode mode,
+                                      bool want_pairs, std::uint32_t* hits, int probe_from,
+                                      int probe_to) const {
+  detail::Block b = block(w, w.q, lanes, mode, hits, probe_from, probe_to);
+  // The sink sees the undecided lanes of the float pass whose tests were certain, and the
+  // double pass.
   SinkContext context{&layout, grid.get(), scene_objects, &w};
   if (want_pairs) {
     b.sink = record_pair;
@@ -460,6 +481,7 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   Impl& m = *impl_;
   m.options = options;
   m.kernel = detail::choose_kernel(options.simd);
+  m.batch_kernel = detail::batch_kernel(m.kernel);
   m.layout =
       detail::make_layout(planner, fine, options.X_WB, options.disabled, options.inner_points);
   m.allowance = rounding_allowance(m.layout, scene);
@@ -696,6 +718,10 @@ void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdic
   const std::size_t dof = layout.dof;
   for (std::size_t i = 0; i < n; ++i) validate(q + i * dof, i);
   if (mode == Mode::bounds && probed_bounds(q, n, out, undecided, threads)) return;
+  if (mode == Mode::spheres && batch_kernel && n > std::size_t(detail::kLanes)) {
+    spheres_batches(q, n, out, threads);
+    return;
+  }
   const auto blocks = static_cast<long>((n + detail::kLanes - 1) / detail::kLanes);
   const int chunk = undecided ? 4 : 16;
 #pragma omp parallel num_threads(thread_count(threads))
@@ -716,6 +742,48 @@ void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdic
         out[first + l] = verdict_of(b, int(l));
         if (undecided && out[first + l] != Verdict::undecided) undecided[first + l].clear();
       }
+    }
+  }
+}
+
+// Batches of kBatch blocks run in parallel, each by the batch kernel (its verdicts those of
+// its blocks run one by one).
+void RobotChecker::Impl::spheres_batches(const double* q, std::size_t n, Verdict* out,
+                                         int threads) const {
+  constexpr std::size_t kBatch = 32, kLanes = detail::kLanes;
+  const std::size_t dof = layout.dof, tests = layout.links.size() + layout.pair_a.size();
+  const std::size_t blocks = (n + kLanes - 1) / kLanes;
+  const auto batches = static_cast<long>((blocks + kBatch - 1) / kBatch);
+#pragma omp parallel num_threads(thread_count(threads))
+  {
+    detail::Workspace w = workspace();
+    std::vector<std::vector<double>> qs(kBatch, w.q);
+    std::vector<std::vector<float>> frames(kBatch, w.frames_f);
+    std::vector<detail::Block> bs(kBatch);
+    std::vector<float> gathered = w.frames_f;
+    std::vector<unsigned char> need(kBatch * tests);
+    std::vector<unsigned> unsure(kBatch);
+#pragma omp for schedule(dynamic, 1)
+    for (long k = 0; k < batches; ++k) {
+      const std::size_t first_block = std::size_t(k) * kBatch;
+      const std::size_t count = std::min(kBatch, blocks - first_block);
+      for (std::size_t j = 0; j < count; ++j) {
+        const std::size_t first = (first_block + j) * kLanes;
+        fill_block(qs[j], q, first, n, dof);
+        const std::size_t real = std::min(kLanes, n - first);
+        bs[j] = block(w, qs[j], (1u << real) - 1, Mode::spheres, nullptr, 0, 0);
+        bs[j].frames_f = frames[j].data();
+      }
+      detail::Batch t;
+      t.blocks = bs.data();
+      t.count = static_cast<int>(count);
+      t.frames_f = gathered.data();
+      t.need = need.data();
+      t.unsure = unsure.data();
+      batch_kernel(kernel_robot, *grid, t);
+      for (std::size_t j = 0; j < count; ++j)
+        for (std::size_t l = 0; l < kLanes && (first_block + j) * kLanes + l < n; ++l)
+          out[(first_block + j) * kLanes + l] = verdict_of(bs[j], int(l));
     }
   }
 }
