@@ -316,34 +316,42 @@ TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contac
 TEST_CASE("spheres batches: each verdict that of its configuration checked alone", "[check]") {
   // Batches of up to 32 blocks gather their set tests' lanes across blocks: whole batches,
   // a last partial block and batch, and one repeated configuration (every test's items
-  // fill whole groups of eight). A batch of no items: "an empty scene and no self pairs".
+  // fill whole groups of eight); the tests' default order (no head) and the learnt one
+  // (a head, whose blocks finish alone when it leaves fewer than half their lanes open).
+  // A batch of no items: "an empty scene and no self pairs".
   const RobotModel arm = test::capsule_arm(5);
-  for (const check::Simd simd : {check::Simd::scalar, check::Simd::automatic}) {
-    check::CheckerOptions o = options(0.01);
-    o.simd = simd;
-    const check::RobotChecker checker(arm, test_scene().scene, o);
-    const std::vector<double> near = near_contact(checker, test::capsule_arm_configs(300, 16));
-    std::vector<double> repeated;
-    for (int i = 0; i < 8 * 32; ++i)
-      repeated.insert(repeated.end(), near.begin() + 8 * 7, near.begin() + 8 * 8);
-    for (const std::vector<double>* all :
-         {&near, static_cast<const std::vector<double>*>(&repeated)})
-      for (std::size_t n :
-           {std::size_t(9), std::size_t(8 * 32), std::size_t(8 * 32 + 1), all->size() / 8}) {
-        const std::vector<double> q(all->begin(), all->begin() + 8 * std::min(n, all->size() / 8));
-        const std::vector<Verdict> v = run(checker, q, Mode::spheres);
-        std::size_t differ = 0, colliding = 0;
-        for (std::size_t i = 0; i < v.size(); ++i) {
-          differ += checker.check(q.data() + 8 * i, Mode::spheres) != v[i];
-          colliding += v[i] == Verdict::colliding;
+  std::size_t heads = 0;
+  for (const std::size_t samples : {std::size_t(0), std::size_t(256)})
+    for (const check::Simd simd : {check::Simd::scalar, check::Simd::automatic}) {
+      check::CheckerOptions o = options(0.01);
+      o.simd = simd;
+      o.order_samples = samples;
+      const check::RobotChecker checker(arm, test_scene().scene, o);
+      heads += checker.test_order().head;
+      const std::vector<double> near = near_contact(checker, test::capsule_arm_configs(300, 16));
+      std::vector<double> repeated;
+      for (int i = 0; i < 8 * 32; ++i)
+        repeated.insert(repeated.end(), near.begin() + 8 * 7, near.begin() + 8 * 8);
+      for (const std::vector<double>* all :
+           {&near, static_cast<const std::vector<double>*>(&repeated)})
+        for (std::size_t n :
+             {std::size_t(9), std::size_t(8 * 32), std::size_t(8 * 32 + 1), all->size() / 8}) {
+          const std::vector<double> q(all->begin(),
+                                      all->begin() + 8 * std::min(n, all->size() / 8));
+          const std::vector<Verdict> v = run(checker, q, Mode::spheres);
+          std::size_t differ = 0, colliding = 0;
+          for (std::size_t i = 0; i < v.size(); ++i) {
+            differ += checker.check(q.data() + 8 * i, Mode::spheres) != v[i];
+            colliding += v[i] == Verdict::colliding;
+          }
+          INFO("configurations " << v.size() << ", colliding " << colliding);
+          CHECK(differ == 0);
         }
-        INFO("configurations " << v.size() << ", colliding " << colliding);
-        CHECK(differ == 0);
-      }
-    const std::vector<Verdict> v = run(checker, near, Mode::spheres);
-    CHECK(std::count(v.begin(), v.end(), Verdict::colliding) > 0);
-    CHECK(std::count(v.begin(), v.end(), Verdict::free) > 0);
-  }
+      const std::vector<Verdict> v = run(checker, near, Mode::spheres);
+      CHECK(std::count(v.begin(), v.end(), Verdict::colliding) > 0);
+      CHECK(std::count(v.begin(), v.end(), Verdict::free) > 0);
+    }
+  CHECK(heads > 0);
 }
 
 TEST_CASE("thread counts: the same verdicts with 1, 2 and 3 threads", "[check]") {
