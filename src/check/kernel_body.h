@@ -724,19 +724,27 @@ void sink_pairs(const KernelRobot& robot, Block& b, unsigned open, int width) {
                                  static_cast<int>(robot.pair_b[k - robot.links]));
 }
 
-// The double pass over the lanes `lanes` of half h: the documented tests; the sink sees
-// the undecided pairs.
-void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int h,
-                 unsigned lanes) {
-  Pass<double> p;
-  p.frames = b.frames + h * robot.frames * 12 * kHalf;
-  p.posed = b.posed;
+// A pass over block b's workspace, its frames and posed points in T, in the lanes `lanes`
+// (slack 0).
+template <class T>
+Pass<T> pass_of(const Block& b, const T* frames, T* posed, unsigned lanes) {
+  Pass<T> p;
+  p.frames = frames;
+  p.posed = posed;
   p.posed_flag = b.posed_flag;
   p.near = b.near;
   p.lists = b.lists;
   p.pending = b.pending;
   p.unsure = b.unsure;
   p.lanes = lanes;
+  return p;
+}
+
+// The double pass over the lanes `lanes` of half h: the documented tests; the sink sees
+// the undecided pairs.
+void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int h,
+                 unsigned lanes) {
+  Pass<double> p = pass_of(b, b.frames + h * robot.frames * 12 * kHalf, b.posed, lanes);
   const unsigned undecided = b.undecided;
   b.undecided = 0;
   b.half = h;
@@ -752,15 +760,7 @@ void run_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, int
 
 // The float pass over block b's lanes and workspace.
 Pass<float> float_pass(const Block& b) {
-  Pass<float> p;
-  p.frames = b.frames_f;
-  p.posed = b.posed_f;
-  p.posed_flag = b.posed_flag;
-  p.near = b.near;
-  p.lists = b.lists;
-  p.pending = b.pending;
-  p.unsure = b.unsure;
-  p.lanes = b.lanes;
+  Pass<float> p = pass_of(b, b.frames_f, b.posed_f, b.lanes);
   p.slack = b.slack;
   return p;
 }
