@@ -661,19 +661,16 @@ unsigned run_bounds(const Ctx<V>& c, unsigned& unsure) {
 // (those that find most configurations colliding: when they leave no lane open, the look-ups are
 // spared), a head link's own on its turn. Any order gives the same verdicts: a lane leaves `open`
 // only by a certain collision, and every test runs in every other lane. With b.hits
-// (learning), every test runs in every lane and counts the lanes it finds colliding. Only
-// the order's tests [from, end) run (end -1: every test to the last; a batch's head and
-// rest, each in p.lanes).
+// (learning), every test runs in every lane and counts the lanes it finds colliding.
 template <class V>
-unsigned run_spheres(const Ctx<V>& c, unsigned& unsure, int from = 0, int end = -1) {
+unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
   const KernelRobot& robot = c.robot;
   unsigned char* near = c.p.pending;
   unsigned open = c.p.lanes, maybe = 0;
   TableCells cells;
   int* lists = c.p.lists;  // the links whose lists wait for the end (not when learning)
   int waiting = 0;
-  if (end < 0) end = robot.links + robot.pairs;
-  for (int t = from; t < end && open; ++t) {
+  for (int t = 0; t < robot.links + robot.pairs && open; ++t) {
     if (t == robot.head) near_links(c, open, near);
     const int k = static_cast<int>(robot.order[t]);
     unsigned hit = 0;
@@ -841,10 +838,8 @@ void run_items(const Ctx<VF>& c, Batch& t, int k, const std::uint16_t* items, in
   }
 }
 
-// Each float block's frames, the order's head tests (run_spheres: those that find most
-// configurations colliding, in the block's own lanes), then the bounding tests of the
-// lanes they leave open: the lanes each test after the head must run in, into t.need
-// (none for a block in doubles, which runs whole here).
+// Each float block's frames and bounding tests: the lanes each test must run in, into
+// t.need (none for a block in doubles, which runs whole here).
 void batch_bounds(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
   const int tests = robot.links + robot.pairs;
   for (int j = 0; j < t.count; ++j) {
@@ -861,25 +856,15 @@ void batch_bounds(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
     Pass<float> p = float_pass(b);
     const Ctx<VF> c{robot, robot.f, scene, b, p};
     for (int k = 0; k < robot.links * kSlots; ++k) p.posed_flag[k] = 0;
-    unsigned open = robot.head > 0 ? run_spheres(c, t.unsure[j], 0, robot.head) : b.lanes;
-    const bool here = open && __builtin_popcount(open) < kLanes / 2;  // few left: the rest here
-    if (here) {
-      unsigned unsure = 0;
-      p.lanes = open;
-      open = run_spheres(c, unsure, robot.head);
-      t.unsure[j] |= unsure;
-    }
-    b.colliding = b.lanes & ~open;
-    if (!open || here) continue;
-    near_links(c, open, need);
+    near_links(c, b.lanes, need);
     TableCells cells;
     for (int k = 0; b.self && k < robot.pairs; ++k)
-      need[robot.links + k] = static_cast<unsigned char>(pair_need(c, k, open, cells));
+      need[robot.links + k] = static_cast<unsigned char>(pair_need(c, k, b.lanes, cells));
   }
 }
 
-// The spheres mode over a batch: batch_bounds, then the tests after the head in the robot's order,
-// each in groups of kLanes items (a block's lane that the test must run in and that no test has
+// The spheres mode over a batch: batch_bounds, then the tests in the robot's order, each in
+// groups of kLanes items (a block's lane that the test must run in and that no test has
 // found colliding), then the double pass of each float block's unsure lanes, as run_block.
 void run_batch(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
   if (t.count == 0) return;
@@ -889,7 +874,7 @@ void run_batch(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
   p.frames = t.frames_f;
   const Ctx<VF> c{robot, robot.f, scene, t.blocks[0], p};
   std::uint16_t items[kLanes];
-  for (int i = robot.head; i < tests; ++i) {
+  for (int i = 0; i < tests; ++i) {
     const int k = static_cast<int>(robot.order[i]);
     int n = 0;
     for (int j = 0; j < t.count; ++j)
