@@ -176,6 +176,8 @@ TEST_CASE("filled covers: a thin open shell's cover on its filled solid", "[fill
                       << ", thin cover at least " << thin_out);
   CHECK(filled_out < thin_out);
   // The filled solid's own excess over convex parts is below 0.075 L (filled_solid.h), and the
-  // cover adds its seams: together well under the thin cover's.
-  CHECK(filled_out < 0.5 * thin_out);
+  // cover adds its seams: together well under the thin cover's (here at most 0.050 against at
+  // least 0.078 with all 32 of the thin cover's balls; before the bake's fill the thin cover
+  // kept 4 balls and stuck out at least 0.101, and this bound was half of that).
+  CHECK(filled_out < 0.7 * thin_out);
 }

@@ -16,6 +16,11 @@
 //   whose elements the others take at the least protrusion; then minimax rounds. (They ran
 //   up to K = 16 only at first; at K = 32 they lower P by 14 to 16% on the quadric knot,
 //   the trefoil and the fandisk: bench_budget --no-g1 --methods cover --only NAME --k 32.)
+// - The fill, at every budget: while the cover has fewer balls than the budget (the threshold
+//   start picks fewer when its candidates are too coarse for the solid, as on thin links:
+//   the G1's right hip roll link kept 29 to 45 balls at K = 32 to 256, and its largest
+//   protrusion at K = 256 was above that at K = 64), the balls that protrude most are split,
+//   as many at once as are missing, then minimax rounds.
 // - The spread start, for budgets up to kSpreadBudget: farthest-point centres on the
 //   surface, then the same rounds and moves; the threshold start's greedy picks can hold
 //   the minimax rounds in a worse local optimum, which at small K costs most (the lower
@@ -32,6 +37,7 @@
 #include <cmath>
 #include <limits>
 #include <memory>
+#include <numeric>
 #include <optional>
 
 #include "medspheres/measure/fit_metrics.h"
@@ -47,6 +53,7 @@ constexpr std::size_t kMoveBudget = 64;
 constexpr int kMoves = 6, kMovesAbove16 = 3;  // moves at most, up to K = 16 and above
 constexpr std::size_t kSpreadBudget = 16;     // the spread start runs up to this budget
 constexpr int kMoveRounds = 2;
+constexpr int kFillRounds = 6;  // the fill's tries at most
 
 // The pattern search of deepen (file comment): the six axis steps, halved on failure, from
 // \p first times the radius down to 1e-3 of it, each centre to lower the radius needed to
@@ -347,13 +354,48 @@ Clustering spread_start(const MeshQuery& query, const Elements& e, const Element
   return c;
 }
 
-// Minimax rounds (at most \p rounds), then the split and exchange moves up to kMoveBudget;
-// \p p is the result's largest protrusion.
+// The fill (file comment): the balls that protrude most, as many as are missing, are split at
+// once, then minimax rounds (at most \p rounds: a split part's fitted ball sits near the
+// surface, and two rounds do not take it deep enough); kept while the largest protrusion \p p
+// (updated) does not rise, else tried again with half as many splits; at most kFillRounds tries.
+Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
+                int rounds, double& p, int threads, int& run, const BallWeights& weights) {
+  drop_empty(c);
+  std::size_t batch = budget > c.balls.size() ? budget - c.balls.size() : 0;
+  for (int round = 0; round < kFillRounds && batch > 0 && !c.balls.empty(); ++round) {
+    Clustering d = c;
+    const std::vector<double> wq =
+        weighted(d.balls, weights, sphere_protrusions(query, d.balls, threads));
+    std::vector<std::size_t> order(d.balls.size());
+    std::iota(order.begin(), order.end(), std::size_t{0});
+    std::stable_sort(order.begin(), order.end(),
+                     [&](std::size_t a, std::size_t b) { return wq[a] > wq[b]; });
+    std::size_t made = 0;
+    for (std::size_t j = 0; j < order.size() && made < batch; ++j)
+      made += split(e, d, order[j]) ? 1 : 0;
+    if (made == 0) break;
+    hold_members(e, d);
+    d = minimax(query, e, std::move(d), rounds, threads, run, weights);
+    const double v = largest_weighted_protrusion(query, d.balls, weights, threads);
+    if (v <= p) {
+      drop_empty(d);
+      c = std::move(d), p = v;
+      batch = budget > c.balls.size() ? budget - c.balls.size() : 0;
+    } else {
+      batch /= 2;
+    }
+  }
+  return c;
+}
+
+// Minimax rounds (at most \p rounds), the split and exchange moves up to kMoveBudget, then the
+// fill while balls are still missing; \p p is the result's largest protrusion.
 Clustering local_search(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
                         int rounds, int threads, double& p, int& run, const BallWeights& weights) {
   c = minimax(query, e, std::move(c), rounds, threads, run, weights);
   p = largest_weighted_protrusion(query, c.balls, weights, threads);
   if (budget <= kMoveBudget) c = moves(query, e, std::move(c), budget, p, threads, run, weights);
+  c = fill(query, e, std::move(c), budget, rounds, p, threads, run, weights);
   return c;
 }
 

@@ -18,7 +18,10 @@
 ///    at which a greedy set cover picks at most K candidates holding every patch at
 ///    protrusion <= t. Then minimax rounds on the elements (at most `rounds`): each element
 ///    goes to the ball whose protrusion grows least to hold it, then each centre moves
-///    (pattern search) to where its ball sticks out least. For K <= 64, split and exchange
+///    (pattern search) to where its ball sticks out least. While fewer than K balls are left
+///    (the candidates too coarse for a thin solid), the fill: the balls that protrude most,
+///    as many as are missing, are split at once, then minimax rounds, kept while P does not
+///    rise (else half as many splits; at most 6 tries). For K <= 64, split and exchange
 ///    moves follow: the ball that protrudes most is split in two (filling the budget, or in
 ///    exchange for the ball whose elements the others take at the least protrusion), then
 ///    two minimax rounds; each move kept while P falls (at most 6; 3 above K = 16). For
