@@ -313,7 +313,8 @@ TEST_CASE("AVX2 and scalar paths: the same verdicts, bisected to 1e-12 of contac
   CHECK(q.size() >= 8 * (2000 + 2 * 100));
 }
 
-TEST_CASE("spheres batches: each verdict that of its configuration checked alone", "[check]") {
+TEST_CASE("spheres batches: each verdict that of its configuration checked alone, 1 or 2 threads",
+          "[check]") {
   // Batches of up to 32 blocks gather their set tests' lanes across blocks: whole batches,
   // a last partial block and batch, and one repeated configuration (every test's items
   // fill whole groups of eight); the tests' default order (no head: batches) and the
@@ -350,6 +351,7 @@ TEST_CASE("spheres batches: each verdict that of its configuration checked alone
       const std::vector<Verdict> v = run(checker, near, Mode::spheres);
       CHECK(std::count(v.begin(), v.end(), Verdict::colliding) > 0);
       CHECK(std::count(v.begin(), v.end(), Verdict::free) > 0);
+      CHECK(run(checker, near, Mode::spheres, 2) == v);
     }
   CHECK(heads == 2);  // the learnt order's, on both paths: the batches ran with the default
 }
