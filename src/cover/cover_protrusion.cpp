@@ -23,8 +23,8 @@
 // - Perturbed restarts (CoverOptions::protrusion_restarts, none by default): from the best
 //   result so far, the centres jittered, a ball exchanged for a split of the worst, or the
 //   spread start from a random patch; then the same rounds and moves, kept when P falls.
-//   On the G1's links at cuRobo's counts 48 of them lower P by 0 to 22% (docs/covers.md),
-//   at 0.02 to 0.25 CPU s each, beyond the bake's second per link on most links.
+//   On the G1's links at cuRobo's counts 48 of them lower P by 0 to 28% (docs/covers.md),
+//   at 0.007 to 0.21 CPU s each, beyond the bake's second per link on most links.
 // Deepen: the minimum enclosing ball is the smallest ball holding a patch, not the one that
 // sticks out least: under a flat patch a centre at depth t sticks out by sqrt(R^2 + t^2) -
 // t < R. A pattern search moves each centre to lower its protrusion.

@@ -102,7 +102,7 @@ struct CoverOptions {
   /// protrusion is least.
   double protrusion_allowance = 0.25;
   /// Step 2's perturbed restarts (>= 0; 0: none), a search for lower P at the cost of
-  /// time: each costs about one more run of step 2's rounds and moves (0.02 to 0.25 CPU s
+  /// time: each costs about one more run of step 2's rounds and moves (0.007 to 0.21 CPU s
   /// on the G1's links at K = 2 to 30). Deterministic (a fixed seed). Step 3's caps follow
   /// step 2's P, so with the allowance the cover's P need not fall with it.
   int protrusion_restarts = 0;
