@@ -80,6 +80,39 @@ struct Simplex {
   }
 };
 
+// n . c + r |n| for a ball (c, r) (a vertex: r = 0), |n| given as length.
+double value_along(const Eigen::Vector3d& n, double length, const Eigen::Vector4d& p) {
+  return n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
+}
+
+// The ball tree's walk along n (|n| = length, rounded up): a node is opened when its bound
+// (its centre's projection plus its radius) exceeds `floor`, which the visit may raise,
+// the child reaching further first; visit(i) sees each point of an opened leaf and returns
+// false to stop the walk (walk() then returns false).
+template <class Nodes, class Visit>
+bool walk(const Nodes& nodes, const Eigen::Vector3d& n, double length, const double& floor,
+          Visit&& visit) {
+  auto bound = [&](const auto& node) { return n.dot(node.centre) + node.radius * length; };
+  std::array<std::uint32_t, 128> stack;
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const auto& node = nodes[stack[--top]];
+    if (bound(node) <= floor) continue;
+    if (node.left == 0) {
+      for (std::uint32_t i = node.begin; i < node.end; ++i)
+        if (!visit(i)) return false;
+      continue;
+    }
+    const double l = bound(nodes[node.left]), r = bound(nodes[node.right]);
+    const std::uint32_t first = l >= r ? node.left : node.right;
+    const std::uint32_t second = l >= r ? node.right : node.left;
+    if (std::min(l, r) > floor) stack[top++] = second;
+    if (std::max(l, r) > floor) stack[top++] = first;
+  }
+  return true;
+}
+
 enum class Stop { cleared, within, stalled, out_of_steps };
 
 // GJK on the difference B - A from the unit direction u, support(u) giving a point of the
@@ -252,61 +285,23 @@ std::uint32_t VertexSupport::build(std::uint32_t begin, std::uint32_t end) {
 VertexSupport::Extreme VertexSupport::max_along(const Eigen::Vector3d& n,
                                                 std::uint32_t* hint) const {
   const double length = n.norm() * (1.0 + 1e-15);
-  auto value = [&](const Eigen::Vector4d& p) {
-    return n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
-  };
   // The hint's point first: a point near the extreme prunes most of the tree at once.
   std::uint32_t arg = hint != nullptr && *hint < points_.size() ? *hint : 0;
-  double best = value(points_[arg]);
-  auto bound = [&](const Node& node) { return n.dot(node.centre) + node.radius * length; };
-  std::array<std::uint32_t, 128> stack;
-  std::size_t top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (bound(node) <= best) continue;
-    if (node.left == 0) {
-      for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const double d = value(points_[i]);
-        if (d > best) best = d, arg = i;
-      }
-      continue;
-    }
-    // The child that may reach further is taken first.
-    const double l = bound(nodes_[node.left]), r = bound(nodes_[node.right]);
-    const std::uint32_t first = l >= r ? node.left : node.right;
-    const std::uint32_t second = l >= r ? node.right : node.left;
-    if (std::min(l, r) > best) stack[top++] = second;
-    if (std::max(l, r) > best) stack[top++] = first;
-  }
+  double best = value_along(n, length, points_[arg]);
+  walk(nodes_, n, length, best, [&](std::uint32_t i) {
+    const double d = value_along(n, length, points_[i]);
+    if (d > best) best = d, arg = i;
+    return true;
+  });
   if (hint != nullptr) *hint = arg;
   return {best, reach_of(points_[arg], n, length)};
 }
 
 bool VertexSupport::at_most(const Eigen::Vector3d& n, double limit, std::uint32_t hint) const {
   const double length = n.norm() * (1.0 + 1e-15);
-  auto value = [&](const Eigen::Vector4d& p) {
-    return n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
-  };
-  if (!(hint < points_.size() && value(points_[hint]) <= limit)) return false;
-  auto bound = [&](const Node& node) { return n.dot(node.centre) + node.radius * length; };
-  std::array<std::uint32_t, 128> stack;
-  std::size_t top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (bound(node) <= limit) continue;
-    if (node.left == 0) {
-      for (std::uint32_t i = node.begin; i < node.end; ++i)
-        if (!(value(points_[i]) <= limit)) return false;
-      continue;
-    }
-    // The child that reaches further first: a vertex beyond the limit is found sooner.
-    const bool left_first = bound(nodes_[node.left]) >= bound(nodes_[node.right]);
-    stack[top++] = left_first ? node.right : node.left;
-    stack[top++] = left_first ? node.left : node.right;
-  }
-  return true;
+  if (!(hint < points_.size() && value_along(n, length, points_[hint]) <= limit)) return false;
+  return walk(nodes_, n, length, limit,
+              [&](std::uint32_t i) { return value_along(n, length, points_[i]) <= limit; });
 }
 
 VertexSupport::CoarseExtreme VertexSupport::coarse_max_along(const Eigen::Vector3d& n) const {
@@ -314,8 +309,7 @@ VertexSupport::CoarseExtreme VertexSupport::coarse_max_along(const Eigen::Vector
   std::size_t arg = 0;
   double best = -std::numeric_limits<double>::infinity();
   for (std::size_t i = 0; i < coarse_.size(); ++i) {
-    const Eigen::Vector4d& p = coarse_[i];
-    const double d = n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
+    const double d = value_along(n, length, coarse_[i]);
     if (d > best) best = d, arg = i;
   }
   return {best, reach_of(coarse_[arg], n, length), coarse_index_[arg]};
