@@ -214,6 +214,8 @@ void check_bound(const std::string& name, std::size_t k, const char* method, con
 std::string spheretree_bin, spheretree_cache, spheretree_work;
 bool spheretree_cached_only = false;                                // --spheretree-cached-only
 double protrusion_allowance = CoverOptions().protrusion_allowance;  // --protrusion-allowance
+int protrusion_restarts = CoverOptions().protrusion_restarts;       // --protrusion-restarts
+int cover_rounds = CoverOptions().rounds;                           // --cover-rounds
 
 // spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
 // or nothing when spheretree made no set (the reason in \p error).
@@ -247,6 +249,8 @@ Comparison cover_rows(const std::string& name, const FitEvaluator& fit, std::siz
   CoverOptions o;
   o.threads = threads;
   o.protrusion_allowance = protrusion_allowance;
+  o.protrusion_restarts = protrusion_restarts;
+  o.rounds = cover_rounds;
   const Stopwatch t;
   const CoverResult c = bake_cover(fit.query(), K, o);
   Comparison cmp;
@@ -534,6 +538,9 @@ int main(int argc, char** argv) {
                  "Surface points the counting argument weighs");
   app.add_option("--protrusion-allowance", protrusion_allowance,
                  "The cover's volume stage may raise the largest protrusion by this fraction");
+  app.add_option("--protrusion-restarts", protrusion_restarts,
+                 "The cover's perturbed restarts of its protrusion stage");
+  app.add_option("--cover-rounds", cover_rounds, "The cover's minimax rounds at most");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";
   app.add_option("--curobo", curobo_file,

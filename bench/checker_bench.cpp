@@ -42,6 +42,7 @@ struct Options : mb::RobotBenchOptions {
   std::size_t tree_spheres = 0;
   std::size_t order_samples = 0;
   std::size_t table_cells = 0;
+  std::size_t table_pairs = 0;
   double edge_length = 0.5;
   double resolution = 0.02;
   bool fcl_loop = true;
@@ -65,6 +66,9 @@ Options parse(int argc, char** argv) {
            "configurations (0: none)");
   args.add("--table-cells", o.table_cells,
            "The certified fallback's joint-space tables of self pairs: cells per pair (0: none)");
+  args.add("--table-pairs", o.table_pairs,
+           "With --table-cells: tables for this many self pairs only, those seen colliding most "
+           "often first (0: every pair that takes one)");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
@@ -112,6 +116,7 @@ int run(const Options& o) {
   in.order_samples = o.order_samples;
   in.order_seed = o.seed + 1;
   in.table_cells = o.table_cells;
+  in.table_pairs = o.table_pairs;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -151,6 +156,7 @@ int run(const Options& o) {
     fallback.order.margin = o.margin;
     fallback.order.seed = o.seed + 1;
     fallback.table_cells = o.table_cells;
+    fallback.table_pairs = o.table_pairs;
     const mf::CertifiedChecker certified(
         planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
         objects, co, fallback);

@@ -476,6 +476,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   fallback.order.margin = in.margin;
   fallback.order.seed = in.order_seed;
   fallback.table_cells = in.table_cells;
+  fallback.table_pairs = in.table_pairs;
   const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
                                         fallback);
   const double build = seconds_since(t0);

@@ -28,6 +28,8 @@ struct CheckerBenchInput {
   unsigned order_seed = 2;
   /// The fallback's joint-space tables of self pairs (FallbackOptions::table_cells).
   std::size_t table_cells = 0;
+  /// The pairs that get one (FallbackOptions::table_pairs).
+  std::size_t table_pairs = 0;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;

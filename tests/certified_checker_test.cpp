@@ -435,6 +435,26 @@ TEST_CASE("certified checker: joint-space tables for the pairs two revolute join
   CHECK(table("l0", "l4") == nullptr);          // four joints apart
   CHECK(table("tool", "finger_a") == nullptr);  // adjacent: not a self pair
   CHECK(table("l6", "finger_a") == nullptr);    // a prismatic joint on the path
+  // table_pairs: tables for the first pairs of the order only, the same pairs as without it.
+  const auto& pairs = rb.self_pairs();
+  std::size_t first = 0;  // pairs up to and including the second that takes a table
+  for (std::size_t taken = 0; first < pairs.size() && taken < 2; ++first)
+    taken += tabled.table(pairs[first].first, pairs[first].second) != nullptr;
+  REQUIRE(first < pairs.size());
+  fallback.table_pairs = first;
+  const mf::CertifiedChecker some(arm, &fine, world().meshes, {}, options(0.01), fallback);
+  REQUIRE(some.fallback().self_pairs() == pairs);
+  std::size_t tables = 0, beyond = 0;
+  for (std::size_t k = 0; k < pairs.size(); ++k) {
+    const bool has = some.table(pairs[k].first, pairs[k].second) != nullptr;
+    tables += has;
+    if (k < first)
+      CHECK(has == (tabled.table(pairs[k].first, pairs[k].second) != nullptr));
+    else
+      beyond += tabled.table(pairs[k].first, pairs[k].second) != nullptr && !has;
+  }
+  CHECK(tables == 2);
+  CHECK(beyond > 0);  // pairs that take a table left without one
 }
 
 // A folding chain: a base, a short middle link and a tip that folds back onto the base (two

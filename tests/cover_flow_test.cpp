@@ -1,10 +1,12 @@
-// The covering bake's volume stage and its element refinement, against independent oracles:
+// The covering bake's volume stage, its element refinement and the protrusion stage's
+// restarts, against independent oracles:
 // the exact union volume (measure_union), a direct check that every element lies in the
 // ball that owns it, and the sampled gap of cover_solids.h as a check of coverage.
 #include <algorithm>
 #include <array>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <vector>
 
 #include <catch2/catch.hpp>
@@ -12,6 +14,7 @@
 #include "../src/cover/cover_elements.h"
 #include "../src/cover/cover_flow.h"
 #include "../src/cover/cover_polish.h"
+#include "../src/cover/cover_protrusion.h"
 #include "medspheres/cover/cover.h"
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/measure/union_volume.h"
@@ -242,4 +245,46 @@ TEST_CASE("volume polish: the same balls for every thread count", "[cover][polis
     test::check_same_spheres(one.balls, more.balls);
     CHECK(one.owner == more.owner);
   }
+}
+
+TEST_CASE("protrusion restarts: P never rises, every element held, the same for any thread count",
+          "[cover]") {
+  for (const test::NamedSolid& solid : test::cover_solids()) {
+    CAPTURE(solid.name);
+    const MeshQuery query(solid.mesh);
+    const std::size_t k = 4;
+    const Elements e = detail::make_elements(query, k, 12, 1);
+    const Elements fine = detail::make_patches(e, k, 4000.0, solid.mesh.bounds().min());
+    const std::optional<double> volume = solid_volume(solid.mesh);
+    const detail::ProtrusionStage none =
+        detail::protrusion_stage(query, e, fine, k, 8, volume, 1, {}, 0);
+    const detail::ProtrusionStage six =
+        detail::protrusion_stage(query, e, fine, k, 8, volume, 1, {}, 6);
+    CHECK(six.clustering.balls.size() <= k);
+    CHECK(all_held(e, six.clustering));
+    CHECK(detail::largest_protrusion(query, six.clustering.balls, 1) <=
+          detail::largest_protrusion(query, none.clustering.balls, 1));
+    CHECK(six.rounds > none.rounds);
+    // The whole bake with restarts: certified, and the same spheres with 1 and 2 threads.
+    CoverOptions o;
+    o.protrusion_restarts = 3;
+    o.threads = 1;
+    const CoverResult one = bake_cover(query, k, o);
+    o.threads = 2;
+    const CoverResult two = bake_cover(query, k, o);
+    CHECK(one.stats.certified);
+    CHECK(test::sampled_gap(solid.mesh, one.spheres.spheres) == 0.0);
+    REQUIRE(one.spheres.spheres.size() == two.spheres.spheres.size());
+    for (std::size_t j = 0; j < one.spheres.spheres.size(); ++j) {
+      CHECK(one.spheres.spheres[j].center == two.spheres.spheres[j].center);
+      CHECK(one.spheres.spheres[j].radius == two.spheres.spheres[j].radius);
+    }
+  }
+}
+
+TEST_CASE("bake_cover rejects a negative number of protrusion restarts", "[cover]") {
+  const MeshQuery query(make_icosphere(1.0, 1));
+  CoverOptions o;
+  o.protrusion_restarts = -1;
+  CHECK_THROWS_WITH(bake_cover(query, 4, o), Catch::Contains("protrusion_restarts"));
 }

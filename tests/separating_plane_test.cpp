@@ -150,6 +150,72 @@ TEST_CASE("separating plane: a pair bisected to the margin is never proved free 
   CHECK(near_proved > tried * 9 / 10);
 }
 
+TEST_CASE("separating plane: the subsets' extremes are the set's points, never beyond them",
+          "[check][fcl]") {
+  const Solids solids;
+  std::mt19937 rng(45);
+  std::uniform_real_distribution<double> u(-1.0, 1.0);
+  std::vector<Sphere> balls;
+  for (int i = 0; i < 500; ++i) balls.push_back({{u(rng), u(rng), u(rng)}, 0.1 * (1.0 + u(rng))});
+  const mf::VertexSupport sb(balls);
+  std::vector<const mf::VertexSupport*> sets = {&sb};
+  for (const mf::VertexSupport& s : solids.supports) sets.push_back(&s);
+  for (const mf::VertexSupport* s : sets) {
+    CHECK(s->coarse_size() <= std::min<std::size_t>(s->size(), 128));
+    CHECK(s->coarse_size() >= std::min<std::size_t>(s->size(), 20));
+    for (int k = 0; k < 300; ++k) {
+      const Eigen::Vector3d n(u(rng), u(rng), u(rng));
+      const mf::VertexSupport::CoarseExtreme c = s->coarse_max_along(n);
+      const double exact = s->max_along(n).value;
+      CHECK(c.value <= exact);
+      if (s->size() <= 128) CHECK(c.value == exact);  // a small set is its own subset
+      // The index is the point's: max_along started from it finds the same extreme.
+      std::uint32_t hint = c.index;
+      CHECK(s->max_along(n, &hint).value == exact);
+      CHECK(n.dot(c.point) == Approx(c.value).margin(1e-12));
+      CHECK(exact - c.value <= 0.1 * n.norm() * 2.0);  // near the extreme: the directions cover
+      // at_most: whether the extreme is within a limit, from any start.
+      for (double limit : {exact, std::nextafter(exact, -1e300), exact - 1e-3, exact + 1e-9,
+                           c.value, exact + 1.0}) {
+        const auto start = static_cast<std::uint32_t>(rng() % s->size());
+        CHECK(s->at_most(n, limit, start) == (exact <= limit));
+        CHECK(s->at_most(n, limit, c.index) == (exact <= limit));
+      }
+    }
+  }
+}
+
+TEST_CASE("separating plane: the first phase finds no plane only within the margin",
+          "[check][fcl]") {
+  // Convex solids: their hulls are the solids, so "no plane" must mean FCL's distance is
+  // within the margin (up to the search's rounding), and planes stay found beyond it.
+  const Solids solids;
+  std::mt19937 rng(46);
+  const double margin = 0.01;
+  std::size_t no_plane = 0, beyond = 0, proved_beyond = 0;
+  for (int k = 0; k < 3000; ++k) {
+    const std::size_t a = rng() % 3, b = rng() % 3;
+    const Eigen::Isometry3d X_A = random_pose(rng, 0.08), X_B = random_pose(rng, 0.08);
+    const double d = mesh_distance(solids.models[a], X_A, solids.models[b], X_B);
+    const mf::PlaneResult r = mf::separated(solids.supports[a], X_A, solids.supports[b], X_B,
+                                            margin, X_B.translation() - X_A.translation());
+    INFO("pair " << a << ", " << b << ": distance " << d << ", coarse steps " << r.coarse_steps);
+    if (r.no_plane) {
+      ++no_plane;
+      CHECK(d <= margin + 1e-9);
+      CHECK(r.steps == 0);
+      CHECK_FALSE(r.free);
+    }
+    if (d > margin + 1e-4) {
+      ++beyond;
+      proved_beyond += r.free;
+    }
+  }
+  CHECK(no_plane > 300);
+  CHECK(beyond > 300);
+  CHECK(proved_beyond > beyond * 95 / 100);
+}
+
 TEST_CASE("separating plane: scene primitives by their corners and balls", "[check][fcl]") {
   const std::shared_ptr<mf::MeshModel> link =
       test::make_bvh<::fcl::OBBRSSd>(make_torus(0.06, 0.015, 24, 8));

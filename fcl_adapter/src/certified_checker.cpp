@@ -116,7 +116,10 @@ CertifiedChecker::CertifiedChecker(
     rank_[std::min(a, b) * G + std::max(a, b)] = k;
   }
   if (fallback.table_cells > 0)
-    bake_tables(fallback.trees ? *fallback.trees : fine ? *fine : planner, fallback.table_cells);
+    bake_tables(fallback.trees ? *fallback.trees
+                : fine         ? *fine
+                               : planner,
+                fallback.table_cells, fallback.table_pairs);
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
@@ -196,14 +199,16 @@ std::vector<check::UndecidedPair> CertifiedChecker::ordered(
   return out;
 }
 
-// The self pairs' tables, two pairs at a time.
-void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells) {
+// The self pairs' tables (the first `first` pairs of the learnt order, or all for 0), two
+// pairs at a time.
+void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, std::size_t first) {
   const std::size_t G = bounds_.geometries().size();
   const auto& pairs = bounds_.self_pairs();
+  const std::size_t count = first > 0 ? std::min(first, pairs.size()) : pairs.size();
   tables_.resize(G * G);
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
 #pragma omp parallel for schedule(dynamic, 1)
-  for (long k = 0; k < static_cast<long>(pairs.size()); ++k) {
+  for (long k = 0; k < static_cast<long>(count); ++k) {
     const auto [a, b] = pairs[std::size_t(k)];
     tables_[std::min(a, b) * G + std::max(a, b)] =
         PairJointTable::build(model, bounds_.kinematics(), bounds_.link_of()[a], g[a],

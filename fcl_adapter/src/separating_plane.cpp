@@ -24,6 +24,13 @@ namespace {
 
 constexpr std::uint32_t kLeafPoints = 8;
 constexpr int kMaxSteps = 24;
+constexpr int kCoarseDirections = 128;
+
+// The point of a ball (centre c, radius w) farthest along n, |n| = length: c + (w / length) n.
+Eigen::Vector3d reach_of(const Eigen::Vector4d& p, const Eigen::Vector3d& n, double length) {
+  return p.w() > 0.0 && length > 0.0 ? Eigen::Vector3d(p.head<3>() + (p.w() / length) * n)
+                                     : Eigen::Vector3d(p.head<3>());
+}
 
 std::vector<Eigen::Vector3d> vertices_of(const MeshModel& mesh) {
   if (mesh.vertices == nullptr || mesh.num_vertices <= 0)
@@ -72,6 +79,68 @@ struct Simplex {
     return best;
   }
 };
+
+// n . c + r |n| for a ball (c, r) (a vertex: r = 0), |n| given as length.
+double value_along(const Eigen::Vector3d& n, double length, const Eigen::Vector4d& p) {
+  return n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
+}
+
+// The ball tree's walk along n (|n| = length, rounded up): a node is opened when its bound
+// (its centre's projection plus its radius) exceeds `floor`, which the visit may raise,
+// the child reaching further first; visit(i) sees each point of an opened leaf and returns
+// false to stop the walk (walk() then returns false).
+template <class Nodes, class Visit>
+bool walk(const Nodes& nodes, const Eigen::Vector3d& n, double length, const double& floor,
+          Visit&& visit) {
+  auto bound = [&](const auto& node) { return n.dot(node.centre) + node.radius * length; };
+  std::array<std::uint32_t, 128> stack;
+  std::size_t top = 0;
+  stack[top++] = 0;
+  while (top > 0) {
+    const auto& node = nodes[stack[--top]];
+    if (bound(node) <= floor) continue;
+    if (node.left == 0) {
+      for (std::uint32_t i = node.begin; i < node.end; ++i)
+        if (!visit(i)) return false;
+      continue;
+    }
+    const double l = bound(nodes[node.left]), r = bound(nodes[node.right]);
+    const std::uint32_t first = l >= r ? node.left : node.right;
+    const std::uint32_t second = l >= r ? node.right : node.left;
+    if (std::min(l, r) > floor) stack[top++] = second;
+    if (std::max(l, r) > floor) stack[top++] = first;
+  }
+  return true;
+}
+
+enum class Stop { cleared, within, stalled, out_of_steps };
+
+// GJK on the difference B - A from the unit direction u, support(u) giving a point of the
+// difference and setting gap (B's least minus A's greatest projection on u): stops when
+// the gap clears the margin (u is then its direction), when its point of the difference
+// lies within the margin of the origin or the origin inside its simplex (the hulls are
+// within the margin), when it no longer progresses (GJK's nearest point: the best gap is
+// about the hulls' distance), or after max_steps supports.
+template <class Support>
+Stop gjk(Support&& support, Eigen::Vector3d& u, const double& gap, double scale, double margin,
+         int max_steps) {
+  Simplex simplex;
+  bool inside = false;
+  Eigen::Vector3d v = simplex.add(support(u), inside);
+  if (detail::gap_beyond(gap, scale, margin)) return Stop::cleared;
+  for (int steps = 1; steps < max_steps; ++steps) {
+    const double length = v.norm();
+    // v is a point of the hulls' difference: they are within |v| of each other.
+    if (!(length > margin)) return Stop::within;
+    u = v / length;
+    const Eigen::Vector3d s = support(u);
+    if (detail::gap_beyond(gap, scale, margin)) return Stop::cleared;
+    if (length - gap <= 1e-9 * length) return Stop::stalled;
+    v = simplex.add(s, inside);
+    if (inside) return Stop::within;
+  }
+  return Stop::out_of_steps;
+}
 
 // support_of's visit: the points whose hull holds each geometry it takes.
 struct SupportOf {
@@ -155,6 +224,29 @@ void VertexSupport::prepare() {
   points_.erase(std::unique(points_.begin(), points_.end()), points_.end());
   nodes_.reserve(2 * points_.size() / kLeafPoints + 2);
   build(0, static_cast<std::uint32_t>(points_.size()));
+  choose_coarse();
+}
+
+// The subset of coarse_max_along: every point of a small set, else the extremes along
+// kCoarseDirections directions of a Fibonacci lattice on the sphere, each kept once.
+void VertexSupport::choose_coarse() {
+  std::vector<std::uint32_t> chosen;
+  if (points_.size() <= std::size_t(kCoarseDirections)) {
+    for (std::uint32_t i = 0; i < points_.size(); ++i) chosen.push_back(i);
+  } else {
+    const double golden = M_PI * (3.0 - std::sqrt(5.0));
+    std::uint32_t hint = 0;
+    for (int k = 0; k < kCoarseDirections; ++k) {
+      const double z = 1.0 - (2.0 * k + 1.0) / kCoarseDirections;
+      const double r = std::sqrt(std::max(0.0, 1.0 - z * z));
+      max_along({r * std::cos(golden * k), r * std::sin(golden * k), z}, &hint);
+      chosen.push_back(hint);
+    }
+    std::sort(chosen.begin(), chosen.end());
+    chosen.erase(std::unique(chosen.begin(), chosen.end()), chosen.end());
+  }
+  coarse_index_ = chosen;
+  for (std::uint32_t i : chosen) coarse_.push_back(points_[i]);
 }
 
 // Node over points_[begin, end): the box's centre, the farthest point's distance (plus
@@ -193,38 +285,34 @@ std::uint32_t VertexSupport::build(std::uint32_t begin, std::uint32_t end) {
 VertexSupport::Extreme VertexSupport::max_along(const Eigen::Vector3d& n,
                                                 std::uint32_t* hint) const {
   const double length = n.norm() * (1.0 + 1e-15);
-  auto value = [&](const Eigen::Vector4d& p) {
-    return n.x() * p.x() + n.y() * p.y() + n.z() * p.z() + p.w() * length;
-  };
   // The hint's point first: a point near the extreme prunes most of the tree at once.
   std::uint32_t arg = hint != nullptr && *hint < points_.size() ? *hint : 0;
-  double best = value(points_[arg]);
-  auto bound = [&](const Node& node) { return n.dot(node.centre) + node.radius * length; };
-  std::array<std::uint32_t, 128> stack;
-  std::size_t top = 0;
-  stack[top++] = 0;
-  while (top > 0) {
-    const Node& node = nodes_[stack[--top]];
-    if (bound(node) <= best) continue;
-    if (node.left == 0) {
-      for (std::uint32_t i = node.begin; i < node.end; ++i) {
-        const double d = value(points_[i]);
-        if (d > best) best = d, arg = i;
-      }
-      continue;
-    }
-    // The child that may reach further is taken first.
-    const double l = bound(nodes_[node.left]), r = bound(nodes_[node.right]);
-    const std::uint32_t first = l >= r ? node.left : node.right;
-    const std::uint32_t second = l >= r ? node.right : node.left;
-    if (std::min(l, r) > best) stack[top++] = second;
-    if (std::max(l, r) > best) stack[top++] = first;
-  }
+  double best = value_along(n, length, points_[arg]);
+  walk(nodes_, n, length, best, [&](std::uint32_t i) {
+    const double d = value_along(n, length, points_[i]);
+    if (d > best) best = d, arg = i;
+    return true;
+  });
   if (hint != nullptr) *hint = arg;
-  const Eigen::Vector4d& p = points_[arg];
-  const Eigen::Vector3d reach =
-      p.w() > 0.0 && length > 0.0 ? Eigen::Vector3d((p.w() / length) * n) : Eigen::Vector3d::Zero();
-  return {best, p.head<3>() + reach};
+  return {best, reach_of(points_[arg], n, length)};
+}
+
+bool VertexSupport::at_most(const Eigen::Vector3d& n, double limit, std::uint32_t hint) const {
+  const double length = n.norm() * (1.0 + 1e-15);
+  if (!(hint < points_.size() && value_along(n, length, points_[hint]) <= limit)) return false;
+  return walk(nodes_, n, length, limit,
+              [&](std::uint32_t i) { return value_along(n, length, points_[i]) <= limit; });
+}
+
+VertexSupport::CoarseExtreme VertexSupport::coarse_max_along(const Eigen::Vector3d& n) const {
+  const double length = n.norm() * (1.0 + 1e-15);
+  std::size_t arg = 0;
+  double best = -std::numeric_limits<double>::infinity();
+  for (std::size_t i = 0; i < coarse_.size(); ++i) {
+    const double d = value_along(n, length, coarse_[i]);
+    if (d > best) best = d, arg = i;
+  }
+  return {best, reach_of(coarse_[arg], n, length), coarse_index_[arg]};
 }
 
 PlaneResult separated(const VertexSupport& a, const ::fcl::Transform3d& X_WA,
@@ -238,9 +326,9 @@ PlaneResult separated(const VertexSupport& a, const ::fcl::Transform3d& X_WA,
   const Eigen::Vector3d p_A = X_WA.translation(), p_B = X_WB.translation();
   const double scale = p_A.lpNorm<1>() + p_B.lpNorm<1>() + a.extent() + b.extent();
   // B's least and A's greatest projection on the unit u, and the points of B - A giving
-  // them.
+  // them: exactly (the trees' walks), or over the subsets (the first phase).
   double gap = 0.0;
-  std::uint32_t hint_a = 0, hint_b = 0;  // the last extremes: each step's start
+  std::uint32_t hint_a = 0, hint_b = 0;  // the last extremes: each walk's start
   auto support = [&](const Eigen::Vector3d& u) {
     const VertexSupport::Extreme e_a = a.max_along(R_A.transpose() * u, &hint_a);
     const VertexSupport::Extreme e_b = b.max_along(-(R_B.transpose() * u), &hint_b);
@@ -248,31 +336,48 @@ PlaneResult separated(const VertexSupport& a, const ::fcl::Transform3d& X_WA,
     ++out.steps;
     return Eigen::Vector3d(X_WB * e_b.point - X_WA * e_a.point);
   };
-  auto proved = [&](const Eigen::Vector3d& u) {
-    if (!detail::gap_beyond(gap, scale, margin)) return false;
-    out.free = true;
-    out.direction = u;
-    out.gap = gap;
-    return true;
+  double top_b = 0.0;  // B's subset's last extreme
+  auto coarse_support = [&](const Eigen::Vector3d& u) {
+    const VertexSupport::CoarseExtreme e_a = a.coarse_max_along(R_A.transpose() * u);
+    const VertexSupport::CoarseExtreme e_b = b.coarse_max_along(-(R_B.transpose() * u));
+    top_b = e_b.value;
+    gap = (u.dot(p_B) - e_b.value) - (e_a.value + u.dot(p_A));
+    hint_a = e_a.index;
+    hint_b = e_b.index;
+    ++out.coarse_steps;
+    return Eigen::Vector3d(X_WB * e_b.point - X_WA * e_a.point);
   };
   Eigen::Vector3d d = guess.allFinite() && guess.squaredNorm() > 0.0 ? guess : p_B - p_A;
   if (!(d.squaredNorm() > 0.0)) d = Eigen::Vector3d::UnitX();
   Eigen::Vector3d u = d.normalized();
-  Simplex simplex;
-  bool inside = false;
-  Eigen::Vector3d v = simplex.add(support(u), inside);
-  if (proved(u)) return out;
-  while (out.steps < kMaxSteps) {
-    const double length = v.norm();
-    // v is a point of the hulls' difference: they are within |v| of each other.
-    if (!(length > margin)) return out;
-    u = v / length;
-    const Eigen::Vector3d s = support(u);
-    if (proved(u)) return out;
-    if (length - gap <= 1e-9 * length) return out;  // GJK's nearest point: no plane clears
-    v = simplex.add(s, inside);
-    if (inside) return out;
+  // The subsets' hulls lie in the sets' hulls: within the margin there, within it here.
+  const Stop first = gjk(coarse_support, u, gap, scale, margin, kMaxSteps);
+  if (first == Stop::within || first == Stop::stalled) {
+    out.no_plane = true;
+    return out;
   }
+  if (first == Stop::cleared) {
+    // A's exact extreme along u, and every vertex of B within the slack left: the limit
+    // bounds B's computed extreme, so their gap is a gap the proof accepts.
+    const Eigen::Vector3d n_b = -(R_B.transpose() * u);
+    const double top_a = a.max_along(R_A.transpose() * u, &hint_a).value;
+    const double slack =
+        (u.dot(p_B) - top_b) - (top_a + u.dot(p_A)) - margin - detail::gap_allowance(scale, margin);
+    const double limit_b = top_b + 0.9 * slack;
+    const double limited = (u.dot(p_B) - limit_b) - (top_a + u.dot(p_A));
+    ++out.steps;
+    if (detail::gap_beyond(limited, scale, margin) && b.at_most(n_b, limit_b, hint_b)) {
+      out.free = true;
+      out.direction = u;
+      out.gap = limited;
+      return out;
+    }
+  }
+  // The exact supports from the first phase's direction and extremes.
+  if (gjk(support, u, gap, scale, margin, kMaxSteps) != Stop::cleared) return out;
+  out.free = true;
+  out.direction = u;
+  out.gap = gap;
   return out;
 }
 

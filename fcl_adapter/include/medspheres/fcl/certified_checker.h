@@ -86,6 +86,11 @@ struct FallbackOptions {
   /// construction at the checker's margin; the fallback asks it before the pair's sphere
   /// trees. 0: no tables.
   std::size_t table_cells = 0;
+  /// With table_cells > 0: > 0 bakes tables for the first this many of
+  /// fallback().self_pairs() only (with order.samples > 0, the pairs seen colliding most
+  /// often in the order's samples first: those the fallback most often reaches), to bound
+  /// the bake; 0: every pair PairJointTable takes.
+  std::size_t table_pairs = 0;
   /// With order.samples > 0: the witnesses' two points also join the inner sets of their
   /// links in spheres(), the kernel's planner level (each is an inner ball or a mesh
   /// vertex of its link's solid, so the bounds mode may prove a pair colliding by them as
@@ -163,7 +168,7 @@ class CertifiedChecker {
   check::Verdict settle_pairs(const double* q, const Poses& X,
                               const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
-  void bake_tables(const RobotModel& model, std::size_t cells);
+  void bake_tables(const RobotModel& model, std::size_t cells, std::size_t first);
   void make_supports();
 
   RobotBounds bounds_;  // before checker_, whose inner sets may take its witnesses

@@ -19,6 +19,20 @@
 /// margin of the origin (the hulls are then within the margin: no plane exists), when it
 /// no longer progresses, or after 24 steps.
 ///
+/// A first, cheaper phase runs the same GJK on a few of each set's vertices (its extremes
+/// along 128 fixed directions, in cache; VertexSupport::coarse_max_along): the hulls of
+/// those subsets lie in the whole sets' hulls, so where their GJK finds the subsets within
+/// the margin (or overlapping), no plane clears the margin for the whole sets either, and
+/// the search stops without a walk of the trees. Where a direction clears the margin for
+/// the subsets, the trees' exact walks decide along it (the proof above, unchanged); when
+/// they do not clear it, or the first phase runs out of steps, the exact GJK goes on from
+/// that direction. The first phase decides only how soon a plane is found, or that none
+/// exists; every "free" rests on the exact extremes. Along the first phase's direction the
+/// trees are asked only whether every vertex stays within half the subsets' slack of their
+/// extremes (VertexSupport::at_most, a walk that prunes at that limit): the limits, bounds
+/// of the computed extremes, give a gap no larger than the exact walks' one, which must
+/// clear the margin by the same allowance.
+///
 /// Rounding: every projection is computed in the link's frame, u's image R^T u against the
 /// vertex x and u against the frame's origin p, so each computed value differs from the
 /// exact u . (R x + p) (R, p, x the doubles given; u the computed unit direction) by at
@@ -76,7 +90,24 @@ class VertexSupport {
   };
   Extreme max_along(const Eigen::Vector3d& n, std::uint32_t* hint = nullptr) const;
 
+  /// Whether no vertex (no ball's point) exceeds \p limit along n: max_along's value is
+  /// at most \p limit, decided by the same walk pruning at \p limit instead of at the best
+  /// vertex found (so fewer nodes are read), starting from the point \p hint.
+  bool at_most(const Eigen::Vector3d& n, double limit, std::uint32_t hint) const;
+
+  /// The greatest n . x over a fixed subset of the points (the extremes along 128
+  /// directions spread over the sphere, or every point of a small set), as computed, and
+  /// the point's index for max_along's hint. At most max_along's value: a lower bound of
+  /// the set's support, for directions only, never for a proof.
+  struct CoarseExtreme {
+    double value;
+    Eigen::Vector3d point;
+    std::uint32_t index;
+  };
+  CoarseExtreme coarse_max_along(const Eigen::Vector3d& n) const;
+
   std::size_t size() const noexcept { return points_.size(); }
+  std::size_t coarse_size() const noexcept { return coarse_.size(); }
   /// The largest |x|_1 + r of a vertex or ball (the magnitude of the rounding rule).
   double extent() const noexcept { return extent_; }
 
@@ -91,9 +122,12 @@ class VertexSupport {
   };
   void prepare();
   std::uint32_t build(std::uint32_t begin, std::uint32_t end);
+  void choose_coarse();
 
   std::vector<Eigen::Vector4d> points_;  // centre and radius (0 for a vertex)
   std::vector<Node> nodes_;
+  std::vector<Eigen::Vector4d> coarse_;      // the subset's points, as points_
+  std::vector<std::uint32_t> coarse_index_;  // their indices in points_
   double extent_ = 0.0;
 };
 
@@ -106,8 +140,12 @@ std::unique_ptr<const VertexSupport> support_of(const ::fcl::CollisionGeometryd&
 struct PlaneResult {
   bool free = false;  ///< a plane clears the margin: the meshes are farther apart than it
   Eigen::Vector3d direction = Eigen::Vector3d::Zero();  ///< unit, from A towards B, in W
-  double gap = 0.0;  ///< m_B - h_A along direction (computed), when free
-  int steps = 0;     ///< GJK steps taken
+  double gap = 0.0;      ///< m_B - h_A along direction (computed), when free
+  int steps = 0;         ///< GJK steps on the exact supports (the trees' walks, two a step)
+  int coarse_steps = 0;  ///< GJK steps of the first phase, on the subsets
+  /// The first phase found the subsets within the margin of each other (or overlapping):
+  /// no plane exists, and no exact step was taken.
+  bool no_plane = false;
 };
 
 /// Whether a plane between A's vertices (at X_WA) and B's (at X_WB) clears \p margin
