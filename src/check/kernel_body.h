@@ -762,6 +762,18 @@ Pass<float> float_pass(const Block& b) {
   return p;
 }
 
+// The double pass over block b's lanes `recheck`, half by half; then a colliding lane is
+// no longer undecided.
+void recheck_doubles(const KernelRobot& robot, const SceneGrid& scene, Block& b, unsigned recheck) {
+  for (int h = 0; h < 2; ++h) {
+    const unsigned lanes = recheck >> (h * kHalf) & 0xFu;
+    if (!lanes) continue;
+    pose_frames(robot, b, h);
+    run_doubles(robot, scene, b, h, lanes);
+  }
+  b.undecided &= ~b.colliding;
+}
+
 // The float pass poses the frames in floats; the double pass poses them again in doubles
 // for the halves that hold a lane to check again.
 void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
@@ -783,13 +795,7 @@ void run_block(const KernelRobot& robot, const SceneGrid& scene, Block& b) {
       sink_pairs(robot, b, b.undecided, kLanes);
     }
   }
-  for (int h = 0; h < 2; ++h) {
-    const unsigned lanes = recheck >> (h * kHalf) & 0xFu;
-    if (!lanes) continue;
-    pose_frames(robot, b, h);
-    run_doubles(robot, scene, b, h, lanes);
-  }
-  b.undecided &= ~b.colliding;
+  recheck_doubles(robot, scene, b, recheck);
 }
 
 // ---- Batches (block.h, Batch): the spheres mode's set tests compacted across blocks.
@@ -892,13 +898,7 @@ void run_batch(const KernelRobot& robot, const SceneGrid& scene, Batch& t) {
     Block& b = t.blocks[j];
     if (!b.floats) continue;
     b.rechecked = t.unsure[j] & b.lanes & ~b.colliding;
-    for (int h = 0; h < 2; ++h) {
-      const unsigned lanes = b.rechecked >> (h * kHalf) & 0xFu;
-      if (!lanes) continue;
-      pose_frames(robot, b, h);
-      run_doubles(robot, scene, b, h, lanes);
-    }
-    b.undecided &= ~b.colliding;
+    recheck_doubles(robot, scene, b, b.rechecked);
   }
 }
 
