@@ -201,16 +201,21 @@ std::vector<Clustering> volume_results(const MeshQuery& query, const Elements& e
   return out;
 }
 
-// A candidate's measures: its index among the candidates, its volume outside the solid and
-// its largest protrusion.
-// (What a cover costs, to choose between the stages' results: the product of its volume
-// outside the solid (its union's volume minus V) and its largest protrusion.)
+// A candidate's measures: its index among the candidates, its union's volume, its largest
+// protrusion and its volume outside the solid (the union's minus V). Its cost, to choose
+// between the stages' results, is the product of the last two; its score the choice's
+// (kChoiceExponent).
 struct Measured {
   std::size_t index = 0;
   double union_volume = 0.0, protrusion = 0.0, outside = 0.0;
   double cost() const { return outside * std::max(protrusion, 0.0); }
   double score() const { return outside * std::pow(std::max(protrusion, 0.0), kChoiceExponent); }
 };
+
+// Least cost first; ties: the lower index.
+bool cheaper(const Measured& a, const Measured& b) {
+  return a.cost() < b.cost() || (a.cost() == b.cost() && a.index < b.index);
+}
 
 Measured measured(const MeshQuery& query, std::size_t index, const Clustering& c, double volume,
                   int threads) {
@@ -228,13 +233,10 @@ Measured measured(const MeshQuery& query, std::size_t index, const Clustering& c
 Candidate choose_polished(const MeshQuery& query, const Elements& e,
                           const std::vector<Clustering>& results, std::vector<Measured> eligible,
                           double volume, const CoverOptions& options, int threads) {
-  const auto by_cost = [](const Measured& a, const Measured& b) {
-    return a.cost() < b.cost() || (a.cost() == b.cost() && a.index < b.index);
-  };
   const auto by_score = [](const Measured& a, const Measured& b) {
     return a.score() < b.score() || (a.score() == b.score() && a.index < b.index);
   };
-  const Measured cheapest = *std::min_element(eligible.begin(), eligible.end(), by_cost);
+  const Measured cheapest = *std::min_element(eligible.begin(), eligible.end(), cheaper);
   std::sort(eligible.begin(), eligible.end(), by_score);
   std::vector<std::size_t> pool{cheapest.index};
   for (std::size_t k = 0; k < eligible.size() && k < kPolished; ++k)
@@ -290,10 +292,7 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
   const bool polished = options.volume_descent && options.volume_polish && budget <= kPolishBudget;
   if (polished && options.volume_choice && budget <= kPortfolioBudget)
     return choose_polished(query, e, results, eligible, volume, options, threads);
-  std::size_t best = eligible.front().index;
-  double least = eligible.front().cost();
-  for (const Measured& m : eligible)
-    if (m.cost() < least || (m.cost() == least && m.index < best)) least = m.cost(), best = m.index;
+  const std::size_t best = std::min_element(eligible.begin(), eligible.end(), cheaper)->index;
   Candidate out = refined(e, std::move(results[best]), options);
   if (polished) polish(query, out, threads);
   return out;

@@ -104,6 +104,13 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
   }
 }
 
+// Each ball's depth D(c) from its radius and its protrusion \p q (sphere_protrusions).
+std::vector<double> depths_of(const std::vector<Sphere>& balls, const std::vector<double>& q) {
+  std::vector<double> depth(q.size());
+  for (std::size_t j = 0; j < q.size(); ++j) depth[j] = balls[j].radius - q[j];
+  return depth;
+}
+
 // Minimax rounds (file comment), at most \p rounds, stopping when the largest protrusion
 // drops by less than 1e-3 of itself; the best round is kept, then shrunk, which only lowers
 // protrusions. \p run counts the rounds.
@@ -112,10 +119,7 @@ Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int 
   drop_empty(c);
   auto largest = [&](const Clustering& k, std::vector<double>* depth) {
     const std::vector<double> p = sphere_protrusions(query, k.balls, threads);
-    if (depth) {
-      depth->resize(k.balls.size());
-      for (std::size_t j = 0; j < k.balls.size(); ++j) (*depth)[j] = k.balls[j].radius - p[j];
-    }
+    if (depth) *depth = depths_of(k.balls, p);
     const std::vector<double> w = weighted(k.balls, weights, p);
     return *std::max_element(w.begin(), w.end());
   };
@@ -310,8 +314,7 @@ Clustering moves(const MeshQuery& query, const Elements& e, Clustering c, std::s
     drop_empty(d);
     if (d.balls.empty()) break;
     const std::vector<double> q = sphere_protrusions(query, d.balls, threads);
-    std::vector<double> depth(q.size());
-    for (std::size_t j = 0; j < q.size(); ++j) depth[j] = d.balls[j].radius - q[j];
+    const std::vector<double> depth = depths_of(d.balls, q);
     const std::vector<double> wq = weighted(d.balls, weights, q);
     const std::size_t worst =
         static_cast<std::size_t>(std::max_element(wq.begin(), wq.end()) - wq.begin());
@@ -370,16 +373,23 @@ Clustering spread_start(const MeshQuery& query, const Elements& e, const Element
 // (updated) does not rise, else tried again with half as many splits; at most kFillRounds tries.
 Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
                 int rounds, double& p, int threads, int& run, const BallWeights& weights) {
-  drop_empty(c);
-  std::size_t batch = budget > c.balls.size() ? budget - c.balls.size() : 0;
-  for (int round = 0; round < kFillRounds && batch > 0 && !c.balls.empty(); ++round) {
-    Clustering d = c;
+  auto missing = [&] { return budget > c.balls.size() ? budget - c.balls.size() : 0; };
+  // c's balls, the most protruding first (ranked again only when c changes).
+  auto ranked = [&] {
     const std::vector<double> wq =
-        weighted(d.balls, weights, sphere_protrusions(query, d.balls, threads));
-    std::vector<std::size_t> order(d.balls.size());
+        weighted(c.balls, weights, sphere_protrusions(query, c.balls, threads));
+    std::vector<std::size_t> order(c.balls.size());
     std::iota(order.begin(), order.end(), std::size_t{0});
     std::stable_sort(order.begin(), order.end(),
                      [&](std::size_t a, std::size_t b) { return wq[a] > wq[b]; });
+    return order;
+  };
+  drop_empty(c);
+  std::vector<std::size_t> order;
+  std::size_t batch = missing();
+  for (int round = 0; round < kFillRounds && batch > 0 && !c.balls.empty(); ++round) {
+    if (order.empty()) order = ranked();
+    Clustering d = c;
     std::size_t made = 0;
     for (std::size_t j = 0; j < order.size() && made < batch; ++j)
       made += split(e, d, order[j]) ? 1 : 0;
@@ -390,7 +400,8 @@ Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::si
     if (v <= p) {
       drop_empty(d);
       c = std::move(d), p = v;
-      batch = budget > c.balls.size() ? budget - c.balls.size() : 0;
+      order.clear();
+      batch = missing();
     } else {
       batch /= 2;
     }
@@ -409,14 +420,6 @@ Clustering local_search(const MeshQuery& query, const Elements& e, Clustering c,
   return c;
 }
 
-// Each ball's depth, from its radius and its protrusion (the measure's own).
-std::vector<double> ball_depths(const MeshQuery& query, const std::vector<Sphere>& balls,
-                                int threads) {
-  std::vector<double> depth = sphere_protrusions(query, balls, threads);
-  for (std::size_t j = 0; j < depth.size(); ++j) depth[j] = balls[j].radius - depth[j];
-  return depth;
-}
-
 // A restart's perturbation of \p c (the restarts in protrusion_stage): \p kind 0, every
 // centre moved by up to \p scale of its radius, each element then to the ball whose
 // protrusion grows least; 1, a random ball other than the one that protrudes most hands
@@ -431,7 +434,7 @@ Clustering perturbed(const MeshQuery& query, const Elements& e, const Elements& 
     std::uniform_int_distribution<std::size_t> pick(0, fine.surface - 1);
     return spread_start(query, e, fine, budget, threads, pick(rng));
   }
-  const std::vector<double> depth = ball_depths(query, d.balls, threads);
+  const std::vector<double> depth = depths_of(d.balls, sphere_protrusions(query, d.balls, threads));
   if (kind == 0) {
     std::uniform_real_distribution<double> u(-1.0, 1.0);
     for (Sphere& b : d.balls) {
