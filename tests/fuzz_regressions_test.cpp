@@ -210,3 +210,38 @@ TEST_CASE("a ball and three copies of a small far ball: the union is the two bal
   CHECK(std::abs(m.volume - exact) <= 64 * kEps * exact);
   CHECK(m.duplicates == std::vector<int>{2, 3});
 }
+
+TEST_CASE("a needle tetrahedron (three tiny balls on a large sphere) keeps its volume",
+          "[fuzz][union_volume]") {
+  // fuzz_union_volume (crash-needle-tetrahedron): a ball of radius 1.8e8 with three balls of
+  // radius 7.4e-5 on its sphere, 4e8 from the origin. The four-ball term took six times the
+  // centre tetrahedron's volume (3e-27 after rescaling) from the far centre, where rounding
+  // leaves 3e-18: the dihedral angles came out near pi / 2 and the union 12% below the
+  // large ball alone. The tiny balls add at most 3 * 1.7e-12 to a volume of 2.4e25.
+  constexpr double kEps = std::numeric_limits<double>::epsilon();
+  const std::vector<Sphere> balls = {
+      {{-298942738.59936219, -300000000, 298031598.3843137}, 178530377.44829518},
+      {{-418595660.10096854, -393691708.77384079, 204339881.80809242}, 7.4231617189947669e-05},
+      {{-418595660.10096514, -393691708.77388382, 204339881.80803201}, 7.4231499801786263e-05},
+      {{-418595660.10093123, -393691708.77394933, 204339881.80804032}, 7.4231499801784447e-05}};
+  const UnionMeasures m = measure_union(balls);
+  REQUIRE(m.tetrahedra == 1);
+  const double large = test::ball_volume(balls[0].radius);
+  CHECK(std::abs(m.volume - large) <= 64 * kEps * large);
+  // The same shape at every scale of the small balls from 1e-3 to 1e-12 of the large one,
+  // centred near the origin: a needle whatever the coordinates' magnitude.
+  for (int k = 3; k <= 12; ++k) {
+    const double r = std::pow(10.0, -k);
+    INFO("small radius " << r);
+    const Eigen::Vector3d c(0.3, -0.2, 0.1), on = c + Eigen::Vector3d(1, 2, 2) / 3.0;
+    const std::vector<Sphere> needle = {{c, 1.0},
+                                        {on + Eigen::Vector3d(r, 0, 0) / 2, r},
+                                        {on + Eigen::Vector3d(0, r, -r) / 2, r},
+                                        {on + Eigen::Vector3d(-r, -r, r / 2) / 2, r}};
+    const UnionMeasures n = measure_union(needle);
+    REQUIRE(n.tetrahedra == 1);
+    const double one = test::ball_volume(1.0);
+    CHECK(n.volume >= one - 64 * kEps * one);
+    CHECK(n.volume <= one + 3 * test::ball_volume(r) + 64 * kEps * one);
+  }
+}

@@ -46,6 +46,28 @@ double pole_weight(int sigma, double h, double r) {
   return sigma > 0 ? h / r : -(2.0 * r - h) / r;
 }
 
+// Six times the volume of the tetrahedron of centres c[0..3], as a triple product from the
+// vertex whose three edges have the least product of lengths: its rounding error is a few
+// eps times that product, and the difference of two nearby centres is exact. A needle (one
+// far centre, three close ones) keeps its volume, which the far vertex would bury under
+// eps |e|^3, and with it the dihedral angles atan2(|e| 6V, n0 . n1).
+template <class Length>
+double six_tetrahedron_volume(const Eigen::Vector3d c[4], const Length& length) {
+  int origin = 0;
+  double least = 0.0;
+  for (int o = 0; o < 4; ++o) {
+    double product = 1.0;
+    for (int v = 0; v < 4; ++v)
+      if (v != o) product *= length(o, v);
+    if (o == 0 || product < least) {
+      origin = o;
+      least = product;
+    }
+  }
+  const int x = (origin + 1) % 4, y = (origin + 2) % 4, z = (origin + 3) % 4;
+  return std::abs((c[x] - c[origin]).dot((c[y] - c[origin]).cross(c[z] - c[origin])));
+}
+
 }  // namespace
 
 PairGeometry pair_geometry(const Eigen::Vector3d& c0, double r0, const Eigen::Vector3d& c1,
@@ -157,7 +179,8 @@ Measure triple_measure(const TripleGeometry& g, const double r[3],
 Measure quadruple_measure(const Eigen::Vector3d c[4], const double r[4],
                           const PairGeometry* const edges[4][4],
                           const TripleGeometry* const faces[4]) {
-  const double six_volume = std::abs((c[1] - c[0]).dot((c[2] - c[0]).cross(c[3] - c[0])));
+  auto length = [&](int v, int w) { return v < w ? edges[v][w]->d : edges[w][v]->d; };
+  const double six_volume = six_tetrahedron_volume(c, length);
   // Index of tet vertex v among the vertices of the face opposite x.
   auto local = [](int v, int x) { return v - (v > x ? 1 : 0); };
 
@@ -167,8 +190,10 @@ Measure quadruple_measure(const Eigen::Vector3d c[4], const double r[4],
       int o[2], k = 0;
       for (int v = 0; v < 4; ++v)
         if (v != a && v != b) o[k++] = v;
+      // e x (c_o - c_a) = e x (c_o - c_b): the shorter difference rounds less.
       const Eigen::Vector3d e = c[b] - c[a];
-      const Eigen::Vector3d n0 = e.cross(c[o[0]] - c[a]), n1 = e.cross(c[o[1]] - c[a]);
+      auto normal = [&](int o) { return e.cross(c[o] - c[length(o, a) <= length(o, b) ? a : b]); };
+      const Eigen::Vector3d n0 = normal(o[0]), n1 = normal(o[1]);
       // |n0 x n1| = |e| * |det(e, c_o0 - c_a, c_o1 - c_a)|.
       const double delta = std::atan2(edges[a][b]->d * six_volume, n0.dot(n1));
       // Arc of the circle of (a, b) inside ball o0 comes from the face (a, b, o0), the
