@@ -72,7 +72,11 @@
 // sqrt(eps) times their size only, but the formulas are smooth in t with a vanishing
 // first derivative at t = 0 (the curved faces degenerate with zero slope), so the volume
 // error stays of order eps r^3. No formula branches on a rounded value except the choice
-// of pole, where both branches are exact identities and equally well conditioned. One
+// of pole, where both branches are exact identities and equally well conditioned, and the
+// choice of the shortest edges for the centre tetrahedron's volume and the normals of its
+// dihedral angles (the same identities, rounded least): a needle, one far centre and three
+// close ones, keeps its volume, which the far vertex's triple product would bury under
+// eps d^3 and with it the dihedral angles. One
 // amplification remains: s_ij divides by sin g_i, so a triangle of K whose centres are
 // almost collinear (small sin at every vertex) loses accuracy by that factor; such a
 // triangle is in K only if its three spheres almost share a circle.
