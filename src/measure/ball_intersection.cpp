@@ -192,7 +192,9 @@ Measure quadruple_measure(const Eigen::Vector3d c[4], const double r[4],
         if (v != a && v != b) o[k++] = v;
       // e x (c_o - c_a) = e x (c_o - c_b): the shorter difference rounds less.
       const Eigen::Vector3d e = c[b] - c[a];
-      auto normal = [&](int o) { return e.cross(c[o] - c[length(o, a) <= length(o, b) ? a : b]); };
+      auto normal = [&](int far) {
+        return e.cross(c[far] - c[length(far, a) <= length(far, b) ? a : b]);
+      };
       const Eigen::Vector3d n0 = normal(o[0]), n1 = normal(o[1]);
       // |n0 x n1| = |e| * |det(e, c_o0 - c_a, c_o1 - c_a)|.
       const double delta = std::atan2(edges[a][b]->d * six_volume, n0.dot(n1));
