@@ -347,6 +347,12 @@ PlaneResult separated(const VertexSupport& a, const ::fcl::Transform3d& X_WA,
     ++out.coarse_steps;
     return Eigen::Vector3d(X_WB * e_b.point - X_WA * e_a.point);
   };
+  auto proved = [&](const Eigen::Vector3d& direction, double proved_gap) {
+    out.free = true;
+    out.direction = direction;
+    out.gap = proved_gap;
+    return out;
+  };
   Eigen::Vector3d d = guess.allFinite() && guess.squaredNorm() > 0.0 ? guess : p_B - p_A;
   if (!(d.squaredNorm() > 0.0)) d = Eigen::Vector3d::UnitX();
   Eigen::Vector3d u = d.normalized();
@@ -366,19 +372,12 @@ PlaneResult separated(const VertexSupport& a, const ::fcl::Transform3d& X_WA,
     const double limit_b = top_b + 0.9 * slack;
     const double limited = (u.dot(p_B) - limit_b) - (top_a + u.dot(p_A));
     ++out.steps;
-    if (detail::gap_beyond(limited, scale, margin) && b.at_most(n_b, limit_b, hint_b)) {
-      out.free = true;
-      out.direction = u;
-      out.gap = limited;
-      return out;
-    }
+    if (detail::gap_beyond(limited, scale, margin) && b.at_most(n_b, limit_b, hint_b))
+      return proved(u, limited);
   }
   // The exact supports from the first phase's direction and extremes.
   if (gjk(support, u, gap, scale, margin, kMaxSteps) != Stop::cleared) return out;
-  out.free = true;
-  out.direction = u;
-  out.gap = gap;
-  return out;
+  return proved(u, gap);
 }
 
 }  // namespace medspheres::fcl

@@ -179,7 +179,10 @@ Measure triple_measure(const TripleGeometry& g, const double r[3],
 Measure quadruple_measure(const Eigen::Vector3d c[4], const double r[4],
                           const PairGeometry* const edges[4][4],
                           const TripleGeometry* const faces[4]) {
-  auto length = [&](int v, int w) { return v < w ? edges[v][w]->d : edges[w][v]->d; };
+  auto edge = [&](int v, int w) -> const PairGeometry& {
+    return v < w ? *edges[v][w] : *edges[w][v];
+  };
+  auto length = [&](int v, int w) { return edge(v, w).d; };
   const double six_volume = six_tetrahedron_volume(c, length);
   // Index of tet vertex v among the vertices of the face opposite x.
   auto local = [](int v, int x) { return v - (v > x ? 1 : 0); };
@@ -206,10 +209,6 @@ Measure quadruple_measure(const Eigen::Vector3d c[4], const double r[4],
       phi[a][b] = phi[b][a] = psi0 + psi1 - delta;
     }
   }
-  auto edge = [&](int v, int w) -> const PairGeometry& {
-    return v < w ? *edges[v][w] : *edges[w][v];
-  };
-
   Measure m;
   for (int a = 0; a < 4; ++a) {
     int sigma[4] = {0, 0, 0, 0};
