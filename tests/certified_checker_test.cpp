@@ -457,20 +457,20 @@ TEST_CASE("certified checker: joint-space tables for the pairs two revolute join
   CHECK(beyond > 0);  // pairs that take a table left without one
 }
 
-// A folding chain: a base, a short middle link and a tip that folds back onto the base (two
-// revolute joints apart: a pair PairJointTable takes), with the capsule arm's closed-form
-// sets and meshes.
-std::vector<test::CapsuleLink> fold_links() {
+// A folding chain: a base, a short middle link and a tip of half length tip_half that folds
+// back onto the base (two revolute joints apart: a pair PairJointTable takes), with the
+// capsule arm's closed-form sets and meshes.
+std::vector<test::CapsuleLink> fold_links(double tip_half) {
   return {{"base", 0.03, 0.1, pose_of({0, 0, 0.1})},
           {"mid", 0.02, 0.04, pose_of({0, 0, 0.06})},
-          {"tip", 0.03, 0.1, pose_of({0, 0, 0.1})}};
+          {"tip", 0.03, tip_half, pose_of({0, 0, tip_half})}};
 }
 
-RobotModel fold_chain(int k) {
+RobotModel fold_chain(int k, double tip_half) {
   RobotModel m;
   m.name = "fold";
   m.root_link = "base";
-  for (const test::CapsuleLink& l : fold_links()) {
+  for (const test::CapsuleLink& l : fold_links(tip_half)) {
     Link link;
     link.name = l.name;
     link.spheres.outer = test::capsule_set(l, k, true);
@@ -493,16 +493,20 @@ RobotModel fold_chain(int k) {
   return m;
 }
 
+// A long tip (0.25) comes close to the base along its length and far from its joint, where
+// the table's levers (the shells of the tip far from the joint) weigh most.
 TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near contact too",
           "[check][fcl]") {
+  const double tip_half = GENERATE(0.1, 0.25);
+  INFO("tip half length " << tip_half);
   std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
-  for (const test::CapsuleLink& l : fold_links())
+  for (const test::CapsuleLink& l : fold_links(tip_half))
     meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
-  const RobotModel planner = fold_chain(4), fine = fold_chain(10);
+  const RobotModel planner = fold_chain(4, tip_half), fine = fold_chain(10, tip_half);
   check::CheckerOptions o;
   o.margin = 0.01;
   mf::FallbackOptions fallback;
-  fallback.table_cells = 2048;
+  fallback.table_cells = tip_half < 0.2 ? 2048 : 8192;
   const mf::CertifiedChecker plain(planner, &fine, meshes, {}, o);
   const mf::CertifiedChecker tabled(planner, &fine, meshes, {}, o, fallback);
   const mf::RobotBounds& rb = tabled.fallback();
@@ -562,6 +566,66 @@ TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near
   CHECK(a == b);
   CHECK(std::count(b.begin(), b.end(), Verdict::undecided) == 0);
   CHECK(sb.meshes <= sa.meshes);
+}
+
+// The levers' bound where it is tightest: around contacts of the long-tipped fold chain
+// (bisected by FCL's distance between a free and a colliding configuration), configurations
+// within 0.02 of each joint; every one the table calls free is beyond the margin by FCL's
+// distance, every one it calls colliding within it.
+TEST_CASE("certified checker: a joint-space table's cells next to contact, by FCL's meshes",
+          "[check][fcl]") {
+  const double tip_half = 0.25, margin = 0.01;
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  for (const test::CapsuleLink& l : fold_links(tip_half))
+    meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
+  const RobotModel planner = fold_chain(4, tip_half), fine = fold_chain(10, tip_half);
+  check::CheckerOptions o;
+  o.margin = margin;
+  mf::FallbackOptions fallback;
+  fallback.table_cells = 8192;
+  const mf::CertifiedChecker tabled(planner, &fine, meshes, {}, o, fallback);
+  const mf::RobotBounds& rb = tabled.fallback();
+  REQUIRE(rb.self_pairs().size() == 1);
+  const auto [ga, gb] = rb.self_pairs()[0];
+  const mf::PairJointTable* table = tabled.table(ga, gb);
+  REQUIRE(table != nullptr);
+  const KinematicTree tree(fine);
+  auto distance = [&](const double* q) {
+    const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q, 2));
+    auto mesh = [&](std::size_t g) {
+      const std::string& link = rb.geometries()[g].link();
+      return ::fcl::CollisionObjectd(std::const_pointer_cast<mf::MeshModel>(meshes.at(link)),
+                                     X[tree.link_index(link)]);
+    };
+    return fcl_distance(mesh(ga), mesh(gb));
+  };
+  std::mt19937 rng(31);
+  std::uniform_real_distribution<double> u(-2.8, 2.8), near(-0.1, 0.1);
+  std::size_t free = 0, colliding = 0;
+  for (int trial = 0; trial < 400; ++trial) {
+    const double a[2] = {u(rng), u(rng)}, b[2] = {u(rng), u(rng)};
+    const bool a_free = distance(a) > margin;
+    if (a_free == (distance(b) > margin)) continue;
+    double lo = 0.0, hi = 1.0;  // lo on a's side
+    for (int step = 0; step < 40; ++step) {
+      const double t = 0.5 * (lo + hi),
+                   at[2] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
+      ((distance(at) > margin) == a_free ? lo : hi) = t;
+    }
+    for (int k = 0; k < 16; ++k) {
+      double at[2];
+      for (int j = 0; j < 2; ++j)
+        at[j] = std::clamp(a[j] + lo * (b[j] - a[j]) + near(rng), -2.8, 2.8);
+      const BoundsVerdict v = table->verdict(at);
+      if (v == BoundsVerdict::undecided) continue;
+      const double d = distance(at);
+      INFO("trial " << trial << ": (" << at[0] << ", " << at[1] << "), distance " << d);
+      CHECK((v == BoundsVerdict::free ? d > margin - kGjkTolerance : d <= margin + kGjkTolerance));
+      (v == BoundsVerdict::free ? free : colliding) += 1;
+    }
+  }
+  CHECK(free > 30);
+  CHECK(colliding > 30);
 }
 
 TEST_CASE("certified checker: separating planes change no verdict, near contact too",

@@ -40,19 +40,6 @@ void check_margin(double margin) {
     throw std::invalid_argument("medspheres::fcl::collide: margin must be finite and >= 0");
 }
 
-// FCL's distance between the exact geometries (a mesh, and a mesh or any FCL geometry),
-// exact when it is <= margin, else some value > margin: the margin's successor is preset
-// as min_distance, which FCL's traversals (BVH pairs, octrees) prune at and report only
-// strictly closer pairs below.
-double exact_distance(const MeshModel& a, const ::fcl::Transform3d& X_WA,
-                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
-                      double margin) {
-  ::fcl::DistanceRequestd request;
-  ::fcl::DistanceResultd result;
-  result.min_distance = std::nextafter(margin, std::numeric_limits<double>::infinity());
-  return ::fcl::distance(&a, X_WA, &b, X_WB, request, result);
-}
-
 // The distance between the balls of \p balls at X_WA (a solid made of them exactly) and the
 // FCL geometry g at X_WB, exact when it is <= margin, else some value > margin: the
 // runtime's tree-target walk (exact for triangles and boxes, FCL's narrowphase tolerance
@@ -152,6 +139,17 @@ CollideResult from_decision(const BoundsDecision& d, bool certified) {
 }
 
 }  // namespace
+
+// FCL's traversals (BVH pairs, octrees) prune at a preset min_distance and report only
+// strictly closer pairs below it: the margin's successor.
+double exact_distance(const MeshModel& a, const ::fcl::Transform3d& X_WA,
+                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                      double margin) {
+  ::fcl::DistanceRequestd request;
+  ::fcl::DistanceResultd result;
+  result.min_distance = std::nextafter(margin, std::numeric_limits<double>::infinity());
+  return ::fcl::distance(&a, X_WA, &b, X_WB, request, result);
+}
 
 std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh) {
   if (mesh.triangles.empty())

@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <deque>
+#include <iterator>
 #include <stdexcept>
 #include <utility>
 
@@ -101,42 +102,84 @@ std::unique_ptr<const PairJointTable> PairJointTable::build(
     R[j] = R[j + 1] +
            (X0[steps[side_b[j + 1]].child].translation() - X0[steps[side_b[j]].child].translation())
                .norm();
+  table->far_ = far_link;
+  table->make_shells(*far->mesh(),
+                     X0[far_link].inverse() * X0[steps[side_b[k - 1]].child].translation(),
+                     R[k - 1]);
   table->bake(tree, {a, &ga, b, &gb}, margin, R, max_cells);
   return table;
 }
 
-// One cell's verdict: the meshes' distance at its centre against margin +- D; `split`:
-// whether its centre is free (a finer cell near it may be proven free).
-BoundsVerdict PairJointTable::cell(bool& split, const KinematicTree& tree, const Pair& p,
-                                   double margin, const std::vector<double>& R,
-                                   const std::vector<double>& lo,
+// B's triangles by their vertices' largest distance from o_k, in shells up to these shares of
+// R_k (the last takes the rest); empty shells are left out.
+void PairJointTable::make_shells(const MeshModel& far, const Eigen::Vector3d& o_k, double R_k) {
+  constexpr double kShare[] = {0.125, 0.25, 0.375, 0.5, 0.75};
+  constexpr std::size_t kShells = std::size(kShare) + 1;
+  std::vector<TriangleMesh> parts(kShells);
+  std::vector<double> rho(kShells, 0.0);
+  for (int t = 0; t < far.num_tris; ++t) {
+    const ::fcl::Triangle& tri = far.tri_indices[t];
+    double r = 0.0;
+    for (int k = 0; k < 3; ++k) r = std::max(r, (far.vertices[tri[k]] - o_k).norm());
+    std::size_t s = 0;
+    while (s + 1 < kShells && r > kShare[s] * R_k) ++s;
+    TriangleMesh& part = parts[s];
+    const int first = int(part.vertices.size());
+    for (int k = 0; k < 3; ++k) part.vertices.push_back(far.vertices[tri[k]]);
+    part.triangles.push_back({first, first + 1, first + 2});
+    rho[s] = std::max(rho[s], r);
+  }
+  for (std::size_t s = 0; s < kShells; ++s)
+    if (!parts[s].triangles.empty()) shells_.push_back({make_mesh_model(parts[s]), rho[s]});
+}
+
+// Free when every shell of B is farther than margin + W_s from the other link at the poses
+// X, colliding when one is within margin - W_s (its closest point moves by at most W_s), as
+// the file comment's levers say. A shell's distance is exact wherever it decides.
+BoundsVerdict PairJointTable::shells_verdict(const std::vector<Eigen::Isometry3d>& X, const Pair& p,
+                                             double margin, double H, double E, double pad) const {
+  const bool far_is_b = far_ == p.b;
+  const MeshModel& near = *(far_is_b ? p.ga : p.gb)->mesh();
+  const Eigen::Isometry3d& X_near = X[far_is_b ? p.a : p.b];
+  bool free = true;
+  for (const Shell& s : shells_) {
+    const double W = (H * s.rho + E) * (1.0 + 1e-12) + pad;
+    const double d = exact_distance(near, X_near, *s.mesh, X[far_], margin + W);
+    if (d + W <= margin) return BoundsVerdict::colliding;
+    free = free && d > margin + W;
+  }
+  return free ? BoundsVerdict::free : BoundsVerdict::undecided;
+}
+
+// One cell's verdict: the sphere trees' bounds against margin +- D, then each shell's
+// distance at the centre against margin + W_s (free) and margin - W_s (colliding).
+BoundsVerdict PairJointTable::cell(const KinematicTree& tree, const Pair& p, double margin,
+                                   const std::vector<double>& R, const std::vector<double>& lo,
                                    const std::vector<double>& hi) const {
   Eigen::VectorXd q = Eigen::VectorXd::Zero(Eigen::Index(tree.num_positions()));
-  double D = 0.0;
+  double D = 0.0, H = 0.0, E = 0.0;  // E, H: the levers' terms
   for (std::size_t j = 0; j < source_.size(); ++j) {
+    const double h = 0.5 * (hi[j] - lo[j]);
     q[source_[j]] = 0.5 * (lo[j] + hi[j]);
-    D += R[j] * 0.5 * (hi[j] - lo[j]);
+    D += R[j] * h;
+    H += h;
+    E += (R[j] - R.back()) * h;
   }
-  D = D * (1.0 + 1e-12) + 1e-9 * (1.0 + R[0]);
+  const double pad = 1e-9 * (1.0 + R[0]);
+  D = D * (1.0 + 1e-12) + pad;
   const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
   // The sphere trees' bounds first (lower > margin + D: free; upper <= margin - D:
   // colliding), then the meshes.
-  split = false;
   if (decide(*p.ga, X[p.a], *p.gb, X[p.b], margin + D).verdict == BoundsVerdict::free)
     return BoundsVerdict::free;
   if (D <= margin &&
       decide(*p.ga, X[p.a], *p.gb, X[p.b], margin - D).verdict == BoundsVerdict::colliding)
     return BoundsVerdict::colliding;
-  const CollideResult r =
-      settle(CollideResult{}, *p.ga, X[p.a], *p.gb, X[p.b], margin + D);  // exact up to margin + D
-  if (r.mesh_distance > margin + D) return BoundsVerdict::free;
-  if (r.mesh_distance + D <= margin) return BoundsVerdict::colliding;
-  split = r.mesh_distance > margin;
-  return BoundsVerdict::undecided;
+  return shells_verdict(X, p, margin, H, E, pad);
 }
 
-// Breadth first: a leaf neither free nor colliding whose centre is free is split in two
-// along the joint of the largest R_j h_j, while the leaves number fewer than max_cells.
+// Breadth first: a leaf neither free nor colliding is split in two along the joint of the
+// largest R_j h_j, while the leaves number fewer than max_cells.
 void PairJointTable::bake(const KinematicTree& tree, const Pair& p, double margin,
                           const std::vector<double>& R, std::size_t max_cells) {
   struct Box {
@@ -149,9 +192,8 @@ void PairJointTable::bake(const KinematicTree& tree, const Pair& p, double margi
   while (!queue.empty()) {
     Box box = std::move(queue.front());
     queue.pop_front();
-    bool split = false;
-    nodes_[box.node].verdict = cell(split, tree, p, margin, R, box.lo, box.hi);
-    if (!split || leaves >= max_cells) continue;
+    nodes_[box.node].verdict = cell(tree, p, margin, R, box.lo, box.hi);
+    if (nodes_[box.node].verdict != BoundsVerdict::undecided || leaves >= max_cells) continue;
     std::size_t dim = 0;
     for (std::size_t j = 1; j < source_.size(); ++j)
       if (R[j] * (box.hi[j] - box.lo[j]) > R[dim] * (box.hi[dim] - box.lo[dim])) dim = j;

@@ -74,6 +74,12 @@ std::shared_ptr<::fcl::BVHModel<BV>> make_bvh_model(const TriangleMesh& mesh) {
 /// takes it. \throws std::invalid_argument for a mesh without triangles.
 std::shared_ptr<const MeshModel> make_mesh_model(const TriangleMesh& mesh);
 
+/// FCL's distance between a mesh and any FCL geometry (a mesh a surface), exact when it is
+/// <= margin, else some value > margin (the search pruned there).
+double exact_distance(const MeshModel& a, const ::fcl::Transform3d& X_WA,
+                      const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
+                      double margin);
+
 /// True when \p json (a sphere-set file's metadata, or a link's outer_certificate_json)
 /// records a certified cover: "certified": true at the top level or in "stats".
 /// Malformed or empty text is not certified.

@@ -15,12 +15,25 @@
 /// d moves a point at distance r from the axis by 2 r sin(d / 2) <= r d. So the distance d
 /// of the two meshes anywhere in the cell lies within D = sum_j R_j h_j (plus a rounding
 /// allowance of 1e-9 (1 + R_1)) of d(c): free when d(c) > margin + D, colliding when
-/// d(c) + D <= margin. d(c) is bounded first by the links' sphere trees (decide() of
-/// bounded_geometry.h at margin + D and at margin - D), then given by FCL's mesh distance
-/// (exact when it is <= margin + D, the search pruned there, as settle()). A cell neither
-/// free nor colliding whose centre is free (a finer cell near the centre may be proven
-/// free; the colliding side is left to the other levels) is split in two along the joint
-/// with the largest R_j h_j, breadth first, until the table holds max_cells leaves. Distances are
+/// d(c) + D <= margin. The links' sphere trees try that first (decide() of
+/// bounded_geometry.h at margin + D and at margin - D).
+///
+/// Levers: D holds for B's farthest point, but a point b of B moves by at most
+/// w(b) = sum_j h_j (rho(b) + R_j - R_k), rho(b) = |b - o_k| (o_k the lowest joint's origin,
+/// fixed in B, so rho is too; |b - o_j| <= rho(b) + R_j - R_k at every pose by the triangle
+/// inequality along the origins). B's triangles are held in shells by their vertices'
+/// largest rho (w is convex in b, so its largest value on a triangle is at a vertex): a
+/// shell of largest rho_s moves by at most W_s = H rho_s + sum_j h_j (R_j - R_k) <= D, H =
+/// sum_j h_j (with the same rounding allowance). Where the trees leave the cell open, each
+/// shell's distance d_s(c) to A is FCL's mesh distance (exact when it is <= margin + W_s,
+/// the search pruned there): the cell is free when every d_s(c) > margin + W_s, colliding
+/// when some d_s(c) + W_s <= margin (that shell's closest point moves by at most W_s). Near
+/// a joint, where two links a joint or two apart come close, rho is a fraction of R_k, so
+/// cells there are decided at a fraction of the width that D allows.
+///
+/// A cell neither free nor colliding is split in two along the joint with the largest
+/// R_j h_j, breadth first, until the table holds max_cells leaves (the largest cells first:
+/// configurations drawn uniformly fall in a cell as often as its volume). Distances are
 /// those of the meshes as surfaces, with bounded_geometry.h's assumption (no solid wholly inside
 /// another without surface contact): the same contract as the mesh fallback.
 ///
@@ -72,13 +85,23 @@ class PairJointTable {
     std::size_t b;
     const BoundedGeometry* gb;
   };
-  BoundsVerdict cell(bool& split, const KinematicTree& tree, const Pair& p, double margin,
+  BoundsVerdict cell(const KinematicTree& tree, const Pair& p, double margin,
                      const std::vector<double>& R, const std::vector<double>& lo,
                      const std::vector<double>& hi) const;
   void bake(const KinematicTree& tree, const Pair& p, double margin, const std::vector<double>& R,
             std::size_t max_cells);
 
+  struct Shell {
+    std::shared_ptr<const MeshModel> mesh;  ///< triangles of B, in B's frame
+    double rho = 0.0;                       ///< their vertices' largest |v - o_k|
+  };
+  BoundsVerdict shells_verdict(const std::vector<Eigen::Isometry3d>& X, const Pair& p,
+                               double margin, double H, double E, double pad) const;
+  void make_shells(const MeshModel& far, const Eigen::Vector3d& o_k, double R_k);
+
   std::vector<long> source_;  ///< per joint of the table: its index in q
+  std::size_t far_ = 0;       ///< B, the link below the joints
+  std::vector<Shell> shells_;
   std::vector<double> lower_, upper_;
   std::vector<Node> nodes_;
 };
