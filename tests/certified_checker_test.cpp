@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <memory>
 #include <random>
 #include <tuple>
 
@@ -493,28 +494,54 @@ RobotModel fold_chain(int k, double tip_half) {
   return m;
 }
 
+// The fold chain of half tip length tip_half with its meshes, certified checkers without
+// tables (plain) and with a table of at most `cells` cells on its one self pair (tabled),
+// and FCL's distance between that pair's meshes.
+struct FoldTable {
+  FoldTable(double tip_half, std::size_t cells)
+      : planner(fold_chain(4, tip_half)), fine(fold_chain(10, tip_half)), tree(fine) {
+    for (const test::CapsuleLink& l : fold_links(tip_half))
+      meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
+    o.margin = 0.01;
+    mf::FallbackOptions fallback;
+    fallback.table_cells = cells;
+    plain = std::make_unique<mf::CertifiedChecker>(
+        planner, &fine, meshes, std::vector<const ::fcl::CollisionObjectd*>{}, o);
+    tabled = std::make_unique<mf::CertifiedChecker>(
+        planner, &fine, meshes, std::vector<const ::fcl::CollisionObjectd*>{}, o, fallback);
+    REQUIRE(tabled->fallback().self_pairs().size() == 1);
+    std::tie(ga, gb) = tabled->fallback().self_pairs()[0];
+  }
+  const mf::PairJointTable* table() const { return tabled->table(ga, gb); }
+  double distance(const double* q) const {
+    const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q, 2));
+    auto mesh = [&](std::size_t g) {
+      const std::string& link = tabled->fallback().geometries()[g].link();
+      return ::fcl::CollisionObjectd(std::const_pointer_cast<mf::MeshModel>(meshes.at(link)),
+                                     X[tree.link_index(link)]);
+    };
+    return fcl_distance(mesh(ga), mesh(gb));
+  }
+
+  RobotModel planner, fine;
+  KinematicTree tree;
+  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
+  check::CheckerOptions o;
+  std::unique_ptr<mf::CertifiedChecker> plain, tabled;
+  std::size_t ga = 0, gb = 0;
+};
+
 // A long tip (0.25) comes close to the base along its length and far from its joint, where
 // the table's levers (the shells of the tip far from the joint) weigh most.
 TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near contact too",
           "[check][fcl]") {
   const double tip_half = GENERATE(0.1, 0.25);
   INFO("tip half length " << tip_half);
-  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
-  for (const test::CapsuleLink& l : fold_links(tip_half))
-    meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
-  const RobotModel planner = fold_chain(4, tip_half), fine = fold_chain(10, tip_half);
-  check::CheckerOptions o;
-  o.margin = 0.01;
-  mf::FallbackOptions fallback;
-  fallback.table_cells = tip_half < 0.2 ? 2048 : 8192;
-  const mf::CertifiedChecker plain(planner, &fine, meshes, {}, o);
-  const mf::CertifiedChecker tabled(planner, &fine, meshes, {}, o, fallback);
-  const mf::RobotBounds& rb = tabled.fallback();
-  REQUIRE(rb.self_pairs().size() == 1);
-  const auto [ga, gb] = rb.self_pairs()[0];
-  const mf::PairJointTable* table = tabled.table(ga, gb);
+  const FoldTable fold(tip_half, tip_half < 0.2 ? 2048 : 8192);
+  const mf::CertifiedChecker &plain = *fold.plain, &tabled = *fold.tabled;
+  const mf::PairJointTable* table = fold.table();
   REQUIRE(table != nullptr);
-  CHECK(plain.table(ga, gb) == nullptr);
+  CHECK(plain.table(fold.ga, fold.gb) == nullptr);
   // Seeded configurations, and as many bisected to contact between a free and a colliding one.
   std::mt19937 rng(27);
   std::uniform_real_distribution<double> u(-2.8, 2.8);
@@ -540,20 +567,13 @@ TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near
   const std::size_t n = q.size() / 2;
   REQUIRE(n > 2400);
   std::size_t free = 0, near_free = 0;
-  const KinematicTree tree(fine);
+  const double margin = fold.o.margin;
   for (std::size_t i = 0; i < n; ++i) {
     const BoundsVerdict t = table->verdict(q.data() + 2 * i);
     if (t == BoundsVerdict::undecided) continue;
-    const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q.data() + 2 * i, 2));
-    auto mesh = [&](std::size_t g) {
-      const std::string& link = rb.geometries()[g].link();
-      return ::fcl::CollisionObjectd(std::const_pointer_cast<mf::MeshModel>(meshes.at(link)),
-                                     X[tree.link_index(link)]);
-    };
-    const double d = fcl_distance(mesh(ga), mesh(gb));
+    const double d = fold.distance(q.data() + 2 * i);
     INFO("configuration " << i << ": distance " << d);
-    CHECK(
-        (t == BoundsVerdict::free ? d > o.margin - kGjkTolerance : d <= o.margin + kGjkTolerance));
+    CHECK((t == BoundsVerdict::free ? d > margin - kGjkTolerance : d <= margin + kGjkTolerance));
     free += t == BoundsVerdict::free;
     near_free += t == BoundsVerdict::free && i >= 2000;
   }
@@ -574,31 +594,11 @@ TEST_CASE("certified checker: a joint-space table agrees with FCL's meshes, near
 // distance, every one it calls colliding within it.
 TEST_CASE("certified checker: a joint-space table's cells next to contact, by FCL's meshes",
           "[check][fcl]") {
-  const double tip_half = 0.25, margin = 0.01;
-  std::map<std::string, std::shared_ptr<const mf::MeshModel>> meshes;
-  for (const test::CapsuleLink& l : fold_links(tip_half))
-    meshes[l.name] = test::make_bvh<::fcl::OBBRSSd>(test::capsule_link_mesh(l));
-  const RobotModel planner = fold_chain(4, tip_half), fine = fold_chain(10, tip_half);
-  check::CheckerOptions o;
-  o.margin = margin;
-  mf::FallbackOptions fallback;
-  fallback.table_cells = 8192;
-  const mf::CertifiedChecker tabled(planner, &fine, meshes, {}, o, fallback);
-  const mf::RobotBounds& rb = tabled.fallback();
-  REQUIRE(rb.self_pairs().size() == 1);
-  const auto [ga, gb] = rb.self_pairs()[0];
-  const mf::PairJointTable* table = tabled.table(ga, gb);
+  const FoldTable fold(0.25, 8192);
+  const mf::PairJointTable* table = fold.table();
   REQUIRE(table != nullptr);
-  const KinematicTree tree(fine);
-  auto distance = [&](const double* q) {
-    const auto X = tree.link_poses(Eigen::Map<const Eigen::VectorXd>(q, 2));
-    auto mesh = [&](std::size_t g) {
-      const std::string& link = rb.geometries()[g].link();
-      return ::fcl::CollisionObjectd(std::const_pointer_cast<mf::MeshModel>(meshes.at(link)),
-                                     X[tree.link_index(link)]);
-    };
-    return fcl_distance(mesh(ga), mesh(gb));
-  };
+  const double margin = fold.o.margin;
+  auto distance = [&](const double* q) { return fold.distance(q); };
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u(-2.8, 2.8), near(-0.1, 0.1);
   std::size_t free = 0, colliding = 0;
