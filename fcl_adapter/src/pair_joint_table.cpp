@@ -107,6 +107,7 @@ std::unique_ptr<const PairJointTable> PairJointTable::build(
                      X0[far_link].inverse() * X0[steps[side_b[k - 1]].child].translation(),
                      R[k - 1]);
   table->bake(tree, {a, &ga, b, &gb}, margin, R, max_cells);
+  table->shells_.clear();  // the bake's alone
   return table;
 }
 

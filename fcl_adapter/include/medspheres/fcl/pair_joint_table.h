@@ -101,7 +101,7 @@ class PairJointTable {
 
   std::vector<long> source_;  ///< per joint of the table: its index in q
   std::size_t far_ = 0;       ///< B, the link below the joints
-  std::vector<Shell> shells_;
+  std::vector<Shell> shells_;  ///< during the bake
   std::vector<double> lower_, upper_;
   std::vector<Node> nodes_;
 };
