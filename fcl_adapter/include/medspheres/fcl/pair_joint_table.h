@@ -99,8 +99,8 @@ class PairJointTable {
                                double margin, double H, double E, double pad) const;
   void make_shells(const MeshModel& far, const Eigen::Vector3d& o_k, double R_k);
 
-  std::vector<long> source_;  ///< per joint of the table: its index in q
-  std::size_t far_ = 0;       ///< B, the link below the joints
+  std::vector<long> source_;   ///< per joint of the table: its index in q
+  std::size_t far_ = 0;        ///< B, the link below the joints
   std::vector<Shell> shells_;  ///< during the bake
   std::vector<double> lower_, upper_;
   std::vector<Node> nodes_;
