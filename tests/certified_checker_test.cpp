@@ -598,19 +598,18 @@ TEST_CASE("certified checker: a joint-space table's cells next to contact, by FC
   const mf::PairJointTable* table = fold.table();
   REQUIRE(table != nullptr);
   const double margin = fold.o.margin;
-  auto distance = [&](const double* q) { return fold.distance(q); };
   std::mt19937 rng(31);
   std::uniform_real_distribution<double> u(-2.8, 2.8), near(-0.1, 0.1);
   std::size_t free = 0, colliding = 0;
   for (int trial = 0; trial < 400; ++trial) {
     const double a[2] = {u(rng), u(rng)}, b[2] = {u(rng), u(rng)};
-    const bool a_free = distance(a) > margin;
-    if (a_free == (distance(b) > margin)) continue;
+    const bool a_free = fold.distance(a) > margin;
+    if (a_free == (fold.distance(b) > margin)) continue;
     double lo = 0.0, hi = 1.0;  // lo on a's side
     for (int step = 0; step < 40; ++step) {
       const double t = 0.5 * (lo + hi),
                    at[2] = {a[0] + t * (b[0] - a[0]), a[1] + t * (b[1] - a[1])};
-      ((distance(at) > margin) == a_free ? lo : hi) = t;
+      ((fold.distance(at) > margin) == a_free ? lo : hi) = t;
     }
     for (int k = 0; k < 16; ++k) {
       double at[2];
@@ -618,7 +617,7 @@ TEST_CASE("certified checker: a joint-space table's cells next to contact, by FC
         at[j] = std::clamp(a[j] + lo * (b[j] - a[j]) + near(rng), -2.8, 2.8);
       const BoundsVerdict v = table->verdict(at);
       if (v == BoundsVerdict::undecided) continue;
-      const double d = distance(at);
+      const double d = fold.distance(at);
       INFO("trial " << trial << ": (" << at[0] << ", " << at[1] << "), distance " << d);
       CHECK((v == BoundsVerdict::free ? d > margin - kGjkTolerance : d <= margin + kGjkTolerance));
       (v == BoundsVerdict::free ? free : colliding) += 1;
