@@ -14,6 +14,7 @@
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_file.h"
+#include "medspheres/sha256.h"
 
 namespace medspheres::bench {
 namespace fs = std::filesystem;

@@ -84,6 +84,7 @@
 #include "medspheres/robot_bake/contact_regions.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
+#include "medspheres/sha256.h"
 #include "support/coarse_arm.h"
 #include "support/generated_arms.h"
 

@@ -15,6 +15,7 @@
 
 #include "medspheres/formats/sph_file.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/sha256.h"
 
 extern char** environ;
 

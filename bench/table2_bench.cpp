@@ -100,6 +100,7 @@
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/sha256.h"
 #include "support/shared_meshes.h"
 
 namespace {

@@ -13,6 +13,7 @@
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_report.h"
+#include "medspheres/sha256.h"
 #include "support/mesh_writers.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"

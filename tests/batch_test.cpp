@@ -17,6 +17,7 @@
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/sha256.h"
 #include "support/file_tree.h"
 #include "support/mesh_library.h"
 #include "support/mesh_writers.h"

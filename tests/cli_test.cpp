@@ -11,6 +11,7 @@
 #include "medspheres/mesh/mesh_io.h"
 
 #include "medspheres/mesh/mesh_generators.h"
+#include "medspheres/sha256.h"
 #include "support/mesh_writers.h"
 #include "support/run_command.h"
 #include "support/shared_meshes.h"

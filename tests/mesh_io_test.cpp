@@ -19,6 +19,7 @@
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/sha256.h"
 #include "support/mesh_writers.h"
 #include "support/temp_dir.h"
 

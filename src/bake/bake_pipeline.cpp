@@ -13,6 +13,7 @@
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/number_text.h"
+#include "medspheres/sha256.h"
 
 namespace medspheres {
 

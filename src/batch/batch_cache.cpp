@@ -9,6 +9,7 @@
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/number_text.h"
+#include "medspheres/sha256.h"
 #include "medspheres/version.h"
 
 namespace medspheres {

@@ -10,6 +10,7 @@
 #include "medspheres/batch/batch_cache.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/sha256.h"
 
 namespace medspheres {
 

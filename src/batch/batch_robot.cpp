@@ -18,6 +18,7 @@
 #include "medspheres/number_text.h"
 #include "medspheres/robot/link_solid.h"
 #include "medspheres/robot_file.h"
+#include "medspheres/sha256.h"
 #include "medspheres/version.h"
 
 namespace medspheres {

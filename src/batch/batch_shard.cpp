@@ -5,6 +5,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/sha256.h"
 
 namespace medspheres {
 

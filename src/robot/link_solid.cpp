@@ -10,6 +10,7 @@
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/number_text.h"
+#include "medspheres/sha256.h"
 
 namespace medspheres {
 

@@ -93,11 +93,4 @@ LoadedMesh prepare_mesh(TriangleMesh mesh, const std::string& source, bool fix_o
 /// fail every allocation.
 bool import_memory_limit_enforced() noexcept;
 
-/// The SHA-256 of the bytes of \p path, as 64 lowercase hex digits.
-/// \throws InputError when the file cannot be read.
-std::string file_sha256(const std::string& path);
-
-/// The SHA-256 of \p bytes, as 64 lowercase hex digits.
-std::string sha256_hex(const std::string& bytes);
-
 }  // namespace medspheres

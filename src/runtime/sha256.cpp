@@ -1,4 +1,4 @@
-// SHA-256 (FIPS 180-4), for the provenance of baked sphere sets.
+// SHA-256 (FIPS 180-4): the provenance of baked sphere sets, and the keys of caches.
 #include <algorithm>
 #include <array>
 #include <cerrno>
@@ -8,7 +8,7 @@
 #include <string>
 
 #include "medspheres/error.h"
-#include "medspheres/mesh/mesh_io.h"
+#include "medspheres/sha256.h"
 
 namespace medspheres {
 
