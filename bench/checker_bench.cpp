@@ -43,6 +43,7 @@ struct Options : mb::RobotBenchOptions {
   std::size_t order_samples = 0;
   std::size_t table_cells = 0;
   std::size_t table_pairs = 0;
+  std::string table_store;
   double edge_length = 0.5;
   double resolution = 0.02;
   bool fcl_loop = true;
@@ -69,6 +70,9 @@ Options parse(int argc, char** argv) {
   args.add("--table-pairs", o.table_pairs,
            "With --table-cells: tables for this many self pairs only, those seen colliding most "
            "often first (0: every pair that takes one)");
+  args.add("--table-store", o.table_store,
+           "With --table-cells: a folder that keeps the tables, read instead of baked when it "
+           "holds them ('': baked every run)");
   args.add("--edge-length", o.edge_length, "Edges: joint-space length");
   args.add("--resolution", o.resolution, "Edges: resolution");
   args.add("--repeats", o.repeats, "Each time the best of this many runs");
@@ -117,6 +121,7 @@ int run(const Options& o) {
   in.order_seed = o.seed + 1;
   in.table_cells = o.table_cells;
   in.table_pairs = o.table_pairs;
+  in.table_store = o.table_store;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;
@@ -157,6 +162,7 @@ int run(const Options& o) {
     fallback.order.seed = o.seed + 1;
     fallback.table_cells = o.table_cells;
     fallback.table_pairs = o.table_pairs;
+    fallback.table_store = o.table_store;
     const mf::CertifiedChecker certified(
         planner.model, o.planner_spheres == o.fine_spheres ? nullptr : &fine.model, fine.meshes,
         objects, co, fallback);

@@ -124,19 +124,20 @@ class FclSphereLoop {
 
 // The fallback's joint-space tables: how many, their cells, the share decided.
 void print_tables(const fcl::CertifiedChecker& c, double seconds) {
-  std::size_t tables = 0, cells = 0, free = 0, colliding = 0;
+  std::size_t tables = 0, cells = 0, free = 0, colliding = 0, stored = 0;
   for (const auto& [a, b] : c.fallback().self_pairs())
     if (const fcl::PairJointTable* t = c.table(a, b)) {
       ++tables;
       cells += t->cells();
       free += t->free_cells();
       colliding += t->colliding_cells();
+      stored += t->stored();
     }
   if (tables > 0)
     std::printf(
-        "joint-space tables: %zu self pairs, %zu cells (%zu free, %zu colliding); the certified "
-        "checker built in %.1f s\n",
-        tables, cells, free, colliding, seconds);
+        "joint-space tables: %zu self pairs, %zu cells (%zu free, %zu colliding), %zu read from "
+        "the store; the certified checker built in %.1f s\n",
+        tables, cells, free, colliding, stored, seconds);
 }
 
 // Edges: from each configuration towards the next, cut to edge_length.
@@ -477,6 +478,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   fallback.order.seed = in.order_seed;
   fallback.table_cells = in.table_cells;
   fallback.table_pairs = in.table_pairs;
+  fallback.table_store = in.table_store;
   const fcl::CertifiedChecker certified(in.planner->model, fine, in.fine->meshes, in.scene, o,
                                         fallback);
   const double build = seconds_since(t0);

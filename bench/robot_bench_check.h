@@ -30,6 +30,8 @@ struct CheckerBenchInput {
   std::size_t table_cells = 0;
   /// The pairs that get one (FallbackOptions::table_pairs).
   std::size_t table_pairs = 0;
+  /// Their store (FallbackOptions::table_store); empty: none.
+  std::string table_store;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;

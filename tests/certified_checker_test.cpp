@@ -5,6 +5,7 @@
 
 #include <algorithm>
 #include <cmath>
+#include <filesystem>
 #include <map>
 #include <memory>
 #include <random>
@@ -18,6 +19,7 @@
 #include "medspheres/forward_kinematics.h"
 #include "support/check_fixtures.h"
 #include "support/fcl_fixtures.h"
+#include "support/temp_dir.h"
 
 using namespace medspheres;
 namespace mf = medspheres::fcl;
@@ -625,6 +627,85 @@ TEST_CASE("certified checker: a joint-space table's cells next to contact, by FC
   }
   CHECK(free > 30);
   CHECK(colliding > 30);
+}
+
+// The tables' store: a checker built again reads the table it baked (the same cells); a
+// table of another margin or budget gets a file of its own; a damaged file is baked again
+// and replaced, never read; a store that cannot be a folder is refused by name.
+TEST_CASE("certified checker: joint-space tables kept in a store and read back", "[check][fcl]") {
+  const FoldTable fold(0.25, 512);
+  const test::TempDir dir;
+  const std::string folder = dir.file("tables");
+  auto tabled = [&](double margin, std::size_t cells) {
+    check::CheckerOptions o = fold.o;
+    o.margin = margin;
+    mf::FallbackOptions f;
+    f.table_cells = cells;
+    f.table_store = folder;
+    return std::make_unique<const mf::CertifiedChecker>(
+        fold.planner, &fold.fine, fold.meshes, std::vector<const ::fcl::CollisionObjectd*>{}, o, f);
+  };
+  auto files = [&] {
+    std::vector<std::string> out;
+    for (const auto& e : std::filesystem::directory_iterator(folder))
+      out.push_back(e.path().string());
+    return out;
+  };
+  const auto baked = tabled(0.01, 512);
+  const mf::PairJointTable* t0 = baked->table(fold.ga, fold.gb);
+  REQUIRE(t0 != nullptr);
+  CHECK_FALSE(t0->stored());
+  REQUIRE(files().size() == 1);
+  const std::string file = files()[0];
+  std::mt19937 rng(41);
+  std::uniform_real_distribution<double> u(-2.9, 2.9);  // beyond the limits too
+  std::vector<double> q;
+  for (int i = 0; i < 4000; ++i) q.insert(q.end(), {u(rng), u(rng)});
+  auto same_as_baked = [&](const mf::PairJointTable& t) {
+    CHECK(t.cells() == t0->cells());
+    CHECK(t.free_cells() == t0->free_cells());
+    CHECK(t.colliding_cells() == t0->colliding_cells());
+    std::size_t differ = 0;
+    for (std::size_t i = 0; i < 4000; ++i)
+      differ += t.verdict(q.data() + 2 * i) != t0->verdict(q.data() + 2 * i);
+    CHECK(differ == 0);
+  };
+  // Without a store, the same table.
+  same_as_baked(*fold.tabled->table(fold.ga, fold.gb));
+  {
+    const auto read = tabled(0.01, 512);
+    REQUIRE(read->table(fold.ga, fold.gb)->stored());
+    same_as_baked(*read->table(fold.ga, fold.gb));
+  }
+  // Damaged files: cut short, and one byte changed at places spread over the file.
+  const std::string bytes = test::read_file(file);
+  REQUIRE(bytes.size() > 1000);
+  std::vector<std::string> damaged{bytes.substr(0, bytes.size() / 2), "not a table"};
+  for (std::size_t at = 0; at < bytes.size(); at += bytes.size() / 16 + 1) {
+    damaged.push_back(bytes);
+    damaged.back()[at] = char(damaged.back()[at] ^ 0x10);
+  }
+  for (std::size_t k = 0; k < damaged.size(); ++k) {
+    INFO("damaged file " << k);
+    dir.write("tables/" + std::filesystem::path(file).filename().string(), damaged[k]);
+    const auto again = tabled(0.01, 512);
+    CHECK_FALSE(again->table(fold.ga, fold.gb)->stored());
+    same_as_baked(*again->table(fold.ga, fold.gb));
+    CHECK(test::read_file(file) == bytes);  // replaced by the bake
+  }
+  // Another margin, another budget: files of their own.
+  CHECK_FALSE(tabled(0.02, 512)->table(fold.ga, fold.gb)->stored());
+  CHECK_FALSE(tabled(0.01, 256)->table(fold.ga, fold.gb)->stored());
+  CHECK(files().size() == 3);
+  CHECK(tabled(0.01, 256)->table(fold.ga, fold.gb)->stored());
+  // A store whose folder is a file.
+  const std::string not_folder = dir.write("plain", "a file");
+  mf::FallbackOptions f;
+  f.table_cells = 64;
+  f.table_store = not_folder + "/tables";
+  CHECK_THROWS_WITH(mf::CertifiedChecker(fold.planner, &fold.fine, fold.meshes,
+                                         std::vector<const ::fcl::CollisionObjectd*>{}, fold.o, f),
+                    Catch::Contains(not_folder) && Catch::Contains("table store"));
 }
 
 TEST_CASE("certified checker: separating planes change no verdict, near contact too",

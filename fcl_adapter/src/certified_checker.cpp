@@ -1,11 +1,14 @@
 #include "medspheres/fcl/certified_checker.h"
 
 #include <algorithm>
+#include <exception>
+#include <memory>
 #include <stdexcept>
 
 #include <omp.h>
 
 #include "medspheres/error.h"
+#include "medspheres/fcl/pair_table_store.h"
 #include "medspheres/fcl/scene_from_fcl.h"
 
 #include "witness_points.h"
@@ -119,7 +122,7 @@ CertifiedChecker::CertifiedChecker(
     bake_tables(fallback.trees ? *fallback.trees
                 : fine         ? *fine
                                : planner,
-                fallback.table_cells, fallback.table_pairs);
+                fallback.table_cells, fallback.table_pairs, fallback.table_store);
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
@@ -201,19 +204,29 @@ std::vector<check::UndecidedPair> CertifiedChecker::ordered(
 
 // The self pairs' tables (the first `first` pairs of the learnt order, or all for 0), two
 // pairs at a time.
-void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, std::size_t first) {
+void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, std::size_t first,
+                                   const std::string& store_folder) {
   const std::size_t G = bounds_.geometries().size();
   const auto& pairs = bounds_.self_pairs();
   const std::size_t count = first > 0 ? std::min(first, pairs.size()) : pairs.size();
   tables_.resize(G * G);
   const std::vector<BoundedGeometry>& g = bounds_.geometries();
+  const std::unique_ptr<const PairTableStore> store =
+      store_folder.empty() ? nullptr : std::make_unique<const PairTableStore>(store_folder);
+  std::vector<std::exception_ptr> failed(count);  // no exception may leave the parallel loop
 #pragma omp parallel for schedule(dynamic, 1)
   for (long k = 0; k < static_cast<long>(count); ++k) {
     const auto [a, b] = pairs[std::size_t(k)];
-    tables_[std::min(a, b) * G + std::max(a, b)] =
-        PairJointTable::build(model, bounds_.kinematics(), bounds_.link_of()[a], g[a],
-                              bounds_.link_of()[b], g[b], checker_.options().margin, cells);
+    try {
+      tables_[std::min(a, b) * G + std::max(a, b)] = PairJointTable::build(
+          model, bounds_.kinematics(), bounds_.link_of()[a], g[a], bounds_.link_of()[b], g[b],
+          checker_.options().margin, cells, store.get());
+    } catch (...) {
+      failed[std::size_t(k)] = std::current_exception();
+    }
   }
+  for (const std::exception_ptr& e : failed)
+    if (e) std::rethrow_exception(e);
 }
 
 const PairJointTable* CertifiedChecker::table(std::size_t a, std::size_t b) const {

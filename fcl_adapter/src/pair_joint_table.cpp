@@ -9,6 +9,9 @@
 #include <stdexcept>
 #include <utility>
 
+#include "medspheres/fcl/pair_table_store.h"
+#include "medspheres/sha256.h"
+
 namespace medspheres::fcl {
 namespace {
 
@@ -64,7 +67,8 @@ double farthest(const MeshModel& mesh, const Eigen::Isometry3d& X, const Eigen::
 
 std::unique_ptr<const PairJointTable> PairJointTable::build(
     const RobotModel& model, const KinematicTree& tree, std::size_t a, const BoundedGeometry& ga,
-    std::size_t b, const BoundedGeometry& gb, double margin, std::size_t max_cells) {
+    std::size_t b, const BoundedGeometry& gb, double margin, std::size_t max_cells,
+    const PairTableStore* store) {
   if (!std::isfinite(margin) || margin < 0.0 || max_cells == 0)
     throw std::invalid_argument("PairJointTable: margin must be finite and >= 0, max_cells >= 1");
   if (ga.mesh() == nullptr || gb.mesh() == nullptr) return nullptr;
@@ -103,12 +107,62 @@ std::unique_ptr<const PairJointTable> PairJointTable::build(
            (X0[steps[side_b[j + 1]].child].translation() - X0[steps[side_b[j]].child].translation())
                .norm();
   table->far_ = far_link;
+  const Pair pair{a, &ga, b, &gb};
+  const std::string key = store ? sha256_hex(table->store_key(tree, pair, margin, max_cells)) : "";
+  if (store && store->load(key, *table)) return table;
   table->make_shells(*far->mesh(),
                      X0[far_link].inverse() * X0[steps[side_b[k - 1]].child].translation(),
                      R[k - 1]);
-  table->bake(tree, {a, &ga, b, &gb}, margin, R, max_cells);
+  table->bake(tree, pair, margin, R, max_cells);
   table->shells_.clear();  // the bake's alone
+  if (store) store->save(key, *table);
   return table;
+}
+
+// Everything the cells are computed from, as bytes (pair_table_store.h names it): the
+// store's key is their digest.
+std::string PairJointTable::store_key(const KinematicTree& tree, const Pair& p, double margin,
+                                      std::size_t max_cells) const {
+  std::string out = "medspheres pair joint table 1\n";
+  auto put = [&out](const auto& v) { out.append(reinterpret_cast<const char*>(&v), sizeof v); };
+  auto put_vector = [&put](const Eigen::Vector3d& v) {
+    for (int i = 0; i < 3; ++i) put(v[i]);
+  };
+  put(margin);
+  put(max_cells);
+  put(tree.num_positions());
+  for (const Step& s : tree.steps()) {
+    out += tree.link_names()[s.parent] + '\n' + tree.link_names()[s.child] + '\n';
+    put(s.type);
+    for (int i = 0; i < 16; ++i) put(s.origin.matrix().data()[i]);
+    put_vector(s.axis);
+    put(s.source);
+    put(s.multiplier);
+    put(s.offset);
+  }
+  for (std::size_t j = 0; j < source_.size(); ++j) {
+    put(source_[j]);
+    put(lower_[j]);
+    put(upper_[j]);
+  }
+  put(far_);
+  for (const auto& [link, g] : {std::pair{p.a, p.ga}, std::pair{p.b, p.gb}}) {
+    out += tree.link_names()[link] + '\n';
+    const MeshModel& mesh = *g->mesh();
+    put(mesh.num_vertices);
+    for (int i = 0; i < mesh.num_vertices; ++i) put_vector(mesh.vertices[i]);
+    put(mesh.num_tris);
+    for (int t = 0; t < mesh.num_tris; ++t)
+      for (int k = 0; k < 3; ++k) put(mesh.tri_indices[t][k]);
+    for (const SphereTree* balls : {&g->outer(), &g->inner()}) {
+      put(balls->num_spheres());
+      for (std::size_t i = 0; i < balls->num_spheres(); ++i) {
+        put_vector(balls->sphere(i).center);
+        put(balls->sphere(i).radius);
+      }
+    }
+  }
+  return out;
 }
 
 // B's triangles by their vertices' largest distance from o_k, in shells up to these shares of

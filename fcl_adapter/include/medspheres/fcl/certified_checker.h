@@ -91,6 +91,11 @@ struct FallbackOptions {
   /// often in the order's samples first: those the fallback most often reaches), to bound
   /// the bake; 0: every pair PairJointTable takes.
   std::size_t table_pairs = 0;
+  /// With table_cells > 0, non-empty: a folder (PairTableStore, pair_table_store.h) that
+  /// keeps the tables: each is read from it when it holds the table of the same pair,
+  /// geometry, margin and budget, else baked and written to it. A bake of minutes is then
+  /// paid once per robot. Empty: every table is baked at construction.
+  std::string table_store;
   /// With order.samples > 0: the witnesses' two points also join the inner sets of their
   /// links in spheres(), the kernel's planner level (each is an inner ball or a mesh
   /// vertex of its link's solid, so the bounds mode may prove a pair colliding by them as
@@ -168,7 +173,8 @@ class CertifiedChecker {
   check::Verdict settle_pairs(const double* q, const Poses& X,
                               const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
-  void bake_tables(const RobotModel& model, std::size_t cells, std::size_t first);
+  void bake_tables(const RobotModel& model, std::size_t cells, std::size_t first,
+                   const std::string& store_folder);
   void make_supports();
 
   RobotBounds bounds_;  // before checker_, whose inner sets may take its witnesses

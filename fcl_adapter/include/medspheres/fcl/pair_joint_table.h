@@ -41,10 +41,12 @@
 /// one or two actuated revolute joints with limits (not continuous, not mimic), all on the
 /// same side of the links' common ancestor, and otherwise fixed joints only. Outside the
 /// limits, and for other pairs, the table answers undecided.
-/// Threads: immutable after build(); verdict() may run from many threads at once.
+/// Threads: immutable after build(); verdict() may run from many threads at once, and
+/// build() for several pairs at once, with one store or without.
 
 #include <cstddef>
 #include <memory>
+#include <string>
 #include <vector>
 
 #include "medspheres/fcl/bounded_geometry.h"
@@ -53,17 +55,22 @@
 
 namespace medspheres::fcl {
 
+class PairTableStore;
+
 class PairJointTable {
  public:
   /// The table of the pair (a, b) of links (indices in tree.link_names(), with their
   /// geometries ga, gb, posed as RobotBounds poses them) at \p margin (finite, >= 0), at
   /// most \p max_cells leaves (>= 1); null when the pair is not eligible. \p model gives the
   /// joints' types and limits (the tree's model).
+  /// With a \p store (pair_table_store.h), the table is read from it when it holds this
+  /// pair's table, else baked and written to it.
   static std::unique_ptr<const PairJointTable> build(const RobotModel& model,
                                                      const KinematicTree& tree, std::size_t a,
                                                      const BoundedGeometry& ga, std::size_t b,
                                                      const BoundedGeometry& gb, double margin,
-                                                     std::size_t max_cells);
+                                                     std::size_t max_cells,
+                                                     const PairTableStore* store = nullptr);
 
   /// The pair's verdict at positions \p q (KinematicTree::joint_names() order).
   BoundsVerdict verdict(const double* q) const;
@@ -71,8 +78,11 @@ class PairJointTable {
   std::size_t cells() const noexcept { return (nodes_.size() + 1) / 2; }
   std::size_t free_cells() const noexcept;
   std::size_t colliding_cells() const noexcept;
+  /// Whether the table was read from a store rather than baked.
+  bool stored() const noexcept { return stored_; }
 
  private:
+  friend class PairTableStore;
   struct Node {
     int child = -1;  ///< the two children are nodes child, child + 1; -1: a leaf
     int dim = 0;     ///< the joint split at mid
@@ -90,6 +100,8 @@ class PairJointTable {
                      const std::vector<double>& hi) const;
   void bake(const KinematicTree& tree, const Pair& p, double margin, const std::vector<double>& R,
             std::size_t max_cells);
+  std::string store_key(const KinematicTree& tree, const Pair& p, double margin,
+                        std::size_t max_cells) const;
 
   struct Shell {
     std::shared_ptr<const MeshModel> mesh;  ///< triangles of B, in B's frame
@@ -104,6 +116,7 @@ class PairJointTable {
   std::vector<Shell> shells_;  ///< during the bake
   std::vector<double> lower_, upper_;
   std::vector<Node> nodes_;
+  bool stored_ = false;
 };
 
 }  // namespace medspheres::fcl
