@@ -123,6 +123,7 @@ CertifiedChecker::CertifiedChecker(
                 : fine         ? *fine
                                : planner,
                 fallback.table_cells, fallback.table_pairs, fallback.table_store);
+  if (!fallback.tables_first) tabled_.clear();
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
@@ -227,6 +228,18 @@ void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, s
   }
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
+  for (std::size_t k = 0; k < count; ++k)  // those that can prove a collision
+    if (const PairJointTable* t = table(pairs[k].first, pairs[k].second);
+        t != nullptr && t->colliding_cells() > 0)
+      tabled_.push_back(t);
+}
+
+// Whether a joint-space table proves the configuration colliding (a look-up per table, the
+// pairs most often colliding first): such a configuration needs no bounds.
+bool CertifiedChecker::table_colliding(const double* q) const {
+  for (const PairJointTable* t : tabled_)
+    if (t->verdict(q) == BoundsVerdict::colliding) return true;
+  return false;
 }
 
 const PairJointTable* CertifiedChecker::table(std::size_t a, std::size_t b) const {
@@ -280,9 +293,13 @@ std::vector<std::size_t> CertifiedChecker::unwitnessed(const double* q, std::siz
   return rest;
 }
 
-// One configuration: the bounds with its undecided pairs; when undecided, the witnesses,
-// then settle_pairs() on the pairs.
+// One configuration: the tables' colliding cells, then the bounds with its undecided
+// pairs; when undecided, the witnesses, then settle_pairs() on the pairs.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
+  if (table_colliding(q)) {
+    ++stats.table_first;
+    return check::Verdict::colliding;
+  }
   std::vector<check::UndecidedPair> pairs;
   check::Verdict v = checker_.check(q, check::Mode::bounds, &pairs);
   std::vector<Poses> X;
@@ -352,6 +369,34 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
+  if (!tabled_.empty()) {
+    // The rows a table proves colliding need no bounds; the others go on as a batch.
+    const std::size_t dof = checker_.num_positions();
+    std::vector<char> hit(n, 0);
+#pragma omp parallel for schedule(static, 64) num_threads(thread_count(threads))
+    for (long i = 0; i < static_cast<long>(n); ++i)
+      hit[std::size_t(i)] = table_colliding(q + std::size_t(i) * dof);
+    std::vector<std::size_t> rest;
+    std::vector<double> qr;
+    for (std::size_t i = 0; i < n; ++i) {
+      if (hit[i]) {
+        out[i] = check::Verdict::colliding;
+        continue;
+      }
+      rest.push_back(i);
+      qr.insert(qr.end(), q + i * dof, q + (i + 1) * dof);
+    }
+    if (stats) stats->table_first += n - rest.size();
+    std::vector<check::Verdict> vr(rest.size());
+    check_untabled(qr.data(), rest.size(), vr.data(), threads, stats);
+    for (std::size_t k = 0; k < rest.size(); ++k) out[rest[k]] = vr[k];
+    return;
+  }
+  check_untabled(q, n, out, threads, stats);
+}
+
+void CertifiedChecker::check_untabled(const double* q, std::size_t n, check::Verdict* out,
+                                      int threads, FallbackStats* stats) const {
   // The bounds of the batch with each undecided configuration's pairs, in one pass; then
   // the witnesses, and the pairs of the configurations they leave open.
   std::vector<std::vector<check::UndecidedPair>> pairs(n);

@@ -47,6 +47,7 @@ namespace medspheres::fcl {
 
 /// What a batch needed besides the spheres.
 struct FallbackStats {
+  std::size_t table_first = 0;     ///< configurations a table proved colliding, before the bounds
   std::size_t configurations = 0;  ///< configurations that reached the fallback
   std::size_t witnessed = 0;       ///< of these, settled by a witness (no pair walked)
   std::size_t tabled = 0;          ///< pairs a PairJointTable settled
@@ -55,6 +56,7 @@ struct FallbackStats {
   std::size_t meshes = 0;          ///< pairs that the exact meshes settled
 
   FallbackStats& operator+=(const FallbackStats& o) {
+    table_first += o.table_first;
     configurations += o.configurations;
     witnessed += o.witnessed;
     tabled += o.tabled;
@@ -83,8 +85,10 @@ struct FallbackOptions {
   SelfPairOrder order;
   /// > 0: every self pair that PairJointTable takes (pair_joint_table.h: its relative pose
   /// hangs on one or two revolute joints) gets a table of at most this many cells, baked at
-  /// construction at the checker's margin; the fallback asks it before the pair's sphere
-  /// trees. 0: no tables.
+  /// construction at the checker's margin. check() asks every table that has colliding
+  /// cells first (tables_first): a configuration in a colliding cell of one is colliding
+  /// without the bounds (the pairs most often colliding first); the fallback asks a
+  /// pair's table before its sphere trees. 0: no tables.
   std::size_t table_cells = 0;
   /// With table_cells > 0: > 0 bakes tables for the first this many of
   /// fallback().self_pairs() only (with order.samples > 0, the pairs seen colliding most
@@ -96,6 +100,9 @@ struct FallbackOptions {
   /// geometry, margin and budget, else baked and written to it. A bake of minutes is then
   /// paid once per robot. Empty: every table is baked at construction.
   std::string table_store;
+  /// With tables: check() asks them before the bounds (table_cells). false: the fallback
+  /// alone asks them, for the pairs the bounds leave open.
+  bool tables_first = true;
   /// With order.samples > 0: the witnesses' two points also join the inner sets of their
   /// links in spheres(), the kernel's planner level (each is an inner ball or a mesh
   /// vertex of its link's solid, so the bounds mode may prove a pair colliding by them as
@@ -173,6 +180,9 @@ class CertifiedChecker {
   check::Verdict settle_pairs(const double* q, const Poses& X,
                               const std::vector<check::UndecidedPair>& pairs,
                               FallbackStats& stats) const;
+  bool table_colliding(const double* q) const;
+  void check_untabled(const double* q, std::size_t n, check::Verdict* out, int threads,
+                      FallbackStats* stats) const;
   void bake_tables(const RobotModel& model, std::size_t cells, std::size_t first,
                    const std::string& store_folder);
   void make_supports();
@@ -189,6 +199,7 @@ class CertifiedChecker {
   // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;
   std::vector<std::unique_ptr<const PairJointTable>> tables_;  // by geometry pair, or null
+  std::vector<const PairJointTable*> tabled_;  // tables_first: in the self pairs' order
   // By index in scene_: the cells of an fcl::OcTree, else null; by geometry: the link as
   // OctreeCells takes it (null without a mesh or without an octree in the scene).
   std::vector<std::unique_ptr<const OctreeCells>> cells_;
