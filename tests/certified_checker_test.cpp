@@ -684,10 +684,14 @@ TEST_CASE("certified checker: joint-space tables kept in a store and read back",
     REQUIRE(read->table(fold.ga, fold.gb)->stored());
     same_as_baked(*read->table(fold.ga, fold.gb));
   }
-  // Damaged files: cut short, and one byte changed at places spread over the file.
+  // Damaged files: cut short, not CBOR, a map of other keys, and one byte changed at places
+  // spread over the file.
   const std::string bytes = test::read_file(file);
   REQUIRE(bytes.size() > 1000);
-  std::vector<std::string> damaged{bytes.substr(0, bytes.size() / 2), "not a table"};
+  std::vector<std::string> damaged{bytes.substr(0, bytes.size() / 2), "not a table",
+                                   std::string("\xA1\x66"
+                                               "format\x01",
+                                               9)};
   for (std::size_t at = 0; at < bytes.size(); at += bytes.size() / 16 + 1) {
     damaged.push_back(bytes);
     damaged.back()[at] = char(damaged.back()[at] ^ 0x10);

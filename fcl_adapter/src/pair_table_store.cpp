@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <string>
 #include <system_error>
 #include <utility>
 #include <vector>
@@ -70,11 +71,11 @@ bool PairTableStore::load(const std::string& key, PairJointTable& table) const {
     return false;
   }
   const json j = json::from_cbor(bytes, true, false);
-  if (j.is_discarded() || !j.is_object() || j.value("format", "") != kFormat ||
-      j.value("version", 0) != kVersion || j.value("key", "") != key)
-    return false;
-  try {
-    if (j.at("source").get<std::vector<long>>() != table.source_ ||
+  if (j.is_discarded() || !j.is_object()) return false;
+  try {  // a value of another type than written throws: not this table's file
+    if (j.at("format").get<std::string>() != kFormat || j.at("version").get<int>() != kVersion ||
+        j.at("key").get<std::string>() != key ||
+        j.at("source").get<std::vector<long>>() != table.source_ ||
         j.at("lower").get<std::vector<double>>() != table.lower_ ||
         j.at("upper").get<std::vector<double>>() != table.upper_ ||
         j.at("far").get<std::size_t>() != table.far_)
