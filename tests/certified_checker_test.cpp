@@ -6,6 +6,7 @@
 #include <algorithm>
 #include <cmath>
 #include <filesystem>
+#include <limits>
 #include <map>
 #include <memory>
 #include <random>
@@ -634,6 +635,25 @@ TEST_CASE("certified checker: a joint-space table's cells next to contact, by FC
   }
   CHECK(free > 30);
   CHECK(colliding > 30);
+}
+
+// Bad input with the tables first: every row is checked before the tables settle any, and
+// the row at fault is named by its index in the batch.
+TEST_CASE("certified checker: with tables first, a bad configuration is named by its row",
+          "[check][fcl]") {
+  const FoldTable fold(0.1, 2048);
+  std::mt19937 rng(43);
+  std::uniform_real_distribution<double> u(-2.8, 2.8);
+  std::vector<double> q;
+  for (int i = 0; i < 2000; ++i) q.insert(q.end(), {u(rng), u(rng)});
+  std::vector<Verdict> v(2000);
+  mf::FallbackStats stats;
+  fold.tabled->check(q.data(), 2000, v.data(), 1, &stats);
+  REQUIRE(stats.table_first > 20);
+  q[2 * 1999 + 1] = std::numeric_limits<double>::quiet_NaN();
+  CHECK_THROWS_WITH(fold.tabled->check(q.data(), 2000, v.data()),
+                    Catch::Contains("configuration 1999") && Catch::Contains("not finite"));
+  CHECK_THROWS_WITH(fold.tabled->check(q.data() + 2 * 1999), Catch::Contains("not finite"));
 }
 
 // The tables' store: a checker built again reads the table it baked (the same cells); a

@@ -123,7 +123,11 @@ CertifiedChecker::CertifiedChecker(
                 : fine         ? *fine
                                : planner,
                 fallback.table_cells, fallback.table_pairs, fallback.table_store);
-  if (!fallback.tables_first) tabled_.clear();
+  // tables_first: the tables that can prove a collision, in the self pairs' order.
+  for (const auto& [a, b] : bounds_.self_pairs())
+    if (const PairJointTable* t = table(a, b);
+        fallback.tables_first && t != nullptr && t->colliding_cells() > 0)
+      tabled_.push_back(t);
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
@@ -228,10 +232,6 @@ void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, s
   }
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
-  for (std::size_t k = 0; k < count; ++k)  // those that can prove a collision
-    if (const PairJointTable* t = table(pairs[k].first, pairs[k].second);
-        t != nullptr && t->colliding_cells() > 0)
-      tabled_.push_back(t);
 }
 
 // Whether a joint-space table proves the configuration colliding (a look-up per table, the
@@ -296,6 +296,7 @@ std::vector<std::size_t> CertifiedChecker::unwitnessed(const double* q, std::siz
 // One configuration: the tables' colliding cells, then the bounds with its undecided
 // pairs; when undecided, the witnesses, then settle_pairs() on the pairs.
 check::Verdict CertifiedChecker::settle(const double* q, FallbackStats& stats) const {
+  checker_.validate(q, 1);  // before the tables, which read only their joints
   if (table_colliding(q)) {
     ++stats.table_first;
     return check::Verdict::colliding;
@@ -370,7 +371,9 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
   if (!tabled_.empty()) {
-    // The rows a table proves colliding need no bounds; the others go on as a batch.
+    // The rows a table proves colliding need no bounds; the others go on as a batch. Every
+    // row is checked first, so that a bad one is named by its index in this batch.
+    checker_.validate(q, n);
     const std::size_t dof = checker_.num_positions();
     std::vector<char> hit(n, 0);
 #pragma omp parallel for schedule(static, 64) num_threads(thread_count(threads))
