@@ -273,12 +273,13 @@ double balls_to_triangles(const SphereSet& balls, const ::fcl::Transform3d& X_WA
   return d;
 }
 
-TEST_CASE("exact balls against a mesh near contact: FCL's ball-mesh distance and the walk agree",
-          "[bounds]") {
+TEST_CASE(
+    "exact balls against a mesh near contact: the mesh's geometry, the walk and brute force agree",
+    "[bounds]") {
   // Three 1 cm balls brought towards each solid from outside until the first pose within
   // the margin, bisected to the brute-force distance = margin, then moved 1e-6 and 1e-4
-  // either side: the settle() through FCL's ball-to-mesh distance (a BoundedGeometry with
-  // its mesh), the tree-target walk (the bare BVHModel) and brute force agree.
+  // either side: the settle() against a BoundedGeometry with its mesh, the tree-target walk
+  // (the bare BVHModel) and brute force agree.
   SphereSet feet;
   for (const Eigen::Vector3d& c : {Eigen::Vector3d(0.04, 0.0, 0.0), Eigen::Vector3d(-0.03, 0.02, 0),
                                    Eigen::Vector3d(0.0, -0.03, 0.01)})
@@ -327,6 +328,41 @@ TEST_CASE("exact balls against a mesh near contact: FCL's ball-mesh distance and
   CHECK(checked >= 60);
   CHECK(colliding >= 20);
   CHECK(checked - colliding >= 20);
+}
+
+TEST_CASE("a ball that meets a mesh's surface is never read as farther", "[bounds]") {
+  // A 1 cm ball centred half its radius outside and inside each solid's faces, margin 0:
+  // exact balls and an fcl::Sphere against the geometry with its mesh both collide (FCL's
+  // own sphere-to-mesh distance left such triangles' distances unset, and read some balls
+  // as far).
+  std::mt19937 rng(43);
+  int checked = 0;
+  for (const auto& s : solids()) {
+    std::uniform_int_distribution<std::size_t> pick(0, s->mesh.triangles.size() - 1);
+    for (int k = 0; k < 40; ++k) {
+      const std::size_t t = pick(rng);
+      const Eigen::Vector3d a = s->mesh.corner(t, 0), b = s->mesh.corner(t, 1),
+                            c = s->mesh.corner(t, 2);
+      const Eigen::Vector3d n = (b - a).cross(c - a).normalized(), mid = (a + b + c) / 3;
+      const ::fcl::Transform3d X_WB = mt::random_pose(rng, 0.35);
+      for (const double side : {0.5, -0.5}) {
+        const Eigen::Vector3d centre = X_WB * (mid + side * 0.01 * n);
+        SphereSet one;
+        one.spheres.push_back({Eigen::Vector3d::Zero(), 0.01});
+        one.metadata_json = R"({"certified": true})";
+        const mf::BoundedGeometry ball("ball", one, one);
+        ::fcl::Transform3d X_WA = ::fcl::Transform3d::Identity();
+        X_WA.translation() = centre;
+        INFO(s->name << " triangle " << t << " side " << side);
+        CHECK(mf::collide(ball, X_WA, *s->geometry, X_WB, 0.0).verdict == BoundsVerdict::colliding);
+        CHECK(mf::collide(*s->geometry, X_WB, ::fcl::Sphered(0.01), X_WA, 0.0).verdict ==
+              BoundsVerdict::colliding);
+        CHECK(mf::exact_distance(*s->bvh, X_WB, ::fcl::Sphered(0.01), X_WA, 0.0) <= 0.0);
+        ++checked;
+      }
+    }
+  }
+  CHECK(checked >= 160);
 }
 
 TEST_CASE("the joint walk gives the two sphere-set distances", "[bounds]") {

@@ -57,27 +57,24 @@ double balls_distance(const SphereTree& balls, const ::fcl::Transform3d& X_WA,
   return d;
 }
 
-// The balls of \p balls at X_WA against a mesh at X_WB, one ball at a time through FCL's
-// sphere-to-mesh distance (its closed-form sphere-triangle distance, the mesh's RSS bounds
-// pruning at the preset margin's successor, as exact_distance): exact when it is <= margin,
-// else some value > margin. It stops at the first ball within the margin. A mesh is a
-// surface, as in FCL's mesh distance. Cheaper than the tree-target walk for a few balls
-// against a large mesh: FCL descends the mesh from each small ball's own box, where the
-// walk descends it from the bounding ball of all of them.
-double balls_distance(const SphereTree& balls, const ::fcl::Transform3d& X_WA,
-                      const MeshModel& mesh, const ::fcl::Transform3d& X_WB, double margin) {
-  const double beyond = std::nextafter(margin, std::numeric_limits<double>::infinity());
-  double d = beyond;
-  for (std::size_t i = 0; i < balls.num_spheres(); ++i) {
+// The distance from a ball (centre in W) to the FCL geometry g at X_WB, as balls_distance.
+double ball_distance(const Sphere& ball_W, const ::fcl::CollisionGeometryd& g,
+                     const ::fcl::Transform3d& X_WB, double margin) {
+  SphereSet one;
+  one.spheres.push_back(ball_W);
+  return balls_distance(SphereTree(one), ::fcl::Transform3d::Identity(), g, X_WB, margin);
+}
+
+// The balls of \p balls at X_WA against a mesh at X_WB, one ball at a time (ball_distance:
+// each small ball descends the mesh from its own box, where balls_distance descends it
+// from the bounding ball of all of them; cheaper for a few balls against a large mesh),
+// stopping at the first ball within the margin.
+double balls_mesh_distance(const SphereTree& balls, const ::fcl::Transform3d& X_WA,
+                           const MeshModel& mesh, const ::fcl::Transform3d& X_WB, double margin) {
+  double d = std::nextafter(margin, std::numeric_limits<double>::infinity());
+  for (std::size_t i = 0; i < balls.num_spheres() && d > margin; ++i) {
     const Sphere s = balls.sphere(i);
-    const ::fcl::Sphered ball(s.radius);
-    ::fcl::Transform3d X_WS = ::fcl::Transform3d::Identity();
-    X_WS.translation() = X_WA * s.center;
-    ::fcl::DistanceRequestd request;
-    ::fcl::DistanceResultd result;
-    result.min_distance = beyond;
-    d = std::min(d, ::fcl::distance(&ball, X_WS, &mesh, X_WB, request, result));
-    if (d <= margin) return d;
+    d = std::min(d, ball_distance({X_WA * s.center, s.radius}, mesh, X_WB, margin));
   }
   return d;
 }
@@ -145,6 +142,13 @@ CollideResult from_decision(const BoundsDecision& d, bool certified) {
 double exact_distance(const MeshModel& a, const ::fcl::Transform3d& X_WA,
                       const ::fcl::CollisionGeometryd& b, const ::fcl::Transform3d& X_WB,
                       double margin) {
+  // FCL's sphere-to-mesh distance (fcl 0.7) leaves a triangle's distance unset where the
+  // ball meets it (sphereTriangleDistance with closest points), so a ball deep in a mesh
+  // could read as far from it: a ball goes by the runtime's walk instead, exact for
+  // triangles.
+  if (b.getNodeType() == ::fcl::GEOM_SPHERE)
+    return ball_distance({X_WB.translation(), static_cast<const ::fcl::Sphered&>(b).radius}, a,
+                         X_WA, margin);
   ::fcl::DistanceRequestd request;
   ::fcl::DistanceResultd result;
   result.min_distance = std::nextafter(margin, std::numeric_limits<double>::infinity());
@@ -265,9 +269,11 @@ CollideResult settle(const CollideResult& decided, const BoundedGeometry& a,
   if (a.mesh() != nullptr && b.mesh() != nullptr)
     return with_exact(decided, margin, exact_distance(*a.mesh(), X_WA, *b.mesh(), X_WB, margin));
   if (a.exact_balls() && b.mesh() != nullptr)
-    return with_exact(decided, margin, balls_distance(a.outer(), X_WA, *b.mesh(), X_WB, margin));
+    return with_exact(decided, margin,
+                      balls_mesh_distance(a.outer(), X_WA, *b.mesh(), X_WB, margin));
   if (b.exact_balls() && a.mesh() != nullptr)
-    return with_exact(decided, margin, balls_distance(b.outer(), X_WB, *a.mesh(), X_WA, margin));
+    return with_exact(decided, margin,
+                      balls_mesh_distance(b.outer(), X_WB, *a.mesh(), X_WA, margin));
   return decided;
 }
 

@@ -151,9 +151,9 @@ struct BoundsResult {
 enum class AnswerPath {
   spheres,  ///< the bounds decided
   /// Undecided by the bounds; the exact geometry decided: FCL's mesh distance (OBBRSS),
-  /// or, for a geometry with exact_balls(), its balls against the other's mesh by FCL's
-  /// distance from each ball (its closed-form sphere-triangle distance; the mesh a
-  /// surface), and against an FCL geometry by the sphere tree's exact walk.
+  /// or, for a geometry with exact_balls() and for an fcl::Sphere against a mesh, the
+  /// balls against the other side (a mesh a surface) by the sphere tree's exact walk (not
+  /// FCL's sphere-to-mesh distance, which leaves a triangle that meets the ball unset).
   mesh,
 };
 
