@@ -21,15 +21,6 @@ namespace fs = std::filesystem;
 
 namespace {
 
-// The robot file's links must be the URDF's, in any order.
-void check_same_links(const RobotModel& sets, const UrdfRobot& robot, const std::string& file) {
-  for (const Link& l : robot.model.links)
-    if (sets.find_link(l.name) == nullptr)
-      throw InputError(file, "link \"" + l.name + "\" of " + robot.path + " is missing");
-  if (sets.links.size() != robot.model.links.size())
-    throw InputError(file, "its links are not those of " + robot.path);
-}
-
 // The bake: the robot command's defaults, with outer sets and the source's budget.
 RobotJob bake_job(const RobotSource& source) {
   RobotJob job;
@@ -44,7 +35,7 @@ RobotModel robot_sets(const UrdfRobot& robot, const std::vector<LinkSolid>& soli
                       const RobotSource& source, std::string& from) {
   if (!source.robot_file.empty()) {
     RobotModel m = load_robot(source.robot_file);
-    check_same_links(m, robot, source.robot_file);
+    require_same_links(m, robot, source.robot_file);
     from = "robot file " + source.robot_file;
     return m;
   }

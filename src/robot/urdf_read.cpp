@@ -318,4 +318,12 @@ UrdfRobot read_urdf(const std::string& path, const UrdfReadOptions& options) {
   return parse_urdf(read_text_file(path), path, dir, options);
 }
 
+void require_same_links(const RobotModel& sets, const UrdfRobot& robot, const std::string& file) {
+  for (const Link& l : robot.model.links)
+    if (sets.find_link(l.name) == nullptr)
+      throw InputError(file, "link \"" + l.name + "\" of " + robot.path + " is missing");
+  if (sets.links.size() != robot.model.links.size())
+    throw InputError(file, "its links are not those of " + robot.path);
+}
+
 }  // namespace medspheres

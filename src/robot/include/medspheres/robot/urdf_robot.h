@@ -73,4 +73,9 @@ UrdfRobot read_urdf(const std::string& path, const UrdfReadOptions& options = {}
 UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const std::string& base_dir,
                      const UrdfReadOptions& options = {});
 
+/// Checks that the robot file \p file (its model \p sets) has exactly the links of \p robot,
+/// in any order. \throws InputError whose source is \p file, naming a link of the URDF that
+/// it lacks, or saying that it has others.
+void require_same_links(const RobotModel& sets, const UrdfRobot& robot, const std::string& file);
+
 }  // namespace medspheres
