@@ -11,6 +11,7 @@ bound with pybind11; arrays are numpy float64 with the shapes the docstrings giv
 
 from ._medspheres import (  # noqa: F401
     BoundedGeometry,
+    CertifiedChecker,
     CheckScene,
     InputError,
     RobotBake,
@@ -34,6 +35,7 @@ from ._medspheres import (  # noqa: F401
 
 __all__ = [
     "BoundedGeometry",
+    "CertifiedChecker",
     "CheckScene",
     "InputError",
     "RobotBake",

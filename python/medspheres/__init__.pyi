@@ -161,6 +161,47 @@ class RobotChecker:
         threads: int = ...,
     ) -> Tuple[npt.NDArray[np.uint8], int]: ...
 
+class CertifiedChecker:
+    """Certified collision checks of a robot for arrays of configurations and edges: the
+    robot file's spheres, then its URDF's exact meshes for the pairs they leave undecided
+    (verdicts: 0 free, 1 colliding, 2 undecided only without a mesh); the GIL is released."""
+
+    def __init__(
+        self,
+        urdf: PathLike,
+        robot_file: PathLike,
+        scene: CheckScene = ...,
+        *,
+        fine: Optional[PathLike] = ...,
+        trees: Optional[PathLike] = ...,
+        packages: Mapping[str, str] = ...,
+        margin: float = ...,
+        disabled: Sequence[Tuple[str, str]] = ...,
+        self_collision: bool = ...,
+        base_pose: Pose = ...,
+        simd: Literal["auto", "scalar", "avx2"] = ...,
+        order_samples: int = ...,
+        seed: int = ...,
+        table_cells: int = ...,
+        table_pairs: int = ...,
+        table_store: str = ...,
+    ) -> None: ...
+    @property
+    def joint_names(self) -> list[str]: ...
+    @property
+    def links(self) -> list[str]: ...
+    @overload
+    def check(
+        self, q: npt.ArrayLike, threads: int = ..., stats: Literal[False] = ...
+    ) -> npt.NDArray[np.uint8]: ...
+    @overload
+    def check(
+        self, q: npt.ArrayLike, threads: int = ..., *, stats: Literal[True]
+    ) -> Tuple[npt.NDArray[np.uint8], dict[str, int]]: ...
+    def check_edges(
+        self, q0: npt.ArrayLike, q1: npt.ArrayLike, resolution: float, threads: int = ...
+    ) -> Tuple[npt.NDArray[np.uint8], int]: ...
+
 class RobotBounds:
     """A robot file's links as inner and certified outer sets, for certified queries."""
 

@@ -10,6 +10,7 @@
 
 #include "medspheres/check/robot_checker.h"
 #include "medspheres/robot_file.h"
+#include "py_check_arrays.h"
 #include "py_common.h"
 
 namespace medspheres::python {
@@ -22,32 +23,11 @@ check::Mode mode_of(const std::string& mode) {
   throw py::value_error("mode: expected 'spheres' or 'bounds', not '" + mode + "'");
 }
 
-check::Simd simd_of(const std::string& simd) {
-  if (simd == "auto") return check::Simd::automatic;
-  if (simd == "scalar") return check::Simd::scalar;
-  if (simd == "avx2") return check::Simd::avx2;
-  throw py::value_error("simd: expected 'auto', 'scalar' or 'avx2', not '" + simd + "'");
-}
-
 std::vector<Eigen::Vector3d> points_of(const py::handle& array, const char* what) {
   const auto a = float_rows(array, 3, what);
   const auto r = a.unchecked<2>();
   std::vector<Eigen::Vector3d> out;
   for (py::ssize_t i = 0; i < a.shape(0); ++i) out.emplace_back(r(i, 0), r(i, 1), r(i, 2));
-  return out;
-}
-
-// An n x dof float64 C-contiguous array of configurations; ValueError naming `what`.
-py::array_t<double, py::array::c_style | py::array::forcecast> configurations(const py::handle& q,
-                                                                              std::size_t dof,
-                                                                              const char* what) {
-  return float_rows(q, static_cast<py::ssize_t>(dof), std::string(what) + " (joint_names order)");
-}
-
-py::array_t<std::uint8_t> verdict_array(const std::vector<check::Verdict>& v) {
-  py::array_t<std::uint8_t> out(static_cast<py::ssize_t>(v.size()));
-  auto w = out.mutable_unchecked<1>();
-  for (std::size_t i = 0; i < v.size(); ++i) w(py::ssize_t(i)) = static_cast<std::uint8_t>(v[i]);
   return out;
 }
 
@@ -112,6 +92,7 @@ void register_scene(py::module_& m) {
 
 void register_check(py::module_& m) {
   register_scene(m);
+  register_certified(m);
   py::class_<check::RobotChecker, std::shared_ptr<check::RobotChecker>>(
       m, "RobotChecker",
       "Collision checks of a robot file's spheres for arrays of configurations and edges, "

@@ -6,6 +6,7 @@ import re
 import shlex
 import subprocess
 
+import numpy as np
 import pytest
 
 HERE = pathlib.Path(__file__).resolve().parent
@@ -34,6 +35,15 @@ def without_clocks(value):
     if isinstance(value, list):
         return [without_clocks(v) for v in value]
     return value
+
+
+def assert_edges_match_samples(checker, q0, q1, resolution, verdicts):
+    """Each edge's verdict is the worst of its samples' (t = k / n, n = ceil(|q1 - q0| /
+    resolution)) checked one by one."""
+    for a, b, v in zip(q0, q1, verdicts):
+        n = max(1, int(np.ceil(np.linalg.norm(b - a) / resolution)))
+        samples = a + (np.arange(n + 1) / n)[:, None] * (b - a)
+        assert v == checker.check(samples).max()
 
 
 @pytest.fixture(scope="session")

@@ -8,6 +8,7 @@ import numpy as np
 import pytest
 
 import medspheres
+from conftest import assert_edges_match_samples
 
 # A planar two-joint arm: base (one ball), link1 and link2 along x, both joints about z.
 LINK1 = np.array([[0.1, 0, 0, 0.05], [0.2, 0, 0, 0.05]])
@@ -119,10 +120,7 @@ def test_edges_match_their_samples(robot_file):
     q0, q1 = q[:-1], q[1:]
     verdicts, checked = checker.check_edges(q0, q1, 0.05, threads=2)
     assert checked >= len(q0)
-    for a, b, v in zip(q0, q1, verdicts):
-        n = max(1, int(np.ceil(np.linalg.norm(b - a) / 0.05)))
-        samples = a + (np.arange(n + 1) / n)[:, None] * (b - a)
-        assert v == checker.check(samples).max()
+    assert_edges_match_samples(checker, q0, q1, 0.05, verdicts)
     assert 0 < verdicts.sum() < len(verdicts)
 
 
