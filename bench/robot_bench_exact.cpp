@@ -18,25 +18,32 @@ double successor(double x) {
 
 }  // namespace
 
-// Whether the sphere object s has its centre inside the solid of the mesh object m.
-bool ExactRobot::sphere_inside(const ::fcl::CollisionObjectd* s,
-                               const ::fcl::CollisionObjectd* m) const {
-  if (s->getObjectType() != ::fcl::OT_GEOM || s->getNodeType() != ::fcl::GEOM_SPHERE) return false;
+// The distance from the sphere object s to the mesh object m when m has a solid: 0 when the
+// solid holds the centre, else the centre's distance to the triangles (MeshQuery) less the
+// radius, at least 0; -1 for other pairs. (FCL's own sphere-to-mesh distance, fcl 0.7,
+// leaves a triangle that meets the ball unset, so it is not asked.)
+double ExactRobot::sphere_to_solid(const ::fcl::CollisionObjectd* s,
+                                   const ::fcl::CollisionObjectd* m) const {
+  if (s->getObjectType() != ::fcl::OT_GEOM || s->getNodeType() != ::fcl::GEOM_SPHERE) return -1;
   const auto solid = solids_.find(m->collisionGeometry().get());
-  return solid != solids_.end() &&
-         solid->second->inside(m->getTransform().inverse() * s->getTranslation());
+  if (solid == solids_.end()) return -1;
+  const Eigen::Vector3d c = m->getTransform().inverse() * s->getTranslation();
+  if (solid->second->inside(c)) return 0;
+  const double r = static_cast<const ::fcl::Sphered&>(*s->collisionGeometry()).radius;
+  return std::max(solid->second->closest_point(c).distance() - r, 0.0);
 }
 
 // FCL's distance, or a value >= `below` when the pair is not closer than `below` (a
-// preset min_distance, which FCL's traversals prune at); negative answers clamped to 0,
-// and 0 for a sphere inside a mesh's solid.
+// preset min_distance, which FCL's traversals prune at); negative answers clamped to 0; a
+// sphere against a mesh with a solid by sphere_to_solid.
 double ExactRobot::pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::CollisionObjectd* b,
                                  double below) const {
+  for (const double d : {sphere_to_solid(a, b), sphere_to_solid(b, a)})
+    if (d >= 0) return d;
   ::fcl::DistanceRequestd request;
   ::fcl::DistanceResultd result;
   result.min_distance = below;
-  const double d = std::max(::fcl::distance(a, b, request, result), 0.0);
-  return d > 0.0 && (sphere_inside(a, b) || sphere_inside(b, a)) ? 0.0 : d;
+  return std::max(::fcl::distance(a, b, request, result), 0.0);
 }
 
 ExactRobot::ExactRobot(const fcl::RobotBounds& robot, const std::map<std::string, ExactLink>& links,

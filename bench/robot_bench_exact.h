@@ -5,7 +5,8 @@
 // world AABBs are farther apart than the margin are skipped (a broadphase: the AABBs
 // contain the geometries, so the skip never changes the answer). FCL's meshes are surfaces:
 // a sphere primitive wholly inside a mesh touches no triangle, so a sphere whose centre a
-// mesh's solid holds (winding number, Solids) is at distance 0 from it.
+// mesh's solid holds (winding number, Solids) is at distance 0 from it; a sphere against a
+// mesh with a solid is measured by its MeshQuery, not by FCL.
 
 #include <cstddef>
 #include <map>
@@ -91,7 +92,7 @@ class ExactRobot {
   bool skip_beyond_ = false;
   double pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::CollisionObjectd* b,
                        double below) const;
-  bool sphere_inside(const ::fcl::CollisionObjectd* s, const ::fcl::CollisionObjectd* m) const;
+  double sphere_to_solid(const ::fcl::CollisionObjectd* s, const ::fcl::CollisionObjectd* m) const;
 };
 
 }  // namespace medspheres::bench

@@ -207,6 +207,22 @@ TEST_CASE("surface points tighten the upper bound and keep it above the exact di
   CHECK_THROWS_AS(mf::BoundedGeometry("l", s.inner, s.outer, s.bvh, sparse), InputError);
 }
 
+// Brute force: the least distance of the balls at X_WA to the mesh's triangles at X_WB
+// (a surface), minus the balls' radii.
+double balls_to_triangles(const SphereSet& balls, const ::fcl::Transform3d& X_WA,
+                          const TriangleMesh& mesh, const ::fcl::Transform3d& X_WB) {
+  double d = std::numeric_limits<double>::infinity();
+  for (const Sphere& b : balls.spheres) {
+    const Eigen::Vector3d c = X_WB.inverse() * (X_WA * b.center);
+    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
+      const Eigen::Vector3d q =
+          closest_point_on_triangle(c, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
+      d = std::min(d, (q - c).norm() - b.radius);
+    }
+  }
+  return d;
+}
+
 TEST_CASE("a geometry of exact balls settles against a mesh without a mesh of its own",
           "[bounds]") {
   // Four 2 cm balls (a foot of contact spheres): inner and outer are the same balls.
@@ -223,18 +239,16 @@ TEST_CASE("a geometry of exact balls settles against a mesh without a mesh of it
   for (const auto& s : solids()) {
     for (int k = 0; k < 60; ++k) {
       const ::fcl::Transform3d X_WA = mt::random_pose(rng, 0.35), X_WB = mt::random_pose(rng, 0.35);
-      // Oracle: FCL's distance from each ball to the mesh (a surface), 0 when they meet.
-      // A ball wholly inside the solid (no surface contact) is outside the bounds' reach.
+      // Oracle: brute force, each ball's distance to the mesh's triangles (a surface), 0
+      // when they meet. A ball wholly inside the solid (no surface contact) is outside the
+      // bounds' reach.
       double d = std::numeric_limits<double>::infinity();
       bool nested = false;
       for (const Sphere& b : feet.spheres) {
-        ::fcl::Transform3d X_WS = X_WA;
-        X_WS.translation() = X_WA * b.center;
-        const ::fcl::Sphered ball(b.radius);
-        ::fcl::DistanceRequestd req;
-        ::fcl::DistanceResultd res;
-        const double db = std::max(0.0, ::fcl::distance(&ball, X_WS, s->bvh.get(), X_WB, req, res));
-        nested = nested || (db > 0.0 && inside(*s, X_WB, X_WS.translation()));
+        SphereSet one;
+        one.spheres.push_back(b);
+        const double db = std::max(0.0, balls_to_triangles(one, X_WA, s->mesh, X_WB));
+        nested = nested || (db > 0.0 && inside(*s, X_WB, X_WA * b.center));
         d = std::min(d, db);
       }
       if (nested) continue;
@@ -255,22 +269,6 @@ TEST_CASE("a geometry of exact balls settles against a mesh without a mesh of it
     }
   }
   CHECK(by_mesh > 0);
-}
-
-// Brute force: the least distance of the balls at X_WA to the mesh's triangles at X_WB
-// (a surface), minus the balls' radii.
-double balls_to_triangles(const SphereSet& balls, const ::fcl::Transform3d& X_WA,
-                          const TriangleMesh& mesh, const ::fcl::Transform3d& X_WB) {
-  double d = std::numeric_limits<double>::infinity();
-  for (const Sphere& b : balls.spheres) {
-    const Eigen::Vector3d c = X_WB.inverse() * (X_WA * b.center);
-    for (std::size_t t = 0; t < mesh.num_triangles(); ++t) {
-      const Eigen::Vector3d q =
-          closest_point_on_triangle(c, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2));
-      d = std::min(d, (q - c).norm() - b.radius);
-    }
-  }
-  return d;
 }
 
 TEST_CASE(

@@ -18,6 +18,7 @@
 
 #include "medspheres/fcl/certified_checker.h"
 #include "medspheres/forward_kinematics.h"
+#include "medspheres/point_triangle.h"
 #include "support/check_fixtures.h"
 #include "support/fcl_fixtures.h"
 #include "support/temp_dir.h"
@@ -80,7 +81,25 @@ const FclWorld& world() {
   return w;
 }
 
+// The distance from the mesh object a (a surface) to the sphere object b, brute force over
+// the triangles (FCL's own sphere-to-mesh distance, fcl 0.7, leaves a triangle that meets
+// the ball unset).
+double mesh_to_sphere(const ::fcl::CollisionObjectd& a, const ::fcl::CollisionObjectd& b) {
+  const auto& mesh = static_cast<const mf::MeshModel&>(*a.collisionGeometry());
+  const Eigen::Vector3d c = a.getTransform().inverse() * b.getTranslation();
+  double d = std::numeric_limits<double>::infinity();
+  for (int t = 0; t < mesh.num_tris; ++t) {
+    const ::fcl::Triangle& k = mesh.tri_indices[t];
+    const Eigen::Vector3d q =
+        closest_point_on_triangle(c, mesh.vertices[k[0]], mesh.vertices[k[1]], mesh.vertices[k[2]]);
+    d = std::min(d, (q - c).norm());
+  }
+  return std::max(0.0, d - static_cast<const ::fcl::Sphered&>(*b.collisionGeometry()).radius);
+}
+
 double fcl_distance(const ::fcl::CollisionObjectd& a, const ::fcl::CollisionObjectd& b) {
+  if (b.getNodeType() == ::fcl::GEOM_SPHERE && a.getObjectType() == ::fcl::OT_BVH)
+    return mesh_to_sphere(a, b);
   ::fcl::DistanceRequestd request;
   ::fcl::DistanceResultd result;
   return std::max(0.0, ::fcl::distance(&a, &b, request, result));
