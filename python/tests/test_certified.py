@@ -108,6 +108,14 @@ def folder(tmp_path_factory):
     return urdf, root / "out" / "folder.robot.json"
 
 
+@pytest.fixture(scope="module")
+def finer(folder, tmp_path_factory):
+    """The same robot at 12 spheres a link: the fine level and the fallback's trees."""
+    out = tmp_path_factory.mktemp("finer")
+    medspheres.bake_robot(folder[0], out, spheres_per_link=12, formats=["robot"])
+    return out / "folder.robot.json"
+
+
 def configurations(n, seed):
     return np.random.default_rng(seed).uniform(-3.1, 3.1, (n, 2))
 
@@ -129,6 +137,18 @@ def test_verdicts_match_brute_force(folder):
     decided = bounds != 2
     assert np.array_equal(bounds[decided], expected[decided])
     assert not decided.all()
+
+
+def test_levels_change_no_verdict(folder, finer):
+    urdf, robot = folder
+    q = configurations(400, 5)
+    plain = medspheres.CertifiedChecker(urdf, robot, scene()).check(q)
+    levels = medspheres.CertifiedChecker(urdf, robot, scene(), fine=finer, trees=finer,
+                                         table_cells=4096)
+    verdicts, stats = levels.check(q, stats=True)
+    assert np.array_equal(verdicts, plain)
+    assert np.array_equal(verdicts, [brute_force(x) for x in q])
+    assert stats["configurations"] < len(q)
 
 
 def test_threads_and_edges(folder):
