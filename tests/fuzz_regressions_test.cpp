@@ -139,6 +139,22 @@ TEST_CASE("MeshQuery caps a hole whose vertices lie near the largest double",
   CHECK(query.cap_mesh().vertices.back().isApprox(Eigen::Vector3d(1.5e308, 1e308 / 3, 1e308 / 3)));
 }
 
+TEST_CASE("MeshQuery answers on a mesh whose extent is subnormal", "[fuzz][mesh_query]") {
+  // The box scale was 2^1074, infinite: a query's box coordinates became NaN, every slot
+  // of a node passed the box test, the empty ones too, and the walk read node INT32_MIN.
+  const double tiny = std::numeric_limits<double>::denorm_min();
+  TriangleMesh mesh;
+  mesh.vertices = {{0, 0, 0}, {tiny, 0, 0}, {0, tiny, 0}};
+  mesh.triangles = {{0, 1, 2}};
+  const MeshQuery query(mesh);
+  for (const Eigen::Vector3d& p :
+       {Eigen::Vector3d(0, 0, 0), Eigen::Vector3d(0, 0, 1), Eigen::Vector3d(-2, 0, 0.5)}) {
+    const ClosestPoint c = query.closest_point(p);
+    CHECK(c.triangle == 0);
+    CHECK(c.distance() == Approx(p.norm()).margin(1e-300));
+  }
+}
+
 TEST_CASE("a URDF that tinyxml2 reads but does not write back well-formed is refused",
           "[fuzz][formats]") {
   // Stray content after a self-closed root and a control character: read, but printed as

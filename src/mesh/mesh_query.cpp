@@ -280,12 +280,14 @@ void MeshBvh::build(TriangleMesh m, const MeshQueryOptions& options) {
   extent = all.sizes().maxCoeff();
   // The power of two 2^-e with extent < 2^e: box coordinates relative to the centre then
   // lie within [-1/2, 1/2], so that single precision neither overflows on huge meshes
-  // nor underflows on tiny ones.
+  // nor underflows on tiny ones. A subnormal extent (e < -1022) would make 2^-e infinite,
+  // and a query's box coordinates 0 * inf, NaN, which every box test passes: the scale
+  // stops at 2^1000 (the boxes, rounded outward, then hold their triangles all the same).
   box_scale = 1.0;
   if (extent > 0.0 && std::isfinite(extent)) {
     int e = 0;
     std::frexp(extent, &e);
-    box_scale = std::ldexp(1.0, -e);
+    box_scale = std::ldexp(1.0, -std::max(e, -1000));
   }
   build_tree();
   prepare_triangles();
