@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <limits>
+#include <optional>
 #include <tuple>
 
 #include <fcl/fcl.h>
@@ -20,13 +21,14 @@ double successor(double x) {
 
 // The distance from the sphere object s to the mesh object m when m has a solid: 0 when the
 // solid holds the centre, else the centre's distance to the triangles (MeshQuery) less the
-// radius, at least 0; -1 for other pairs. (FCL's own sphere-to-mesh distance, fcl 0.7,
+// radius, at least 0; none for other pairs. (FCL's own sphere-to-mesh distance, fcl 0.7,
 // leaves a triangle that meets the ball unset, so it is not asked.)
-double ExactRobot::sphere_to_solid(const ::fcl::CollisionObjectd* s,
-                                   const ::fcl::CollisionObjectd* m) const {
-  if (s->getObjectType() != ::fcl::OT_GEOM || s->getNodeType() != ::fcl::GEOM_SPHERE) return -1;
+std::optional<double> ExactRobot::sphere_to_solid(const ::fcl::CollisionObjectd* s,
+                                                  const ::fcl::CollisionObjectd* m) const {
+  if (s->getObjectType() != ::fcl::OT_GEOM || s->getNodeType() != ::fcl::GEOM_SPHERE)
+    return std::nullopt;
   const auto solid = solids_.find(m->collisionGeometry().get());
-  if (solid == solids_.end()) return -1;
+  if (solid == solids_.end()) return std::nullopt;
   const Eigen::Vector3d c = m->getTransform().inverse() * s->getTranslation();
   if (solid->second->inside(c)) return 0;
   const double r = static_cast<const ::fcl::Sphered&>(*s->collisionGeometry()).radius;
@@ -38,8 +40,8 @@ double ExactRobot::sphere_to_solid(const ::fcl::CollisionObjectd* s,
 // sphere against a mesh with a solid by sphere_to_solid.
 double ExactRobot::pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::CollisionObjectd* b,
                                  double below) const {
-  for (const double d : {sphere_to_solid(a, b), sphere_to_solid(b, a)})
-    if (d >= 0) return d;
+  if (const std::optional<double> d = sphere_to_solid(a, b)) return *d;
+  if (const std::optional<double> d = sphere_to_solid(b, a)) return *d;
   ::fcl::DistanceRequestd request;
   ::fcl::DistanceResultd result;
   result.min_distance = below;

@@ -11,6 +11,7 @@
 #include <cstddef>
 #include <map>
 #include <memory>
+#include <optional>
 #include <string>
 #include <utility>
 #include <vector>
@@ -92,7 +93,8 @@ class ExactRobot {
   bool skip_beyond_ = false;
   double pair_distance(const ::fcl::CollisionObjectd* a, const ::fcl::CollisionObjectd* b,
                        double below) const;
-  double sphere_to_solid(const ::fcl::CollisionObjectd* s, const ::fcl::CollisionObjectd* m) const;
+  std::optional<double> sphere_to_solid(const ::fcl::CollisionObjectd* s,
+                                        const ::fcl::CollisionObjectd* m) const;
 };
 
 }  // namespace medspheres::bench

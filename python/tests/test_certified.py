@@ -81,7 +81,7 @@ def ball_meets(box, centre, radius):
 def brute_force(q):
     links = placed(q)
     cells = [(c, np.eye(3), np.full(3, 0.02)) for c in CELLS]
-    for name, box in links.items():
+    for box in links.values():
         if boxes_meet(box, CRATE) or ball_meets(box, *BALL):
             return 1
         if any(boxes_meet(box, cell) for cell in cells):
