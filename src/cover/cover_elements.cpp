@@ -343,11 +343,21 @@ std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& 
   return atoms;
 }
 
-// The radius that the ball centred at c needs to hold \p atoms.
+// The radius that the ball centred at c needs to hold \p atoms: the largest |a - c| + r_a.
+// The square root is correctly rounded, so monotone: over the points (radius 0) the largest
+// distance is the root of the largest squared distance, bit for bit (norm() is the root of
+// squaredNorm()), and one root serves them all. Four running maxima, for the pipeline.
 double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
+  double far2[4] = {0.0, 0.0, 0.0, 0.0};
   double r = 0.0;
-  for (const Sphere& a : atoms) r = std::max(r, (a.center - c).norm() + a.radius);
-  return r;
+  for (std::size_t i = 0; i < atoms.size(); ++i) {
+    const double d2 = (atoms[i].center - c).squaredNorm();
+    if (atoms[i].radius == 0.0)
+      far2[i % 4] = std::max(far2[i % 4], d2);
+    else
+      r = std::max(r, std::sqrt(d2) + atoms[i].radius);
+  }
+  return std::max(r, std::sqrt(std::max(std::max(far2[0], far2[1]), std::max(far2[2], far2[3]))));
 }
 
 // The radius of a ball centred at c that holds \p atoms: reach_from, raised by 4 ulps so
