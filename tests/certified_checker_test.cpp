@@ -677,7 +677,8 @@ TEST_CASE("certified checker: with tables first, a bad configuration is named by
 
 // The tables' store: a checker built again reads the table it baked (the same cells); a
 // table of another margin or budget gets a file of its own; a damaged file is baked again
-// and replaced, never read; a store that cannot be a folder is refused by name.
+// and replaced, never read; a store that cannot be a folder, or cannot be written, is refused
+// by name.
 TEST_CASE("certified checker: joint-space tables kept in a store and read back", "[check][fcl]") {
   const FoldTable fold(0.25, 512);
   const test::TempDir dir;
@@ -756,6 +757,18 @@ TEST_CASE("certified checker: joint-space tables kept in a store and read back",
   CHECK_THROWS_WITH(mf::CertifiedChecker(fold.planner, &fold.fine, fold.meshes,
                                          std::vector<const ::fcl::CollisionObjectd*>{}, fold.o, f),
                     Catch::Contains(not_folder) && Catch::Contains("table store"));
+  // A folder that cannot be written (root writes anywhere else): refused before the bake,
+  // naming the folder and the pair.
+  if (std::filesystem::is_directory("/proc/self")) {
+    f.table_store = "/proc/self";
+    CHECK_THROWS_WITH(
+        mf::CertifiedChecker(fold.planner, &fold.fine, fold.meshes,
+                             std::vector<const ::fcl::CollisionObjectd*>{}, fold.o, f),
+        Catch::Contains("/proc/self") && Catch::Contains("cannot be written") &&
+            Catch::Contains("the table of links"));
+  }
+  // The write test leaves nothing behind.
+  CHECK(files().size() == 3);
 }
 
 TEST_CASE("certified checker: separating planes change no verdict, near contact too",

@@ -110,6 +110,9 @@ std::unique_ptr<const PairJointTable> PairJointTable::build(
   const Pair pair{a, &ga, b, &gb};
   const std::string key = store ? sha256_hex(table->store_key(tree, pair, margin, max_cells)) : "";
   if (store && store->load(key, *table)) return table;
+  if (store)
+    store->require_writable(key, "the table of links '" + tree.link_names()[a] + "' and '" +
+                                     tree.link_names()[b] + "'");
   table->make_shells(*far->mesh(),
                      X0[far_link].inverse() * X0[steps[side_b[k - 1]].child].translation(),
                      R[k - 1]);

@@ -5,6 +5,7 @@
 #include <cmath>
 #include <cstdint>
 #include <filesystem>
+#include <fstream>
 #include <string>
 #include <system_error>
 #include <utility>
@@ -98,6 +99,21 @@ bool PairTableStore::load(const std::string& key, PairJointTable& table) const {
   }
   table.stored_ = true;
   return true;
+}
+
+void PairTableStore::require_writable(const std::string& key, const std::string& what) const {
+  const fs::path probe = fs::path(folder_) / ("." + key + ".probe");
+  bool written = false;
+  {
+    std::ofstream out(probe, std::ios::binary);
+    written = out && (out << key) && out.flush();
+  }
+  std::error_code ec;
+  fs::remove(probe, ec);
+  if (!written)
+    throw InputError(folder_, "the table store's folder cannot be written: " + what +
+                                  " is not in it, and a table baked now could not be kept "
+                                  "(give a writable folder, or one that holds every table)");
 }
 
 void PairTableStore::save(const std::string& key, const PairJointTable& table) const {

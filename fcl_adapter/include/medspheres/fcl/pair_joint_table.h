@@ -64,7 +64,8 @@ class PairJointTable {
   /// most \p max_cells leaves (>= 1); null when the pair is not eligible. \p model gives the
   /// joints' types and limits (the tree's model).
   /// With a \p store (pair_table_store.h), the table is read from it when it holds this
-  /// pair's table, else baked and written to it.
+  /// pair's table, else baked and written to it (InputError naming the folder and the pair
+  /// before the bake when the folder cannot be written).
   static std::unique_ptr<const PairJointTable> build(const RobotModel& model,
                                                      const KinematicTree& tree, std::size_t a,
                                                      const BoundedGeometry& ga, std::size_t b,

@@ -44,6 +44,10 @@ class PairTableStore {
   /// Writes \p table as \p key's file, replacing any. \throws Error naming the file when it
   /// cannot be written.
   void save(const std::string& key, const PairJointTable& table) const;
+  /// Before a bake whose table is missing: that a file can be written in the folder (one is
+  /// written and removed), so that a store that cannot keep the table fails at once, not
+  /// after the bake. \throws InputError naming the folder and \p what (the table's pair).
+  void require_writable(const std::string& key, const std::string& what) const;
 
  private:
   std::string folder_;
