@@ -757,7 +757,7 @@ TEST_CASE("certified checker: joint-space tables kept in a store and read back",
   CHECK_THROWS_WITH(mf::CertifiedChecker(fold.planner, &fold.fine, fold.meshes,
                                          std::vector<const ::fcl::CollisionObjectd*>{}, fold.o, f),
                     Catch::Contains(not_folder) && Catch::Contains("table store"));
-  // A folder that cannot be written (root writes anywhere else): refused before the bake,
+  // A folder that cannot be written, even by root (/proc/self): refused before the bake,
   // naming the folder and the pair.
   if (std::filesystem::is_directory("/proc/self")) {
     f.table_store = "/proc/self";
