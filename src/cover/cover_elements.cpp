@@ -178,7 +178,7 @@ Elements group_patches(const Elements& e, double cell, const Eigen::Vector3d& or
     double r = 0.0;
     for (std::size_t i : group) r = std::max(r, farthest(e, i, c));
     p.centroids.push_back(c);
-    p.reach.push_back(r * (1.0 + 4.0 * std::numeric_limits<double>::epsilon()));
+    p.reach.push_back(raised(r));
     double w = 0.0;
     for (std::size_t i : group) w += e.weight[i];
     p.weight.push_back(w);
@@ -360,10 +360,9 @@ double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
   return std::max(r, std::sqrt(std::max(std::max(far2[0], far2[1]), std::max(far2[2], far2[3]))));
 }
 
-// The radius of a ball centred at c that holds \p atoms: reach_from, raised by 4 ulps so
-// that the rounding of the distances never leaves an atom outside.
+// The radius of a ball centred at c that holds \p atoms.
 double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
-  return reach_from(atoms, c) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+  return raised(reach_from(atoms, c));
 }
 
 void FarthestAtoms::pivot(const Eigen::Vector3d& x, double delta) {
@@ -505,7 +504,7 @@ void shrink(const Elements& e, Clustering& c, bool refining) {
         members[to[h]].push_back(i);
       }
       // The same centre, just large enough for what it keeps.
-      c.balls[j].radius = keep.empty() ? 0.0 : holding_radius(atoms, c.balls[j].center);
+      c.balls[j].radius = keep.empty() ? 0.0 : raised(reach);
       changed = changed || c.balls[j].radius < before;
       if (c.balls[j].radius > before) std::fill(settled.begin(), settled.end(), 0);
     }

@@ -7,6 +7,7 @@
 #include <array>
 #include <cmath>
 #include <cstddef>
+#include <limits>
 #include <vector>
 
 #include <Eigen/Core>
@@ -81,7 +82,12 @@ std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& 
                              std::vector<char>& mark);
 // The radius that a ball centred at c needs to hold \p atoms.
 double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
-// reach_from raised by 4 ulps, so that the rounding of distances never leaves an atom out.
+// A reach (a largest distance, rounded) raised by 4 ulps: a radius that the rounding of the
+// distances never leaves short of what it must hold.
+inline double raised(double reach) {
+  return reach * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+}
+// raised(reach_from(atoms, c)).
 double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
 // reach_from(atoms, y) for points y near a pivot x0, exactly, from a subset: an atom with
 // |a - x0| + r_a < R(x0) - 2 delta (R the reach at x0) is nearer than R - delta to any y

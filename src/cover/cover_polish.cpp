@@ -35,7 +35,6 @@
 #include <algorithm>
 #include <array>
 #include <cmath>
-#include <limits>
 #include <vector>
 
 namespace medspheres::detail {
@@ -121,7 +120,7 @@ Sphere search_ball(const MeshQuery& query, const std::vector<Sphere>& balls, std
       const Eigen::Vector3d y = x + step * dirs[axis];
       if ((y - x0).norm() > kTravel * r0) continue;
       // holding_radius(atoms, y), from the atoms that may be farthest from y.
-      const double r = reach(y, 4.0 * step) * (1.0 + 4.0 * std::numeric_limits<double>::epsilon());
+      const double r = raised(reach(y, 4.0 * step));
       // The protrusion falls as the depth grows: at the depth's upper bound it is a lower
       // bound.
       if (r - depth_bound(query, y, px) > cap) continue;
