@@ -76,7 +76,10 @@ TEST_CASE("cover lower bound: a long thin box between closed forms", "[cover_low
   const double a = 2.0, b = 0.1;
   const TriangleMesh mesh = make_box(Eigen::Vector3d(a, b, b), 4);
   const MeshQuery query(mesh);
-  for (std::size_t K : {1, 2, 4, 8}) {
+  // Two of the four budgets in the sanitizer builds.
+  const std::vector<std::size_t> budgets =
+      test::kSanitizerBuild ? std::vector<std::size_t>{1, 8} : std::vector<std::size_t>{1, 2, 4, 8};
+  for (const std::size_t K : budgets) {
     INFO("K = " << K);
     const std::vector<Sphere> hand = axis_cover(a, b, K);
     REQUIRE(certify_cover(mesh, hand).certified);
