@@ -346,33 +346,18 @@ std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& 
 // The radius that the ball centred at c needs to hold \p atoms: the largest |a - c| + r_a.
 // The square root is correctly rounded, so monotone: over the points (radius 0) the largest
 // distance is the root of the largest squared distance, bit for bit (norm() is the root of
-// squaredNorm()), and one root serves them all. The maximum is exact, so its order is free:
-// four points at a time into four running maxima held in registers; a block of four that
-// holds a ball goes one atom at a time.
+// squaredNorm()), and one root serves them all. Four running maxima, for the pipeline.
 double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
-  double f0 = 0.0, f1 = 0.0, f2 = 0.0, f3 = 0.0, r = 0.0;
-  auto one = [&](const Sphere& a) {
-    const double d2 = (a.center - c).squaredNorm();
-    if (a.radius == 0.0)
-      f0 = std::max(f0, d2);
+  double far2[4] = {0.0, 0.0, 0.0, 0.0};
+  double r = 0.0;
+  for (std::size_t i = 0; i < atoms.size(); ++i) {
+    const double d2 = (atoms[i].center - c).squaredNorm();
+    if (atoms[i].radius == 0.0)
+      far2[i % 4] = std::max(far2[i % 4], d2);
     else
-      r = std::max(r, std::sqrt(d2) + a.radius);
-  };
-  const std::size_t n = atoms.size();
-  std::size_t i = 0;
-  for (; i + 4 <= n; i += 4) {
-    const Sphere* a = &atoms[i];
-    if (a[0].radius != 0.0 || a[1].radius != 0.0 || a[2].radius != 0.0 || a[3].radius != 0.0) {
-      for (int k = 0; k < 4; ++k) one(a[k]);
-      continue;
-    }
-    f0 = std::max(f0, (a[0].center - c).squaredNorm());
-    f1 = std::max(f1, (a[1].center - c).squaredNorm());
-    f2 = std::max(f2, (a[2].center - c).squaredNorm());
-    f3 = std::max(f3, (a[3].center - c).squaredNorm());
+      r = std::max(r, std::sqrt(d2) + atoms[i].radius);
   }
-  for (; i < n; ++i) one(atoms[i]);
-  return std::max(r, std::sqrt(std::max(std::max(f0, f1), std::max(f2, f3))));
+  return std::max(r, std::sqrt(std::max(std::max(far2[0], far2[1]), std::max(far2[2], far2[3]))));
 }
 
 // The radius of a ball centred at c that holds \p atoms.
