@@ -27,10 +27,7 @@ TEST_CASE("bake_cover: certified, within budget, on generated solids at K = 1..6
     double first_excess = 0.0, first_protrusion = 0.0;
     double excess_4 = 0.0;
     // Five of the eight budgets in the sanitizer builds (support/sanitizer_build.h).
-    const std::vector<std::size_t> budgets =
-        test::kSanitizerBuild ? std::vector<std::size_t>{1, 2, 4, 8, 64}
-                              : std::vector<std::size_t>{1, 2, 3, 4, 8, 16, 32, 64};
-    for (const std::size_t k : budgets) {
+    for (const std::size_t k : test::budgets({1, 2, 3, 4, 8, 16, 32, 64}, {1, 2, 4, 8, 64})) {
       INFO(solid.name << " K = " << k);
       const CoverResult r = bake_cover(query, k);
       INFO("repaired " << r.stats.repaired << " union " << r.stats.union_volume);

@@ -77,9 +77,7 @@ TEST_CASE("cover lower bound: a long thin box between closed forms", "[cover_low
   const TriangleMesh mesh = make_box(Eigen::Vector3d(a, b, b), 4);
   const MeshQuery query(mesh);
   // Two of the four budgets in the sanitizer builds.
-  const std::vector<std::size_t> budgets =
-      test::kSanitizerBuild ? std::vector<std::size_t>{1, 8} : std::vector<std::size_t>{1, 2, 4, 8};
-  for (const std::size_t K : budgets) {
+  for (const std::size_t K : test::budgets({1, 2, 4, 8}, {1, 8})) {
     INFO("K = " << K);
     const std::vector<Sphere> hand = axis_cover(a, b, K);
     REQUIRE(certify_cover(mesh, hand).certified);
@@ -109,10 +107,7 @@ TEST_CASE("cover lower bound: never above a certified bake_cover", "[cover_lower
     REQUIRE(fit.volume());
     const double L = largest_side(fit.query().mesh());
     // Two budgets of the five in the sanitizer builds, where a bake costs ten times more.
-    const std::vector<std::size_t> budgets = test::kSanitizerBuild
-                                                 ? std::vector<std::size_t>{2, 16}
-                                                 : std::vector<std::size_t>{1, 2, 4, 8, 16};
-    for (const std::size_t K : budgets) {
+    for (const std::size_t K : test::budgets({1, 2, 4, 8, 16}, {2, 16})) {
       INFO(name << " K = " << K);
       CoverOptions co;
       co.threads = 2;
@@ -228,9 +223,7 @@ TEST_CASE("cover lower bound: one ball covers a sphere, so no K proves more",
   o.count_queries = 10000;
   o.count_witnesses = 256;
   // Two of the three budgets in the sanitizer builds.
-  const std::vector<std::size_t> budgets =
-      test::kSanitizerBuild ? std::vector<std::size_t>{2, 32} : std::vector<std::size_t>{2, 8, 32};
-  for (const std::size_t K : budgets) {
+  for (const std::size_t K : test::budgets({2, 8, 32}, {2, 32})) {
     const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
     INFO("K = " << K << " bound " << lb.bound << " counting " << lb.count_bound << " one ball "
                 << truth);

@@ -18,8 +18,18 @@
 #define MEDSPHERES_TEST_SANITIZER_BUILD 0
 #endif
 
+#include <cstddef>
+#include <vector>
+
 namespace medspheres::test {
 
 inline constexpr bool kSanitizerBuild = MEDSPHERES_TEST_SANITIZER_BUILD != 0;
+
+/// The budgets (sphere counts) a test runs: \p full, or in the sanitizer builds \p sanitized,
+/// a few of full's chosen so that the test still reaches the same branches.
+inline std::vector<std::size_t> budgets(std::vector<std::size_t> full,
+                                        std::vector<std::size_t> sanitized) {
+  return kSanitizerBuild ? sanitized : full;
+}
 
 }  // namespace medspheres::test
