@@ -148,6 +148,9 @@ TEST_CASE("every request problem is out of range or a conflict, named by its fie
       {[](BakeRequest& r) { r.medial.medial_tolerance = -1.0; }, ErrorKind::kOutOfRange,
        "medial_tolerance", "-1"},
       {[](BakeRequest& r) { r.medial.threads = -1; }, ErrorKind::kOutOfRange, "threads", "-1"},
+      // Refused whether or not the bake would build the robust solid (a closed box does not).
+      {[](BakeRequest& r) { r.robust.resolution = 5; }, ErrorKind::kOutOfRange, "robust_resolution",
+       "5"},
       {[](BakeRequest& r) { r.max_spheres = 0; }, ErrorKind::kOutOfRange, "max_spheres", "0"},
       {[](BakeRequest& r) { r.target_error = 1.5; }, ErrorKind::kOutOfRange, "target_error", "1.5"},
       {[](BakeRequest& r) {

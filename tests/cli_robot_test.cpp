@@ -223,10 +223,23 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
         std::string(" --srdf ") + shell_quote(dir.file("missing.srdf")),
         std::string(" --contact --no-self-collision"), std::string(" --contact --no-outer"),
         std::string(" --contact --contact-band 0"), std::string(" --contact --contact-weight 0.5"),
-        std::string(" --contact --contact-samples 0"), std::string(" --fill-covers --no-outer")}) {
+        std::string(" --contact --contact-samples 0"), std::string(" --fill-covers --no-outer"),
+        std::string(" --robust-resolution 5")}) {
     INFO(bad);
     const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);
     CHECK(r.exit_code == 2);
+    CHECK_FALSE(fs::exists(dir.file("out")));
+  }
+  // Unsigned options: "-1" is refused by name, not read as the type's largest value (which
+  // once failed allocating the samples, exit 1, or ran with another seed).
+  for (const std::string flag :
+       {"--self-collision-samples", "--self-collision-seed", "--contact-samples", "--seed"}) {
+    INFO(flag);
+    const std::string contact = flag == "--contact-samples" ? " --contact" : "";
+    const CommandResult r =
+        cli("robot " + shell_quote(urdf) + " -o " + out + pkg + contact + " " + flag + " -1");
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(flag + ": must be an integer >= 0, got -1"));
     CHECK_FALSE(fs::exists(dir.file("out")));
   }
   dir.write("file", "x");

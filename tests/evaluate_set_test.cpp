@@ -106,6 +106,9 @@ TEST_CASE("eval's solid: the recorded one under auto, the named one otherwise", 
   SolidRequest nan_thickness{SolidKind::kRobust, {}, Length{std::nan(""), false}};
   CHECK(error_field([&] { eval_solid(nan_thickness, 2.0, robust32); }) == "robust_thickness");
   CHECK(error_field([&] { check_solid_request(nan_thickness); }) == "robust_thickness");
+  SolidRequest coarse{SolidKind::kAuto, {5, 0.0}, std::nullopt};
+  CHECK(error_field([&] { check_solid_request(coarse); }) == "robust_resolution");
+  CHECK(error_field([&] { eval_solid(coarse, 2.0, ""); }) == "robust_resolution");
   SolidRequest negative{SolidKind::kAuto, {}, Length{-0.5, true}};
   CHECK(error_field([&] { eval_solid(negative, 2.0, ""); }) == "robust_thickness");
 }

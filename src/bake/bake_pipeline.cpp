@@ -167,6 +167,7 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
 
 void validate(const BakeRequest& r) {
   if (std::optional<InputError> problem = bake_options_problem(r.medial)) throw *problem;
+  validate(r.robust);
   if (r.max_spheres && *r.max_spheres < 1)
     throw request_error(ErrorKind::kOutOfRange, "max_spheres", std::to_string(*r.max_spheres),
                         "must be >= 1, got " + std::to_string(*r.max_spheres));

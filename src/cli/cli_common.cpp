@@ -8,6 +8,10 @@
 
 namespace medspheres::cli {
 
+std::string non_negative(const std::string& text) {
+  return text.rfind('-', 0) == 0 ? "must be an integer >= 0, got " + text : std::string();
+}
+
 bool stderr_is_terminal() {
   return ::isatty(STDERR_FILENO) == 1;
 }

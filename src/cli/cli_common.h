@@ -46,6 +46,11 @@ class ProgressBar {
 /// True when stderr is a terminal (progress bars are drawn only then).
 bool stderr_is_terminal();
 
+/// The check of an option read into an unsigned integer (CLI11's ->check): CLI11 would read
+/// "-1" as the type's largest value. "must be an integer >= 0, got -1" for a negative text,
+/// "" otherwise.
+std::string non_negative(const std::string& text);
+
 /// The flag of a library field: "max_spheres" is --max-spheres.
 std::string flag_of(std::string field);
 

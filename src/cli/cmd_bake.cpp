@@ -255,6 +255,7 @@ Runner register_bake(CLI::App& app) {
                   "(default: its only link)")
       ->needs(start);
   sub->add_option("--seed", a->flags.dilation.seed, "Dilation: seed of its random points")
+      ->check(non_negative)
       ->capture_default_str();
   add_solid_flags(sub, a->flags.solid);
   sub->add_option("--threads", a->flags.threads, "Threads, at most 1024 (default 0: all cores)")

@@ -165,10 +165,7 @@ Runner register_eval(CLI::App& app) {
                   "Area-weighted surface points for coverage (every vertex is added)")
       ->capture_default_str();
   sub->add_option("--seed", a->seed, "Seed of the Monte-Carlo and surface points")
-      ->check([](const std::string& s) {
-        return s.rfind('-', 0) == 0 ? std::string("must be an integer >= 0, got " + s)
-                                    : std::string();
-      })
+      ->check(non_negative)
       ->capture_default_str();
   sub->add_option("--threads", a->threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();

@@ -337,6 +337,7 @@ void add_robot_bake_options(CLI::App* sub, RobotArgs* a) {
   sub->add_option("--cover", a->dilation.cover,
                   "Dilation: cover the surface to this length (or L)");
   sub->add_option("--seed", a->dilation.seed, "Dilation: seed of its random points")
+      ->check(non_negative)
       ->capture_default_str();
   add_solid_flags(sub, a->solid);
   sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
@@ -373,8 +374,10 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
                 "configuration not checked)");
   sub->add_option("--self-collision-samples", a->self_collision.samples,
                   "Configurations the matrix samples")
+      ->check(non_negative)
       ->capture_default_str();
   sub->add_option("--self-collision-seed", a->self_collision.seed, "Seed of those samples")
+      ->check(non_negative)
       ->capture_default_str();
   sub->add_option("--self-collision-threshold", a->self_collision.threshold,
                   "Share of samples in which a pair collides for it to count as always colliding")
@@ -387,6 +390,7 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
                 "checked pairs come close (docs/self-collision.md)");
   sub->add_option("--contact-samples", a->contact_options.samples,
                   "Configurations the contact regions are learnt from")
+      ->check(non_negative)
       ->capture_default_str();
   sub->add_option("--contact-band", a->contact_options.band,
                   "Metres: another link's surface within it of a link's makes its contact region")

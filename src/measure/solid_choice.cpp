@@ -35,6 +35,7 @@ SolidChoice choose_solid(SolidKind requested, const RobustSolidOptions& robust,
 }
 
 void check_solid_request(const SolidRequest& request) {
+  validate(request.robust);
   check_length(request.robust_thickness, "robust_thickness", true);
 }
 

@@ -322,17 +322,6 @@ const char* to_string(SolidKind kind) {
 
 namespace {
 
-void check_options(const RobustSolidOptions& options) {
-  const bool automatic = options.resolution == 0;
-  if (!automatic && !(options.resolution >= kMinResolution && options.resolution <= kMaxResolution))
-    throw option_error("robust_resolution", options.resolution,
-                       "must be 0 (chosen by the triangle budget) or in [8, 1024], got " +
-                           std::to_string(options.resolution));
-  if (!(std::isfinite(options.thickness) && options.thickness >= 0.0))
-    throw option_error("robust_thickness", options.thickness,
-                       "must be a finite length >= 0, got " + number_text(options.thickness));
-}
-
 // The box of the triangles' corners, checking indices; a mesh that is one point has no
 // volume.
 Eigen::AlignedBox3d checked_box(const TriangleMesh& mesh, const std::string& name) {
@@ -443,9 +432,20 @@ RobustSolid solid_of_budget(const TriangleMesh& mesh, const Eigen::AlignedBox3d&
 
 }  // namespace
 
+void validate(const RobustSolidOptions& options) {
+  const bool automatic = options.resolution == 0;
+  if (!automatic && !(options.resolution >= kMinResolution && options.resolution <= kMaxResolution))
+    throw option_error("robust_resolution", options.resolution,
+                       "must be 0 (chosen by the triangle budget) or in [8, 1024], got " +
+                           std::to_string(options.resolution));
+  if (!(std::isfinite(options.thickness) && options.thickness >= 0.0))
+    throw option_error("robust_thickness", options.thickness,
+                       "must be a finite length >= 0, got " + number_text(options.thickness));
+}
+
 RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
                               const std::string& name) {
-  check_options(options);
+  validate(options);
   const Eigen::AlignedBox3d box = checked_box(mesh, name);
   auto solid = [&](double thickness, bool escalated = false) {
     if (options.resolution == 0) return solid_of_budget(mesh, box, thickness, name, escalated);

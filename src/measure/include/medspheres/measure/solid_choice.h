@@ -36,9 +36,10 @@ struct SolidRequest {
   std::optional<Length> robust_thickness;  ///< overrides robust.thickness (>= 0)
 };
 
-/// Checks \p request as eval_solid does, before any work (a robust resolution out of range
-/// is make_robust_solid's to report, when the robust solid is made).
-/// \throws InputError (kOutOfRange, field "robust_thickness") for a thickness that is not
+/// Checks \p request as eval_solid does, before any work, whether or not the robust solid
+/// is then made.
+/// \throws InputError (kOutOfRange, field "robust_resolution") for a resolution that is
+///   neither 0 nor in [8, 1024]; (field "robust_thickness") for a thickness that is not
 ///   finite or is negative.
 void check_solid_request(const SolidRequest& request);
 

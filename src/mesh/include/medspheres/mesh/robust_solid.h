@@ -86,6 +86,11 @@ struct RobustSolid {
   std::size_t solid_cells = 0;     ///< after step 4
 };
 
+/// \throws InputError (kOutOfRange, field "robust_resolution" or "robust_thickness") for
+///   options out of range. Callers that may not build the solid (a bake whose solid is
+///   chosen later) call it first, so that a bad option fails whether or not it is used.
+void validate(const RobustSolidOptions& options);
+
 /// The robust solid of \p mesh (see the file comment); \p name names the mesh in errors.
 /// \throws InputError (kOutOfRange, field "robust_resolution" or "robust_thickness") for
 ///   options out of range, (kNoInterior, file \p name) when the walls enclose no volume (at
