@@ -128,6 +128,10 @@ TEST_CASE("convert rejects bad input with exit 2, a message and no output", "[cl
   const std::string out = dir.file("out.sph");
   fails(shell_quote(robot) + " " + shell_quote(out), "--link", out);
   fails(shell_quote(robot) + " " + shell_quote(out) + " --link ghost", "\"ghost\"", out);
+  // A per-link output takes every link: a link named there would go unused.
+  for (const std::string per_link : {"r.yml", "r.xrdf", "r.srdf"})
+    fails(shell_quote(robot) + " " + shell_quote(dir.file(per_link)) + " --link l2",
+          "--link: the input has spheres per link", dir.file(per_link));
   fails(shell_quote(robot) + " " + shell_quote(dir.file("x.txt")), "x.txt", dir.file("x.txt"));
   fails(shell_quote(robot) + " " + shell_quote(dir.file("a.urdf")), "--urdf", dir.file("a.urdf"));
   fails(shell_quote(robot) + " " + shell_quote(out) + " --to nope", "unknown format", out);

@@ -207,8 +207,13 @@ std::vector<Sphere> single_set(const SphereDocument& doc, const WriteOptions& op
   return one_set_of(doc, options.link);  // --link only names the link of a one-set input
 }
 
-// The per-link spheres a per-link format writes.
+// The per-link spheres a per-link format writes: every link of a per-link input (a link
+// named for it would be left unused, so it is refused), or a one-set input as the link named.
 RobotSpheres per_link(const SphereDocument& doc, const WriteOptions& options) {
+  if (!doc.set && !options.link.empty())
+    throw InputError::option(ErrorKind::kConflict, "link", options.link,
+                             "the input has spheres per link and the output format takes every "
+                             "one of them; a link is named only for a one-set input or output");
   if (!doc.set) return doc.links;
   if (options.link.empty())
     throw InputError::option(ErrorKind::kOutOfRange, "link", "",
