@@ -244,7 +244,7 @@ TEST_CASE("render a robot file at a joint vector: each link's sphere where kinem
               {"name": "b", "inner": [[0, 0, 0, 0.5]], "outer": []}],
     "joints": [{"name": "slide", "type": "prismatic", "parent": "a", "child": "b",
                 "origin": {"xyz": [0, 0, 0], "quaternion_xyzw": [0, 0, 0, 1]},
-                "axis": [1, 0, 0]}],
+                "axis": [1, 0, 0], "limits": {"lower": -1, "upper": 5}}],
     "metadata": {}})");
   const auto sphere_pixels = [](const std::string& out) {
     const std::size_t at = out.find(" sphere pixels");
@@ -270,6 +270,15 @@ TEST_CASE("render a robot file at a joint vector: each link's sphere where kinem
     CAPTURE(joints, moved.err);
     REQUIRE(moved.exit_code == 0);
     CHECK(sphere_pixels(moved.out) == Approx(disk_pixels(4.0, 2)).epsilon(0.03));
+    CHECK(moved.err.find("warning") == std::string::npos);
+  }
+  // Beyond the limits: drawn there, with a warning naming the joint and its limits.
+  for (const std::string joints : {"6", "slide=-1.5"}) {
+    const auto beyond = run_cli(base + "--joints " + joints);
+    CAPTURE(joints, beyond.err);
+    REQUIRE(beyond.exit_code == 0);
+    CHECK_THAT(beyond.err,
+               Contains("--joints: slide = ") && Contains("outside its limits [-1, 5]"));
   }
   for (const std::string bad : {"1,2", "x", "nope=1"}) {
     const auto r = run_cli(base + "--joints " + bad);

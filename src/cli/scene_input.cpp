@@ -11,6 +11,7 @@
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "medspheres/number_text.h"
 #include "medspheres/render/render.h"
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_file.h"
@@ -36,8 +37,25 @@ double joint_value(const std::string& text) {
   return v;
 }
 
+// A warning on stderr for each position of \p q outside its joint's limits (a revolute or
+// prismatic joint whose URDF gives them): drawn there all the same, but a value in degrees
+// or millimetres would show only as an odd picture.
+void warn_outside_limits(const RobotModel& model, const std::map<std::string, double>& q) {
+  for (const auto& [name, value] : q) {
+    const Joint* joint = model.find_joint(name);
+    if (!joint || !joint->limits || joint->type == JointType::kContinuous) continue;
+    const JointLimits& l = *joint->limits;
+    if (l.lower == 0.0 && l.upper == 0.0) continue;  // none given
+    if (value < l.lower || value > l.upper)
+      std::cerr << "medspheres: warning: --joints: " << name << " = " << number_text(value)
+                << " is outside its limits [" << number_text(l.lower) << ", "
+                << number_text(l.upper) << "] (radians or metres); drawn there\n";
+  }
+}
+
 // X_WL of every link at --joints: positions in KinematicTree::joint_names() order, or
-// name=value pairs (the others at 0); the zero pose when empty.
+// name=value pairs (the others at 0); the zero pose when empty. Positions outside their
+// limits are drawn, with a warning.
 std::vector<Eigen::Isometry3d> link_poses(const RobotModel& model, const std::string& joints,
                                           const std::string& source) {
   const KinematicTree tree(model, source);
@@ -53,7 +71,9 @@ std::vector<Eigen::Isometry3d> link_poses(const RobotModel& model, const std::st
           throw InputError("--joints", "\"" + item + "\" is not NAME=VALUE");
         q[item.substr(0, eq)] = joint_value(item.substr(eq + 1));
       }
-      return tree.link_poses(q);
+      std::vector<Eigen::Isometry3d> poses = tree.link_poses(q);
+      warn_outside_limits(model, q);
+      return poses;
     }
     Eigen::VectorXd q = Eigen::VectorXd::Zero(tree.num_positions());
     if (!joints.empty()) {
@@ -63,7 +83,12 @@ std::vector<Eigen::Isometry3d> link_poses(const RobotModel& model, const std::st
                                          std::to_string(tree.num_positions()) + " actuated joints");
       for (std::size_t i = 0; i < items.size(); ++i) q[long(i)] = joint_value(items[i]);
     }
-    return tree.link_poses(q);
+    std::vector<Eigen::Isometry3d> poses = tree.link_poses(q);
+    std::map<std::string, double> named;
+    for (std::size_t i = 0; i < tree.joint_names().size(); ++i)
+      named[tree.joint_names()[i]] = q[long(i)];
+    warn_outside_limits(model, named);
+    return poses;
   } catch (const std::invalid_argument& e) {
     throw InputError("--joints", e.what());
   }
