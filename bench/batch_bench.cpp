@@ -22,7 +22,7 @@
 #include "bench_args.h"
 #include "bench_timing.h"
 #include "medspheres/batch/batch.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 #include "support/mesh_library.h"
 
 namespace {

@@ -18,9 +18,9 @@
 #include "bench_args.h"
 #include "bench_timing.h"
 #include "medspheres/mesh/mesh_generators.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/render/png_write.h"
 #include "medspheres/render/render.h"
+#include "medspheres/threads.h"
 
 namespace {
 

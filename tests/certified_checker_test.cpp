@@ -673,6 +673,15 @@ TEST_CASE("certified checker: with tables first, a bad configuration is named by
   CHECK_THROWS_WITH(fold.tabled->check(q.data(), 2000, v.data()),
                     Catch::Contains("configuration 1999") && Catch::Contains("not finite"));
   CHECK_THROWS_WITH(fold.tabled->check(q.data() + 2 * 1999), Catch::Contains("not finite"));
+  // A thread count out of range is refused before any work, with or without tables.
+  q[2 * 1999 + 1] = 0.0;
+  for (const int threads : {-1, 100000})
+    for (const mf::CertifiedChecker* c : {fold.tabled.get(), fold.plain.get()}) {
+      CHECK_THROWS_WITH(c->check(q.data(), 2000, v.data(), threads),
+                        Catch::Contains("threads must be in [0, 1024]"));
+      CHECK_THROWS_WITH(c->check_edges(q.data(), q.data() + 2, 1, 0.1, v.data(), threads),
+                        Catch::Contains("threads must be in [0, 1024]"));
+    }
 }
 
 // The tables' store: a checker built again reads the table it baked (the same cells); a

@@ -19,6 +19,7 @@
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/point_triangle.h"
+#include "medspheres/threads.h"
 #include "support/check_fixtures.h"
 
 using namespace medspheres;
@@ -445,6 +446,20 @@ TEST_CASE("robot checker: bad input is refused with a message naming it", "[chec
                     Catch::Contains("configuration 1") && Catch::Contains("j3"));
   CHECK_THROWS_AS(checker.check_edge(q.data(), q.data() + 16, 0.0, Mode::spheres),
                   std::invalid_argument);
+  // Thread counts as everywhere in medspheres: 0 to kMaxThreads (a count such as 100000
+  // once reached OpenMP, which crashed creating the threads).
+  q[8 + 2] = 0.0;
+  for (const int threads : {-1, kMaxThreads + 1, 100000}) {
+    CAPTURE(threads);
+    for (const Mode mode : {Mode::spheres, Mode::bounds})
+      CHECK_THROWS_WITH(checker.check(q.data(), 3, mode, out.data(), threads),
+                        Catch::Contains("threads must be in [0, 1024]"));
+    CHECK_THROWS_WITH(checker.check_bounds(q.data(), 3, out.data(), nullptr, threads),
+                      Catch::Contains("threads"));
+    CHECK_THROWS_WITH(
+        checker.check_edges(q.data(), q.data() + 8, 2, 0.1, Mode::spheres, out.data(), threads),
+        Catch::Contains("threads"));
+  }
   check::Scene bad;
   CHECK_THROWS_WITH(bad.add_box({1, -1, 1}, Eigen::Isometry3d::Identity(), "crate"),
                     Catch::Contains("crate"));

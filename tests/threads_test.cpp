@@ -10,7 +10,7 @@
 
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_query.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 using namespace medspheres;
 

@@ -5,11 +5,10 @@
 #include <memory>
 #include <stdexcept>
 
-#include <omp.h>
-
 #include "medspheres/error.h"
 #include "medspheres/fcl/pair_table_store.h"
 #include "medspheres/fcl/scene_from_fcl.h"
+#include "medspheres/threads.h"
 
 #include "witness_points.h"
 
@@ -66,10 +65,6 @@ RobotBounds make_bounds(const RobotModel& planner, const RobotModel* fine,
                                     : planner,
                      meshes, options.disabled, fallback.bounds,
                      order_at(fallback.order, options.margin));
-}
-
-int thread_count(int threads) {
-  return threads > 0 ? threads : omp_get_max_threads();
 }
 
 // bounded_geometry.h's settle(), by a name the member settle() does not hide.
@@ -370,6 +365,7 @@ check::Verdict CertifiedChecker::check(const double* q, FallbackStats* stats) co
 
 void CertifiedChecker::check(const double* q, std::size_t n, check::Verdict* out, int threads,
                              FallbackStats* stats) const {
+  check_threads(threads);
   if (!tabled_.empty()) {
     // The rows a table proves colliding need no bounds; the others go on as a batch. Every
     // row is checked first, so that a bad one is named by its index in this batch.
@@ -457,6 +453,7 @@ std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, st
                                           double resolution, check::Verdict* out, int threads,
                                           FallbackStats* stats) const {
   const std::size_t dof = checker_.num_positions();
+  check_threads(threads);
   checker_.validate(q0, n);  // no exception may leave the parallel loop
   checker_.validate(q1, n);
   checker_.edge_steps(q0, q0, resolution);

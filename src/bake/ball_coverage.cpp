@@ -4,7 +4,7 @@
 #include <array>
 #include <cmath>
 
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -13,7 +13,7 @@
 #include "medspheres/error.h"
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/measure/union_volume.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 // The steps (dilate.h states the contract).
 // Conservative dilation (Stolpner, Kry and Siddiqi, section 5.1): grow and add spheres

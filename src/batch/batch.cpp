@@ -13,7 +13,7 @@
 
 #include "batch_driver.h"
 #include "medspheres/batch/batch_cache.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -6,9 +6,8 @@
 #include <memory>
 #include <stdexcept>
 
-#include <omp.h>
-
 #include "medspheres/sample_configurations.h"
+#include "medspheres/threads.h"
 
 #include "block.h"
 #include "distance_field.h"
@@ -465,10 +464,6 @@ float float_slack(const detail::RobotLayout& layout, const Scene& scene,
   return std::nextafter(static_cast<float>(slack), std::numeric_limits<float>::infinity());
 }
 
-int thread_count(int threads) {
-  return threads > 0 ? threads : omp_get_max_threads();
-}
-
 }  // namespace
 
 RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
@@ -714,6 +709,7 @@ bool RobotChecker::Impl::probed_bounds(const double* q, std::size_t n, Verdict* 
 // undecided pairs. The bounds mode by probed_bounds when the checker has a probe.
 void RobotChecker::Impl::batch(const double* q, std::size_t n, Mode mode, Verdict* out,
                                std::vector<UndecidedPair>* undecided, int threads) const {
+  check_threads(threads);
   if (n == 0) return;
   const std::size_t dof = layout.dof;
   for (std::size_t i = 0; i < n; ++i) validate(q + i * dof, i);
@@ -847,6 +843,7 @@ std::size_t RobotChecker::check_edges(const double* q0, const double* q1, std::s
                                       int threads) const {
   const Impl& m = *impl_;
   const std::size_t dof = m.layout.dof;
+  check_threads(threads);
   for (std::size_t i = 0; i < n; ++i) {
     m.validate(q0 + i * dof, i);
     m.validate(q1 + i * dof, i);

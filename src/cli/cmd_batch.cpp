@@ -10,7 +10,7 @@
 #include "cli_common.h"
 #include "medspheres/batch/batch.h"
 #include "medspheres/io.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::cli {
 

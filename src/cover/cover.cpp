@@ -40,7 +40,7 @@
 
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/measure/union_volume.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -7,7 +7,7 @@
 #include <memory>
 #include <queue>
 
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 // Derivation.
 //

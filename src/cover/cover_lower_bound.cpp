@@ -18,7 +18,7 @@
 #include "medspheres/cover/cover.h"
 #include "medspheres/error.h"
 #include "medspheres/measure/fit_metrics.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 // Derivation.
 //

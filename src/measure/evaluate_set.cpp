@@ -9,7 +9,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/cover_certificate_json.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -13,8 +13,8 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_report.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/number_text.h"
+#include "medspheres/threads.h"
 #include "union_grid.h"
 
 // The metrics and their derivations (fit_metrics.h states the contract).

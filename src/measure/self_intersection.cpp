@@ -12,7 +12,7 @@
 #include <CGAL/Exact_predicates_inexact_constructions_kernel.h>
 #include <CGAL/box_intersection_d.h>
 
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

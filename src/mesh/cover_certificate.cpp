@@ -9,8 +9,8 @@
 #include <stdexcept>
 #include <string>
 
-#include "medspheres/mesh/threads.h"
 #include "medspheres/sphere_tree.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -35,7 +35,7 @@
 #endif
 
 #include "medspheres/mesh/mesh_report.h"
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 #include "mesh_bvh.h"
 
 namespace medspheres {

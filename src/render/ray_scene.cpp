@@ -7,8 +7,8 @@
 
 #include <Eigen/Geometry>
 
-#include "medspheres/mesh/threads.h"
 #include "medspheres/sphere_tree.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::render {
 

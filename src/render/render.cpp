@@ -5,8 +5,8 @@
 #include <sstream>
 #include <stdexcept>
 
-#include "medspheres/mesh/threads.h"
 #include "medspheres/number_text.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::render {
 

@@ -13,9 +13,9 @@
 #include "medspheres/error.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/mesh/mesh_query.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/number_text.h"
 #include "medspheres/sample_configurations.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -21,8 +21,8 @@
 #include "medspheres/fcl/bounded_geometry.h"
 #include "medspheres/mesh/cover_certificate_json.h"
 #include "medspheres/mesh/mesh_report.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/number_text.h"
+#include "medspheres/threads.h"
 #include "medspheres/version.h"
 
 namespace medspheres {

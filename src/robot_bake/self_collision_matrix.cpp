@@ -11,8 +11,8 @@
 #include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/number_text.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

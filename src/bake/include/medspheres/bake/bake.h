@@ -24,8 +24,8 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/mesh_query.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/sphere_set.h"
+#include "medspheres/threads.h"
 
 namespace medspheres {
 

@@ -172,7 +172,8 @@ class RobotChecker {
   void validate(const double* q, std::size_t n) const;
 
   /// \p n configurations, row-major (n x num_positions()), verdicts into out[0 .. n).
-  /// \p threads: 0 for every core.
+  /// \p threads: 0 for every core, else 1 to kMaxThreads (medspheres/threads.h);
+  /// std::invalid_argument otherwise, as for a configuration out of range.
   void check(const double* q, std::size_t n, Mode mode, Verdict* out, int threads = 1) const;
   /// One configuration; in Mode::bounds, the pairs left undecided when it is undecided.
   Verdict check(const double* q, Mode mode, std::vector<UndecidedPair>* undecided = nullptr) const;

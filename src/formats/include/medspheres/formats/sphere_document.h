@@ -23,10 +23,10 @@
 /// Conversion: a per-link file written to a one-set format takes the link that
 /// WriteOptions::link names (or its only link); a one-set file written to a per-link
 /// format becomes that one link; a per-link file written to a per-link format takes every
-/// link, and a link named then is refused (it would go unused). foam output is foam's one-mesh list for a one-set input
-/// or when a link is named, its per-link database otherwise. A robot file is written only from a
-/// robot file (it needs the kinematic tree); a spherized URDF needs the robot's URDF (the input's,
-/// or WriteOptions::urdf_text).
+/// link, and a link named then is refused (it would go unused). foam output is foam's one-mesh list
+/// for a one-set input or when a link is named, its per-link database otherwise. A robot file is
+/// written only from a robot file (it needs the kinematic tree); a spherized URDF needs the robot's
+/// URDF (the input's, or WriteOptions::urdf_text).
 
 #include <map>
 #include <optional>

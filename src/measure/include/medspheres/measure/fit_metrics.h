@@ -32,8 +32,8 @@
 #include "medspheres/measure/self_intersection.h"
 #include "medspheres/measure/union_volume.h"
 #include "medspheres/mesh/mesh_query.h"
-#include "medspheres/mesh/threads.h"
 #include "medspheres/sphere_set.h"
+#include "medspheres/threads.h"
 #include "medspheres/triangle_mesh.h"
 
 namespace medspheres {

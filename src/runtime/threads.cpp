@@ -1,11 +1,11 @@
-// thread_count (threads.h): here, in medspheres::mesh (and so available to
-// the targets above it), because this component brings OpenMP; threads.h stays free of
-// <omp.h>, and check_threads is header-only.
+// thread_count (threads.h): here, in medspheres::runtime, the lowest layer, so that every
+// target above it (the mesh queries, the bakes, the robot checkers) sizes its thread teams
+// the same way; threads.h stays free of <omp.h>, and check_threads is header-only.
 //
 // kMaxThreads: the cap keeps a typo such as 100000 from asking the OpenMP runtime for more
 // threads than the system can create (which crashes it); 1024 is far above the cores of
 // any machine this runs on.
-#include "medspheres/mesh/threads.h"
+#include "medspheres/threads.h"
 
 #include <algorithm>
 
