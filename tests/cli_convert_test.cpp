@@ -5,6 +5,7 @@
 
 #include <catch2/catch.hpp>
 
+#include "medspheres/error.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/io.h"
 #include "medspheres/robot_file.h"
@@ -109,6 +110,15 @@ TEST_CASE("convert between one-set and per-link files with --link", "[cli][conve
   convert(shell_quote(dir.file("l2.sph")) + " " + shell_quote(dir.file("root.json")) +
           " --level 0");
   CHECK(formats::read_sphere_document(dir.file("root.json")).set->size() == 1);
+  // The library refuses a level below -1 (the last) by name; --level's range refuses it first.
+  formats::ReadOptions below;
+  below.level = -3;
+  try {
+    formats::read_sphere_document(dir.file("l2.sph"), std::nullopt, below);
+    FAIL("level -3 was read");
+  } catch (const medspheres::InputError& e) {
+    CHECK(e.field() == "level");
+  }
 }
 
 TEST_CASE("convert rejects bad input with exit 2, a message and no output", "[cli][convert]") {

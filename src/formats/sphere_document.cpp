@@ -129,6 +129,9 @@ SphereFormat sphere_format_of_path(const std::string& path) {
 
 SphereDocument read_sphere_document(const std::string& path, std::optional<SphereFormat> format,
                                     const ReadOptions& options) {
+  if (options.level < -1)
+    throw InputError::option(ErrorKind::kOutOfRange, "level", std::to_string(options.level),
+                             "must be a level counted from 0 at the root, or -1 for the last");
   const std::string text = read_text_file(path);
   SphereFormat f = format ? *format : sphere_format_of_path(path);
   if (!format && f == SphereFormat::kSphereSet && !ends_with(path, ".spheres.json"))

@@ -84,7 +84,7 @@ struct WriteOptions {
 };
 
 /// Reads \p path as \p format (nullopt: from the extension and, for ".json", the content).
-/// \throws InputError naming the file and the problem.
+/// \throws InputError naming the file and the problem, or the option "level" below -1.
 SphereDocument read_sphere_document(const std::string& path,
                                     std::optional<SphereFormat> format = std::nullopt,
                                     const ReadOptions& options = {});
