@@ -234,6 +234,23 @@ TEST_CASE("bake rejects nonsense with exit 2 and leaves no output behind", "[cli
   CHECK(entries == 1);
 }
 
+TEST_CASE("bake refuses an output named for another sphere format", "[cli][bake]") {
+  TempDir dir;
+  for (const std::string name : {"arm.yml", "arm.yaml", "arm.xrdf", "arm.urdf", "arm.srdf",
+                                 "arm.sph", "arm.robot.json", "arm.foam.json"}) {
+    INFO(name);
+    const std::string out = dir.file(name);
+    const CommandResult r = cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(out));
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains("--output") && Contains(name) && Contains("medspheres convert"));
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+  // A name that no format claims is written as a sphere set, as a .json is.
+  const std::string text = dir.file("arm.txt");
+  REQUIRE(cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(text)).exit_code == 0);
+  CHECK(medspheres::load_sphere_set(text).size() > 0);
+}
+
 TEST_CASE("bake --dilate writes S+ and records the dilation", "[cli][bake]") {
   TempDir dir;
   const std::string internal = dir.file("sd.json"), dilated = dir.file("splus.json");

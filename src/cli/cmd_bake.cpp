@@ -156,6 +156,23 @@ void print_summary(const BakeArgs& args, const std::string& out, const BakeOutco
   std::cout << "\n";
 }
 
+// bake writes one medspheres sphere set (JSON). An output named for another format (cuRobo's
+// .yml, .sph, .xrdf, ...) would get JSON under that name, so it is refused before any work;
+// a name no format claims (.txt) is taken as it is.
+void check_bake_output(const std::string& out) {
+  formats::SphereFormat format = formats::SphereFormat::kSphereSet;
+  try {
+    format = formats::sphere_format_of_path(out);
+  } catch (const InputError&) {
+    return;
+  }
+  if (format == formats::SphereFormat::kSphereSet) return;
+  throw InputError::option(ErrorKind::kConflict, "output", out,
+                           out + " is named for the " + formats::sphere_format_name(format) +
+                               " format, but bake writes a medspheres sphere set (.json); bake "
+                               "to a .json, then `medspheres convert` it");
+}
+
 int run_bake(BakeArgs& args) {
   // Options first, then the output path: both are reported before any work is done.
   if (!args.cover_start.empty())
@@ -171,6 +188,7 @@ int run_bake(BakeArgs& args) {
   }
   args.mesh = args.inputs.front();
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
+  check_bake_output(out);
   check_output_path(out);
 
   ProgressBar bar(!args.quiet);
