@@ -682,6 +682,12 @@ TEST_CASE("certified checker: with tables first, a bad configuration is named by
       CHECK_THROWS_WITH(c->check_edges(q.data(), q.data() + 2, 1, 0.1, v.data(), threads),
                         Catch::Contains("threads must be in [0, 1024]"));
     }
+  // An edge whose resolution would check more than kMaxEdgeSteps configurations is refused
+  // by its index before any work, with two threads too (at 1e-12 these edges would have run
+  // for days).
+  for (const mf::CertifiedChecker* c : {fold.tabled.get(), fold.plain.get()})
+    CHECK_THROWS_WITH(c->check_edges(q.data(), q.data() + 2, 3, 1e-12, v.data(), 2),
+                      Catch::Contains("edge 0") && Catch::Contains("configurations on it"));
 }
 
 // The tables' store: a checker built again reads the table it baked (the same cells); a

@@ -446,6 +446,25 @@ TEST_CASE("robot checker: bad input is refused with a message naming it", "[chec
                     Catch::Contains("configuration 1") && Catch::Contains("j3"));
   CHECK_THROWS_AS(checker.check_edge(q.data(), q.data() + 16, 0.0, Mode::spheres),
                   std::invalid_argument);
+  // A resolution that would check more than kMaxEdgeSteps configurations on an edge is
+  // refused, naming the edge, before any edge is checked (1e-300 overflowed the count, and
+  // 1e-12 would have run for hours).
+  const std::size_t dof = checker.num_positions();
+  const std::vector<double> q0 = test::capsule_arm_configs(2, 5);
+  std::vector<double> q1 = q0;  // edge 0: no length (one configuration)
+  for (std::size_t j = 0; j < dof; ++j) q1[dof + j] += 0.5;
+  CHECK(checker.check_edges(q0.data(), q1.data(), 2, 1e-3, Mode::spheres, out.data()) > 0);
+  for (const double resolution : {1e-12, 1e-300}) {
+    CAPTURE(resolution);
+    CHECK_THROWS_WITH(checker.edge_steps(q0.data() + dof, q1.data() + dof, resolution),
+                      Catch::Contains("configurations on it"));
+    CHECK_THROWS_WITH(
+        checker.check_edges(q0.data(), q1.data(), 2, resolution, Mode::spheres, out.data()),
+        Catch::Contains("edge 1") && Catch::Contains("configurations on it"));
+  }
+  CHECK_THROWS_WITH(
+      checker.check_edges(q0.data(), q1.data(), 0, std::nan(""), Mode::spheres, out.data()),
+      Catch::Contains("resolution"));
   // Thread counts as everywhere in medspheres: 0 to kMaxThreads (a count such as 100000
   // once reached OpenMP, which crashed creating the threads).
   q[8 + 2] = 0.0;

@@ -454,9 +454,7 @@ std::size_t CertifiedChecker::check_edges(const double* q0, const double* q1, st
                                           FallbackStats* stats) const {
   const std::size_t dof = checker_.num_positions();
   check_threads(threads);
-  checker_.validate(q0, n);  // no exception may leave the parallel loop
-  checker_.validate(q1, n);
-  checker_.edge_steps(q0, q0, resolution);
+  checker_.validate_edges(q0, q1, n, resolution);  // no exception may leave the parallel loop
   std::vector<FallbackStats> each(n);
   std::vector<std::size_t> checked(n, 0);
 #pragma omp parallel for schedule(dynamic, 4) num_threads(thread_count(threads))

@@ -6,6 +6,7 @@
 #include <memory>
 #include <stdexcept>
 
+#include "medspheres/number_text.h"
 #include "medspheres/sample_configurations.h"
 #include "medspheres/threads.h"
 
@@ -206,6 +207,28 @@ struct RobotChecker::Impl {
 
 namespace {
 
+void check_resolution(double resolution) {
+  if (!std::isfinite(resolution) || resolution <= 0.0)
+    throw std::invalid_argument("robot checker: the edge resolution must be finite and > 0, got " +
+                                number_text(resolution));
+}
+
+// The n of an edge (robot_checker.h), checked: a resolution that is not finite and > 0, or
+// that would give more than kMaxEdgeSteps configurations, is refused (\p edge: its index).
+std::size_t steps_of(const double* q0, const double* q1, std::size_t dof, double resolution,
+                     std::size_t edge) {
+  check_resolution(resolution);
+  double s = 0.0;
+  for (std::size_t j = 0; j < dof; ++j) s += (q1[j] - q0[j]) * (q1[j] - q0[j]);
+  const double n = std::ceil(std::sqrt(s) / resolution);
+  if (!(n <= double(kMaxEdgeSteps)))
+    throw std::invalid_argument("robot checker: edge " + std::to_string(edge) + " is " +
+                                number_text(std::sqrt(s)) + " long: the resolution " +
+                                number_text(resolution) + " would check more than " +
+                                std::to_string(kMaxEdgeSteps) + " configurations on it");
+  return std::max<std::size_t>(1, static_cast<std::size_t>(n));
+}
+
 // The objects near a lane's posed covering spheres (the last level's), or every object
 // when the link has no covering set; in the float pass, also those within its slack more.
 void scene_objects(const detail::RobotLayout& layout, const detail::SceneGrid& grid,
@@ -306,10 +329,7 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
 Verdict RobotChecker::Impl::edge(detail::Workspace& w, const double* q0, const double* q1,
                                  double resolution, Mode mode, std::vector<double>* undecided_t,
                                  std::size_t& checked) const {
-  double s = 0.0;
-  for (std::size_t j = 0; j < layout.dof; ++j) s += (q1[j] - q0[j]) * (q1[j] - q0[j]);
-  const auto n =
-      std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(s) / resolution)));
+  const std::size_t n = steps_of(q0, q1, layout.dof, resolution, 0);
   const std::size_t run = (n + 1 + detail::kLanes - 1) / detail::kLanes;  // samples per lane
   bool undecided = false;
   for (std::size_t step = 0; step < run; ++step) {
@@ -818,11 +838,18 @@ void RobotChecker::check_bounds(const double* q, std::size_t n, Verdict* out,
 }
 
 std::size_t RobotChecker::edge_steps(const double* q0, const double* q1, double resolution) const {
-  if (!std::isfinite(resolution) || resolution <= 0.0)
-    throw std::invalid_argument("robot checker: the edge resolution must be finite and > 0");
-  double s = 0.0;
-  for (std::size_t j = 0; j < impl_->layout.dof; ++j) s += (q1[j] - q0[j]) * (q1[j] - q0[j]);
-  return std::max<std::size_t>(1, static_cast<std::size_t>(std::ceil(std::sqrt(s) / resolution)));
+  return steps_of(q0, q1, impl_->layout.dof, resolution, 0);
+}
+
+void RobotChecker::validate_edges(const double* q0, const double* q1, std::size_t n,
+                                  double resolution) const {
+  const std::size_t dof = impl_->layout.dof;
+  check_resolution(resolution);
+  for (std::size_t i = 0; i < n; ++i) {
+    impl_->validate(q0 + i * dof, i);
+    impl_->validate(q1 + i * dof, i);
+    steps_of(q0 + i * dof, q1 + i * dof, dof, resolution, i);
+  }
 }
 
 Verdict RobotChecker::check_edge(const double* q0, const double* q1, double resolution, Mode mode,
@@ -844,11 +871,7 @@ std::size_t RobotChecker::check_edges(const double* q0, const double* q1, std::s
   const Impl& m = *impl_;
   const std::size_t dof = m.layout.dof;
   check_threads(threads);
-  for (std::size_t i = 0; i < n; ++i) {
-    m.validate(q0 + i * dof, i);
-    m.validate(q1 + i * dof, i);
-  }
-  edge_steps(q0, q1, resolution);  // validates the resolution
+  validate_edges(q0, q1, n, resolution);
   std::size_t total = 0;
 #pragma omp parallel num_threads(thread_count(threads)) reduction(+ : total)
   {

@@ -37,7 +37,8 @@
 /// pairs of a self-collision matrix).
 ///
 /// Edges: the configurations q(t_k) = q0 + t_k (q1 - q0), t_k = k / n, k = 0 ... n, with
-/// n = max(1, ceil(|q1 - q0| / resolution)) (Euclidean norm over the joints), are checked
+/// n = max(1, ceil(|q1 - q0| / resolution)) (Euclidean norm over the joints; at most
+/// kMaxEdgeSteps, else std::invalid_argument naming the edge before any work), are checked
 /// in VAMP's rake order: the k split into kLanes runs of consecutive samples, one run per
 /// lane, all runs stepped together, stopping at the first colliding one.
 ///
@@ -62,6 +63,9 @@
 #include "medspheres/robot_model.h"
 
 namespace medspheres::check {
+
+/// The most configurations one edge may check (robot_checker.h's edges).
+inline constexpr std::size_t kMaxEdgeSteps = 1'000'000'000;
 
 enum class Mode { spheres, bounds };
 enum class Verdict : std::uint8_t { free = 0, colliding = 1, undecided = 2 };
@@ -200,6 +204,9 @@ class RobotChecker {
                      std::size_t* checked = nullptr) const;
   /// The n of an edge (file comment).
   std::size_t edge_steps(const double* q0, const double* q1, double resolution) const;
+  /// Throws what check_edges() would for these \p n edges (their configurations, the
+  /// resolution, each edge's n), before any work.
+  void validate_edges(const double* q0, const double* q1, std::size_t n, double resolution) const;
 
  private:
   struct Impl;
