@@ -11,7 +11,9 @@ namespace medspheres::check::detail {
 std::vector<double> boxes_distance_transform(const std::vector<Element>& elements,
                                              const double* origin, double h, const int* n,
                                              double pad) {
-  std::vector<bool> touched(std::size_t(n[0]) * std::size_t(n[1]) * std::size_t(n[2]), false);
+  const std::size_t count = static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]) *
+                            static_cast<std::size_t>(n[2]);
+  std::vector<bool> touched(count, false);
   for (const Element& e : elements) {
     int lo[3], hi[3];
     for (int k = 0; k < 3; ++k) {
