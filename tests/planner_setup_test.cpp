@@ -73,6 +73,19 @@ TEST_CASE("tool frames: per branch the link that carries the gripper, else the b
   // link l1 carries what only finger joints move.
   CHECK(default_tool_frames(test::three_link_arm(), &from) == Names{"l1"});
   CHECK(from == "gripper");
+  // A telescoping arm: a prismatic joint (extend) between the wrist and the link that
+  // carries the two fingers. The jaws' carrier is the tool frame, and extend stays a joint
+  // of the arm (it is not locked with the fingers).
+  RobotModel telescope = m;
+  telescope.links.push_back(make_link("slide"));
+  telescope.joints.push_back(
+      make_joint("extend", JointType::kPrismatic, "wrist", "slide", {0, 0, 0.1}));
+  telescope.joints.back().limits = JointLimits{0, 0.3, 1, 1};
+  for (Joint& j : telescope.joints)
+    if (j.name == "fl" || j.name == "fr") j.parent = "slide";
+  CHECK(default_tool_frames(telescope, &from) == Names{"slide", "cam"});  // the gripper first
+  CHECK(from == "gripper");
+  CHECK(finger_joints(telescope, {"slide"}) == Names{"fl"});
   // One link, no joint: the root.
   RobotModel one;
   one.links.push_back(make_link("only"));

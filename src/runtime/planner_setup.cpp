@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cmath>
 #include <map>
+#include <optional>
 #include <set>
 #include <string>
 
@@ -56,9 +57,24 @@ std::vector<std::size_t> reach(const RobotModel& m, const Tree& t, std::size_t f
   return out;
 }
 
-bool has_finger_child(const Tree& t, std::size_t link) {
-  return std::any_of(t.children[link].begin(), t.children[link].end(),
-                     [](const Joint* j) { return is_finger(*j); });
+std::size_t finger_children(const Tree& t, std::size_t link) {
+  return std::size_t(std::count_if(t.children[link].begin(), t.children[link].end(),
+                                   [](const Joint* j) { return is_finger(*j); }));
+}
+
+// The link that carries the gripper of the branch that ends at link \p end (or none): the
+// first link by index, below \p end through fixed and finger joints, with two or more finger
+// children (a gripper's jaws), so that a prismatic joint above the jaws (a telescoping arm)
+// stays a joint of the arm; else the first, through fixed joints only, with a finger child.
+std::optional<std::size_t> gripper_carrier(const RobotModel& m, const Tree& t, std::size_t end) {
+  const auto first_with = [&](auto&& follow, std::size_t fingers) -> std::optional<std::size_t> {
+    std::optional<std::size_t> out;
+    for (std::size_t r : reach(m, t, end, follow))
+      if (finger_children(t, r) >= fingers && (!out || r < *out)) out = r;
+    return out;
+  };
+  if (auto jaws = first_with([](const Joint& j) { return !moves_arm(j); }, 2)) return jaws;
+  return first_with([](const Joint& j) { return j.type == JointType::kFixed; }, 1);
 }
 
 [[noreturn]] void fail(const std::string& source, const std::string& problem) {
@@ -108,24 +124,20 @@ std::vector<std::string> default_tool_frames(const RobotModel& model, std::strin
     for (std::size_t b : reach(model, t, l, non_arm))
       for (const Joint* j : t.children[b]) end = end && !moves_arm(*j);
     if (!end) continue;
-    std::size_t tool = l;
-    bool gripper = false;
-    for (std::size_t r :
-         reach(model, t, l, [](const Joint& j) { return j.type == JointType::kFixed; }))
-      if (has_finger_child(t, r) && (!gripper || r < tool)) {
-        tool = r;
-        gripper = true;
-      }
+    const std::optional<std::size_t> carrier = gripper_carrier(model, t, l);
+    const std::size_t tool = carrier.value_or(l);
     is_tool[tool] = true;
-    by_gripper[tool] = gripper;
+    by_gripper[tool] = carrier.has_value();
   }
+  // The grippers' carriers first (a planner takes the first as its primary end effector).
   std::vector<std::string> out;
-  for (std::size_t l = 0; l < model.links.size(); ++l) {
-    if (!is_tool[l]) continue;
-    if (out.empty() && from)
-      *from = by_gripper[l] ? "gripper" : (t.parent[l] == nullptr ? "root" : "branch");
-    out.push_back(model.links[l].name);
-  }
+  for (const bool gripper : {true, false})
+    for (std::size_t l = 0; l < model.links.size(); ++l) {
+      if (!is_tool[l] || by_gripper[l] != gripper) continue;
+      if (out.empty() && from)
+        *from = gripper ? "gripper" : (t.parent[l] == nullptr ? "root" : "branch");
+      out.push_back(model.links[l].name);
+    }
   return out;
 }
 
