@@ -347,12 +347,24 @@ TEST_CASE("robot: --from-visual bakes a link's visual geometry where it has no c
     REQUIRE(v != nullptr);
     CHECK(v->spheres.inner.empty() == !visual);
     CHECK_THAT(r.out, Contains(visual ? "visual geometry" : "no collision geometry"));
+    // cuRobo's URDF parser needs a <limit> on a continuous joint: said by name.
+    CHECK_THAT(r.err, Contains("continuous joint 'j' has no <limit>"));
     // The capsule's inner spheres lie inside it: within r of its axis segment.
     for (const medspheres::Sphere& s : v->spheres.inner.spheres) {
       const double z = std::clamp(s.center.z(), -0.1, 0.1);
       CHECK((s.center - Eigen::Vector3d(0, 0, z)).norm() + s.radius <= 0.05 * (1 + 1e-12));
     }
   }
+  // With the limit, no warning.
+  std::string text = medspheres::test::read_file(urdf);
+  const std::string axis = R"(<axis xyz="0 1 0"/>)";
+  text.replace(text.find(axis), axis.size(), axis + R"(<limit effort="1" velocity="1"/>)");
+  const std::string limited = dir.write("limited.urdf", text);
+  const CommandResult r =
+      cli("robot " + shell_quote(limited) + " -o " + shell_quote(dir.file("limited")) +
+          " --spheres-per-link 4 --no-outer --format robot");
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.err, !Contains("no <limit>"));
 }
 
 TEST_CASE("robot: --target-error and --dilate apply to every link", "[cli][robot]") {

@@ -161,6 +161,17 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run) {
               << " touch at the default configuration\n";
 }
 
+// URDF allows a continuous joint without <limit>, but cuRobo's URDF parser (v1 and v2) reads
+// the element's effort and velocity and fails on such a robot before it reads any
+// configuration, cuRobo's own as well as the files written here.
+void warn_unlimited_continuous(const RobotModel& model, const std::string& urdf) {
+  for (const Joint& j : model.joints)
+    if (j.type == JointType::kContinuous && !j.limits)
+      std::cerr << "medspheres: warning: " << urdf << ": continuous joint '" << j.name
+                << "' has no <limit>; cuRobo's URDF parser needs one (effort and velocity) to "
+                   "load this robot with any configuration\n";
+}
+
 // The options of the run as the robot file's provenance ("options" in its metadata): every
 // flag that changes the spheres, as given (lengths as written, before L is resolved).
 std::string options_json(const RobotArgs& a) {
@@ -293,6 +304,7 @@ int run_robot(const RobotArgs& a) {
     std::cout << "the planner formats carry each link's "
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
     print_planner_summary(*r.bake.model.planner, r.planner);
+    warn_unlimited_continuous(r.bake.model, urdf);
   }
   return kExitOk;
 }
