@@ -242,6 +242,14 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
     CHECK_THAT(r.err, Contains(flag + ": must be an integer >= 0, got -1"));
     CHECK_FALSE(fs::exists(dir.file("out")));
   }
+  // A job count out of range is refused by its name, one robot or a batch of two.
+  for (const std::string jobs : {"-1", "2000"})
+    for (const std::string& robots :
+         {shell_quote(urdf), shell_quote(urdf) + " " + shell_quote(urdf)}) {
+      const CommandResult r = cli("robot " + robots + " -o " + out + pkg + " --jobs " + jobs);
+      CHECK(r.exit_code == 2);
+      CHECK_THAT(r.err, Contains("--jobs: must be in [0, 1024]"));
+    }
   dir.write("file", "x");
   CHECK(
       cli("robot " + shell_quote(urdf) + " -o " + shell_quote(dir.file("file")) + pkg).exit_code ==

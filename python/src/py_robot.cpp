@@ -18,6 +18,7 @@
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
+#include "medspheres/thread_option.h"
 #include "py_common.h"
 
 namespace medspheres::python {
@@ -104,6 +105,7 @@ std::map<std::string, std::vector<Sphere>> link_spheres_arg(const py::object& ar
 }
 
 RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
+  check_threads_option(a.jobs, "jobs");  // by its name here, before it sizes the matrix too
   RobotBakeOptions options;
   BakeFlags flags = a.flags;
   if (a.resolution) flags.resolution = *a.resolution;

@@ -10,7 +10,7 @@
 #include "cli_common.h"
 #include "medspheres/batch/batch.h"
 #include "medspheres/io.h"
-#include "medspheres/threads.h"
+#include "medspheres/thread_option.h"
 
 namespace medspheres::cli {
 
@@ -157,8 +157,7 @@ int run_batch(const std::vector<std::string>& inputs, const std::string& out,
                              "'" + out +
                                  "' exists and is not a folder (-o names the output "
                                  "folder of a batch)");
-  if (const std::string problem = threads_problem(flags.jobs); !problem.empty())
-    throw InputError::option(ErrorKind::kOutOfRange, "jobs", std::to_string(flags.jobs), problem);
+  check_threads_option(flags.jobs, "jobs");
   BatchSettings options;
   options.output_dir = out;
   options.cache_dir = flags.cache;

@@ -25,6 +25,7 @@
 #include "medspheres/robot/urdf_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_file.h"
+#include "medspheres/thread_option.h"
 #include "solid_flags.h"
 
 namespace medspheres::cli {
@@ -239,7 +240,7 @@ RobotJob robot_job(const RobotArgs& a) {
     throw InputError::option(ErrorKind::kConflict, "fill_covers", "",
                              "fills the covering sets, which --no-outer leaves out");
   job.bake.fill_thin_shell_covers = a.fill_covers;
-  check_threads(a.batch.jobs);
+  check_threads_option(a.batch.jobs, "jobs");
   job.formats = formats::robot_output_formats(a.formats);
   job.set = formats::parse_set_choice(a.set);
   for (const std::string& p : a.packages) add_package_dir(job.read.packages, p);

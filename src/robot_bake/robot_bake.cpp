@@ -22,6 +22,7 @@
 #include "medspheres/mesh/cover_certificate_json.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/number_text.h"
+#include "medspheres/thread_option.h"
 #include "medspheres/threads.h"
 #include "medspheres/version.h"
 
@@ -365,7 +366,7 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
   const Clock::time_point start = Clock::now();
   if (solids.size() != robot.links.size() || robot.model.links.size() != robot.links.size())
     throw std::invalid_argument("bake_robot: one solid and one model link per link are needed");
-  check_threads(options.jobs);
+  check_threads_option(options.jobs, "jobs");
   validate(options.request);
   const std::vector<std::optional<std::size_t>> budgets =
       link_bake_budgets(solids, options.budget, robot.path);

@@ -8,10 +8,21 @@
 #include "medspheres/threads.h"
 
 #include <algorithm>
+#include <string>
+#include <utility>
 
 #include <omp.h>
 
+#include "medspheres/error.h"
+#include "medspheres/thread_option.h"
+
 namespace medspheres {
+
+void check_threads_option(int threads, const char* field) {
+  if (std::string problem = threads_problem(threads); !problem.empty())
+    throw InputError::option(ErrorKind::kOutOfRange, field, std::to_string(threads),
+                             std::move(problem));
+}
 
 int thread_count(int threads) {
   check_threads(threads);
