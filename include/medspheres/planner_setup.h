@@ -104,14 +104,12 @@ struct PlannerSetup {
   std::optional<SelfCollisionMatrix> self_collision;
 };
 
-/// Per branch of the tree, the link a planner reports: the last link moved by a joint that
-/// is not a finger joint (prismatic, or a mimic joint), or the link that carries a gripper
-/// below it instead: the first link, through fixed and finger joints, with two or more
-/// finger joints among its child joints (the jaws; a prismatic joint above them, as in a
-/// telescoping arm, stays the arm's), else the first link rigidly attached (fixed joints)
-/// with one. The grippers' carriers first, then the other branches' ends, each in model
-/// link order; the root link when the robot has no such joint. \p from receives "gripper",
-/// "branch" or "root" (the first tool frame's reason).
+/// Per branch of the tree, the link a planner reports: the last link moved by a joint that is not
+/// a finger joint (prismatic, or mimic), or the link that carries a gripper below it: the first
+/// with two or more finger joints among its child joints (the jaws; a prismatic joint above them
+/// stays the arm's), else the first rigidly attached (fixed joints) with one. Grippers first, then
+/// the other branches' ends, in link order; the root when no joint moves an arm. \p from receives
+/// "gripper", "branch" or "root" (the first tool frame's reason).
 std::vector<std::string> default_tool_frames(const RobotModel& model, std::string* from = nullptr);
 
 /// The finger joints (prismatic or mimic) that move links below \p tool_frames without any
