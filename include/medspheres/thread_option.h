@@ -1,7 +1,7 @@
 #pragma once
 /// \file
-/// A thread count given by a user (the CLI's --jobs, Python's jobs=), refused by the
-/// option's name: the check of threads.h as an InputError, for public entry points.
+/// A thread count given by a user (the CLI's --jobs, Python's jobs= and threads=, an options
+/// struct's threads), refused by the option's name: threads.h's check as an InputError.
 
 namespace medspheres {
 

@@ -9,7 +9,7 @@
 
 #include "medspheres/error.h"
 #include "medspheres/mesh/cover_certificate_json.h"
-#include "medspheres/threads.h"
+#include "medspheres/thread_option.h"
 
 namespace medspheres {
 
@@ -41,8 +41,7 @@ FitOptions fit_options(long long samples, long long surface_samples, std::uint64
   if (surface_samples < 1)
     throw out_of_range("surface_samples", surface_samples,
                        "must be >= 1, got " + std::to_string(surface_samples));
-  if (std::string problem = threads_problem(threads); !problem.empty())
-    throw out_of_range("threads", threads, std::move(problem));
+  check_threads_option(threads, "threads");
   FitOptions options;
   options.volume_samples = static_cast<std::size_t>(samples);
   options.surface_samples = static_cast<std::size_t>(surface_samples);

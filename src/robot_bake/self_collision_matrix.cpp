@@ -12,6 +12,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/number_text.h"
+#include "medspheres/thread_option.h"
 #include "medspheres/threads.h"
 
 namespace medspheres {
@@ -251,8 +252,7 @@ void validate(const SelfCollisionOptions& o) {
     bad_option("self_collision_threshold", number_text(o.threshold), "must be in (0, 1]");
   if (!std::isfinite(o.margin) || o.margin < 0.0)
     bad_option("self_collision_margin", number_text(o.margin), "must be finite and >= 0 (metres)");
-  const std::string problem = threads_problem(o.threads);
-  if (!problem.empty()) bad_option("threads", std::to_string(o.threads), problem);
+  check_threads_option(o.threads, "threads");
 }
 
 SelfCollisionRun compute_self_collision(const RobotModel& model, const LinkSolids& solids,
