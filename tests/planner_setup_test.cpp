@@ -63,10 +63,14 @@ TEST_CASE("tool frames: per branch the link that carries the gripper, else the b
   CHECK(finger_joints(m, {"upper"}).empty());         // j2 moves between
   CHECK(finger_joints(m, {"cam"}).empty());
 
-  // Without fingers the branch ends are the last links an arm joint moves.
+  // Without fingers: the frame fixed to a branch's end that is named as a tool frame is
+  // (tcp), else the last link an arm joint moves.
   RobotModel bare = m;
   bare.joints.erase(bare.joints.begin() + 4, bare.joints.begin() + 6);
   bare.links.erase(bare.links.begin() + 5, bare.links.begin() + 7);
+  CHECK(default_tool_frames(bare, &from) == Names{"tcp", "cam"});
+  CHECK(from == "frame");
+  bare.links[4].name = bare.joints[3].child = "mount";
   CHECK(default_tool_frames(bare, &from) == Names{"lower", "cam"});
   CHECK(from == "branch");
   // The three-link arm: j1 revolute, j2 prismatic (a finger joint), j3 mimic (finger): the
@@ -91,6 +95,93 @@ TEST_CASE("tool frames: per branch the link that carries the gripper, else the b
   one.links.push_back(make_link("only"));
   CHECK(default_tool_frames(one, &from) == Names{"only"});
   CHECK(from == "root");
+}
+
+namespace {
+
+// A chain of revolute joints from \p parent: links prefix1 .. prefixN, each joint's origin
+// \p step from its parent (limits [-1, 1]; \p type for every joint).
+void add_chain(RobotModel& m, const std::string& parent, const std::string& prefix, int n,
+               const Eigen::Vector3d& step, JointType type = JointType::kRevolute) {
+  std::string above = parent;
+  for (int k = 1; k <= n; ++k) {
+    const std::string link = prefix + std::to_string(k);
+    m.links.push_back(make_link(link));
+    m.joints.push_back(make_joint(link + "_joint", type, above, link, step));
+    m.joints.back().limits = JointLimits{-1, 1, 1, 1};
+    above = link;
+  }
+}
+
+void add_fixed(RobotModel& m, const std::string& parent, const std::string& child) {
+  m.links.push_back(make_link(child));
+  m.joints.push_back(make_joint(child + "_joint", JointType::kFixed, parent, child, {0, 0, 0.02}));
+}
+
+// An arm of six revolute joints 0.2 m apart from "base", its last link "arm6".
+RobotModel six_joint_arm() {
+  RobotModel m;
+  m.name = "six";
+  m.root_link = "base";
+  m.links.push_back(make_link("base"));
+  add_chain(m, "base", "arm", 6, {0, 0, 0.2});
+  return m;
+}
+
+}  // namespace
+
+TEST_CASE("tool frames: flange frames by name, hands by their fingers' reach", "[planner]") {
+  std::string from;
+  // A UR-like flange: arm6 -> flange -> tool0 and flange -> camera_mount, all fixed.
+  RobotModel ur = six_joint_arm();
+  add_fixed(ur, "arm6", "flange");
+  add_fixed(ur, "flange", "camera_mount");
+  add_fixed(ur, "flange", "tool0");
+  CHECK(default_tool_frames(ur, &from) == Names{"tool0"});
+  CHECK(from == "frame");
+  CHECK(finger_joints(ur, {"tool0"}).empty());
+  // A Kinova-like one: tool_frame ranks above end_effector_link, which is nearer.
+  RobotModel kinova = six_joint_arm();
+  add_fixed(kinova, "arm6", "end_effector_link");
+  add_fixed(kinova, "end_effector_link", "camera_link");
+  add_fixed(kinova, "end_effector_link", "Tool_Frame");
+  CHECK(default_tool_frames(kinova, &from) == Names{"Tool_Frame"});
+
+  // A Jaco-like hand: three fingers of two revolute joints each, 5 cm a joint.
+  RobotModel jaco = six_joint_arm();
+  add_fixed(jaco, "arm6", "end_effector");
+  for (const char* f : {"a", "b", "c"})
+    add_chain(jaco, "arm6", std::string("finger_") + f, 2, {0.02, 0, 0.05});
+  CHECK(default_tool_frames(jaco, &from) == Names{"arm6"});
+  CHECK(from == "gripper");
+  CHECK(finger_joints(jaco, {"arm6"}) == Names{"finger_a1_joint", "finger_a2_joint",
+                                               "finger_b1_joint", "finger_b2_joint",
+                                               "finger_c1_joint", "finger_c2_joint"});
+  // The same fingers 15 cm a joint reach beyond a hand's (kHandReach): legs, not fingers.
+  RobotModel legs = six_joint_arm();
+  for (const char* f : {"a", "b", "c"})
+    add_chain(legs, "arm6", std::string("leg_") + f, 2, {0.02, 0, 0.15});
+  CHECK(default_tool_frames(legs, &from) == Names{"leg_a2", "leg_b2", "leg_c2"});
+  CHECK(from == "branch");
+  CHECK(finger_joints(legs, {"leg_a2"}).empty());
+  // Continuous joints are wheels, not fingers, however near.
+  RobotModel wheels = six_joint_arm();
+  for (const char* f : {"l", "r"})
+    add_chain(wheels, "base", std::string("wheel_") + f, 1, {0, 0.1, 0}, JointType::kContinuous);
+  CHECK(default_tool_frames(wheels, &from) == Names{"arm6", "wheel_l1", "wheel_r1"});
+
+  // A Robotiq-like linkage: a revolute driver and three revolute joints that mimic it, all
+  // on the gripper's base; the driver alone is locked.
+  RobotModel robotiq = six_joint_arm();
+  add_fixed(robotiq, "arm6", "gripper_base");
+  for (const char* f : {"drive", "inner_l", "outer_r", "inner_r"})
+    add_chain(robotiq, "gripper_base", f, 1, {0, 0.03, 0.05});
+  for (std::size_t k = robotiq.joints.size() - 3; k < robotiq.joints.size(); ++k)
+    robotiq.joints[k].mimic = JointMimic{"drive1_joint", 1.0, 0.0};
+  add_fixed(robotiq, "gripper_base", "grasp_frame");
+  CHECK(default_tool_frames(robotiq, &from) == Names{"gripper_base"});
+  CHECK(from == "gripper");
+  CHECK(finger_joints(robotiq, {"gripper_base"}) == Names{"drive1_joint"});
 }
 
 TEST_CASE("the clamped zero pose, rigid bodies and adjacency over links with geometry",

@@ -87,9 +87,9 @@ struct SelfCollisionMatrix {
 struct PlannerSetup {
   /// Links whose poses a planner reports; the first is the primary end effector.
   std::vector<std::string> tool_frames;
-  /// How they were chosen: "option" (given), "srdf" (an SRDF's end effectors), "gripper"
-  /// (the link that carries a gripper, per branch), "branch" (the last moving link of a
-  /// branch), "root" (a robot without moving joints).
+  /// How they were chosen: "option" (given), "srdf" (an SRDF's end effectors), "gripper" (the
+  /// link that carries a gripper or hand, per branch), "frame" (a tool frame by its name), "branch"
+  /// (the last moving link of a branch), "root" (a robot without moving joints).
   std::string tool_frames_from;
   /// Actuated joints held at their default position while planning (cuRobo's lock_joints).
   std::vector<std::string> locked_joints;
@@ -104,16 +104,16 @@ struct PlannerSetup {
   std::optional<SelfCollisionMatrix> self_collision;
 };
 
-/// Per branch of the tree, the link a planner reports: the last link moved by a joint that is not
-/// a finger joint (prismatic, or mimic), or the link that carries a gripper below it: the first
-/// with two or more finger joints among its child joints (the jaws; a prismatic joint above them
-/// stays the arm's), else the first rigidly attached (fixed joints) with one. Grippers first, then
-/// the other branches' ends, in link order; the root when no joint moves an arm. \p from receives
-/// "gripper", "branch" or "root" (the first tool frame's reason).
+/// Per branch, the link a planner reports: the carrier of a gripper or hand below the branch's end
+/// (the last link moved by a joint that is not a finger's: docs/self-collision.md), else a frame
+/// fixed to that end named as a tool frame is (tool0, tool_frame, tcp, ...), else the end itself.
+/// A carrier: the first link with two or more finger joints among its child joints (the jaws; a
+/// prismatic joint above them stays the arm's), else the first rigidly attached with one. Grippers
+/// first, then link order. \p from: "gripper", "frame", "branch" or "root" (the first's reason).
 std::vector<std::string> default_tool_frames(const RobotModel& model, std::string* from = nullptr);
 
-/// The finger joints (prismatic or mimic) that move links below \p tool_frames without any
-/// other moving joint between: the gripper's own joints, held at their default while
+/// The finger joints (prismatic, mimic, a hand's) that move links below \p tool_frames without
+/// any other moving joint between: the gripper's own joints, held at their default while
 /// planning. Only actuated joints (not mimic ones), in model joint order.
 std::vector<std::string> finger_joints(const RobotModel& model,
                                        const std::vector<std::string>& tool_frames);

@@ -378,7 +378,8 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
   sub->add_option("--tool-frame", a->tool_frames,
                   "A link the planner files report (repeatable; the first is the primary end "
                   "effector; default: the SRDF's end effectors, else per branch the link that "
-                  "carries the gripper)");
+                  "carries the gripper or hand, else a frame fixed to the arm's end named as a "
+                  "tool frame (tool0, tool_frame, tcp, ...), else the arm's last link)");
   sub->add_option("--srdf", a->srdf,
                   "An SRDF whose disabled pairs are taken as given and whose end effectors "
                   "are the tool frames");

@@ -3,12 +3,16 @@
 #include "medspheres/planner_setup.h"
 
 #include <algorithm>
+#include <cctype>
 #include <cmath>
+#include <iterator>
 #include <map>
 #include <optional>
 #include <set>
 #include <string>
 
+#include "gripper_joints.h"
+#include "link_tree.h"
 #include "medspheres/error.h"
 #include "medspheres/robot_model.h"
 
@@ -19,31 +23,15 @@ namespace {
 constexpr const char* kClassNames[] = {"adjacent", "always",  "never", "sphere_only",
                                        "default",  "checked", "given"};
 
-bool is_finger(const Joint& j) {
-  return j.type != JointType::kFixed && (j.type == JointType::kPrismatic || j.mimic.has_value());
-}
+// The tree, and which joints are a gripper's or a hand's (gripper_joints.h): its fingers.
+struct Tree : detail::LinkTree {
+  std::vector<bool> gripper;
+  const Joint* first;
 
-bool moves_arm(const Joint& j) {
-  return j.type != JointType::kFixed && !is_finger(j);
-}
-
-// The tree by link index: each link's child joints, and each link's parent joint (or null).
-struct Tree {
-  std::vector<std::vector<const Joint*>> children;
-  std::vector<const Joint*> parent;
-
-  explicit Tree(const RobotModel& m) : children(m.links.size()), parent(m.links.size(), nullptr) {
-    for (const Joint& j : m.joints) {
-      const std::size_t p = index(m, j.parent), c = index(m, j.child);
-      children[p].push_back(&j);
-      parent[c] = &j;
-    }
-  }
-  static std::size_t index(const RobotModel& m, const std::string& link) {
-    for (std::size_t i = 0; i < m.links.size(); ++i)
-      if (m.links[i].name == link) return i;
-    throw std::invalid_argument("planner setup: no link \"" + link + "\"");
-  }
+  explicit Tree(const RobotModel& m)
+      : LinkTree(m), gripper(detail::gripper_joints(m)), first(m.joints.data()) {}
+  bool is_finger(const Joint& j) const { return gripper[std::size_t(&j - first)]; }
+  bool moves_arm(const Joint& j) const { return j.type != JointType::kFixed && !is_finger(j); }
 };
 
 // The links below \p from (itself included) reached through joints \p follow accepts.
@@ -59,7 +47,7 @@ std::vector<std::size_t> reach(const RobotModel& m, const Tree& t, std::size_t f
 
 std::size_t finger_children(const Tree& t, std::size_t link) {
   return std::size_t(std::count_if(t.children[link].begin(), t.children[link].end(),
-                                   [](const Joint* j) { return is_finger(*j); }));
+                                   [&t](const Joint* j) { return t.is_finger(*j); }));
 }
 
 // The link that carries the gripper of the branch that ends at link \p end (or none): the
@@ -73,8 +61,45 @@ std::optional<std::size_t> gripper_carrier(const RobotModel& m, const Tree& t, s
       if (finger_children(t, r) >= fingers && (!out || r < *out)) out = r;
     return out;
   };
-  if (auto jaws = first_with([](const Joint& j) { return !moves_arm(j); }, 2)) return jaws;
+  if (auto jaws = first_with([&t](const Joint& j) { return !t.moves_arm(j); }, 2)) return jaws;
   return first_with([](const Joint& j) { return j.type == JointType::kFixed; }, 1);
+}
+
+// Whether \p name is \p stem, or ends with "_" and it.
+bool named(const std::string& name, const std::string& stem) {
+  if (name.size() < stem.size() || name.compare(name.size() - stem.size(), stem.size(), stem) != 0)
+    return false;
+  return name.size() == stem.size() || name[name.size() - stem.size() - 1] == '_';
+}
+
+// How telling a link's name is of a tool frame (lower is more; npos: not one): "tool0" or
+// another "toolN" (ROS-Industrial's flange frames), then "tool_frame", "tcp", "grasp_frame",
+// "ee_link", "end_effector_link", "end_effector", "ee"; the name itself or a suffix after
+// "_", in any case.
+std::size_t tool_name_rank(std::string name) {
+  static const char* const kNames[] = {
+      "tool_frame", "tcp", "grasp_frame", "ee_link", "end_effector_link", "end_effector", "ee"};
+  std::transform(name.begin(), name.end(), name.begin(),
+                 [](unsigned char c) { return char(std::tolower(c)); });
+  const std::size_t digits_from = name.find_last_not_of("0123456789") + 1;  // 0 if all digits
+  if (digits_from < name.size() && named(name.substr(0, digits_from), "tool")) return 0;
+  for (std::size_t k = 0; k < std::size(kNames); ++k)
+    if (named(name, kNames[k])) return k + 1;
+  return std::string::npos;
+}
+
+// The link below the branch end \p end, through fixed joints, whose name is the most
+// telling of a tool frame (tool_name_rank; then the nearest, then the first in model
+// order), or none.
+std::optional<std::size_t> named_tool_frame(const RobotModel& m, const Tree& t, std::size_t end) {
+  std::optional<std::size_t> best;
+  std::size_t best_rank = std::string::npos;
+  for (std::size_t r : reach(m, t, end, [](const Joint& j) { return j.type == JointType::kFixed; }))
+    if (const std::size_t k = tool_name_rank(m.links[r].name); r != end && k < best_rank) {
+      best = r;
+      best_rank = k;
+    }
+  return best;
 }
 
 [[noreturn]] void fail(const std::string& source, const std::string& problem) {
@@ -113,21 +138,25 @@ const char* srdf_reason(PairClass kind) {
 
 std::vector<std::string> default_tool_frames(const RobotModel& model, std::string* from) {
   const Tree t(model);
-  std::vector<bool> is_tool(model.links.size(), false), by_gripper(model.links.size(), false);
+  std::vector<bool> is_tool(model.links.size(), false), by_gripper(model.links.size(), false),
+      by_name(model.links.size(), false);
   for (std::size_t l = 0; l < model.links.size(); ++l) {
-    if (t.parent[l] != nullptr && !moves_arm(*t.parent[l])) continue;
+    if (t.parent[l] != nullptr && !t.moves_arm(*t.parent[l])) continue;
     // A branch's end (or the root of a robot whose arm joints are none): below it, only
     // fixed and finger joints. Any arm joint reachable from the root has its parent link
     // reached through non-arm joints, so the root is an end exactly when there is none.
-    const auto non_arm = [](const Joint& j) { return !moves_arm(j); };
+    const auto non_arm = [&t](const Joint& j) { return !t.moves_arm(j); };
     bool end = true;
     for (std::size_t b : reach(model, t, l, non_arm))
-      for (const Joint* j : t.children[b]) end = end && !moves_arm(*j);
+      for (const Joint* j : t.children[b]) end = end && !t.moves_arm(*j);
     if (!end) continue;
+    // A gripper's carrier, else the tool frame fixed to the branch's end, else the end.
     const std::optional<std::size_t> carrier = gripper_carrier(model, t, l);
-    const std::size_t tool = carrier.value_or(l);
+    const std::optional<std::size_t> frame = carrier ? carrier : named_tool_frame(model, t, l);
+    const std::size_t tool = frame.value_or(l);
     is_tool[tool] = true;
     by_gripper[tool] = carrier.has_value();
+    by_name[tool] = frame && !carrier;
   }
   // The grippers' carriers first (a planner takes the first as its primary end effector).
   std::vector<std::string> out;
@@ -135,7 +164,9 @@ std::vector<std::string> default_tool_frames(const RobotModel& model, std::strin
     for (std::size_t l = 0; l < model.links.size(); ++l) {
       if (!is_tool[l] || by_gripper[l] != gripper) continue;
       if (out.empty() && from)
-        *from = gripper ? "gripper" : (t.parent[l] == nullptr ? "root" : "branch");
+        *from = gripper      ? "gripper"
+                : by_name[l] ? "frame"
+                             : (t.parent[l] == nullptr ? "root" : "branch");
       out.push_back(model.links[l].name);
     }
   return out;
@@ -146,10 +177,10 @@ std::vector<std::string> finger_joints(const RobotModel& model,
   const Tree t(model);
   std::set<std::string> names;
   for (const std::string& tool : tool_frames)
-    for (std::size_t l :
-         reach(model, t, Tree::index(model, tool), [](const Joint& j) { return !moves_arm(j); }))
+    for (std::size_t l : reach(model, t, Tree::index(model, tool),
+                               [&t](const Joint& j) { return !t.moves_arm(j); }))
       for (const Joint* j : t.children[l])
-        if (is_finger(*j) && !j->mimic) names.insert(j->name);
+        if (t.is_finger(*j) && !j->mimic) names.insert(j->name);
   std::vector<std::string> out;
   for (const Joint& j : model.joints)
     if (names.count(j.name)) out.push_back(j.name);
@@ -307,7 +338,8 @@ std::string tool_frames_from_text(const std::string& from) {
   static const std::map<std::string, std::string> text = {
       {"option", "as given"},
       {"srdf", "the SRDF's end effectors"},
-      {"gripper", "per branch, the link that carries the gripper"},
+      {"gripper", "per branch, the link that carries the gripper or hand"},
+      {"frame", "per branch, the tool frame fixed to the arm's end (tool0, tool_frame, tcp, ...)"},
       {"branch", "per branch, the last link an arm joint moves"},
       {"root", "the root link: the robot has no arm joint"}};
   const auto it = text.find(from);
