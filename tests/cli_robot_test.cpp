@@ -373,6 +373,13 @@ TEST_CASE("robot: --from-visual bakes a link's visual geometry where it has no c
           " --spheres-per-link 4 --no-outer --format robot");
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.err, !Contains("no <limit>"));
+  // The batch of both says it of the first only, by its path.
+  const CommandResult batch =
+      cli("robot " + shell_quote(urdf) + " " + shell_quote(limited) + " -o " +
+          shell_quote(dir.file("batch")) + " --spheres-per-link 4 --no-outer --format robot");
+  REQUIRE(batch.exit_code == 0);
+  CHECK_THAT(batch.err, Contains(urdf + ": continuous joint 'j' has no <limit>"));
+  CHECK_THAT(batch.err, !Contains(limited + ": continuous"));
 }
 
 TEST_CASE("robot: --target-error and --dilate apply to every link", "[cli][robot]") {

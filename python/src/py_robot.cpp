@@ -7,6 +7,7 @@
 
 #include <pybind11/stl.h>
 
+#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/measure/evaluate_set.h"
@@ -127,6 +128,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   for (const auto& [package, dir] : a.packages) add_package_dir(read.packages, package + "=" + dir);
   read.from_visual = a.from_visual;
   RobotBake out;
+  std::vector<std::string> curobo_problems;
   out.urdf = urdf;
   out.planner = a.planner;
   out.planner.self_collision.threads = a.jobs;
@@ -134,6 +136,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
     py::gil_scoped_release release;
     const UrdfRobot robot = read_urdf(urdf, read);
     check_planner_request(robot.model, out.planner);
+    curobo_problems = formats::curobo_urdf_problems(robot.model);
     out.solids = load_link_solids(robot);
     out.result = bake_robot(robot, out.solids, options);
     plan_for(out, formats::robot_output_choice(set, out.result.model));
@@ -145,6 +148,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
               " of cover_start with no meshed part in the robot, not used:" + links},
              urdf);
   }
+  warn_all(curobo_problems, urdf);
   if (a.output) write_outputs(out, *a.output, a.formats, a.set);
   return out;
 }

@@ -321,3 +321,22 @@ def test_bake_robot_fill_covers_equals_cli(cli, tmp_path):
     assert filled.links["cup"]["outer"].tobytes() != plain.links["cup"]["outer"].tobytes()
     for side in ("py", "cli"):
         assert '"cover_solid": "filled"' in (tmp_path / side / "cup.robot.json").read_text()
+
+
+def test_bake_robot_warns_of_what_curobos_urdf_parser_refuses(tmp_path):
+    """A continuous joint without <limit> is legal URDF, but cuRobo's parser needs its effort
+    and velocity: bake_robot says so by name, as the robot command does; with the limit, not."""
+    text = ('<robot name="spin"><link name="a"><collision><geometry><box size="0.1 0.1 0.1"/>'
+            '</geometry></collision></link><link name="b"><collision><geometry>'
+            '<sphere radius="0.05"/></geometry></collision></link>'
+            '<joint name="wheel" type="continuous"><parent link="a"/><child link="b"/>'
+            '<origin xyz="0 0 0.3"/><axis xyz="0 1 0"/>LIMIT</joint></robot>\n')
+    bare, limited = tmp_path / "bare.urdf", tmp_path / "limited.urdf"
+    bare.write_text(text.replace("LIMIT", ""))
+    limited.write_text(text.replace("LIMIT", '<limit effort="1" velocity="1"/>'))
+    with pytest.warns(UserWarning, match="continuous joint 'wheel' has no <limit>"):
+        medspheres.bake_robot(bare, spheres_per_link=2, self_collision=False)
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        medspheres.bake_robot(limited, spheres_per_link=2, self_collision=False)

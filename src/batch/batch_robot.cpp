@@ -11,6 +11,7 @@
 #include "batch_driver.h"
 #include "medspheres/batch/batch_cache.h"
 #include "medspheres/error.h"
+#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/sphere_document.h"
@@ -179,6 +180,7 @@ std::string entry_bytes(const std::map<std::string, std::string>& files, const B
 void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row) {
   const std::string urdf_sha = file_sha256(row.input.path);
   const UrdfRobot robot = read_urdf(row.input.path, job.read);
+  row.warnings = formats::curobo_urdf_problems(robot.model);
   std::string key;
   if (cache) {
     key = robot_cache_key(robot, urdf_sha, job, row.input.relative);

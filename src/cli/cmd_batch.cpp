@@ -64,6 +64,12 @@ std::string row_line(const BatchRow& r) {
          count_text(r.spheres, "sphere") + ", " + number_text(r.seconds, 3) + " s)";
 }
 
+// An input's warnings (the mesh loader's, cuRobo's URDF parser's), one line each.
+void print_warnings(const BatchRow& row) {
+  for (const std::string& w : row.warnings)
+    std::cerr << "medspheres: warning: " << row.input.path << ": " << w << "\n";
+}
+
 // A bar with counts and time left on a terminal; one plain line per input otherwise.
 BatchProgressFn progress_printer(bool quiet, std::shared_ptr<ProgressBar> bar) {
   if (quiet) return nullptr;
@@ -74,11 +80,13 @@ BatchProgressFn progress_printer(bool quiet, std::shared_ptr<ProgressBar> bar) {
         std::chrono::duration<double>(std::chrono::steady_clock::now() - start).count();
     if (!terminal) {
       std::cerr << "[" << done << "/" << total << "] " << row_line(row) << "\n";
+      print_warnings(row);
       return;
     }
-    if (row.outcome == BatchOutcome::kFailed) {
+    if (row.outcome == BatchOutcome::kFailed || !row.warnings.empty()) {
       bar->finish();
-      std::cerr << row_line(row) << "\n";
+      if (row.outcome == BatchOutcome::kFailed) std::cerr << row_line(row) << "\n";
+      print_warnings(row);
     }
     const double left = spent / static_cast<double>(done) * static_cast<double>(total - done);
     bar->update(

@@ -15,6 +15,7 @@
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
+#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/self_collision_report.h"
@@ -162,15 +163,10 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run) {
               << " touch at the default configuration\n";
 }
 
-// URDF allows a continuous joint without <limit>, but cuRobo's URDF parser (v1 and v2) reads
-// the element's effort and velocity and fails on such a robot before it reads any
-// configuration, cuRobo's own as well as the files written here.
-void warn_unlimited_continuous(const RobotModel& model, const std::string& urdf) {
-  for (const Joint& j : model.joints)
-    if (j.type == JointType::kContinuous && !j.limits)
-      std::cerr << "medspheres: warning: " << urdf << ": continuous joint '" << j.name
-                << "' has no <limit>; cuRobo's URDF parser needs one (effort and velocity) to "
-                   "load this robot with any configuration\n";
+// What keeps cuRobo's URDF parser from loading the robot (formats::curobo_urdf_problems).
+void warn_curobo_urdf(const RobotModel& model, const std::string& urdf) {
+  for (const std::string& w : formats::curobo_urdf_problems(model))
+    std::cerr << "medspheres: warning: " << urdf << ": " << w << "\n";
 }
 
 // The options of the run as the robot file's provenance ("options" in its metadata): every
@@ -305,7 +301,7 @@ int run_robot(const RobotArgs& a) {
     std::cout << "the planner formats carry each link's "
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
     print_planner_summary(*r.bake.model.planner, r.planner);
-    warn_unlimited_continuous(r.bake.model, urdf);
+    warn_curobo_urdf(r.bake.model, urdf);
   }
   return kExitOk;
 }

@@ -49,7 +49,7 @@ struct BatchRow {
   double seconds = 0.0;                                    ///< wall clock of this input
   std::string error;                      ///< what() of the failure; empty otherwise
   std::optional<InputError> input_error;  ///< the failure, when it is bad input
-  std::vector<std::string> warnings;      ///< the loader's, for a baked input
+  std::vector<std::string> warnings;      ///< a baked mesh's loader's; a robot's for cuRobo
 };
 
 /// Called once per finished input (one call at a time, from any thread): the row, and
