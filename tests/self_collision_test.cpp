@@ -19,9 +19,11 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/robot_bake/mirror_links.h"
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
 #include "support/generated_arms.h"
+#include "support/robot_fixtures.h"
 #include "support/sanitizer_build.h"
 #include "support/temp_dir.h"
 
@@ -162,8 +164,8 @@ std::vector<Poses> posed(const RobotModel& m, const std::map<std::string, double
 // The class the matrix's rules give a sampled pair (self_collision_matrix.h), from the
 // oracle's distances over the samples.
 PairClass expected_class(const std::vector<double>& d, const std::vector<bool>& spheres,
-                         const SelfCollisionOptions& o) {
-  std::size_t hits = 0;
+                         const SelfCollisionOptions& o, std::size_t& hits) {
+  hits = 0;
   bool near = false, touched = false;
   for (std::size_t s = 0; s < d.size(); ++s) {
     hits += d[s] <= 0.0;
@@ -177,11 +179,19 @@ PairClass expected_class(const std::vector<double>& d, const std::vector<bool>& 
   return PairClass::kChecked;
 }
 
+// The name with "left" and "right" exchanged (the generated arms' fingers).
+std::string other_side(std::string name) {
+  for (const auto& [from, to] : {std::pair{"left", "right"}, std::pair{"right", "left"}})
+    if (name.rfind(from, 0) == 0) return to + name.substr(std::string(from).size());
+  return name;
+}
+
 }  // namespace
 
 TEST_CASE("self-collision matrix of generated arms: brute force agrees, free default, no miss",
           "[robot][self_collision]") {
-  std::size_t contacts = 0;  // checked pairs' solids touching, over both arms
+  std::size_t contacts = 0;      // checked pairs' solids touching, over both arms
+  std::size_t all_mirrored = 0;  // pairs checked as their mirror images, over both arms
   for (const auto& [seed, mimic] : {std::pair{3u, false}, std::pair{4u, true}}) {
     INFO("arm " << seed);
     TempDir dir;
@@ -205,10 +215,26 @@ TEST_CASE("self-collision matrix of generated arms: brute force agrees, free def
     for (const std::string& j : s.locked_joints) locked[j] = s.default_positions.at(j);
     const std::vector<Poses> samples = posed(r.model, locked, 300, seed);
     const std::vector<ExactLink> exact = exact_links(r.model, r.solids);
+    // The rules' class of every sampled pair, and whether its solids touched in a sample.
+    std::map<std::pair<std::string, std::string>, std::pair<PairClass, bool>> oracle;
+    for (const LinkPairClass& p : m.pairs) {
+      if (p.kind == PairClass::kAdjacent) continue;
+      const std::size_t a = link_index(r.model, p.link1), b = link_index(r.model, p.link2);
+      std::vector<double> d;
+      std::vector<bool> touch;
+      for (const Poses& X : samples) {
+        d.push_back(exact_distance(exact, r.solids, r.model, X, a, b));
+        touch.push_back(spheres_touch(r.model.links[a].spheres.outer.spheres, X[a],
+                                      r.model.links[b].spheres.outer.spheres, X[b]));
+      }
+      std::size_t hits = 0;
+      const PairClass c = expected_class(d, touch, request.self_collision, hits);
+      oracle[std::minmax(p.link1, p.link2)] = {c, hits > 0};
+    }
     std::map<PairClass, int> seen;
+    std::size_t mirrored = 0;
     for (const LinkPairClass& p : m.pairs) {
       INFO(p.link1 << " " << p.link2 << " " << pair_class_name(p.kind));
-      const std::size_t a = link_index(r.model, p.link1), b = link_index(r.model, p.link2);
       ++seen[p.kind];
       if (p.kind == PairClass::kAdjacent) {
         // Joined by a joint; link5 and the hand are one rigid body, touching.
@@ -219,20 +245,23 @@ TEST_CASE("self-collision matrix of generated arms: brute force agrees, free def
         CHECK(adjacent.count({p.link1, p.link2}) == 1);
         continue;
       }
-      std::vector<double> d;
-      std::vector<bool> touch;
-      for (const Poses& X : samples) {
-        d.push_back(exact_distance(exact, r.solids, r.model, X, a, b));
-        touch.push_back(spheres_touch(r.model.links[a].spheres.outer.spheres, X[a],
-                                      r.model.links[b].spheres.outer.spheres, X[b]));
+      PairClass want = oracle.at(std::minmax(p.link1, p.link2)).first;
+      // Skipped by its samples, checked as its mirror image (the fingers exchanged) is
+      // checked and was seen touching.
+      const auto image = oracle.find(std::minmax(other_side(p.link1), other_side(p.link2)));
+      if ((want == PairClass::kNever || want == PairClass::kSphereOnly) && image != oracle.end() &&
+          image->second == std::pair{PairClass::kChecked, true}) {
+        want = PairClass::kChecked;
+        ++mirrored;
       }
-      const PairClass want = expected_class(d, touch, request.self_collision);
       if (p.kind == PairClass::kDefault)
         CHECK(want == PairClass::kChecked);
       else
         CHECK(p.kind == want);
       CHECK(p.ignored == (p.kind != PairClass::kChecked && p.kind != PairClass::kDefault));
     }
+    CHECK(run.mirrored == mirrored);
+    all_mirrored += mirrored;
     CHECK(seen[PairClass::kAdjacent] == 8);
     CHECK(seen[PairClass::kChecked] + seen[PairClass::kDefault] > 0);
     CHECK(seen[PairClass::kNever] > 0);
@@ -261,6 +290,49 @@ TEST_CASE("self-collision matrix of generated arms: brute force agrees, free def
       }
   }
   CHECK(contacts > 0);
+  CHECK(all_mirrored > 0);  // the rule ran: a finger pair its own samples missed
+}
+
+TEST_CASE("mirror images: sides swapped by name, the tree checked", "[robot][self_collision]") {
+  CHECK(swap_side("left_hip_roll_link") == "right_hip_roll_link");
+  CHECK(swap_side("RightArm_Left") == "LeftArm_Right");  // every one, each case apart
+  CHECK(swap_side("l_gripper") == "r_gripper");
+  CHECK(swap_side("finger_R") == "finger_L");
+  CHECK(swap_side("arm_l_upper") == "arm_r_upper");
+  CHECK(swap_side("torso_link") == std::nullopt);
+  CHECK(swap_side("wheel") == std::nullopt);
+  // A body with two arms of two joints: the images of a link and its joint.
+  const auto two_arms = [](double right_offset) {
+    RobotModel m;
+    m.name = "two";
+    m.root_link = "body";
+    m.links.push_back(test::make_link("body"));
+    for (const std::string side : {"left", "right"}) {
+      const double y = side == "left" ? 0.2 : -right_offset;
+      std::string parent = "body";
+      for (const std::string part : {"_upper", "_lower"}) {
+        m.links.push_back(test::make_link(side + part));
+        m.joints.push_back(test::make_joint(side + part + "_joint", JointType::kRevolute, parent,
+                                            side + part, {0, part == "_upper" ? y : 0.0, 0.3}));
+        m.joints.back().limits = JointLimits{-1, 1, 1, 1};
+        parent = side + part;
+      }
+    }
+    return m;
+  };
+  CHECK(mirror_links(two_arms(0.2)) == std::vector<std::size_t>{0, 3, 4, 1, 2});
+  // Within 1 mm an offset is the same; 2 mm apart, the tree is not its own image.
+  CHECK(mirror_links(two_arms(0.2005)).size() == 5);
+  CHECK(mirror_links(two_arms(0.202)).empty());
+  RobotModel ranges = two_arms(0.2);
+  ranges.joints.back().limits = JointLimits{-1, 2, 1, 1};
+  CHECK(mirror_links(ranges).empty());
+  RobotModel lone = two_arms(0.2);
+  lone.links[4].name = lone.joints[3].child = "right_hand";  // "left_hand" is no link
+  CHECK(mirror_links(lone).empty());
+  RobotModel plain;
+  plain.links.push_back(test::make_link("base"));
+  CHECK(mirror_links(plain).empty());  // nothing sided
 }
 
 TEST_CASE("self-collision matrix: the same for 1 and 2 threads", "[robot][self_collision]") {

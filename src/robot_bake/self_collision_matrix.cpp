@@ -12,6 +12,7 @@
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/number_text.h"
+#include "medspheres/robot_bake/mirror_links.h"
 #include "medspheres/thread_option.h"
 #include "medspheres/threads.h"
 
@@ -135,7 +136,9 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
                     const std::vector<std::pair<std::size_t, std::size_t>>& index,
                     const std::vector<Poses>& poses,
                     const std::vector<formats::DisabledCollision>& given,
-                    const SelfCollisionOptions& o, SelfCollisionRun& run) {
+                    const SelfCollisionOptions& o, SelfCollisionRun& run,
+                    std::vector<char>& seen_colliding) {
+  seen_colliding.assign(index.size(), 0);
   std::vector<bool> has(model.links.size());
   for (std::size_t i = 0; i < has.size(); ++i) has[i] = carried.has(i);
   const auto adjacent = adjacent_link_pairs(model, has);
@@ -160,8 +163,9 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
       p.kind = solids.within(poses[0], a, b, o.margin, &counts) ? PairClass::kAdjacent
                                                                 : PairClass::kNever;
     } else {
-      p.kind = sampled_class(sample_pair(solids, carried, poses, a, b, o, counts, tests),
-                             poses.size(), o.threshold);
+      const PairSeen seen = sample_pair(solids, carried, poses, a, b, o, counts, tests);
+      p.kind = sampled_class(seen, poses.size(), o.threshold);
+      seen_colliding[k] = seen.hits > 0;
     }
     p.ignored = p.kind != PairClass::kChecked;
 #pragma omp critical(self_collision_counts)
@@ -169,6 +173,28 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
       run.solids += counts;
       run.sphere_tests += tests;
     }
+  }
+}
+
+// The pairs skipped as never or sphere_only whose mirror image (mirror_links.h) was seen
+// colliding and is checked: checked too, as the samples missed a contact its twin shows.
+void check_mirror_images(const RobotModel& model,
+                         const std::vector<std::pair<std::size_t, std::size_t>>& index,
+                         const std::vector<char>& seen_colliding, SelfCollisionRun& run) {
+  const std::vector<std::size_t> image = mirror_links(model);
+  if (image.empty()) return;
+  std::map<std::pair<std::size_t, std::size_t>, std::size_t> position;
+  for (std::size_t k = 0; k < index.size(); ++k) position[index[k]] = k;
+  std::vector<LinkPairClass>& pairs = run.matrix.pairs;
+  for (std::size_t k = 0; k < index.size(); ++k) {
+    if (pairs[k].kind != PairClass::kNever && pairs[k].kind != PairClass::kSphereOnly) continue;
+    const auto it = position.find(std::minmax(image[index[k].first], image[index[k].second]));
+    if (it == position.end() || !seen_colliding[it->second] ||
+        pairs[it->second].kind != PairClass::kChecked)
+      continue;
+    pairs[k].kind = PairClass::kChecked;
+    pairs[k].ignored = false;
+    ++run.mirrored;
   }
 }
 
@@ -274,7 +300,9 @@ SelfCollisionRun compute_self_collision(const RobotModel& model, const LinkSolid
   std::vector<Poses> poses(qs.size());
 #pragma omp parallel for schedule(static) num_threads(thread_count(o.threads))
   for (std::size_t s = 0; s < qs.size(); ++s) poses[s] = tree.link_poses(qs[s]);
-  classify_pairs(model, solids, carried, index, poses, given, o, run);
+  std::vector<char> seen_colliding;
+  classify_pairs(model, solids, carried, index, poses, given, o, run, seen_colliding);
+  check_mirror_images(model, index, seen_colliding, run);
   choose_default(model, tree, solids, carried, index, qs, poses, locked, run);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
   return run;

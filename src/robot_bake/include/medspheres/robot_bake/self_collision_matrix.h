@@ -20,7 +20,10 @@
 /// 7. checked: the rest (the solids collide in some samples, or come within the margin
 ///    while the planner's spheres never collide): checked.
 /// A pair whose solids collide in a sample is never skipped unless it is adjacent, given or
-/// always colliding.
+/// always colliding. On a robot whose tree is its own mirror image by its links' names
+/// (left and right swapped: mirror_links.h), a pair that would be skipped as never or
+/// sphere_only is checked when its mirror image is checked and was seen colliding: the
+/// samples missed a contact that its twin shows (SelfCollisionRun::mirrored counts them).
 ///
 /// Default configuration: the zero pose clamped into the limits when no checked pair's
 /// spheres touch there ("zero"); else the nearest configuration (Euclidean in joint values)
@@ -75,6 +78,7 @@ struct SelfCollisionRun {
   /// Checked pairs whose spheres touch at the default configuration, the buffers applied
   /// (empty unless default_from is "zero_not_free").
   std::vector<std::pair<std::string, std::string>> default_pairs;
+  std::size_t mirrored = 0;      ///< pairs checked as their mirror images (file comment)
   double seconds = 0.0;          ///< wall clock
   SolidQueryCounts solids;       ///< the exact side's work
   std::size_t sphere_tests = 0;  ///< the planner's spheres, pair by pair
