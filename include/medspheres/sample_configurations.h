@@ -6,6 +6,7 @@
 
 #include <cstddef>
 #include <string>
+#include <utility>
 #include <vector>
 
 #include <Eigen/Core>
@@ -21,5 +22,8 @@ namespace medspheres {
 std::vector<Eigen::VectorXd> sample_configurations(const RobotModel& model,
                                                    const std::vector<std::string>& joint_names,
                                                    std::size_t n, unsigned seed);
+
+/// The range sample_configurations draws joint \p name from: its limits, or [-pi, pi].
+std::pair<double, double> sample_range(const RobotModel& model, const std::string& name);
 
 }  // namespace medspheres

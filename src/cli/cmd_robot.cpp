@@ -157,10 +157,13 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run) {
             << " exact mesh queries; pairs:";
   for (const auto& [kind, n] : formats::pair_class_counts(*s.self_collision))
     std::cout << " " << pair_class_name(kind) << " " << n.first;
+  if (!run.contacts.empty())
+    std::cout << "; " << count_text(run.contacts.size(), "pair")
+              << " checked by a contact searched for";
   if (run.mirrored > 0)
-    std::cout << " (" << count_text(run.mirrored, "pair") << " checked as "
+    std::cout << "; " << count_text(run.mirrored, "pair") << " checked as "
               << (run.mirrored == 1 ? "its mirror image was" : "their mirror images were")
-              << " seen colliding)";
+              << " seen colliding";
   std::cout << "\n";
   for (const auto& [a, b] : run.default_pairs)
     std::cout << "medspheres: warning: " << a << " and " << b

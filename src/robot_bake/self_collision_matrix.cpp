@@ -8,6 +8,7 @@
 #include <numeric>
 #include <set>
 
+#include "contact_search.h"
 #include "medspheres/error.h"
 #include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
@@ -35,9 +36,10 @@ Eigen::VectorXd configuration(const KinematicTree& tree,
 
 // What the samples showed of one pair; `done` once no further sample can change its class.
 struct PairSeen {
-  std::size_t hits = 0, misses = 0;  // samples where the solids touch / do not
-  bool near = false;                 // the solids came within the margin
-  bool spheres = false;              // the planner's spheres touched
+  std::size_t hits = 0, misses = 0;               // samples where the solids touch / do not
+  bool near = false;                              // the solids came within the margin
+  bool spheres = false;                           // the planner's spheres touched
+  std::size_t first_near = 0, first_spheres = 0;  // the samples where each was first seen
 };
 
 // Walks the samples for the pair (a, b) until its class is settled.
@@ -48,12 +50,14 @@ PairSeen sample_pair(const LinkSolids& solids, const PlannerSpheres& carried,
   PairSeen seen;
   // "always" is still possible while the misses stay within the rest of the threshold.
   const double max_misses = (1.0 - o.threshold) * static_cast<double>(poses.size());
-  for (const Poses& X : poses) {
+  for (std::size_t s = 0; s < poses.size(); ++s) {
+    const Poses& X = poses[s];
     const bool always_open = static_cast<double>(seen.misses) <= max_misses;
     const bool need_hit = always_open || seen.hits == 0;
     if (!need_hit && seen.near && seen.spheres) break;
     bool near = true;
     if (!seen.near || !need_hit) near = solids.within(X, a, b, o.margin, &counts);
+    if (near && !seen.near) seen.first_near = s;
     seen.near = seen.near || near;
     if (need_hit) {
       const bool hit = near && solids.within(X, a, b, 0.0, &counts);
@@ -62,6 +66,7 @@ PairSeen sample_pair(const LinkSolids& solids, const PlannerSpheres& carried,
     if (!seen.spheres) {
       ++sphere_tests;
       seen.spheres = carried.collide(X, a, b);
+      if (seen.spheres) seen.first_spheres = s;
     }
   }
   return seen;
@@ -130,12 +135,20 @@ std::vector<Eigen::VectorXd> locked_samples(const RobotModel& model, const Kinem
   return qs;
 }
 
+// The matrix's samples: the configurations (the locked joints held) and every link's poses
+// in each.
+struct Sampled {
+  const KinematicTree& tree;
+  const std::map<std::string, double>& locked;
+  std::vector<Eigen::VectorXd> qs;
+  std::vector<Poses> poses;
+};
+
 // Classifies every pair (file comment); the exact side's work into \p run.
 void classify_pairs(const RobotModel& model, const LinkSolids& solids,
                     const PlannerSpheres& carried,
                     const std::vector<std::pair<std::size_t, std::size_t>>& index,
-                    const std::vector<Poses>& poses,
-                    const std::vector<formats::DisabledCollision>& given,
+                    const Sampled& sampled, const std::vector<formats::DisabledCollision>& given,
                     const SelfCollisionOptions& o, SelfCollisionRun& run,
                     std::vector<char>& seen_colliding) {
   seen_colliding.assign(index.size(), 0);
@@ -145,6 +158,7 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
   const auto given_reasons = given_pairs(model, given);
   const std::vector<std::size_t> body = rigid_bodies(model);
   std::vector<LinkPairClass>& pairs = run.matrix.pairs;
+  const std::vector<Poses>& poses = sampled.poses;
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(o.threads))
   for (std::size_t k = 0; k < index.size(); ++k) {
     const auto [a, b] = index[k];
@@ -166,6 +180,18 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
       const PairSeen seen = sample_pair(solids, carried, poses, a, b, o, counts, tests);
       p.kind = sampled_class(seen, poses.size(), o.threshold);
       seen_colliding[k] = seen.hits > 0;
+      if (p.kind == PairClass::kSphereOnly) {
+        const std::optional<Eigen::VectorXd> contact =
+            detail::search_contact(model, sampled.tree, solids, carried, a, b, sampled.locked,
+                                   {sampled.qs[seen.first_spheres], sampled.qs[seen.first_near]},
+                                   o.seed + static_cast<unsigned>(k), counts);
+        if (contact) {
+          p.kind = PairClass::kChecked;
+          seen_colliding[k] = 1;
+#pragma omp critical(self_collision_contacts)
+          run.contacts[{p.link1, p.link2}] = *contact;
+        }
+      }
     }
     p.ignored = p.kind != PairClass::kChecked;
 #pragma omp critical(self_collision_counts)
@@ -296,12 +322,14 @@ SelfCollisionRun compute_self_collision(const RobotModel& model, const LinkSolid
   run.matrix.threshold = o.threshold;
   run.matrix.margin = o.margin;
   const auto index = list_pairs(model, carried, run.matrix);
-  const std::vector<Eigen::VectorXd> qs = locked_samples(model, tree, locked, o);
-  std::vector<Poses> poses(qs.size());
+  Sampled sampled{tree, locked, locked_samples(model, tree, locked, o), {}};
+  const std::vector<Eigen::VectorXd>& qs = sampled.qs;
+  std::vector<Poses>& poses = sampled.poses;
+  poses.resize(qs.size());
 #pragma omp parallel for schedule(static) num_threads(thread_count(o.threads))
   for (std::size_t s = 0; s < qs.size(); ++s) poses[s] = tree.link_poses(qs[s]);
   std::vector<char> seen_colliding;
-  classify_pairs(model, solids, carried, index, poses, given, o, run, seen_colliding);
+  classify_pairs(model, solids, carried, index, sampled, given, o, run, seen_colliding);
   check_mirror_images(model, index, seen_colliding, run);
   choose_default(model, tree, solids, carried, index, qs, poses, locked, run);
   run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();

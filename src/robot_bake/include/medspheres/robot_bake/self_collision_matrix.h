@@ -15,7 +15,10 @@
 /// 3. always: the solids collide (touch) in at least `threshold` of the samples: skipped;
 /// 4. never: the solids never came within `margin` in any sample (a rigid pair apart):
 ///    skipped;
-/// 5. sphere_only: the solids never collided, the planner's spheres did: skipped;
+/// 5. sphere_only: the solids never collided, the planner's spheres did, and a search for a
+///    contact from the samples where they first came near and first touched found none
+///    (contact_search.h: the joints between the two links moved to deepen their spheres'
+///    overlap; a contact found makes the pair checked): skipped;
 /// 6. default: the solids collide at the zero pose clamped into the limits: checked;
 /// 7. checked: the rest (the solids collide in some samples, or come within the margin
 ///    while the planner's spheres never collide): checked.
@@ -78,7 +81,10 @@ struct SelfCollisionRun {
   /// Checked pairs whose spheres touch at the default configuration, the buffers applied
   /// (empty unless default_from is "zero_not_free").
   std::vector<std::pair<std::string, std::string>> default_pairs;
-  std::size_t mirrored = 0;      ///< pairs checked as their mirror images (file comment)
+  std::size_t mirrored = 0;  ///< pairs checked as their mirror images (file comment)
+  /// Pairs checked by the search for a contact (file comment, class 5): each with the
+  /// configuration (KinematicTree order) where their solids touch.
+  std::map<std::pair<std::string, std::string>, Eigen::VectorXd> contacts;
   double seconds = 0.0;          ///< wall clock
   SolidQueryCounts solids;       ///< the exact side's work
   std::size_t sphere_tests = 0;  ///< the planner's spheres, pair by pair
