@@ -54,21 +54,18 @@ constexpr double kSmallest = 1e-3;  // the step (share of the range) the climb s
 
 }  // namespace
 
-std::optional<Eigen::VectorXd> search_contact(const RobotModel& model, const KinematicTree& tree,
-                                              const LinkSolids& solids,
-                                              const PlannerSpheres& carried, std::size_t a,
+std::optional<Eigen::VectorXd> search_contact(const ContactSearchRobot& r, std::size_t a,
                                               std::size_t b,
-                                              const std::map<std::string, double>& locked,
                                               const std::vector<Eigen::VectorXd>& starts,
                                               unsigned seed, SolidQueryCounts& counts) {
-  const std::vector<std::size_t> moving = path_positions(model, tree, a, b, locked);
+  const std::vector<std::size_t> moving = path_positions(r.model, r.tree, a, b, r.locked);
   if (moving.empty()) return std::nullopt;
   std::vector<std::pair<double, double>> range;
-  for (std::size_t k : moving) range.push_back(sample_range(model, tree.joint_names()[k]));
+  for (std::size_t k : moving) range.push_back(sample_range(r.model, r.tree.joint_names()[k]));
   std::mt19937 rng(seed);
   std::normal_distribution<double> normal;
   for (Eigen::VectorXd q : starts) {
-    double best = carried.penetration(tree.link_poses(q), a, b), step = kFirst;
+    double best = r.carried.penetration(r.tree.link_poses(q), a, b), step = kFirst;
     for (int t = 0, failed = 0; t < kSteps && step >= kSmallest; ++t) {
       Eigen::VectorXd next = q;
       for (std::size_t i = 0; i < moving.size(); ++i) {
@@ -76,14 +73,14 @@ std::optional<Eigen::VectorXd> search_contact(const RobotModel& model, const Kin
         const auto k = static_cast<Eigen::Index>(moving[i]);
         next[k] = std::clamp(q[k] + step * (hi - lo) * normal(rng), lo, hi);
       }
-      const std::vector<Eigen::Isometry3d> X = tree.link_poses(next);
-      const double overlap = carried.penetration(X, a, b);
+      const std::vector<Eigen::Isometry3d> X = r.tree.link_poses(next);
+      const double overlap = r.carried.penetration(X, a, b);
       if (overlap <= best) {
         if (++failed == kPatience) step *= kShrink, failed = 0;
         continue;
       }
       q = next, best = overlap, failed = 0;
-      if (solids.within(X, a, b, 0.0, &counts)) return q;
+      if (r.solids.within(X, a, b, 0.0, &counts)) return q;
     }
   }
   return std::nullopt;

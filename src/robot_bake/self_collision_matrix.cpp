@@ -182,7 +182,7 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
       seen_colliding[k] = seen.hits > 0;
       if (p.kind == PairClass::kSphereOnly) {
         const std::optional<Eigen::VectorXd> contact =
-            detail::search_contact(model, sampled.tree, solids, carried, a, b, sampled.locked,
+            detail::search_contact({model, sampled.tree, solids, carried, sampled.locked}, a, b,
                                    {sampled.qs[seen.first_spheres], sampled.qs[seen.first_near]},
                                    o.seed + static_cast<unsigned>(k), counts);
         if (contact) {
