@@ -55,7 +55,8 @@ std::string planner_request_text(const PlannerRequest& r) {
        "\nsamples=" + std::to_string(r.self_collision.samples) +
        "\nseed=" + std::to_string(r.self_collision.seed) +
        "\nthreshold=" + exact_number_text(r.self_collision.threshold) +
-       "\nmargin=" + exact_number_text(r.self_collision.margin) + "\n";
+       "\nmargin=" + exact_number_text(r.self_collision.margin) +
+       "\nsearch=" + (r.self_collision.search ? "1" : "0") + "\n";
   return t;
 }
 

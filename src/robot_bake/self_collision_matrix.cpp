@@ -144,6 +144,23 @@ struct Sampled {
   std::vector<Poses> poses;
 };
 
+// The two samples where the covering balls of links a and b come nearest (a pair that never
+// came within the margin: where its search starts).
+std::vector<Eigen::VectorXd> nearest_balls(const LinkSolids& solids, const Sampled& sampled,
+                                           std::size_t a, std::size_t b) {
+  const Sphere &ba = solids.ball(a), &bb = solids.ball(b);
+  std::vector<std::pair<double, std::size_t>> gap;
+  for (std::size_t s = 0; s < sampled.poses.size(); ++s) {
+    const Poses& X = sampled.poses[s];
+    gap.emplace_back((X[a] * ba.center - X[b] * bb.center).norm(), s);
+  }
+  const std::size_t n = std::min<std::size_t>(2, gap.size());
+  std::partial_sort(gap.begin(), gap.begin() + static_cast<long>(n), gap.end());
+  std::vector<Eigen::VectorXd> out;
+  for (std::size_t k = 0; k < n; ++k) out.push_back(sampled.qs[gap[k].second]);
+  return out;
+}
+
 // Classifies every pair (file comment); the exact side's work into \p run.
 void classify_pairs(const RobotModel& model, const LinkSolids& solids,
                     const PlannerSpheres& carried,
@@ -180,11 +197,15 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
       const PairSeen seen = sample_pair(solids, carried, poses, a, b, o, counts, tests);
       p.kind = sampled_class(seen, poses.size(), o.threshold);
       seen_colliding[k] = seen.hits > 0;
-      if (p.kind == PairClass::kSphereOnly) {
+      if (o.search && (p.kind == PairClass::kSphereOnly || p.kind == PairClass::kNever)) {
+        const std::vector<Eigen::VectorXd> starts =
+            p.kind == PairClass::kSphereOnly
+                ? std::vector<Eigen::VectorXd>{sampled.qs[seen.first_spheres],
+                                               sampled.qs[seen.first_near]}
+                : nearest_balls(solids, sampled, a, b);
         const std::optional<Eigen::VectorXd> contact =
             detail::search_contact({model, sampled.tree, solids, carried, sampled.locked}, a, b,
-                                   {sampled.qs[seen.first_spheres], sampled.qs[seen.first_near]},
-                                   o.seed + static_cast<unsigned>(k), counts);
+                                   starts, o.seed + static_cast<unsigned>(k), counts);
         if (contact) {
           p.kind = PairClass::kChecked;
           seen_colliding[k] = 1;

@@ -13,12 +13,13 @@
 ///    spheres between them skipped), or one rigid body (fixed joints only) with their solids
 ///    within `margin`: skipped;
 /// 3. always: the solids collide (touch) in at least `threshold` of the samples: skipped;
-/// 4. never: the solids never came within `margin` in any sample (a rigid pair apart):
-///    skipped;
-/// 5. sphere_only: the solids never collided, the planner's spheres did, and a search for a
-///    contact from the samples where they first came near and first touched found none
-///    (contact_search.h: the joints between the two links moved to deepen their spheres'
-///    overlap; a contact found makes the pair checked): skipped;
+/// 4. never: the solids never came within `margin` in any sample (a rigid pair apart), and a
+///    search for a contact from the two samples where the links' covering balls come nearest
+///    found none (contact_search.h: the joints between the two links moved to deepen their
+///    planner spheres' overlap; a contact found makes the pair checked): skipped;
+/// 5. sphere_only: the solids never collided, the planner's spheres did, and the search from
+///    the samples where the solids first came near and the spheres first touched found no
+///    contact: skipped;
 /// 6. default: the solids collide at the zero pose clamped into the limits: checked;
 /// 7. checked: the rest (the solids collide in some samples, or come within the margin
 ///    while the planner's spheres never collide): checked.
@@ -65,6 +66,7 @@ struct SelfCollisionOptions {
   double threshold = 0.95;      ///< share of samples for "always", in (0, 1] (MoveIt's default)
   double margin = 0.01;         ///< metres, >= 0: "never" beyond it
   int threads = 0;              ///< pairs at once, 0 to kMaxThreads (0: all cores)
+  bool search = true;           ///< never and sphere_only pairs searched for a contact
 };
 
 /// \throws InputError naming the option (samples, threshold, margin, threads) out of range.
@@ -82,8 +84,8 @@ struct SelfCollisionRun {
   /// (empty unless default_from is "zero_not_free").
   std::vector<std::pair<std::string, std::string>> default_pairs;
   std::size_t mirrored = 0;  ///< pairs checked as their mirror images (file comment)
-  /// Pairs checked by the search for a contact (file comment, class 5): each with the
-  /// configuration (KinematicTree order) where their solids touch.
+  /// Pairs checked by the search for a contact (file comment, classes 4 and 5): each with
+  /// the configuration (KinematicTree order) where their solids touch.
   std::map<std::pair<std::string, std::string>, Eigen::VectorXd> contacts;
   double seconds = 0.0;          ///< wall clock
   SolidQueryCounts solids;       ///< the exact side's work
