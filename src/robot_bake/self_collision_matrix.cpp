@@ -144,8 +144,8 @@ struct Sampled {
   std::vector<Poses> poses;
 };
 
-// The two samples where the covering balls of links a and b come nearest (a pair that never
-// came within the margin: where its search starts).
+// The two samples where the centres of the covering balls of links a and b come nearest (a
+// pair that never came within the margin: where its search starts).
 std::vector<Eigen::VectorXd> nearest_balls(const LinkSolids& solids, const Sampled& sampled,
                                            std::size_t a, std::size_t b) {
   const Sphere &ba = solids.ball(a), &bb = solids.ball(b);
@@ -159,6 +159,20 @@ std::vector<Eigen::VectorXd> nearest_balls(const LinkSolids& solids, const Sampl
   std::vector<Eigen::VectorXd> out;
   for (std::size_t k = 0; k < n; ++k) out.push_back(sampled.qs[gap[k].second]);
   return out;
+}
+
+// The search for a contact of a pair its samples would skip (\p kind never or sphere_only;
+// file comment): from the samples where it first came near and first had its spheres touch,
+// or where its links' balls came nearest.
+std::optional<Eigen::VectorXd> search_skipped(const detail::ContactSearchRobot& r,
+                                              const Sampled& sampled, const PairSeen& seen,
+                                              PairClass kind, std::size_t a, std::size_t b,
+                                              unsigned seed, SolidQueryCounts& counts) {
+  const std::vector<Eigen::VectorXd> starts =
+      kind == PairClass::kSphereOnly ? std::vector<Eigen::VectorXd>{sampled.qs[seen.first_spheres],
+                                                                    sampled.qs[seen.first_near]}
+                                     : nearest_balls(r.solids, sampled, a, b);
+  return detail::search_contact(r, a, b, starts, seed, counts);
 }
 
 // Classifies every pair (file comment); the exact side's work into \p run.
@@ -198,14 +212,9 @@ void classify_pairs(const RobotModel& model, const LinkSolids& solids,
       p.kind = sampled_class(seen, poses.size(), o.threshold);
       seen_colliding[k] = seen.hits > 0;
       if (o.search && (p.kind == PairClass::kSphereOnly || p.kind == PairClass::kNever)) {
-        const std::vector<Eigen::VectorXd> starts =
-            p.kind == PairClass::kSphereOnly
-                ? std::vector<Eigen::VectorXd>{sampled.qs[seen.first_spheres],
-                                               sampled.qs[seen.first_near]}
-                : nearest_balls(solids, sampled, a, b);
         const std::optional<Eigen::VectorXd> contact =
-            detail::search_contact({model, sampled.tree, solids, carried, sampled.locked}, a, b,
-                                   starts, o.seed + static_cast<unsigned>(k), counts);
+            search_skipped({model, sampled.tree, solids, carried, sampled.locked}, sampled, seen,
+                           p.kind, a, b, o.seed + static_cast<unsigned>(k), counts);
         if (contact) {
           p.kind = PairClass::kChecked;
           seen_colliding[k] = 1;
