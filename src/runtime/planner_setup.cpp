@@ -200,14 +200,14 @@ std::map<std::string, double> clamped_zero(const RobotModel& model) {
 }
 
 std::vector<std::size_t> rigid_bodies(const RobotModel& model) {
-  const Tree t(model);
+  const detail::LinkTree t(model);
   std::vector<std::size_t> body(model.links.size());
   // Up through fixed joints to the body's top link, then the body's first link.
   std::vector<std::size_t> top(model.links.size());
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     std::size_t r = l;
     while (t.parent[r] != nullptr && t.parent[r]->type == JointType::kFixed)
-      r = Tree::index(model, t.parent[r]->parent);
+      r = detail::LinkTree::index(model, t.parent[r]->parent);
     top[l] = r;
   }
   std::map<std::size_t, std::size_t> first;  // top -> first link in model order
@@ -220,9 +220,11 @@ std::vector<std::pair<std::size_t, std::size_t>> adjacent_link_pairs(
     const RobotModel& model, const std::vector<bool>& has_geometry) {
   if (has_geometry.size() != model.links.size())
     throw std::invalid_argument("adjacent_link_pairs: has_geometry is not one flag per link");
-  const Tree t(model);
+  const detail::LinkTree t(model);
   const std::vector<std::size_t> body = rigid_bodies(model);
-  const auto parent = [&](std::size_t l) { return Tree::index(model, t.parent[l]->parent); };
+  const auto parent = [&](std::size_t l) {
+    return detail::LinkTree::index(model, t.parent[l]->parent);
+  };
   std::set<std::pair<std::size_t, std::size_t>> out;
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     if (!has_geometry[l]) continue;
@@ -299,7 +301,7 @@ std::vector<std::string> listed_tool_frames(const RobotModel& model,
                                             const std::vector<bool>& has_spheres) {
   if (has_spheres.size() != model.links.size())
     throw std::invalid_argument("listed_tool_frames: has_spheres is not one flag per link");
-  const Tree t(model);
+  const detail::LinkTree t(model);
   // The links on a path from the root to a tool frame or a link with spheres.
   std::vector<bool> in_tree(model.links.size(), false);
   const auto add_path = [&](std::size_t l) {
@@ -307,10 +309,10 @@ std::vector<std::string> listed_tool_frames(const RobotModel& model,
       if (in_tree[l]) return;
       in_tree[l] = true;
       if (t.parent[l] == nullptr) return;
-      l = Tree::index(model, t.parent[l]->parent);
+      l = detail::LinkTree::index(model, t.parent[l]->parent);
     }
   };
-  for (const std::string& f : tool_frames) add_path(Tree::index(model, f));
+  for (const std::string& f : tool_frames) add_path(detail::LinkTree::index(model, f));
   for (std::size_t l = 0; l < model.links.size(); ++l)
     if (has_spheres[l]) add_path(l);
   // Dangling actuated joints: their child links outside the tree. The lowest ones' children
@@ -323,7 +325,7 @@ std::vector<std::string> listed_tool_frames(const RobotModel& model,
   for (std::size_t l = 0; l < model.links.size(); ++l) {
     if (!dangling[l]) continue;
     for (const Joint* j = t.parent[l]; j != nullptr;) {
-      const std::size_t p = Tree::index(model, j->parent);
+      const std::size_t p = detail::LinkTree::index(model, j->parent);
       has_dangling_below[p] = true;
       j = t.parent[p];
     }
