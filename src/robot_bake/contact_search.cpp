@@ -2,8 +2,10 @@
 #include "contact_search.h"
 
 #include <algorithm>
+#include <map>
 #include <random>
 #include <set>
+#include <string>
 
 #include "medspheres/sample_configurations.h"
 
@@ -11,37 +13,29 @@ namespace medspheres::detail {
 
 namespace {
 
-// The joints from link \p link up to the root, by name, nearest first.
-std::vector<const Joint*> joints_up(const RobotModel& m, std::string link) {
-  std::vector<const Joint*> out;
-  for (bool found = true; found;) {
-    found = false;
-    for (const Joint& j : m.joints)
-      if (j.child == link) {
-        out.push_back(&j);
-        link = j.parent;
-        found = true;
-        break;
-      }
-  }
+// The steps (KinematicTree::steps) from link \p link up to the root, nearest first.
+std::vector<std::size_t> steps_up(const KinematicTree& tree, std::size_t link) {
+  std::vector<long> into(tree.link_names().size(), -1);  // each link's step, by child
+  for (std::size_t k = 0; k < tree.steps().size(); ++k) into[tree.steps()[k].child] = long(k);
+  std::vector<std::size_t> out;
+  for (long k = into[link]; k >= 0; k = into[tree.steps()[std::size_t(k)].parent])
+    out.push_back(std::size_t(k));
   return out;
 }
 
 // The positions (indices into the tree's configuration) that move links a and b apart: the
-// actuated joints on the path between them, mimic joints by their sources, locked ones out.
-std::vector<std::size_t> path_positions(const RobotModel& m, const KinematicTree& tree,
-                                        std::size_t a, std::size_t b,
+// sources of the steps on the path between them (mimic joints by their actuated sources),
+// locked ones out.
+std::vector<std::size_t> path_positions(const KinematicTree& tree, std::size_t a, std::size_t b,
                                         const std::map<std::string, double>& locked) {
-  const auto up_a = joints_up(m, m.links[a].name), up_b = joints_up(m, m.links[b].name);
-  const std::set<const Joint*> on_a(up_a.begin(), up_a.end()), on_b(up_b.begin(), up_b.end());
+  const auto up_a = steps_up(tree, a), up_b = steps_up(tree, b);
+  const std::set<std::size_t> on_a(up_a.begin(), up_a.end()), on_b(up_b.begin(), up_b.end());
   std::set<std::size_t> out;
   for (const auto* side : {&up_a, &up_b})
-    for (const Joint* j : *side) {
-      if ((on_a.count(j) && on_b.count(j)) || j->type == JointType::kFixed) continue;
-      const std::string name = j->mimic ? j->mimic->joint : j->name;
-      const auto& names = tree.joint_names();
-      const auto it = std::find(names.begin(), names.end(), name);
-      if (it != names.end() && !locked.count(name)) out.insert(std::size_t(it - names.begin()));
+    for (std::size_t k : *side) {
+      const long source = tree.steps()[k].source;
+      if ((on_a.count(k) && on_b.count(k)) || source < 0) continue;
+      if (!locked.count(tree.joint_names()[std::size_t(source)])) out.insert(std::size_t(source));
     }
   return {out.begin(), out.end()};
 }
@@ -58,7 +52,7 @@ std::optional<Eigen::VectorXd> search_contact(const ContactSearchRobot& r, std::
                                               std::size_t b,
                                               const std::vector<Eigen::VectorXd>& starts,
                                               unsigned seed, SolidQueryCounts& counts) {
-  const std::vector<std::size_t> moving = path_positions(r.model, r.tree, a, b, r.locked);
+  const std::vector<std::size_t> moving = path_positions(r.tree, a, b, r.locked);
   if (moving.empty()) return std::nullopt;
   std::vector<std::pair<double, double>> range;
   for (std::size_t k : moving) range.push_back(sample_range(r.model, r.tree.joint_names()[k]));

@@ -1,7 +1,7 @@
 #pragma once
-// A search for a contact that a pair's samples missed: the self-collision matrix's pairs
-// whose spheres touched while their solids never did (sphere_only) are searched before they
-// are skipped (self_collision_matrix.h). Private to the robot_bake target.
+// A search for a contact that a pair's samples missed: the self-collision matrix's pairs that
+// its samples would skip (never, sphere_only) are searched before they are skipped
+// (self_collision_matrix.h). Private to the robot_bake target.
 
 #include <map>
 #include <optional>
