@@ -78,6 +78,9 @@ RobotBatchOptions small_options(const std::string& out) {
   // 3 spheres a link in the sanitizer builds, where the covers' bakes take most of these
   // tests' time; every comparison holds at any budget.
   o.robot.bake.budget.per_link = test::kSanitizerBuild ? 3 : 6;
+  // The self-collision matrix on 300 samples, not 10^4: these tests compare files, not
+  // classes, and the matrix's sampling took most of their time.
+  o.robot.planner.self_collision.samples = 300;
   return o;
 }
 

@@ -246,11 +246,11 @@ TEST_CASE("the Unitree G1 bakes, every inner sphere inside its link", "[robot][b
   const UrdfRobot robot = read_urdf(urdf);
   REQUIRE(robot.links.size() == 40);
   std::vector<LinkSolid> solids = load_link_solids(robot);
-  // Every other link in the sanitizer builds, where a link's bake costs ten times more (the
+  // Every fourth link in the sanitizer builds, where a link's bake costs ten times more (the
   // rest are links without a solid there); the release build bakes all 40.
   if (test::kSanitizerBuild)
-    for (std::size_t i = 1; i < solids.size(); i += 2)
-      solids[i] = LinkSolid{solids[i].link, {}, {}};
+    for (std::size_t i = 0; i < solids.size(); ++i)
+      if (i % 4 != 0) solids[i] = LinkSolid{solids[i].link, {}, {}};
   const RobotBakeResult result = bake_robot(robot, solids, budget_options(16, 0));
   std::size_t baked = 0;
   for (std::size_t i = 0; i < solids.size(); ++i) {
@@ -274,7 +274,7 @@ TEST_CASE("the Unitree G1 bakes, every inner sphere inside its link", "[robot][b
       CHECK(query.closest_point(s.center).distance() >= s.radius);
     }
   }
-  CHECK(baked > (test::kSanitizerBuild ? 10 : 20));
+  CHECK(baked > (test::kSanitizerBuild ? 5 : 20));
 }
 #endif
 

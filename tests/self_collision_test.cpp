@@ -55,8 +55,9 @@ BakedRobot bake(const std::string& urdf, std::size_t per_link) {
 
 BakedRobot generated_arm(const TempDir& dir, unsigned seed, bool mimic) {
   // 4 spheres a link in the sanitizer builds, where the bake takes most of the tests' time.
-  return bake(dir.write("arm.urdf", test::generated_arm_urdf(seed, 5, mimic)),
-              test::kSanitizerBuild ? 4 : 8);
+  return bake(
+      dir.write("arm" + std::to_string(seed) + ".urdf", test::generated_arm_urdf(seed, 5, mimic)),
+      test::kSanitizerBuild ? 4 : 8);
 }
 
 // The oracle's view of one link: FCL objects for its meshed parts (one mesh) and sphere
@@ -194,16 +195,18 @@ TEST_CASE("self-collision matrix of generated arms: brute force agrees, free def
   std::size_t all_mirrored = 0;  // pairs checked as their mirror images, over both arms
   std::size_t all_searched = 0;  // pairs checked by a contact searched for, over both arms
   // The second arm once more without the search for contacts, where the mirror rule has
-  // pairs of its own.
+  // pairs of its own; each arm is baked once.
   struct Case {
     unsigned seed;
     bool mimic, search;
   };
+  TempDir dir;
+  std::map<unsigned, BakedRobot> arms;
   for (const auto& [seed, mimic, search] :
        {Case{3, false, true}, Case{4, true, true}, Case{4, true, false}}) {
     INFO("arm " << seed << (search ? "" : ", no search"));
-    TempDir dir;
-    const BakedRobot r = generated_arm(dir, seed, mimic);
+    if (!arms.count(seed)) arms.emplace(seed, generated_arm(dir, seed, mimic));
+    const BakedRobot& r = arms.at(seed);
     PlannerRequest request;
     request.self_collision.samples = 300;
     request.self_collision.seed = seed;
