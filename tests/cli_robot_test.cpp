@@ -5,6 +5,7 @@
 #include <set>
 #include <string>
 
+#include <yaml-cpp/yaml.h>
 #include <catch2/catch.hpp>
 #include <nlohmann/json.hpp>
 
@@ -214,17 +215,26 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
   const std::string out = shell_quote(dir.file("out"));
   const std::string pkg =
       " --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string());
-  for (const std::string& bad :
-       {std::string(" --spheres-per-link 0"), std::string(" --budget 5 --spheres-per-link 3"),
-        std::string(" --link forearm"), std::string(" --link nowhere=3"),
-        std::string(" --format nonsense"), std::string(" --jobs -1"), std::string(" --budget 2"),
-        std::string(" --self-collision-samples 0"), std::string(" --self-collision-threshold 0"),
-        std::string(" --self-collision-margin -1"), std::string(" --tool-frame ghost"),
-        std::string(" --srdf ") + shell_quote(dir.file("missing.srdf")),
-        std::string(" --contact --no-self-collision"), std::string(" --contact --no-outer"),
-        std::string(" --contact --contact-band 0"), std::string(" --contact --contact-weight 0.5"),
-        std::string(" --contact --contact-samples 0"), std::string(" --fill-covers --no-outer"),
-        std::string(" --robust-resolution 5")}) {
+  for (const std::string& bad : {std::string(" --spheres-per-link 0"),
+                                 std::string(" --budget 5 --spheres-per-link 3"),
+                                 std::string(" --link forearm"),
+                                 std::string(" --link nowhere=3"),
+                                 std::string(" --format nonsense"),
+                                 std::string(" --jobs -1"),
+                                 std::string(" --budget 2"),
+                                 std::string(" --self-collision-samples 0"),
+                                 std::string(" --self-collision-threshold 0"),
+                                 std::string(" --self-collision-margin -1"),
+                                 std::string(" --tool-frame ghost"),
+                                 std::string(" --free-joint ghost"),
+                                 std::string(" --srdf ") + shell_quote(dir.file("missing.srdf")),
+                                 std::string(" --contact --no-self-collision"),
+                                 std::string(" --contact --no-outer"),
+                                 std::string(" --contact --contact-band 0"),
+                                 std::string(" --contact --contact-weight 0.5"),
+                                 std::string(" --contact --contact-samples 0"),
+                                 std::string(" --fill-covers --no-outer"),
+                                 std::string(" --robust-resolution 5")}) {
     INFO(bad);
     const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);
     CHECK(r.exit_code == 2);
@@ -496,4 +506,24 @@ TEST_CASE("robot: tool frames, the matrix and the default configuration in every
       medspheres::read_text_file(out + "/generated_arm_7.self_collision.txt");
   CHECK_THAT(report, Contains("300 samples (seed 1)"));
   CHECK_THAT(report, Contains("adjacent"));
+
+  // --free-joint: the gripper's two finger joints are locked by default; one given stays free.
+  const std::string freed = dir.file("freed");
+  const CommandResult f =
+      cli("robot " + shell_quote(urdf) + " -o " + shell_quote(freed) +
+          " --spheres-per-link 6 --no-measure --no-self-collision --format robot,curobo "
+          "--free-joint left_finger_joint");
+  INFO(f.err);
+  REQUIRE(f.exit_code == 0);
+  CHECK_THAT(f.out, Contains("locked joints (the gripper's): right_finger_joint\n"));
+  const YAML::Node yml = YAML::LoadFile(freed + "/generated_arm_7.curobo.yml");
+  const YAML::Node locks = yml["robot_cfg"]["kinematics"]["lock_joints"];
+  REQUIRE(locks.IsMap());
+  CHECK(locks.size() == 1);
+  CHECK(locks["right_finger_joint"]);
+  CHECK_FALSE(locks["left_finger_joint"]);
+  const medspheres::RobotModel freed_model =
+      medspheres::load_robot(freed + "/generated_arm_7.robot.json");
+  REQUIRE(freed_model.planner);
+  CHECK(freed_model.planner->locked_joints == std::vector<std::string>{"right_finger_joint"});
 }

@@ -414,6 +414,21 @@ TEST_CASE("planner setup: --tool-frame, an SRDF's pairs and end effectors, bad o
       CHECK(p.reason == (p.link1 == "base" ? "Never" : "User"));
     }
   CHECK(given == 2);
+  // --free-joint: the finger joint the rules lock stays free (its mimic twin follows it).
+  request.free_joints = {"left_finger_joint"};
+  s = make_planner_setup(r.model, r.solids, formats::SphereChoice::kOuter, request);
+  CHECK(s.tool_frames == Names{"flange"});
+  CHECK(s.locked_joints.empty());
+  CHECK(planner_request_text(request).find("free_joints=left_finger_joint,") != std::string::npos);
+  for (const auto& [name, problem] :
+       {std::pair{"ghost", "no joint"}, {"hand_joint", "fixed"}, {"right_finger_joint", "mimic"}}) {
+    request.free_joints = {name};
+    CHECK_THROWS_WITH(make_planner_setup(r.model, r.solids, formats::SphereChoice::kOuter, request),
+                      Contains(name) && Contains(problem) && Contains("free_joint"));
+    CHECK_THROWS_WITH(check_planner_request(r.model, request), Contains(name) && Contains(problem));
+  }
+  request.free_joints.clear();
+  CHECK(planner_request_text(request).find("free_joints") == std::string::npos);
 
   request.srdf.clear();
   request.tool_frames = {"ghost"};

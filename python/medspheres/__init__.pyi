@@ -252,6 +252,7 @@ def bake(
     solid: Literal["auto", "winding", "robust"] = ...,
     robust_resolution: int = ...,
     robust_thickness: Optional[Length] = ...,
+    cover_start: Optional[Spheres] = ...,
     name: str = ...,
 ) -> SphereSet: ...
 def evaluate(
@@ -315,6 +316,17 @@ def bake_robot(
     robust_thickness: Optional[Length] = ...,
     measure: bool = ...,
     outer: bool = ...,
+    cover_start: Optional[Union[PathLike, Mapping[str, Any]]] = ...,
+    fill: bool = ...,
+    fill_covers: bool = ...,
+    tool_frames: Sequence[str] = ...,
+    free_joints: Sequence[str] = ...,
+    srdf: Optional[PathLike] = ...,
+    self_collision: bool = ...,
+    self_collision_samples: int = ...,
+    self_collision_seed: int = ...,
+    self_collision_threshold: float = ...,
+    self_collision_margin: float = ...,
 ) -> RobotBake: ...
 def distance_bounds(
     a: BoundedGeometry, b: BoundedGeometry, pose_a: Pose = ..., pose_b: Pose = ...

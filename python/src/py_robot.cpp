@@ -246,9 +246,10 @@ void register_robot(py::module_& m) {
          const py::object& cover, std::uint64_t seed, const std::string& solid,
          int robust_resolution, const py::object& robust_thickness, bool measure, bool outer,
          const py::object& cover_start, bool fill, bool fill_covers,
-         const std::vector<std::string>& tool_frames, const py::object& srdf, bool self_collision,
-         std::size_t self_collision_samples, unsigned self_collision_seed,
-         double self_collision_threshold, double self_collision_margin) {
+         const std::vector<std::string>& tool_frames, const std::vector<std::string>& free_joints,
+         const py::object& srdf, bool self_collision, std::size_t self_collision_samples,
+         unsigned self_collision_seed, double self_collision_threshold,
+         double self_collision_margin) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -273,6 +274,7 @@ void register_robot(py::module_& m) {
         a.fill = fill;
         a.fill_covers = fill_covers;
         a.planner.tool_frames = tool_frames;
+        a.planner.free_joints = free_joints;
         if (!srdf.is_none()) a.planner.srdf = path_of(srdf);
         a.planner.sample = self_collision;
         a.planner.self_collision.samples = self_collision_samples;
@@ -293,7 +295,8 @@ void register_robot(py::module_& m) {
       py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
       py::arg("robust_thickness") = py::none(), py::arg("measure") = true, py::arg("outer") = true,
       py::arg("cover_start") = py::none(), py::arg("fill") = false, py::arg("fill_covers") = false,
-      py::arg("tool_frames") = std::vector<std::string>{}, py::arg("srdf") = py::none(),
+      py::arg("tool_frames") = std::vector<std::string>{},
+      py::arg("free_joints") = std::vector<std::string>{}, py::arg("srdf") = py::none(),
       py::arg("self_collision") = true,
       py::arg("self_collision_samples") = SelfCollisionOptions{}.samples,
       py::arg("self_collision_seed") = SelfCollisionOptions{}.seed,
@@ -311,7 +314,9 @@ void register_robot(py::module_& m) {
       "UserWarning. fill: a thin-shelled link's inner set on its filled solid (--fill; its "
       "stats row says inner_filled). fill_covers: a thin-shelled link's covering set baked on "
       "its filled solid and certified on its real surface (--fill-covers). measure=False skips the "
-      "exact volume error. solid, "
+      "exact volume error. tool_frames, free_joints (finger joints left free that the "
+      "rules would lock), srdf and the self_collision options: the planner files, as the "
+      "robot command's --tool-frame, --free-joint, --srdf and --self-collision-*. solid, "
       "robust_resolution, "
       "robust_thickness: each link's solid, as in bake. Lengths (vertex_tolerance, "
       "max_protrusion, cover, robust_thickness) are numbers in metres (the URDF's unit, in "

@@ -65,6 +65,7 @@ def test_bake_robot_without_output_and_save(arm, tmp_path):
         ({"self_collision_threshold": 1.5}, ["--self-collision-threshold", "1.5"]),
         ({"self_collision_margin": -0.01}, ["--self-collision-margin", "-0.01"]),
         ({"tool_frames": ["nope"]}, ["--tool-frame", "nope"]),
+        ({"free_joints": ["nope"]}, ["--free-joint", "nope"]),
         ({"jobs": -1}, ["--jobs", "-1"]),
         ({"jobs": 2000}, ["--jobs", "2000"]),
     ],

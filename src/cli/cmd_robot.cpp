@@ -55,6 +55,7 @@ struct RobotArgs {
   std::string cover_start;  ///< a per-link sphere file the outer sets start from
   std::string set = "auto";
   std::vector<std::string> tool_frames;
+  std::vector<std::string> free_joints;
   std::string srdf;
   bool no_self_collision = false;
   SelfCollisionOptions self_collision;
@@ -207,6 +208,7 @@ std::string options_json(const RobotArgs& a) {
                                            : nlohmann::ordered_json(a.cover_start);
   o["set"] = a.set;
   o["tool_frame"] = a.tool_frames;
+  if (!a.free_joints.empty()) o["free_joint"] = a.free_joints;
   o["srdf"] = a.srdf.empty() ? nlohmann::ordered_json(nullptr) : nlohmann::ordered_json(a.srdf);
   o["self_collision"] = !a.no_self_collision;
   o["self_collision_samples"] = a.self_collision.samples;
@@ -251,6 +253,7 @@ RobotJob robot_job(const RobotArgs& a) {
   job.options_json = options_json(a);
   if (!a.cover_start.empty()) job.bake.outer_start = start_spheres(a);
   job.planner.tool_frames = a.tool_frames;
+  job.planner.free_joints = a.free_joints;
   job.planner.srdf = a.srdf;
   job.planner.sample = !a.no_self_collision;
   job.planner.self_collision = a.self_collision;
@@ -383,6 +386,9 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
                   "effector; default: the SRDF's end effectors, else per branch the link that "
                   "carries the gripper or hand, else a frame fixed to the arm's end named as a "
                   "tool frame (tool0, tool_frame, tcp, ...), else the arm's last link)");
+  sub->add_option("--free-joint", a->free_joints,
+                  "A joint the planner files leave free although the rules lock it (a "
+                  "gripper's or hand's finger joint, for in-hand planning; repeatable)");
   sub->add_option("--srdf", a->srdf,
                   "An SRDF whose disabled pairs are taken as given and whose end effectors "
                   "are the tool frames");

@@ -1,6 +1,8 @@
 // A baked robot's planner setup (robot_planner_setup.h).
 #include "medspheres/robot_bake/robot_planner_setup.h"
 
+#include <algorithm>
+
 #include "medspheres/error.h"
 #include "medspheres/formats/srdf_disabled_collisions.h"
 #include "medspheres/io.h"
@@ -36,6 +38,34 @@ std::vector<std::string> tool_frames(const RobotModel& model, const PlannerReque
   return default_tool_frames(model, &from);
 }
 
+// Each free joint is an actuated joint of the robot: not fixed, not a mimic joint.
+void check_free_joints(const RobotModel& model, const PlannerRequest& r) {
+  for (const std::string& name : r.free_joints) {
+    const Joint* j = model.find_joint(name);
+    std::string problem;
+    if (!j)
+      problem = "is no joint of the robot \"" + model.name + "\"";
+    else if (j->type == JointType::kFixed)
+      problem = "is a fixed joint";
+    else if (j->mimic)
+      problem = "follows \"" + j->mimic->joint + "\" (a mimic joint): free that joint instead";
+    if (!problem.empty())
+      throw InputError::option(ErrorKind::kOutOfRange, "free_joint", name,
+                               "\"" + name + "\" " + problem);
+  }
+}
+
+// The finger joints below \p tools that the request does not free.
+std::vector<std::string> locked_joints(const RobotModel& model,
+                                       const std::vector<std::string>& tools,
+                                       const PlannerRequest& r) {
+  std::vector<std::string> out;
+  for (const std::string& j : finger_joints(model, tools))
+    if (std::find(r.free_joints.begin(), r.free_joints.end(), j) == r.free_joints.end())
+      out.push_back(j);
+  return out;
+}
+
 }  // namespace
 
 // The SRDF's text ("" without one), its unreadable file named by the option.
@@ -57,6 +87,11 @@ std::string planner_request_text(const PlannerRequest& r) {
        "\nthreshold=" + exact_number_text(r.self_collision.threshold) +
        "\nmargin=" + exact_number_text(r.self_collision.margin) +
        "\nsearch=" + (r.self_collision.search ? "1" : "0") + "\n";
+  if (!r.free_joints.empty()) {  // only then, so that the keys of earlier requests stay
+    t += "free_joints=";
+    for (const std::string& j : r.free_joints) t += j + ",";
+    t += "\n";
+  }
   return t;
 }
 
@@ -65,6 +100,7 @@ void check_planner_request(const RobotModel& model, const PlannerRequest& r) {
   const std::string srdf_text = srdf_text_of(r);
   std::string from;
   tool_frames(model, r, srdf_text, from);
+  check_free_joints(model, r);
   if (!srdf_text.empty())
     check_disabled_pairs(model, formats::parse_srdf_disabled_collisions(srdf_text, r.srdf));
 }
@@ -76,7 +112,8 @@ PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkS
   const std::string srdf_text = srdf_text_of(r);
   PlannerSetup s;
   s.tool_frames = tool_frames(model, r, srdf_text, s.tool_frames_from);
-  s.locked_joints = finger_joints(model, s.tool_frames);
+  check_free_joints(model, r);
+  s.locked_joints = locked_joints(model, s.tool_frames, r);
   const std::map<std::string, double> zero = clamped_zero(model);
   std::map<std::string, double> locked;
   for (const std::string& j : s.locked_joints) locked[j] = zero.at(j);
