@@ -511,7 +511,7 @@ TEST_CASE("robot: tool frames, the matrix and the default configuration in every
   const std::string freed = dir.file("freed");
   const CommandResult f =
       cli("robot " + shell_quote(urdf) + " -o " + shell_quote(freed) +
-          " --spheres-per-link 6 --no-measure --no-self-collision --format robot,curobo "
+          " --spheres-per-link 6 --no-measure --no-outer --no-self-collision --format robot,curobo "
           "--free-joint left_finger_joint");
   INFO(f.err);
   REQUIRE(f.exit_code == 0);
