@@ -24,7 +24,7 @@ def test_every_name_is_exported_stubbed_and_documented():
 
 
 def signature_parameters(function):
-    """The parameter names of each signature pybind11 writes atop \p function's docstring."""
+    """The parameter names of each signature pybind11 writes atop the function's docstring."""
     out = []
     for line in (function.__doc__ or "").splitlines():
         if not re.match(r"^(\d+\. )?%s\(" % function.__name__, line):
