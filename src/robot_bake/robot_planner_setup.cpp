@@ -79,19 +79,20 @@ std::string srdf_text_of(const PlannerRequest& r) {
 }
 
 std::string planner_request_text(const PlannerRequest& r) {
-  std::string t = "planner tool_frames=";
-  for (const std::string& f : r.tool_frames) t += f + ",";
-  t += "\nsrdf=" + r.srdf + "\nsample=" + (r.sample ? "1" : "0") +
-       "\nsamples=" + std::to_string(r.self_collision.samples) +
-       "\nseed=" + std::to_string(r.self_collision.seed) +
-       "\nthreshold=" + exact_number_text(r.self_collision.threshold) +
-       "\nmargin=" + exact_number_text(r.self_collision.margin) +
-       "\nsearch=" + (r.self_collision.search ? "1" : "0") + "\n";
-  if (!r.free_joints.empty()) {  // only then, so that the keys of earlier requests stay
-    t += "free_joints=";
-    for (const std::string& j : r.free_joints) t += j + ",";
-    t += "\n";
-  }
+  const auto names = [](const std::vector<std::string>& list) {
+    std::string out;
+    for (const std::string& n : list) out += n + ",";
+    return out;
+  };
+  std::string t = "planner tool_frames=" + names(r.tool_frames) + "\nsrdf=" + r.srdf +
+                  "\nsample=" + (r.sample ? "1" : "0") +
+                  "\nsamples=" + std::to_string(r.self_collision.samples) +
+                  "\nseed=" + std::to_string(r.self_collision.seed) +
+                  "\nthreshold=" + exact_number_text(r.self_collision.threshold) +
+                  "\nmargin=" + exact_number_text(r.self_collision.margin) +
+                  "\nsearch=" + (r.self_collision.search ? "1" : "0") + "\n";
+  // Only when given, so that the keys of earlier requests stay.
+  if (!r.free_joints.empty()) t += "free_joints=" + names(r.free_joints) + "\n";
   return t;
 }
 
