@@ -41,6 +41,13 @@ struct SymmetricMatrix3 {
     m << xx, xy, xz, xy, yy, yz, xz, yz, zz;
     return m;
   }
+  /// The product with y, in the order of matrix() * y, without building the matrix
+  /// (the winding number's far field calls it for every subtree it accepts).
+  Eigen::Vector3d times(const Eigen::Vector3d& y) const {
+    return {xx * y[0] + xy * y[1] + xz * y[2], xy * y[0] + yy * y[1] + yz * y[2],
+            xz * y[0] + yz * y[1] + zz * y[2]};
+  }
+  double trace() const { return xx + yy + zz; }
 };
 
 /// Far-field data of a subtree, for hierarchical winding numbers. With N_t = a_t n_t

@@ -30,14 +30,17 @@ double far_field_flux(const detail::WindingExpansion& e, const Eigen::Vector3d& 
   const double inv5 = inv3 * inv_l2;
   double diag = 0.0, trace_term = 0.0, cubic = 0.0;
   for (int i = 0; i < 3; ++i) {
-    const Eigen::Matrix3d c = e.second_moment[i].matrix();
-    const Eigen::Vector3d cy = c * y;
+    const Eigen::Vector3d cy = e.second_moment[i].times(y);
     diag += cy[i];
-    trace_term += y[i] * c.trace();
+    trace_term += y[i] * e.second_moment[i].trace();
     cubic += y[i] * y.dot(cy);
   }
   const double order0 = y.dot(e.normal_sum) * inv3;
-  const double order1 = e.first_moment.trace() * inv3 - 3.0 * y.dot(e.first_moment * y) * inv5;
+  const Eigen::Matrix3d& d = e.first_moment;  // D y row by row, as d * y sums it
+  const Eigen::Vector3d dy(d(0, 0) * y[0] + d(0, 1) * y[1] + d(0, 2) * y[2],
+                           d(1, 0) * y[0] + d(1, 1) * y[1] + d(1, 2) * y[2],
+                           d(2, 0) * y[0] + d(2, 1) * y[1] + d(2, 2) * y[2]);
+  const double order1 = d.trace() * inv3 - 3.0 * y.dot(dy) * inv5;
   const double order2 = -1.5 * inv5 * (2.0 * diag + trace_term) + 7.5 * inv5 * inv_l2 * cubic;
   return order0 + order1 + order2;
 }
