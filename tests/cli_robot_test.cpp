@@ -515,7 +515,8 @@ TEST_CASE("robot: tool frames, the matrix and the default configuration in every
           "--free-joint left_finger_joint");
   INFO(f.err);
   REQUIRE(f.exit_code == 0);
-  CHECK_THAT(f.out, Contains("locked joints (the gripper's): right_finger_joint\n"));
+  CHECK_THAT(f.out, Contains("locked joints (the gripper's): right_finger_joint\n"
+                             "free finger joints (--free-joint): left_finger_joint\n"));
   const YAML::Node yml = YAML::LoadFile(freed + "/generated_arm_7.curobo.yml");
   const YAML::Node locks = yml["robot_cfg"]["kinematics"]["lock_joints"];
   REQUIRE(locks.IsMap());

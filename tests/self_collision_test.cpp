@@ -420,8 +420,10 @@ TEST_CASE("planner setup: --tool-frame, an SRDF's pairs and end effectors, bad o
   CHECK(s.tool_frames == Names{"flange"});
   CHECK(s.locked_joints.empty());
   CHECK(planner_request_text(request).find("free_joints=left_finger_joint,") != std::string::npos);
-  for (const auto& [name, problem] :
-       {std::pair{"ghost", "no joint"}, {"hand_joint", "fixed"}, {"right_finger_joint", "mimic"}}) {
+  for (const auto& [name, problem] : {std::pair{"ghost", "no joint"},
+                                      {"hand_joint", "fixed"},
+                                      {"right_finger_joint", "mimic"},
+                                      {"joint1", "not locked"}}) {
     request.free_joints = {name};
     CHECK_THROWS_WITH(make_planner_setup(r.model, r.solids, formats::SphereChoice::kOuter, request),
                       Contains(name) && Contains(problem) && Contains("free_joint"));

@@ -146,11 +146,14 @@ std::string joined(const std::vector<std::string>& names) {
 }
 
 // Where the tool frames and the default configuration came from, and the matrix's classes.
-void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run) {
+void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
+                           const std::vector<std::string>& free_joints) {
   std::cout << "tool frames: " << joined(s.tool_frames) << " ("
             << tool_frames_from_text(s.tool_frames_from) << ")\n";
   if (!s.locked_joints.empty())
     std::cout << "locked joints (the gripper's): " << joined(s.locked_joints) << "\n";
+  if (!free_joints.empty())
+    std::cout << "free finger joints (--free-joint): " << joined(free_joints) << "\n";
   std::cout << "default configuration: " << default_from_text(s.default_from) << "\n";
   if (!s.self_collision || s.self_collision->samples == 0) return;
   std::cout << "self-collision matrix: " << s.self_collision->samples << " samples, "
@@ -310,7 +313,7 @@ int run_robot(const RobotArgs& a) {
     print_summary(r.bake, a.out);
     std::cout << "the planner formats carry each link's "
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
-    print_planner_summary(*r.bake.model.planner, r.planner);
+    print_planner_summary(*r.bake.model.planner, r.planner, a.free_joints);
     warn_curobo_urdf(r.bake.model, urdf);
   }
   return kExitOk;

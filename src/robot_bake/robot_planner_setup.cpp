@@ -38,8 +38,11 @@ std::vector<std::string> tool_frames(const RobotModel& model, const PlannerReque
   return default_tool_frames(model, &from);
 }
 
-// Each free joint is an actuated joint of the robot: not fixed, not a mimic joint.
-void check_free_joints(const RobotModel& model, const PlannerRequest& r) {
+// Each free joint is an actuated joint of the robot (not fixed, not a mimic joint) that the
+// rules lock: a finger joint below one of \p tools.
+void check_free_joints(const RobotModel& model, const std::vector<std::string>& tools,
+                       const PlannerRequest& r) {
+  const std::vector<std::string> fingers = finger_joints(model, tools);
   for (const std::string& name : r.free_joints) {
     const Joint* j = model.find_joint(name);
     std::string problem;
@@ -49,6 +52,9 @@ void check_free_joints(const RobotModel& model, const PlannerRequest& r) {
       problem = "is a fixed joint";
     else if (j->mimic)
       problem = "follows \"" + j->mimic->joint + "\" (a mimic joint): free that joint instead";
+    else if (std::find(fingers.begin(), fingers.end(), name) == fingers.end())
+      problem = "is not locked (only the finger joints below the tool frames are), so it is "
+                "free already";
     if (!problem.empty())
       throw InputError::option(ErrorKind::kOutOfRange, "free_joint", name,
                                "\"" + name + "\" " + problem);
@@ -100,8 +106,7 @@ void check_planner_request(const RobotModel& model, const PlannerRequest& r) {
   validate(r.self_collision);
   const std::string srdf_text = srdf_text_of(r);
   std::string from;
-  tool_frames(model, r, srdf_text, from);
-  check_free_joints(model, r);
+  check_free_joints(model, tool_frames(model, r, srdf_text, from), r);
   if (!srdf_text.empty())
     check_disabled_pairs(model, formats::parse_srdf_disabled_collisions(srdf_text, r.srdf));
 }
@@ -113,7 +118,7 @@ PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkS
   const std::string srdf_text = srdf_text_of(r);
   PlannerSetup s;
   s.tool_frames = tool_frames(model, r, srdf_text, s.tool_frames_from);
-  check_free_joints(model, r);
+  check_free_joints(model, s.tool_frames, r);
   s.locked_joints = locked_joints(model, s.tool_frames, r);
   const std::map<std::string, double> zero = clamped_zero(model);
   std::map<std::string, double> locked;

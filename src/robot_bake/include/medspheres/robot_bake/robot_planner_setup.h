@@ -25,7 +25,7 @@ struct PlannerRequest {
   std::vector<std::string> tool_frames;  ///< links of the robot; empty: SRDF's or default
   std::string srdf;                      ///< an SRDF file; empty: none
   /// Joints the planner files leave free although the rules lock them (a hand's finger
-  /// joints, for in-hand planning); each an actuated joint of the robot.
+  /// joints, for in-hand planning); each an actuated finger joint below the tool frames.
   std::vector<std::string> free_joints;
   bool sample = true;  ///< compute the matrix (false: adjacency only)
   SelfCollisionOptions self_collision;
@@ -35,15 +35,15 @@ struct PlannerRequest {
 std::string planner_request_text(const PlannerRequest& request);
 
 /// Checks \p request against \p model (its links and joints; no spheres needed) before any
-/// work: the options' ranges, the tool frames, the free joints (actuated joints of the
-/// robot), the SRDF (readable; its end effectors and disabled pairs name links of the robot).
+/// work: the options' ranges, the tool frames, the free joints (actuated joints that the
+/// rules lock), the SRDF (readable; its end effectors and disabled pairs name links of the robot).
 /// \throws InputError as make_planner_setup.
 void check_planner_request(const RobotModel& model, const PlannerRequest& request);
 
 /// The setup of \p model (baked, with its spheres) whose solids are \p solids, for the planner
 /// files' set \p carried.
 /// \throws InputError naming the option: a tool frame that is no link of the robot, a free
-///   joint that is no actuated joint of it, an SRDF that cannot be read or names unknown
+///   joint that is no actuated joint of it or that the rules do not lock, an SRDF that cannot be read or names unknown
 ///   links, options out of range.
 PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkSolid>& solids,
                                 formats::SphereChoice carried, const PlannerRequest& request,
