@@ -53,8 +53,9 @@ void check_free_joints(const RobotModel& model, const std::vector<std::string>& 
     else if (j->mimic)
       problem = "follows \"" + j->mimic->joint + "\" (a mimic joint): free that joint instead";
     else if (std::find(fingers.begin(), fingers.end(), name) == fingers.end())
-      problem = "is not locked (only the finger joints below the tool frames are), so it is "
-                "free already";
+      problem =
+          "is not locked (only the finger joints below the tool frames are), so it is "
+          "free already";
     if (!problem.empty())
       throw InputError::option(ErrorKind::kOutOfRange, "free_joint", name,
                                "\"" + name + "\" " + problem);

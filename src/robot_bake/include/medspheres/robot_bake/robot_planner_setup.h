@@ -43,8 +43,8 @@ void check_planner_request(const RobotModel& model, const PlannerRequest& reques
 /// The setup of \p model (baked, with its spheres) whose solids are \p solids, for the planner
 /// files' set \p carried.
 /// \throws InputError naming the option: a tool frame that is no link of the robot, a free
-///   joint that is no actuated joint of it or that the rules do not lock, an SRDF that cannot be read or names unknown
-///   links, options out of range.
+///   joint that is no actuated joint of it or that the rules do not lock, an SRDF that
+///   cannot be read or names unknown links, options out of range.
 PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkSolid>& solids,
                                 formats::SphereChoice carried, const PlannerRequest& request,
                                 SelfCollisionRun* run = nullptr);
