@@ -156,6 +156,34 @@ TEST_CASE("mesh names: file://, absolute paths, other schemes", "[robot]") {
   CHECK_THROWS_AS(add_package_dir(dirs, "a="), InputError);
 }
 
+TEST_CASE("mesh names from a description's root: the nearest ancestor folder that has the file",
+          "[robot]") {
+  // cuRobo's own descriptions name meshes from the description's root (its
+  // asset_root_path), with the URDF in a urdf/ folder below it.
+  TempDir dir;
+  std::filesystem::create_directories(dir.path() / "desc" / "urdf");
+  std::filesystem::create_directories(dir.path() / "desc" / "meshes");
+  const std::string mesh =
+      dir.write("desc/meshes/c.obj", test::to_obj(make_box({0.1, 0.2, 0.3}, 1)));
+  const std::string desc_urdf = (dir.path() / "desc" / "urdf").string();
+  PackageDirs none;
+  none.use_ros_package_path = false;
+  CHECK(resolve_mesh_path("meshes/c.obj", desc_urdf, none) == mesh);
+  CHECK(resolve_mesh_path("file://meshes/c.obj", desc_urdf, none) == mesh);
+  // No file anywhere up the tree: the path from the URDF's folder, for the loader's error.
+  CHECK(resolve_mesh_path("meshes/d.obj", desc_urdf, none) == desc_urdf + "/meshes/d.obj");
+  const UrdfRobot robot = read_urdf(dir.write("desc/urdf/r.urdf", urdf(R"(<link name="l">
+        <collision><geometry><mesh filename="meshes/c.obj"/></geometry></collision></link>)")));
+  const std::vector<LinkSolid> solids = load_link_solids(robot);
+  CHECK(analyze_mesh(solids[0].placed_mesh()).signed_volume ==
+        Approx(0.2 * 0.4 * 0.6).epsilon(1e-6));
+  // A file beside the URDF comes first.
+  std::filesystem::create_directories(dir.path() / "desc" / "urdf" / "meshes");
+  const std::string beside =
+      dir.write("desc/urdf/meshes/c.obj", test::to_obj(make_box({0.1, 0.1, 0.1}, 1)));
+  CHECK(resolve_mesh_path("meshes/c.obj", desc_urdf, none) == beside);
+}
+
 TEST_CASE("a mirroring scale keeps the solid wound outward", "[robot]") {
   TempDir dir;
   dir.write("c.obj", test::to_obj(make_box({0.1, 0.2, 0.3}, 1)));

@@ -69,10 +69,24 @@ std::string package_dir(const std::string& uri, const std::string& name,
                             ")");
 }
 
+// A relative path is taken from the URDF's folder; when no file is there, from the nearest of
+// its ancestors that has one (descriptions whose meshes sit beside a urdf/ folder, named
+// from the description's root as cuRobo's asset_root_path does; yourdfpy searches the same
+// folders). With none, the path from the URDF's folder, for the loader to report.
 std::string relative_to(const std::string& path, const std::string& urdf_dir) {
   const fs::path p(path);
-  if (p.is_absolute() || urdf_dir.empty()) return p.lexically_normal().string();
-  return (fs::path(urdf_dir) / p).lexically_normal().string();
+  if (p.is_absolute()) return p.lexically_normal().string();
+  const fs::path direct = (fs::path(urdf_dir) / p).lexically_normal();
+  std::error_code ec;
+  if (fs::exists(direct, ec)) return direct.string();
+  const fs::path from = fs::absolute(fs::path(urdf_dir), ec).lexically_normal();
+  if (ec) return direct.string();
+  for (fs::path dir = from.parent_path(); !dir.empty(); dir = dir.parent_path()) {
+    const fs::path candidate = (dir / p).lexically_normal();
+    if (fs::is_regular_file(candidate, ec)) return candidate.string();
+    if (dir == dir.root_path()) break;
+  }
+  return direct.string();
 }
 
 }  // namespace

@@ -23,7 +23,10 @@ struct PackageDirs {
 /// - `file:///abs/path` or `file://rel/path`: the path after the scheme (a relative one is
 ///   taken relative to \p urdf_dir);
 /// - anything else without a scheme: a path, relative to \p urdf_dir unless absolute.
-/// The file itself is not opened (a missing file is the loader's error).
+/// A relative path that names no file from \p urdf_dir is taken from the nearest ancestor
+/// folder of \p urdf_dir where it names one (meshes named from a description's root, as
+/// cuRobo's asset_root_path and yourdfpy's search take them). The file itself is not opened
+/// (a missing file is the loader's error, with the path from \p urdf_dir).
 /// \throws InputError (source: \p uri) for an empty name, an unknown package (the message
 ///   says where it was looked for), `package://` without a package name, or another
 ///   scheme (http://, model://, ...).
