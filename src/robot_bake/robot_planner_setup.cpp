@@ -39,10 +39,9 @@ std::vector<std::string> tool_frames(const RobotModel& model, const PlannerReque
 }
 
 // Each free joint is an actuated joint of the robot (not fixed, not a mimic joint) that the
-// rules lock: a finger joint below one of \p tools.
-void check_free_joints(const RobotModel& model, const std::vector<std::string>& tools,
+// rules lock: one of \p fingers, the finger joints below the tool frames.
+void check_free_joints(const RobotModel& model, const std::vector<std::string>& fingers,
                        const PlannerRequest& r) {
-  const std::vector<std::string> fingers = finger_joints(model, tools);
   for (const std::string& name : r.free_joints) {
     const Joint* j = model.find_joint(name);
     std::string problem;
@@ -62,12 +61,11 @@ void check_free_joints(const RobotModel& model, const std::vector<std::string>& 
   }
 }
 
-// The finger joints below \p tools that the request does not free.
-std::vector<std::string> locked_joints(const RobotModel& model,
-                                       const std::vector<std::string>& tools,
+// The finger joints \p fingers that the request does not free.
+std::vector<std::string> locked_joints(const std::vector<std::string>& fingers,
                                        const PlannerRequest& r) {
   std::vector<std::string> out;
-  for (const std::string& j : finger_joints(model, tools))
+  for (const std::string& j : fingers)
     if (std::find(r.free_joints.begin(), r.free_joints.end(), j) == r.free_joints.end())
       out.push_back(j);
   return out;
@@ -107,7 +105,7 @@ void check_planner_request(const RobotModel& model, const PlannerRequest& r) {
   validate(r.self_collision);
   const std::string srdf_text = srdf_text_of(r);
   std::string from;
-  check_free_joints(model, tool_frames(model, r, srdf_text, from), r);
+  check_free_joints(model, finger_joints(model, tool_frames(model, r, srdf_text, from)), r);
   if (!srdf_text.empty())
     check_disabled_pairs(model, formats::parse_srdf_disabled_collisions(srdf_text, r.srdf));
 }
@@ -119,8 +117,9 @@ PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkS
   const std::string srdf_text = srdf_text_of(r);
   PlannerSetup s;
   s.tool_frames = tool_frames(model, r, srdf_text, s.tool_frames_from);
-  check_free_joints(model, s.tool_frames, r);
-  s.locked_joints = locked_joints(model, s.tool_frames, r);
+  const std::vector<std::string> fingers = finger_joints(model, s.tool_frames);
+  check_free_joints(model, fingers, r);
+  s.locked_joints = locked_joints(fingers, r);
   const std::map<std::string, double> zero = clamped_zero(model);
   std::map<std::string, double> locked;
   for (const std::string& j : s.locked_joints) locked[j] = zero.at(j);
