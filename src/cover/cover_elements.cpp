@@ -351,7 +351,7 @@ double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
   double far2[4] = {0.0, 0.0, 0.0, 0.0};
   double r = 0.0;
   for (std::size_t i = 0; i < atoms.size(); ++i) {
-    const double d2 = (atoms[i].center - c).squaredNorm();
+    const double d2 = squared_distance(atoms[i].center, c);
     if (atoms[i].radius == 0.0)
       far2[i % 4] = std::max(far2[i % 4], d2);
     else
@@ -359,6 +359,20 @@ double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
   }
   return std::max(r, std::sqrt(std::max(std::max(far2[0], far2[1]), std::max(far2[2], far2[3]))));
 }
+
+namespace {
+
+// reach_from(atoms_of(e, members, mark), c) without the list: the largest farthest() over
+// the members. The same bits: over points, the root of the largest squared distance is the
+// largest root (repeated points change no maximum); over patches, the same sums.
+double reach_of(const Elements& e, const std::vector<std::size_t>& members,
+                const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (std::size_t i : members) r = std::max(r, farthest(e, i, c));
+  return r;
+}
+
+}  // namespace
 
 // The radius of a ball centred at c that holds \p atoms.
 double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
@@ -426,10 +440,9 @@ double union_volume(const std::vector<Sphere>& balls) {
 void hold_members(const Elements& e, Clustering& c) {
   c.settled.clear();
   const auto members = members_of(c.owner, c.balls.size());
-  std::vector<char> mark(e.points.size(), 0);
   for (std::size_t j = 0; j < c.balls.size(); ++j)
     c.balls[j].radius =
-        members[j].empty() ? 0.0 : holding_radius(atoms_of(e, members[j], mark), c.balls[j].center);
+        members[j].empty() ? 0.0 : raised(reach_of(e, members[j], c.balls[j].center));
 }
 
 void hold_all(const Elements& e, Clustering& c, int threads) {
@@ -464,7 +477,6 @@ std::vector<std::size_t> may_hold(const Elements& e, const std::vector<Sphere>& 
 // keeps its centre, its radius shrunk to the farthest point it still holds; a ball left
 // with nothing goes. Every element stays held by its owner throughout.
 void shrink(const Elements& e, Clustering& c, bool refining) {
-  std::vector<char> mark(e.points.size(), 0);
   const std::size_t k = c.balls.size();
   // settled[i]: no other ball held element i when its owner last kept it. Balls only
   // shrink about fixed centres, so it stays so until one grows (then all are checked again).
@@ -491,8 +503,7 @@ void shrink(const Elements& e, Clustering& c, bool refining) {
       }
       if (held.empty()) continue;
       const double before = c.balls[j].radius;
-      const std::vector<Sphere> atoms = atoms_of(e, keep, mark);
-      const double reach = reach_from(atoms, c.balls[j].center);
+      const double reach = reach_of(e, keep, c.balls[j].center);
       members[j] = keep;
       for (std::size_t h = 0; h < held.size(); ++h) {
         const std::size_t i = held[h];
