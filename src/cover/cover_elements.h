@@ -58,11 +58,15 @@ inline double squared_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& 
   const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
   return dx * dx + dy * dy + dz * dz;
 }
+// (a - b).norm(), the same bits.
+inline double distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
+  return std::sqrt(squared_distance(a, b));
+}
 
 // The distance from c to the farthest point of element i (of its ball, for a patch).
 // Inline: the bake's inner loops call it millions of times.
 inline double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
-  if (e.patches()) return std::sqrt(squared_distance(e.centroids[i], c)) + e.reach[i];
+  if (e.patches()) return distance(e.centroids[i], c) + e.reach[i];
   // The largest squared distance, then one root: the same value as the largest root (the
   // root is correctly rounded and monotone).
   double m = 0.0;

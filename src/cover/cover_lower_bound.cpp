@@ -15,6 +15,7 @@
 #include <vector>
 
 #include "cover_count_bound.h"
+#include "cover_elements.h"
 #include "medspheres/cover/cover.h"
 #include "medspheres/error.h"
 #include "medspheres/measure/fit_metrics.h"
@@ -372,8 +373,9 @@ class CentreBlocks {
           const int b = slot_[static_cast<std::size_t>((i * n_[1] + j) * n_[2] + k)];
           if (b < 0) continue;
           const Block& q = blocks_[static_cast<std::size_t>(b)];
-          const double far = std::max((x - q.centre).norm(), (y - q.centre).norm()) - q.radius;
-          const double off = std::max(0.0, (mid - q.centre).norm() - q.radius - delta_);
+          const double far =
+              std::max(detail::distance(x, q.centre), detail::distance(y, q.centre)) - q.radius;
+          const double off = std::max(0.0, detail::distance(mid, q.centre) - q.radius - delta_);
           if (std::max(far - delta_, std::sqrt(h * h + off * off)) - q.depth < best)
             best = scan(q, x, y, mid, h, best);
         }
@@ -396,9 +398,10 @@ class CentreBlocks {
               const Eigen::Vector3d& mid, double h, double best) const {
     for (std::size_t k = b.begin; k < b.end; ++k) {
       const Eigen::Vector3d& g = points_[k];
-      const double off = std::max(0.0, (g - mid).norm() - delta_);
+      const double off = std::max(0.0, detail::distance(g, mid) - delta_);
       const double reach =
-          std::max(std::max((g - x).norm(), (g - y).norm()) - delta_, std::sqrt(h * h + off * off));
+          std::max(std::max(detail::distance(g, x), detail::distance(g, y)) - delta_,
+                   std::sqrt(h * h + off * off));
       best = std::min(best, reach - depth_[k]);
     }
     return best;
