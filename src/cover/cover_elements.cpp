@@ -24,6 +24,16 @@ namespace {
 constexpr double kElementCap = 40000.0;
 constexpr double kPatchesPerBall = 60.0;
 
+// reach_from(atoms_of(e, members, mark), c) without the list: the largest farthest() over
+// the members. The same bits: over points, the root of the largest squared distance is the
+// largest root (repeated points change no maximum); over patches, the same sums.
+double reach_of(const Elements& e, const std::vector<std::size_t>& members,
+                const Eigen::Vector3d& c) {
+  double r = 0.0;
+  for (std::size_t i : members) r = std::max(r, farthest(e, i, c));
+  return r;
+}
+
 void push_element(Elements& e, int a, int b, int c) {
   e.items.push_back({a, b, c, c});
   const Eigen::Vector3d &pa = e.points[static_cast<std::size_t>(a)],
@@ -175,10 +185,8 @@ Elements group_patches(const Elements& e, double cell, const Eigen::Vector3d& or
     for (std::size_t i : group)
       for (int q : e.items[i]) box.extend(e.points[static_cast<std::size_t>(q)]);
     const Eigen::Vector3d c = box.center();
-    double r = 0.0;
-    for (std::size_t i : group) r = std::max(r, farthest(e, i, c));
     p.centroids.push_back(c);
-    p.reach.push_back(raised(r));
+    p.reach.push_back(raised(reach_of(e, group, c)));
     double w = 0.0;
     for (std::size_t i : group) w += e.weight[i];
     p.weight.push_back(w);
@@ -359,20 +367,6 @@ double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
   }
   return std::max(r, std::sqrt(std::max(std::max(far2[0], far2[1]), std::max(far2[2], far2[3]))));
 }
-
-namespace {
-
-// reach_from(atoms_of(e, members, mark), c) without the list: the largest farthest() over
-// the members. The same bits: over points, the root of the largest squared distance is the
-// largest root (repeated points change no maximum); over patches, the same sums.
-double reach_of(const Elements& e, const std::vector<std::size_t>& members,
-                const Eigen::Vector3d& c) {
-  double r = 0.0;
-  for (std::size_t i : members) r = std::max(r, farthest(e, i, c));
-  return r;
-}
-
-}  // namespace
 
 // The radius of a ball centred at c that holds \p atoms.
 double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c) {
