@@ -5,6 +5,8 @@
 
 #include <Eigen/Eigenvalues>
 
+#include "medspheres/scalar_distance.h"
+
 namespace medspheres::check::detail {
 namespace {
 
@@ -114,13 +116,13 @@ struct PairBake {
       }
       posed[k].resize(side[k].centre.size());
       for (std::size_t i = 0; i < side[k].centre.size(); ++i)
-        posed[k][i] = R * side[k].centre[i] + p;
+        posed[k][i] = medspheres::detail::affine(R, side[k].centre[i], p);
     }
     double best = std::numeric_limits<double>::infinity();
     for (std::size_t i = 0; i < posed[0].size(); ++i)
       for (std::size_t j = 0; j < posed[1].size(); ++j)
-        best = std::min(best,
-                        (posed[0][i] - posed[1][j]).norm() - side[0].radius[i] - side[1].radius[j]);
+        best = std::min(best, medspheres::detail::distance(posed[0][i], posed[1][j]) -
+                                  side[0].radius[i] - side[1].radius[j]);
     return best;
   }
 

@@ -336,9 +336,16 @@ void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int
 std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
                              std::vector<char>& mark) {
   std::vector<Sphere> atoms;
+  atoms_into(e, members, mark, atoms);
+  return atoms;
+}
+
+void atoms_into(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark,
+                std::vector<Sphere>& atoms) {
+  atoms.clear();
   if (e.patches()) {
     for (std::size_t i : members) atoms.push_back({e.centroids[i], e.reach[i]});
-    return atoms;
+    return;
   }
   for (std::size_t i : members)
     for (int p : e.items[i])
@@ -348,7 +355,6 @@ std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& 
       }
   for (std::size_t i : members)
     for (int p : e.items[i]) mark[static_cast<std::size_t>(p)] = 0;
-  return atoms;
 }
 
 // The radius that the ball centred at c needs to hold \p atoms: the largest |a - c| + r_a.
@@ -418,8 +424,13 @@ Sphere fit(const Elements& e, const std::vector<std::size_t>& members, std::vect
   }
 }
 
+// Each list reserved at its size first: growing them cost a copy and fresh pages at each
+// doubling.
 std::vector<std::vector<std::size_t>> members_of(const std::vector<int>& owner, std::size_t k) {
+  std::vector<std::size_t> count(k, 0);
+  for (int o : owner) ++count[static_cast<std::size_t>(o)];
   std::vector<std::vector<std::size_t>> m(k);
+  for (std::size_t j = 0; j < k; ++j) m[j].reserve(count[j]);
   for (std::size_t i = 0; i < owner.size(); ++i) m[static_cast<std::size_t>(owner[i])].push_back(i);
   return m;
 }
@@ -570,19 +581,25 @@ void refine_binding(Elements& e, Clustering& c, int levels) {
   for (int level = 0; level < levels; ++level) {
     const bool marked = c.settled.size() == e.size();
     std::vector<char> split(e.surface, 0);
-    bool any = false;
+    std::size_t splits = 0;
     for (std::size_t i = 0; i < e.surface; ++i) {
       const Sphere& b = c.balls[static_cast<std::size_t>(c.owner[i])];
       split[i] = e.reach[i] > 0.5 * grain && farthest(e, i, b.center) > b.radius - 2.0 * e.reach[i];
-      any = any || split[i];
+      splits += split[i];
     }
-    if (!any) return;
+    if (splits == 0) return;
+    // Reserved for the most the splits add (a pair: 8 pieces, 6 midpoints), so that no list
+    // grows by copies.
     Elements f;
-    f.points = e.points;
+    f.points.reserve(e.points.size() + 6 * splits);
+    f.points.assign(e.points.begin(), e.points.end());
     f.element_size = 0.5 * e.element_size;
     f.paired = e.paired;
+    const std::size_t most = e.size() + 7 * splits;
+    f.items.reserve(most), f.centroids.reserve(most), f.reach.reserve(most), f.weight.reserve(most);
     std::vector<int> owners;
     std::vector<char> marks;
+    owners.reserve(most), marks.reserve(most);
     for (std::size_t i = 0; i < e.size(); ++i) {
       if (i < e.surface && split[i]) {
         split_element(e, i, c.owner[i], c.balls[static_cast<std::size_t>(c.owner[i])], f, owners);

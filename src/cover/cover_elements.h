@@ -13,6 +13,7 @@
 #include <Eigen/Core>
 
 #include "medspheres/mesh/mesh_query.h"
+#include "medspheres/scalar_distance.h"
 #include "medspheres/sphere_set.h"
 
 namespace medspheres::detail {
@@ -52,17 +53,6 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_
 Elements make_patches(const Elements& e, std::size_t budget, double floor,
                       const Eigen::Vector3d& origin);
 
-// (a - b).squaredNorm() written out, the same bits: the sanitizer builds instrument every
-// vector temporary, and the bake's inner loops take this millions of times.
-inline double squared_distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  const double dx = a[0] - b[0], dy = a[1] - b[1], dz = a[2] - b[2];
-  return dx * dx + dy * dy + dz * dz;
-}
-// (a - b).norm(), the same bits.
-inline double distance(const Eigen::Vector3d& a, const Eigen::Vector3d& b) {
-  return std::sqrt(squared_distance(a, b));
-}
-
 // The distance from c to the farthest point of element i (of its ball, for a patch).
 // Inline: the bake's inner loops call it millions of times.
 inline double farthest(const Elements& e, std::size_t i, const Eigen::Vector3d& c) {
@@ -91,6 +81,10 @@ inline bool holds(const Elements& e, std::size_t i, const Sphere& b) {
 // of radius 0), or for patches their balls. \p mark: scratch, one per point, all 0.
 std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
                              std::vector<char>& mark);
+// The same into \p atoms (cleared first), whose memory a caller's loop reuses: fresh
+// lists of this size cost a page fault per page, most of the sanitizer builds' bake time.
+void atoms_into(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark,
+                std::vector<Sphere>& atoms);
 // The radius that a ball centred at c needs to hold \p atoms.
 double reach_from(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c);
 // A reach (a largest distance, rounded) raised by 4 ulps: a radius that the rounding of the
@@ -104,10 +98,17 @@ double holding_radius(const std::vector<Sphere>& atoms, const Eigen::Vector3d& c
 // |a - x0| + r_a < R(x0) - 2 delta (R the reach at x0) is nearer than R - delta to any y
 // within delta of x0, while the atom farthest from x0 is at least that far from y; so
 // only the others are scanned. The pivot moves (a full scan) when y leaves its delta
-// ball or the asked delta falls below an eighth of the pivot's. \p atoms must outlive it.
+// ball or the asked delta falls below an eighth of the pivot's. \p atoms and the buffer
+// must outlive it.
 class FarthestAtoms {
  public:
-  explicit FarthestAtoms(const std::vector<Sphere>& atoms) : atoms_(atoms) {}
+  // The subset is kept in \p buffer (cleared), whose memory a caller's loop reuses.
+  FarthestAtoms(const std::vector<Sphere>& atoms, std::vector<Sphere>& buffer)
+      : atoms_(atoms), near_(buffer) {
+    near_.clear();
+  }
+  FarthestAtoms(const FarthestAtoms&) = delete;
+  FarthestAtoms& operator=(const FarthestAtoms&) = delete;
   double operator()(const Eigen::Vector3d& y, double delta) {
     return reach_from(near(y, delta), y);
   }
@@ -121,7 +122,7 @@ class FarthestAtoms {
  private:
   void pivot(const Eigen::Vector3d& x, double delta);
   const std::vector<Sphere>& atoms_;
-  std::vector<Sphere> near_;
+  std::vector<Sphere>& near_;
   Eigen::Vector3d pivot_ = Eigen::Vector3d::Zero();
   double delta_ = 0.0;
 };

@@ -37,6 +37,8 @@
 #include <cmath>
 #include <vector>
 
+#include <omp.h>
+
 namespace medspheres::detail {
 
 namespace {
@@ -100,9 +102,10 @@ class OutsideOthers {
 
 // The pattern search (file comment) on ball j of \p balls, with \p atoms what it must
 // hold. \p balls is only read. Returns the ball found.
+// \p near: scratch for the atoms that may be farthest (FarthestAtoms).
 Sphere search_ball(const MeshQuery& query, const std::vector<Sphere>& balls, std::size_t j,
-                   const std::vector<Sphere>& atoms, double cap, double least_gain,
-                   std::size_t work) {
+                   const std::vector<Sphere>& atoms, std::vector<Sphere>& near, double cap,
+                   double least_gain, std::size_t work) {
   Sphere ball = balls[j];
   const Eigen::Vector3d x0 = ball.center;
   Eigen::Vector3d x = x0;
@@ -110,7 +113,7 @@ Sphere search_ball(const MeshQuery& query, const std::vector<Sphere>& balls, std
   OutsideOthers outside(balls, j);
   double part = outside(ball);
   const double r0 = ball.radius;
-  FarthestAtoms reach(atoms);
+  FarthestAtoms reach(atoms, near);
   const auto& dirs = directions();
   std::size_t last = 0;  // the direction that helped last, tried first
   for (double step = kFirst * r0; step > kLast * r0 && outside.work() < work;) {
@@ -200,27 +203,42 @@ void unsettle_near_changes(const Elements& e, const std::vector<Sphere>& before,
   }
 }
 
-// One sweep over the balls in \p active (file comment), in classes of balls apart.
+// A thread's scratch for the searches: the point marks (all 0 between uses) and the atom
+// lists, kept over every sweep, since fresh lists cost a page fault per page.
+struct SearchScratch {
+  std::vector<char> mark;
+  std::vector<Sphere> atoms, near;
+};
+
+// One sweep over the balls in \p active (file comment), in classes of balls apart: a
+// class's balls are searched in parallel against the balls as the classes before left
+// them. One thread team for the sweep; \p scratch: one per thread of \p threads.
 void sweep_balls(const MeshQuery& query, const Elements& e, Clustering& c, double cap,
-                 const std::vector<char>& active, double least_gain, int threads) {
+                 const std::vector<char>& active, double least_gain, int threads,
+                 std::vector<SearchScratch>& scratch) {
   const auto members = members_of(c.owner, c.balls.size());
   const std::size_t work = kWork / std::max<std::size_t>(c.balls.size(), 1);
-  for (const std::vector<std::size_t>& group : apart_classes(c.balls, active)) {
-    std::vector<Sphere> found(group.size());
-    const long long n = static_cast<long long>(group.size());
+  const std::vector<std::vector<std::size_t>> classes = apart_classes(c.balls, active);
+  std::vector<Sphere> found(c.balls.size());
 #pragma omp parallel num_threads(threads)
-    {
-      std::vector<char> mark(e.points.size(), 0);
+  {
+    auto& [mark, atoms, near] = scratch[static_cast<std::size_t>(omp_get_thread_num())];
+    mark.resize(e.points.size(), 0);
+    for (const std::vector<std::size_t>& group : classes) {
+      const long long n = static_cast<long long>(group.size());
 #pragma omp for schedule(dynamic, 1)
       for (long long g = 0; g < n; ++g) {
         const std::size_t j = group[static_cast<std::size_t>(g)];
-        found[static_cast<std::size_t>(g)] =
-            members[j].empty() ? c.balls[j]
-                               : search_ball(query, c.balls, j, atoms_of(e, members[j], mark), cap,
-                                             least_gain, work);
+        if (members[j].empty()) {
+          found[j] = c.balls[j];
+          continue;
+        }
+        atoms_into(e, members[j], mark, atoms);
+        found[j] = search_ball(query, c.balls, j, atoms, near, cap, least_gain, work);
       }
+#pragma omp single
+      for (std::size_t j : group) c.balls[j] = found[j];
     }
-    for (std::size_t g = 0; g < group.size(); ++g) c.balls[group[g]] = found[g];
   }
 }
 
@@ -231,10 +249,11 @@ Clustering volume_polish(const MeshQuery& query, const Elements& e, Clustering c
   drop_empty(c);
   if (c.settled.size() != e.size()) c.settled.assign(e.size(), 0);
   std::vector<char> active(c.balls.size(), 1);
+  std::vector<SearchScratch> scratch(static_cast<std::size_t>(std::max(threads, 1)));
   for (int sweep = 0; sweep < sweeps; ++sweep) {
     const std::vector<Sphere> start = c.balls;
     const double before = union_volume(c.balls);
-    sweep_balls(query, e, c, cap, active, kGain * before, threads);
+    sweep_balls(query, e, c, cap, active, kGain * before, threads, scratch);
     unsettle_near_changes(e, start, c);
     shrink(e, c, true);
     drop_empty(c);

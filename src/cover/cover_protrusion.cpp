@@ -72,12 +72,13 @@ void deepen(const MeshQuery& query, const Elements& e, Clustering& c, int thread
 #pragma omp parallel num_threads(threads)
   {
     std::vector<char> mark(e.points.size(), 0);
+    std::vector<Sphere> pts, near;  // each thread's, reused by its balls
 #pragma omp for schedule(dynamic, 1)
     for (long long jj = 0; jj < k; ++jj) {
       const std::size_t j = static_cast<std::size_t>(jj);
       if (members[j].empty()) continue;
-      const std::vector<Sphere> pts = atoms_of(e, members[j], mark);
-      FarthestAtoms reach(pts);
+      atoms_into(e, members[j], mark, pts);
+      FarthestAtoms reach(pts, near);
       Eigen::Vector3d x = c.balls[j].center;
       Probe px = probe(query, x, x, {});
       const auto cost = [&](double radius, const Eigen::Vector3d& y, double depth) {
