@@ -21,6 +21,7 @@
 #include "medspheres/point_triangle.h"
 #include "medspheres/threads.h"
 #include "support/check_fixtures.h"
+#include "support/sanitizer_build.h"
 
 using namespace medspheres;
 using check::Mode;
@@ -107,6 +108,10 @@ check::CheckerOptions options(double margin) {
   check::CheckerOptions o;
   o.margin = margin;
   o.disabled = {{"tool", "l7"}};  // joined across the flange by fixed joints
+  // The self pairs' tables of fewer cells in the sanitizer builds, where baking them was a
+  // third of each checker's construction: the same code on coarser cells. ("pair tables"
+  // below sets its own counts, the default's among them.)
+  if (test::kSanitizerBuild) o.pair_table_cells = 1u << 10;
   return o;
 }
 
@@ -673,9 +678,14 @@ TEST_CASE("test order: the same verdicts and undecided pairs whatever order the 
   // doubles, on both paths, at 1e-12 of contact, in both modes, for edges too. (Here self
   // pairs collide in most configurations: the learnt order has a head.)
   const RobotModel arm = test::capsule_arm(5), fine = test::capsule_arm(9);
+  // Eighteen checkers are built: in the sanitizer builds on a coarser scene grid, whose
+  // distance field was most of each construction there (the same code).
+  const std::size_t grid_cells =
+      test::kSanitizerBuild ? std::size_t(1) << 17 : check::CheckerOptions{}.max_cells;
   for (const double margin : {0.0, 0.01}) {
     check::CheckerOptions fixed = options(margin);
     fixed.order_samples = 0;
+    fixed.max_cells = grid_cells;
     const check::RobotChecker reference(arm, test_scene().scene, fixed, &fine);
     const std::vector<double> q = near_contact(reference, test::capsule_arm_configs(600, 18));
     const std::vector<Verdict> expected = run(reference, q, Mode::spheres);
@@ -700,6 +710,7 @@ TEST_CASE("test order: the same verdicts and undecided pairs whatever order the 
           o.order_samples = samples;
           o.float_tests = floats;
           o.simd = simd;
+          o.max_cells = grid_cells;
           const check::RobotChecker checker(arm, test_scene().scene, o, &fine);
           INFO("samples " << samples << ", floats " << floats << ", scalar "
                           << (simd == check::Simd::scalar));
