@@ -9,8 +9,9 @@ if(MEDSPHERES_SANITIZE)
   add_link_options(-fsanitize=address,undefined)
   # Executables at a fixed address: a position-independent one has the loader apply a
   # relocation to every pointer in its data at each start, and the instrumented globals'
-  # descriptors make that most of its pages (the CLI: 20,600 page faults and 0.5 s a
-  # start, 9,000 and 0.3 s without). The tests start a program a thousand times.
+  # descriptors make that most of its pages (the CLI's --version: 20,600 page faults and
+  # 0.5 to 0.6 s, 9,000 and 0.3 to 0.4 s without). The sanitizer stage starts about 2,300
+  # programs (docs/reliability.md).
   string(APPEND CMAKE_EXE_LINKER_FLAGS " -no-pie")
 endif()
 
