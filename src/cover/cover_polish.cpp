@@ -222,7 +222,11 @@ void sweep_balls(const MeshQuery& query, const Elements& e, Clustering& c, doubl
   std::vector<Sphere> found(c.balls.size());
 #pragma omp parallel num_threads(threads)
   {
-    auto& [mark, atoms, near] = scratch[static_cast<std::size_t>(omp_get_thread_num())];
+    // References, not a structured binding: clang's OpenMP cannot capture one (C++17).
+    SearchScratch& mine = scratch[static_cast<std::size_t>(omp_get_thread_num())];
+    std::vector<char>& mark = mine.mark;
+    std::vector<Sphere>& atoms = mine.atoms;
+    std::vector<Sphere>& near = mine.near;
     mark.resize(e.points.size(), 0);
     for (const std::vector<std::size_t>& group : classes) {
       const long long n = static_cast<long long>(group.size());
