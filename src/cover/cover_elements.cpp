@@ -24,7 +24,7 @@ namespace {
 constexpr double kElementCap = 40000.0;
 constexpr double kPatchesPerBall = 60.0;
 
-// reach_from(atoms_of(e, members, mark), c) without the list: the largest farthest() over
+// reach_from(atoms_into(e, members, mark, atoms), c) without the list: the largest farthest() over
 // the members. The same bits: over points, the root of the largest squared distance is the
 // largest root (repeated points change no maximum); over patches, the same sums.
 double reach_of(const Elements& e, const std::vector<std::size_t>& members,
@@ -333,13 +333,6 @@ void assign(const Elements& e, const std::vector<Sphere>& balls, std::vector<int
 
 // What a ball must hold to hold the elements in \p members: their distinct points (balls
 // of radius 0), or for patches their balls.
-std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
-                             std::vector<char>& mark) {
-  std::vector<Sphere> atoms;
-  atoms_into(e, members, mark, atoms);
-  return atoms;
-}
-
 void atoms_into(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark,
                 std::vector<Sphere>& atoms) {
   atoms.clear();
@@ -392,7 +385,8 @@ void FarthestAtoms::pivot(const Eigen::Vector3d& x, double delta) {
 // diagonals) is the answer once it holds every point; otherwise the farthest points
 // outside join the subset. The subset stays small, so each exact solve is cheap.
 Sphere fit(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark) {
-  const std::vector<Sphere> pts = atoms_of(e, members, mark);
+  std::vector<Sphere> pts;
+  atoms_into(e, members, mark, pts);
   std::vector<Sphere> core;
   static const double kDirections[13][3] = {
       {1, 0, 0}, {0, 1, 0},  {0, 0, 1}, {1, 1, 0},  {1, -1, 0}, {1, 0, 1}, {1, 0, -1},

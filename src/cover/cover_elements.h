@@ -77,12 +77,10 @@ inline bool holds(const Elements& e, std::size_t i, const Sphere& b) {
   return farthest(e, i, b.center) <= b.radius;
 }
 
-// What a ball must hold to hold the elements in \p members: their distinct points (balls
-// of radius 0), or for patches their balls. \p mark: scratch, one per point, all 0.
-std::vector<Sphere> atoms_of(const Elements& e, const std::vector<std::size_t>& members,
-                             std::vector<char>& mark);
-// The same into \p atoms (cleared first), whose memory a caller's loop reuses: fresh
-// lists of this size cost a page fault per page, most of the sanitizer builds' bake time.
+// What a ball must hold to hold the elements in \p members, into \p atoms (cleared first):
+// their distinct points (balls of radius 0), or for patches their balls. \p mark: scratch,
+// one per point, all 0. A caller's loop reuses \p atoms: fresh lists of this size cost a
+// page fault per page, most of the sanitizer builds' bake time.
 void atoms_into(const Elements& e, const std::vector<std::size_t>& members, std::vector<char>& mark,
                 std::vector<Sphere>& atoms);
 // The radius that a ball centred at c needs to hold \p atoms.
