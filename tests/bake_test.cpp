@@ -30,9 +30,10 @@ void check_internal(const TriangleMesh& m, const BakeResult& r) {
   const MeshQuery q(m);
   REQUIRE(r.spheres.size() > 0);
   REQUIRE(r.samples.size() == r.spheres.size());
+  const test::OracleMesh oracle(m);
   for (const Sphere& s : r.spheres.spheres) {
     CHECK(s.radius > 0.0);
-    CHECK(s.radius <= test::oracle_mesh_distance(m, s.center));
+    CHECK(s.radius <= oracle.distance(s.center));
     CHECK(q.winding_number_exact(s.center) > 0.5);
   }
 }
@@ -313,8 +314,9 @@ TEST_CASE("every sphere is inside meshes far from the origin", "[bake]") {
       INFO("offset " << offset << ", " << m.triangles.size() << " triangles");
       REQUIRE(r.spheres.size() > 0);
       std::size_t outside = 0;
+      const test::OracleMesh oracle(m);
       for (const Sphere& sp : r.spheres.spheres) {
-        outside += sp.radius > test::oracle_mesh_distance(m, sp.center);
+        outside += sp.radius > oracle.distance(sp.center);
         CHECK(q.winding_number_exact(sp.center) > 0.5);
       }
       CHECK(outside == 0);
@@ -349,8 +351,8 @@ TEST_CASE("medial tolerance: from 1e-9 L to below the cell size, and searches th
     INFO("tolerance " << good);
     const BakeResult r = bake(q, with(good));
     CHECK(r.stats.medial_tolerance == good);
-    for (const Sphere& sp : r.spheres.spheres)
-      CHECK(sp.radius <= test::oracle_mesh_distance(m, sp.center));
+    const test::OracleMesh oracle(m);
+    for (const Sphere& sp : r.spheres.spheres) CHECK(sp.radius <= oracle.distance(sp.center));
   }
   // The default: 1e-3 L, kept below half a cell.
   CHECK(bake(q, with(0.0, 28)).stats.medial_tolerance == 1e-3 * L);

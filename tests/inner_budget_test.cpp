@@ -57,11 +57,12 @@ double nerr(const TriangleMesh& m, const SphereSet& s) {
 void check_inside(const TriangleMesh& m, const BakeResult& r) {
   const MeshQuery q(m);
   REQUIRE(r.samples.size() == r.spheres.size());
+  const test::OracleMesh oracle(m);
   for (const Sphere& s : r.spheres.spheres) {
     CHECK(s.radius > 0.0);
     CHECK(q.winding_number_exact(s.center) > 0.5);
     CHECK(s.radius < q.closest_point(s.center).distance());
-    CHECK(s.radius <= test::oracle_mesh_distance(m, s.center));
+    CHECK(s.radius <= oracle.distance(s.center));
   }
 }
 

@@ -77,9 +77,10 @@ TriangleMesh random_slivers(int count, unsigned seed, bool collinear) {
 
 void check_closest_points(const TriangleMesh& m, std::size_t n, unsigned seed) {
   const MeshQuery q(m);
+  const test::OracleMesh oracle(m);
   for (const Eigen::Vector3d& p : query_points(m, n, seed)) {
     const ClosestPoint cp = q.closest_point(p);
-    const double want = test::oracle_mesh_distance(m, p);
+    const double want = oracle.distance(p);
     const double tolerance = kTolerance * kU * mesh_scale(m, p, want);
     REQUIRE(std::abs(cp.distance() - want) <= tolerance);
     // The returned point lies on the returned triangle, at the returned distance.
@@ -491,13 +492,14 @@ TEST_CASE("points on the slivers of a CAD mesh are at distance zero to rounding"
   std::mt19937_64 rng(61);
   std::uniform_real_distribution<double> u(-1.0, 1.0);
   const double size = m.bounds().sizes().maxCoeff();
+  const test::OracleMesh oracle(m);
   for (std::size_t t = 0; t < m.triangles.size(); ++t) {
     const Eigen::Vector3d &a = m.corner(t, 0), &b = m.corner(t, 1), &c = m.corner(t, 2);
     for (int k = 0; k < 3; ++k) {
       Eigen::Vector3d p = test::random_point_on_triangle(a, b, c, rng);  // on, to rounding
       if (k == 2) p += 1e-6 * size * Eigen::Vector3d(u(rng), u(rng), u(rng));
       const ClosestPoint cp = q.closest_point(p);
-      const double want = test::oracle_mesh_distance(m, p);
+      const double want = oracle.distance(p);
       const double scale = kU * mesh_scale(m, p, want);
       INFO("triangle " << t << ", p = " << p.transpose());
       CHECK(std::abs(cp.distance() - want) <= kTolerance * scale);

@@ -139,40 +139,66 @@ inline double oracle_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& a
   return static_cast<double>(oracle_detail::root(oracle_distance2(p, a, b, c)));
 }
 
-/// Distance from p to the mesh, by branch and bound over the triangles' bounding boxes:
-/// every triangle whose box is not provably farther than the best so far is evaluated
-/// by oracle_distance2, starting with the one of the nearest box. Also the index of a
-/// nearest triangle.
-inline double oracle_mesh_distance(const TriangleMesh& m, const Eigen::Vector3d& p,
-                                   int* nearest = nullptr) {
-  const std::size_t n = m.triangles.size();
-  std::vector<double> lower(n);
-  std::size_t first = 0;
-  for (std::size_t t = 0; t < n; ++t) {
-    const Eigen::Vector3d &a = m.corner(t, 0), &b = m.corner(t, 1), &c = m.corner(t, 2);
-    const Eigen::Vector3d lo = a.cwiseMin(b).cwiseMin(c), hi = a.cwiseMax(b).cwiseMax(c);
-    // Box distance (hypot where squares could overflow), rounded down by far more than
-    // its rounding error.
-    const Eigen::Vector3d d = (lo - p).cwiseMax(p - hi).cwiseMax(0.0);
-    const double box =
-        d.maxCoeff() < 1e150 ? std::sqrt(d.squaredNorm()) : std::hypot(d.x(), d.y(), d.z());
-    lower[t] = box * (1 - 1e-14);
-    if (lower[t] < lower[first]) first = t;
-  }
-  OracleReal best2 =
-      oracle_distance2(p, m.corner(first, 0), m.corner(first, 1), m.corner(first, 2));
-  double best = static_cast<double>(oracle_detail::root(best2));
-  if (nearest != nullptr) *nearest = static_cast<int>(first);
-  for (std::size_t t = 0; t < n; ++t) {
-    if (t == first || lower[t] > best) continue;
-    const OracleReal d2 = oracle_distance2(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2));
-    if (d2 < best2) {
-      best2 = d2;
-      best = static_cast<double>(oracle_detail::root(d2));
-      if (nearest != nullptr) *nearest = static_cast<int>(t);
+/// Distance from points to a mesh, by branch and bound over the triangles' bounding boxes
+/// (computed once, for many queries): every triangle whose box is not provably farther
+/// than the best so far is evaluated by oracle_distance2, starting with the one of the
+/// nearest box. Holds a reference to the mesh.
+class OracleMesh {
+ public:
+  explicit OracleMesh(const TriangleMesh& m) : mesh_(m), lo_(m.triangles.size()), hi_(lo_) {
+    for (std::size_t t = 0; t < lo_.size(); ++t) {
+      const Eigen::Vector3d &a = m.corner(t, 0), &b = m.corner(t, 1), &c = m.corner(t, 2);
+      lo_[t] = a.cwiseMin(b).cwiseMin(c);
+      hi_[t] = a.cwiseMax(b).cwiseMax(c);
     }
   }
-  return best;
+
+  /// The distance from p to the mesh; also the index of a nearest triangle.
+  double distance(const Eigen::Vector3d& p, int* nearest = nullptr) const {
+    std::size_t first = 0;
+    double first_lower = lower(0, p);
+    for (std::size_t t = 1; t < lo_.size(); ++t) {
+      const double l = lower(t, p);
+      if (l < first_lower) {
+        first = t;
+        first_lower = l;
+      }
+    }
+    const TriangleMesh& m = mesh_;
+    OracleReal best2 =
+        oracle_distance2(p, m.corner(first, 0), m.corner(first, 1), m.corner(first, 2));
+    double best = static_cast<double>(oracle_detail::root(best2));
+    if (nearest != nullptr) *nearest = static_cast<int>(first);
+    for (std::size_t t = 0; t < lo_.size(); ++t) {
+      if (t == first || lower(t, p) > best) continue;
+      const OracleReal d2 = oracle_distance2(p, m.corner(t, 0), m.corner(t, 1), m.corner(t, 2));
+      if (d2 < best2) {
+        best2 = d2;
+        best = static_cast<double>(oracle_detail::root(d2));
+        if (nearest != nullptr) *nearest = static_cast<int>(t);
+      }
+    }
+    return best;
+  }
+
+ private:
+  // The distance from p to triangle t's box (hypot where squares could overflow), rounded
+  // down by far more than its rounding error.
+  double lower(std::size_t t, const Eigen::Vector3d& p) const {
+    const Eigen::Vector3d d = (lo_[t] - p).cwiseMax(p - hi_[t]).cwiseMax(0.0);
+    const double box =
+        d.maxCoeff() < 1e150 ? std::sqrt(d.squaredNorm()) : std::hypot(d.x(), d.y(), d.z());
+    return box * (1 - 1e-14);
+  }
+
+  const TriangleMesh& mesh_;
+  std::vector<Eigen::Vector3d> lo_, hi_;
+};
+
+/// OracleMesh(m).distance(p, nearest), for a single query.
+inline double oracle_mesh_distance(const TriangleMesh& m, const Eigen::Vector3d& p,
+                                   int* nearest = nullptr) {
+  return OracleMesh(m).distance(p, nearest);
 }
 
 }  // namespace medspheres::test
