@@ -140,6 +140,21 @@ TEST_CASE("tool frames: flange frames by name, hands by their fingers' reach", "
   CHECK(default_tool_frames(ur, &from) == Names{"tool0"});
   CHECK(from == "frame");
   CHECK(finger_joints(ur, {"tool0"}).empty());
+  // A Sawyer-like one: a head on a one-joint branch, first in link order, and the arm's
+  // flange frame "right_hand". The longer chain's end comes first (a planner's primary
+  // end effector); "hand" ranks last among the names.
+  RobotModel sawyer = six_joint_arm();
+  sawyer.links.insert(sawyer.links.begin() + 1, make_link("head"));
+  sawyer.joints.push_back(
+      make_joint("head_pan", JointType::kRevolute, "arm1", "head", {0, 0, 0.3}));
+  sawyer.joints.back().limits = JointLimits{-1, 1, 1, 1};
+  CHECK(default_tool_frames(sawyer, &from) == Names{"arm6", "head"});
+  CHECK(from == "branch");
+  add_fixed(sawyer, "arm6", "right_hand");
+  CHECK(default_tool_frames(sawyer, &from) == Names{"right_hand", "head"});
+  CHECK(from == "frame");
+  add_fixed(sawyer, "arm6", "right_ee");
+  CHECK(default_tool_frames(sawyer, &from) == Names{"right_ee", "head"});
   // A Kinova-like one: tool_frame ranks above end_effector_link, which is nearer.
   RobotModel kinova = six_joint_arm();
   add_fixed(kinova, "arm6", "end_effector_link");
@@ -182,6 +197,26 @@ TEST_CASE("tool frames: flange frames by name, hands by their fingers' reach", "
   CHECK(default_tool_frames(robotiq, &from) == Names{"gripper_base"});
   CHECK(from == "gripper");
   CHECK(finger_joints(robotiq, {"gripper_base"}) == Names{"drive1_joint"});
+
+  // A hand alone (the Jaco's fingers on a palm at the root) and a gripper alone: their
+  // fingers are every joint a planner can move, so none is locked.
+  RobotModel hand;
+  hand.name = "hand";
+  hand.root_link = "palm";
+  hand.links.push_back(make_link("palm"));
+  for (const char* f : {"a", "b", "c"})
+    add_chain(hand, "palm", std::string("finger_") + f, 2, {0.02, 0, 0.05});
+  CHECK(default_tool_frames(hand, &from) == Names{"palm"});
+  CHECK(from == "gripper");
+  CHECK(finger_joints(hand, {"palm"}).empty());
+  RobotModel jaws = gripper_arm();
+  jaws.joints.erase(jaws.joints.begin(), jaws.joints.begin() + 2);  // j1, j2
+  jaws.joints.pop_back();                                           // j3
+  jaws.links.erase(jaws.links.begin(), jaws.links.begin() + 2);     // base, upper
+  jaws.links.pop_back();                                            // cam
+  jaws.root_link = "lower";
+  CHECK(finger_joints(jaws, {"wrist"}).empty());
+  CHECK(finger_joints(gripper_arm(), {"wrist"}) == Names{"fl"});
 }
 
 TEST_CASE("the clamped zero pose, rigid bodies and adjacency over links with geometry",

@@ -469,8 +469,10 @@ TEST_CASE("the G1's matrix: no checked pair's spheres touch at its default confi
   request.self_collision.samples = 300;
   const PlannerSetup s =
       make_planner_setup(r.model, r.solids, formats::SphereChoice::kOuter, request);
-  CHECK(s.tool_frames == Names{"left_ankle_roll_link", "right_ankle_roll_link",
-                               "left_wrist_yaw_link", "right_wrist_yaw_link"});
+  // The arms' ends first (ten joints from the pelvis, the legs' six), each the hand fixed
+  // to its wrist.
+  CHECK(s.tool_frames == Names{"left_rubber_hand", "right_rubber_hand", "left_ankle_roll_link",
+                               "right_ankle_roll_link"});
   // With 8 spheres a link the covers stick out far: the shoulders' touch the torso's in
   // every sample, so the zero pose is kept with buffers.
   CHECK(s.default_from != "zero_not_free");

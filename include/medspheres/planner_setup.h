@@ -109,12 +109,15 @@ struct PlannerSetup {
 /// fixed to that end named as a tool frame is (tool0, tool_frame, tcp, ...), else the end itself.
 /// A carrier: the first link with two or more finger joints among its child joints (the jaws; a
 /// prismatic joint above them stays the arm's), else the first rigidly attached with one. Grippers
-/// first, then link order. \p from: "gripper", "frame", "branch" or "root" (the first's reason).
+/// first, then the ends with the most moving joints above them (an arm's before a head's or a
+/// leg's), then link order. \p from: "gripper", "frame", "branch" or "root" (the first's
+/// reason).
 std::vector<std::string> default_tool_frames(const RobotModel& model, std::string* from = nullptr);
 
 /// The finger joints (prismatic, mimic, a hand's) that move links below \p tool_frames without
 /// any other moving joint between: the gripper's own joints, held at their default while
-/// planning. Only actuated joints (not mimic ones), in model joint order.
+/// planning. Only actuated joints (not mimic ones), in model joint order. None when they would
+/// be every actuated joint (a hand or a gripper alone, whose fingers a planner moves).
 std::vector<std::string> finger_joints(const RobotModel& model,
                                        const std::vector<std::string>& tool_frames);
 

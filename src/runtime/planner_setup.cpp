@@ -65,6 +65,14 @@ std::optional<std::size_t> gripper_carrier(const RobotModel& m, const Tree& t, s
   return first_with([](const Joint& j) { return j.type == JointType::kFixed; }, 1);
 }
 
+// The moving (not fixed) joints between the root and link \p l.
+std::size_t moving_joints_above(const RobotModel& m, const Tree& t, std::size_t l) {
+  std::size_t n = 0;
+  for (const Joint* j = t.parent[l]; j != nullptr; j = t.parent[Tree::index(m, j->parent)])
+    n += j->type != JointType::kFixed;
+  return n;
+}
+
 // Whether \p name is \p stem, or ends with "_" and it.
 bool named(const std::string& name, const std::string& stem) {
   if (name.size() < stem.size() || name.compare(name.size() - stem.size(), stem.size(), stem) != 0)
@@ -74,11 +82,12 @@ bool named(const std::string& name, const std::string& stem) {
 
 // How telling a link's name is of a tool frame (lower is more; npos: not one): "tool0" or
 // another "toolN" (ROS-Industrial's flange frames), then "tool_frame", "tcp", "grasp_frame",
-// "ee_link", "end_effector_link", "end_effector", "ee"; the name itself or a suffix after
-// "_", in any case.
+// "ee_link", "end_effector_link", "end_effector", "ee", "hand"; the name itself or a suffix
+// after "_", in any case.
 std::size_t tool_name_rank(std::string name) {
   static const char* const kNames[] = {
-      "tool_frame", "tcp", "grasp_frame", "ee_link", "end_effector_link", "end_effector", "ee"};
+      "tool_frame",        "tcp",          "grasp_frame", "ee_link",
+      "end_effector_link", "end_effector", "ee",          "hand"};
   std::transform(name.begin(), name.end(), name.begin(),
                  [](unsigned char c) { return char(std::tolower(c)); });
   const std::size_t digits_from = name.find_last_not_of("0123456789") + 1;  // 0 if all digits
@@ -158,17 +167,24 @@ std::vector<std::string> default_tool_frames(const RobotModel& model, std::strin
     by_gripper[tool] = carrier.has_value();
     by_name[tool] = frame && !carrier;
   }
-  // The grippers' carriers first (a planner takes the first as its primary end effector).
+  // The grippers' carriers first (a planner takes the first as its primary end effector),
+  // then the longest chains: an arm's end before a head's or a leg's.
+  std::vector<std::size_t> order;
+  for (std::size_t l = 0; l < model.links.size(); ++l)
+    if (is_tool[l]) order.push_back(l);
+  const auto depth = [&](std::size_t l) { return moving_joints_above(model, t, l); };
+  std::stable_sort(order.begin(), order.end(), [&](std::size_t a, std::size_t b) {
+    if (by_gripper[a] != by_gripper[b]) return bool(by_gripper[a]);
+    return depth(a) > depth(b);
+  });
   std::vector<std::string> out;
-  for (const bool gripper : {true, false})
-    for (std::size_t l = 0; l < model.links.size(); ++l) {
-      if (!is_tool[l] || by_gripper[l] != gripper) continue;
-      if (out.empty() && from)
-        *from = gripper      ? "gripper"
-                : by_name[l] ? "frame"
-                             : (t.parent[l] == nullptr ? "root" : "branch");
-      out.push_back(model.links[l].name);
-    }
+  for (std::size_t l : order) {
+    if (out.empty() && from)
+      *from = by_gripper[l] ? "gripper"
+              : by_name[l]  ? "frame"
+                            : (t.parent[l] == nullptr ? "root" : "branch");
+    out.push_back(model.links[l].name);
+  }
   return out;
 }
 
@@ -182,8 +198,13 @@ std::vector<std::string> finger_joints(const RobotModel& model,
       for (const Joint* j : t.children[l])
         if (t.is_finger(*j) && !j->mimic) names.insert(j->name);
   std::vector<std::string> out;
-  for (const Joint& j : model.joints)
+  std::size_t actuated = 0;
+  for (const Joint& j : model.joints) {
+    actuated += j.type != JointType::kFixed && !j.mimic;
     if (names.count(j.name)) out.push_back(j.name);
+  }
+  // A hand or a gripper alone: its fingers are all a planner has to move.
+  if (out.size() == actuated) out.clear();
   return out;
 }
 
