@@ -384,6 +384,34 @@ TEST_CASE("robot: --from-visual bakes a link's visual geometry where it has no c
           " --spheres-per-link 4 --no-outer --format robot");
   REQUIRE(r.exit_code == 0);
   CHECK_THAT(r.err, !Contains("no <limit>"));
+  CHECK_THAT(r.err, !Contains("joint 'j'"));
+  // A velocity limit of 0 (as URDF generators write it): cuRobo v2 refuses the empty range
+  // [-0, 0]. Said by name, with the value.
+  const std::string limit = R"(<limit effort="1" velocity="1"/>)";
+  text.replace(text.find(limit), limit.size(), R"(<limit effort="1" velocity="0"/>)");
+  const CommandResult zero =
+      cli("robot " + shell_quote(dir.write("zero.urdf", text)) + " -o " +
+          shell_quote(dir.file("zero")) + " --spheres-per-link 4 --no-outer --format robot");
+  REQUIRE(zero.exit_code == 0);
+  CHECK_THAT(zero.err, Contains("joint 'j' has velocity 0 in its <limit>"));
+  CHECK_THAT(zero.err, !Contains("no <limit>"));
+  CHECK_THAT(zero.err, !Contains("no link has collision geometry"));
+  // A robot with visual geometry alone: its files would carry no sphere, and the warning
+  // names the option that bakes the visual geometry.
+  const std::string bare = dir.write("bare.urdf", R"(<robot name="bare">
+  <link name="v"><visual><geometry><box size="0.1 0.2 0.3"/></geometry></visual></link>
+</robot>)");
+  for (const bool visual : {false, true}) {
+    const CommandResult b =
+        cli("robot " + shell_quote(bare) + " -o " + shell_quote(dir.file(visual ? "bv" : "b")) +
+            " --spheres-per-link 4 --no-outer --format robot" + (visual ? " --from-visual" : ""));
+    REQUIRE(b.exit_code == 0);
+    if (visual)
+      CHECK_THAT(b.err, !Contains("no link has collision geometry"));
+    else
+      CHECK_THAT(b.err, Contains("no link has collision geometry, so the files carry no sphere; "
+                                 "--from-visual"));
+  }
   // The batch of both says it of the first only, by its path.
   const CommandResult batch =
       cli("robot " + shell_quote(urdf) + " " + shell_quote(limited) + " -o " +

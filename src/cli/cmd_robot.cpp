@@ -180,6 +180,19 @@ void warn_curobo_urdf(const RobotModel& model, const std::string& urdf) {
     std::cerr << "medspheres: warning: " << urdf << ": " << w << "\n";
 }
 
+// A robot none of whose links has collision geometry: its files carry no sphere, which
+// --from-visual would change.
+void warn_no_collision_geometry(const RobotBakeResult& r, bool from_visual,
+                                const std::string& urdf) {
+  const bool none = std::all_of(r.links.begin(), r.links.end(), [](const LinkBakeStats& s) {
+    return s.note == "no collision geometry";
+  });
+  if (none && !from_visual && !r.links.empty())
+    std::cerr << "medspheres: warning: " << urdf
+              << ": no link has collision geometry, so the files carry no sphere; --from-visual "
+                 "bakes the visual geometry of such links\n";
+}
+
 // The options of the run as the robot file's provenance ("options" in its metadata): every
 // flag that changes the spheres, as given (lengths as written, before L is resolved).
 std::string options_json(const RobotArgs& a) {
@@ -315,6 +328,7 @@ int run_robot(const RobotArgs& a) {
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
     print_planner_summary(*r.bake.model.planner, r.planner, a.free_joints);
     warn_curobo_urdf(r.bake.model, urdf);
+    warn_no_collision_geometry(r.bake, a.from_visual, urdf);
   }
   return kExitOk;
 }

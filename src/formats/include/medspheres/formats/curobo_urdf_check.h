@@ -12,7 +12,9 @@ namespace medspheres::formats {
 
 /// One sentence per problem of \p model's URDF for cuRobo's URDF parser (v1 and v2), naming
 /// the joint: URDF allows a continuous joint without <limit>, but the parser reads its effort
-/// and velocity and fails before it reads any configuration, cuRobo's own as well.
+/// and velocity and fails before it reads any configuration, cuRobo's own as well; and an
+/// actuated joint whose velocity or effort limit is not positive (URDF generators write 0),
+/// which cuRobo v2 takes as the empty range [-0, 0] and refuses.
 std::vector<std::string> curobo_urdf_problems(const RobotModel& model);
 
 }  // namespace medspheres::formats
