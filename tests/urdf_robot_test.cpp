@@ -255,6 +255,20 @@ TEST_CASE("bad robots: each names the URDF, the link and the problem", "[robot]"
   CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
       <box size="0 0.1 0.1"/></geometry></collision></link>)")),
              Contains("link 'a'") && Contains("empty primitive"));
+  // Zero in every size: a placeholder (Kinova's root link), read as no geometry.
+  {
+    const std::string body = R"(<link name="a">
+      <collision><geometry><box size="0 0 0"/></geometry></collision>
+      <collision><geometry><sphere radius="0"/></geometry></collision></link>
+      <joint name="j" type="fixed"><parent link="a"/><child link="b"/></joint>
+      <link name="b">)" + box +
+                             "</link>";
+    const std::string path = dir.write("placeholder.urdf", urdf(body));
+    const UrdfRobot robot = read_urdf(path);
+    REQUIRE(robot.links.size() == 2);
+    CHECK(robot.links[0].parts.empty());
+    CHECK(robot.links[1].parts.size() == 1);
+  }
   CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
       <mesh filename="x.stl" scale="1 0 1"/></geometry></collision></link>)")),
              Contains("link 'a'") && Contains("scale"));

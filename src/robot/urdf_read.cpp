@@ -243,6 +243,17 @@ LinkPart to_part(const urdf::Geometry& g, const urdf::Pose& origin, const Eigen:
   return part;
 }
 
+// A primitive of size zero in every dimension: a placeholder that holds nothing (Kinova's
+// descriptions give their root link a box of size "0 0 0"), read as no geometry.
+bool placeholder(const urdf::Geometry& g) {
+  if (const auto* s = dynamic_cast<const urdf::Sphere*>(&g)) return s->radius == 0.0;
+  if (const auto* b = dynamic_cast<const urdf::Box*>(&g))
+    return b->dim.x == 0.0 && b->dim.y == 0.0 && b->dim.z == 0.0;
+  if (const auto* c = dynamic_cast<const urdf::Cylinder*>(&g))
+    return c->radius == 0.0 && c->length == 0.0;
+  return false;
+}
+
 // urdfdom keeps a link's elements of each kind in the file's order, so the i-th one is
 // the i-th <visual> or <collision> element that scan_xml counted.
 template <typename Element>
@@ -251,7 +262,7 @@ void add_parts(const std::vector<std::shared_ptr<Element>>& elements, const std:
                const UrdfReadOptions& options, std::vector<LinkPart>& parts) {
   for (std::size_t i = 0; i < elements.size(); ++i) {
     const auto& e = elements[i];
-    if (!e || !e->geometry) continue;
+    if (!e || !e->geometry || placeholder(*e->geometry)) continue;
     const auto capsule = order.capsules.find({link, visual, i});
     parts.push_back(to_part(*e->geometry, e->origin,
                             capsule == order.capsules.end() ? nullptr : &capsule->second, base_dir,
