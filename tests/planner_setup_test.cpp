@@ -197,6 +197,12 @@ TEST_CASE("tool frames: flange frames by name, hands by their fingers' reach", "
   CHECK(default_tool_frames(robotiq, &from) == Names{"gripper_base"});
   CHECK(from == "gripper");
   CHECK(finger_joints(robotiq, {"gripper_base"}) == Names{"drive1_joint"});
+  // The same linkage with its followers typed continuous (as some Robotiq 2F descriptions
+  // have them): followers, not wheels, so still a hand.
+  for (std::size_t k = robotiq.joints.size() - 4; k < robotiq.joints.size() - 1; ++k)
+    robotiq.joints[k].type = JointType::kContinuous;
+  CHECK(default_tool_frames(robotiq, &from) == Names{"gripper_base"});
+  CHECK(finger_joints(robotiq, {"gripper_base"}) == Names{"drive1_joint"});
 
   // A hand alone (the Jaco's fingers on a palm at the root) and a gripper alone: their
   // fingers are every joint a planner can move, so none is locked.

@@ -33,14 +33,16 @@ std::vector<std::pair<const Joint*, Pose>> branches_below(const RobotModel& m, c
 
 // Adds the joints of the branch that starts at joint \p j (its parent's pose in the
 // carrier's frame \p X) to \p joints; false when a link of it lies farther than kHandReach
-// from the carrier at the zero pose, or a joint of it is continuous.
+// from the carrier at the zero pose, or a joint of it is continuous and actuated (a wheel; a
+// continuous joint that mimics another is a linkage's follower, as some Robotiq 2F
+// descriptions type theirs).
 bool small_branch(const RobotModel& m, const LinkTree& t, const Joint& j, const Pose& X,
                   std::vector<const Joint*>& joints) {
   std::vector<std::pair<const Joint*, Pose>> open{{&j, X}};
   while (!open.empty()) {
     const auto [k, P] = open.back();
     open.pop_back();
-    if (k->type == JointType::kContinuous) return false;
+    if (k->type == JointType::kContinuous && !k->mimic) return false;
     const Pose C = P * k->origin;
     if (C.translation().norm() > kHandReach) return false;
     joints.push_back(k);
