@@ -402,7 +402,8 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
                   "A link the planner files report (repeatable; the first is the primary end "
                   "effector; default: the SRDF's end effectors, else per branch the link that "
                   "carries the gripper or hand, else a frame fixed to the arm's end named as a "
-                  "tool frame (tool0, tool_frame, tcp, ...), else the arm's last link)");
+                  "tool frame (tool0, tool_frame, tcp, ..., hand), else the arm's last link; "
+                  "grippers first, then the longest chains)");
   sub->add_option("--free-joint", a->free_joints,
                   "A joint the planner files leave free although the rules lock it (a "
                   "gripper's or hand's finger joint, for in-hand planning; repeatable)");

@@ -17,10 +17,9 @@ inline constexpr double kHandReach = 0.25;
 /// - a prismatic or mimic joint (a parallel gripper's jaws, a linkage's followers);
 /// - a joint of a hand: a link that carries two or more branches of moving joints (reached
 ///   through fixed joints), none continuous but those that mimic another (a wheel's is
-///   actuated), whose links all lie within
-///   kHandReach of it at the zero pose, carries a hand, and every joint of those branches
-///   is one (a Jaco's three fingers, an Allegro hand's four, a Robotiq 2F's driver with the
-///   joints that mimic it).
+///   actuated), whose links all lie within kHandReach of it at the zero pose, carries a
+///   hand, and every joint of those branches is one (a Jaco's three fingers, an Allegro
+///   hand's four, a Robotiq 2F's driver with the joints that mimic it).
 /// A fixed joint is none.
 std::vector<bool> gripper_joints(const RobotModel& model);
 
