@@ -185,7 +185,7 @@ void warn_curobo_urdf(const RobotModel& model, const std::string& urdf) {
 void warn_no_collision_geometry(const RobotBakeResult& r, bool from_visual,
                                 const std::string& urdf) {
   const bool none = std::all_of(r.links.begin(), r.links.end(), [](const LinkBakeStats& s) {
-    return s.note == "no collision geometry";
+    return s.parts == 0 && s.primitive_spheres == 0;
   });
   if (none && !from_visual && !r.links.empty())
     std::cerr << "medspheres: warning: " << urdf

@@ -24,9 +24,10 @@ namespace {
 constexpr double kElementCap = 40000.0;
 constexpr double kPatchesPerBall = 60.0;
 
-// reach_from(atoms_into(e, members, mark, atoms), c) without the list: the largest farthest() over
-// the members. The same bits: over points, the root of the largest squared distance is the
-// largest root (repeated points change no maximum); over patches, the same sums.
+// reach_from(atoms, c) of the atoms that atoms_into lists for \p members, without the list:
+// the largest farthest() over the members. The same bits: over points, the root of the largest
+// squared distance is the largest root (repeated points change no maximum); over patches, the same
+// sums.
 double reach_of(const Elements& e, const std::vector<std::size_t>& members,
                 const Eigen::Vector3d& c) {
   double r = 0.0;
