@@ -269,6 +269,22 @@ TEST_CASE("bad robots: each names the URDF, the link and the problem", "[robot]"
     CHECK(robot.links[0].parts.empty());
     CHECK(robot.links[1].parts.size() == 1);
   }
+  // A fixed joint's <mimic> means nothing (it never moves): dropped, like its <axis>.
+  {
+    const std::string body = R"(<link name="a">)" + box + R"(</link><link name="b"/><link name="c"/>
+      <joint name="j1" type="revolute"><parent link="a"/><child link="b"/><axis xyz="0 0 1"/>
+        <limit lower="-1" upper="1" effort="1" velocity="1"/></joint>
+      <joint name="j2" type="fixed"><parent link="a"/><child link="c"/><axis xyz="0 1 0"/>
+        <mimic joint="j1"/></joint>)";
+    const UrdfRobot robot = read_urdf(dir.write("fixed_mimic.urdf", urdf(body)));
+    REQUIRE(robot.model.joints.size() == 2);
+    CHECK(robot.model.joints[1].type == JointType::kFixed);
+    CHECK_FALSE(robot.model.joints[1].mimic);
+  }
+  CHECK_THAT(read_error(dir, urdf(R"(<link name="b"/><link name="c"/>
+      <joint name="j1" type="prismatic"><parent link="b"/><child link="c"/><axis xyz="1 0 0"/>
+        <limit lower="0" upper="1" effort="1" velocity="1"/><mimic joint="nowhere"/></joint>)")),
+             Contains("joint \"j1\"") && Contains("nowhere") && Contains("does not exist"));
   CHECK_THAT(read_error(dir, urdf(R"(<link name="a"><collision><geometry>
       <mesh filename="x.stl" scale="1 0 1"/></geometry></collision></link>)")),
              Contains("link 'a'") && Contains("scale"));

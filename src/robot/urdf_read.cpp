@@ -197,7 +197,10 @@ Joint to_joint(const urdf::Joint& j, const std::string& source) {
   if (j.limits)
     out.limits =
         JointLimits{j.limits->lower, j.limits->upper, j.limits->velocity, j.limits->effort};
-  if (j.mimic) out.mimic = JointMimic{j.mimic->joint_name, j.mimic->multiplier, j.mimic->offset};
+  // A fixed joint never moves, so its <mimic> (VAMP's Panda has one on a finger) means
+  // nothing, like its <axis>: it is dropped, not refused.
+  if (j.mimic && out.type != JointType::kFixed)
+    out.mimic = JointMimic{j.mimic->joint_name, j.mimic->multiplier, j.mimic->offset};
   return out;
 }
 
