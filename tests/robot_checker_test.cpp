@@ -10,6 +10,7 @@
 #include <random>
 #include <set>
 #include <stdexcept>
+#include <thread>
 #include <tuple>
 
 #include <catch2/catch.hpp>
@@ -419,6 +420,101 @@ TEST_CASE("edges: the verdict of every interpolated configuration checked alone"
   for (std::size_t e = 0; e < 120; ++e)
     CHECK(batch[e] ==
           checker.check_edge(q.data() + 8 * e, q.data() + 8 * e + 8, resolution, Mode::spheres));
+}
+
+TEST_CASE("any_colliding: true exactly when some configuration collides, in any window",
+          "[check]") {
+  // Windows of 0 to 17 configurations near contact, on both paths: whole blocks, a partial
+  // last one, one configuration; a block stops at its first colliding lane, so the answer
+  // must be check()'s "some colliding" whichever lane that is.
+  const RobotModel arm = test::capsule_arm(5);
+  std::size_t yes = 0, no = 0;
+  for (const check::Simd simd : {check::Simd::scalar, check::Simd::automatic}) {
+    check::CheckerOptions o = options(0.01);
+    o.simd = simd;
+    const check::RobotChecker checker(arm, test_scene().scene, o);
+    const std::vector<double> q = near_contact(checker, test::capsule_arm_configs(200, 17));
+    const std::vector<Verdict> v = run(checker, q, Mode::spheres);
+    const std::size_t n = v.size();
+    for (std::size_t first = 0; first + 17 <= n; first += 5)
+      for (std::size_t count : {0, 1, 7, 8, 9, 17}) {
+        const bool truth = std::any_of(v.begin() + long(first), v.begin() + long(first + count),
+                                       [](Verdict x) { return x == Verdict::colliding; });
+        const bool got = checker.any_colliding(q.data() + 8 * first, count);
+        CHECK(got == truth);
+        (got ? yes : no) += 1;
+      }
+  }
+  CHECK(yes > 50);
+  CHECK(no > 50);
+}
+
+TEST_CASE("one-configuration calls of two checkers in turn on one thread, and from two threads",
+          "[check]") {
+  // check(q), check_edge and any_colliding keep a workspace per thread for the checker
+  // that used it last: two robots of other sizes in turn, and two threads at once.
+  const check::RobotChecker a(test::capsule_arm(5), test_scene().scene, options(0.01));
+  const check::RobotChecker b(test::capsule_arm(3), test_scene().scene, options(0.01));
+  const std::vector<double> q = test::capsule_arm_configs(400, 18);
+  const std::vector<Verdict> va = run(a, q, Mode::spheres), vb = run(b, q, Mode::spheres);
+  REQUIRE(va != vb);  // the robots differ where it shows
+  auto alone = [&](std::size_t from, std::size_t to) {
+    std::size_t differ = 0;
+    for (std::size_t i = from; i < to; ++i) {
+      differ += a.check(q.data() + 8 * i, Mode::spheres) != va[i];
+      differ += b.check(q.data() + 8 * i, Mode::spheres) != vb[i];
+      differ += a.any_colliding(q.data() + 8 * i, 1) != (va[i] == Verdict::colliding);
+    }
+    return differ;
+  };
+  CHECK(alone(0, 400) == 0);
+  std::size_t other = 0;
+  std::thread t([&] { other = alone(200, 400); });
+  const std::size_t here = alone(0, 200);
+  t.join();
+  CHECK(here == 0);
+  CHECK(other == 0);
+}
+
+TEST_CASE("with_scene: the verdicts of a checker built anew on the other scene, on any grid",
+          "[check]") {
+  // A checker of one scene handed another: a box and a ball, then the same far out (beyond
+  // 1 km, where the tables' allowance no longer holds and they are built again), then
+  // nothing. Both modes, the learnt order's and the default's, and the tables' counts.
+  const RobotModel arm = test::capsule_arm(5);
+  const std::vector<double> q = test::capsule_arm_configs(600, 19);
+  for (const std::size_t samples : {std::size_t(0), std::size_t(256)}) {
+    check::CheckerOptions o = options(0.01);
+    o.order_samples = samples;
+    const check::RobotChecker first(arm, test_scene().scene, o);
+    check::Scene near, far;
+    Eigen::Isometry3d X = Eigen::Isometry3d::Identity();
+    X.translation() = Eigen::Vector3d(0.3, -0.2, 0.4);
+    near.add_box({0.3, 0.2, 0.25}, X);
+    near.add_sphere({-0.3, 0.1, 0.5}, 0.15);
+    far = near;
+    far.add_sphere({2000.0, 0.0, 0.0}, 1.0);
+    check::Scene none;
+    for (const check::Scene* scene : {&near, &far, &none}) {
+      const check::Scene& s = *scene;
+      const check::RobotChecker fresh(arm, s, o);
+      const check::RobotChecker moved = first.with_scene(s);
+      // The same scene on a coarse grid (as a planner that builds a checker per problem may
+      // choose: built sooner, looked up more).
+      check::CheckerOptions coarse_grid = o;
+      coarse_grid.max_cells = 4096;
+      const check::RobotChecker coarse(arm, s, coarse_grid);
+      CHECK(moved.pair_tables() == fresh.pair_tables());
+      if (scene != &none) CHECK(fresh.grid().cells > 4 * coarse.grid().cells);
+      for (Mode mode : {Mode::spheres, Mode::bounds}) {
+        const std::vector<Verdict> v = run(fresh, q, mode);
+        CHECK(run(moved, q, mode) == v);
+        CHECK(run(coarse, q, mode) == v);
+        if (scene == &near) CHECK(std::count(v.begin(), v.end(), Verdict::colliding) > 20);
+      }
+    }
+    CHECK(first.pair_tables() > 0);
+  }
 }
 
 TEST_CASE("robot checker: an empty scene and no self pairs leave everything free", "[check]") {

@@ -142,6 +142,25 @@ void register_check(py::module_& m) {
           py::arg("q"), py::arg("mode") = "spheres", py::arg("threads") = 1,
           "Verdicts (uint8 array of n) of the n x dof configurations q; threads 0: every core.")
       .def(
+          "with_scene",
+          [](const check::RobotChecker& c, const check::Scene& scene) {
+            py::gil_scoped_release release;
+            return c.with_scene(scene);
+          },
+          py::arg("scene"),
+          "The same robot and options against another CheckScene, the self pairs' tables "
+          "shared (a planner's next problem): the verdicts of a checker built anew.")
+      .def(
+          "any_colliding",
+          [](const check::RobotChecker& c, const py::handle& q) {
+            const auto a = configurations(q, c.num_positions(), "q");
+            py::gil_scoped_release release;
+            return c.any_colliding(a.data(), static_cast<std::size_t>(a.shape(0)));
+          },
+          py::arg("q"),
+          "Whether some of the n x dof configurations q collides (mode 'spheres'), eight at a "
+          "time, stopping at the first found: a planner's own motion validation.")
+      .def(
           "check_edges",
           [](const check::RobotChecker& c, const py::handle& q0, const py::handle& q1,
              double resolution, const std::string& mode, int threads) {

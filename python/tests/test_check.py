@@ -124,6 +124,35 @@ def test_edges_match_their_samples(robot_file):
     assert 0 < verdicts.sum() < len(verdicts)
 
 
+def test_any_colliding_matches_brute_force(robot_file):
+    checker = medspheres.RobotChecker(robot_file, scene(), margin=0.01)
+    q = configurations(400, 5)
+    expected = np.array([brute_force(x, 0.01) for x in q])
+    seen = set()
+    for first in range(0, 380, 3):
+        for count in (0, 1, 8, 9, 17):
+            window = q[first:first + count]
+            truth = bool(expected[first:first + count].any())
+            assert checker.any_colliding(window) == truth
+            seen.add(truth)
+    assert seen == {True, False}
+    with pytest.raises(ValueError, match="j1"):
+        checker.any_colliding(np.array([[np.inf, 0.0]]))
+
+
+def test_with_scene_matches_a_new_checker(robot_file):
+    first = medspheres.RobotChecker(robot_file, medspheres.CheckScene(), margin=0.01)
+    moved = first.with_scene(scene())
+    q = configurations(300, 6)
+    expected = np.array([brute_force(x, 0.01) for x in q])
+    assert np.array_equal(moved.check(q), expected)
+    assert 25 < expected.sum() < 275
+    # The first checker still has its own (empty) scene: only self-collision is left there.
+    alone = medspheres.RobotChecker(robot_file, medspheres.CheckScene(), margin=0.01)
+    assert np.array_equal(first.check(q), alone.check(q))
+    assert first.check(q).sum() < expected.sum()
+
+
 def test_bad_input(robot_file):
     checker = medspheres.RobotChecker(robot_file)
     with pytest.raises(ValueError, match="q"):

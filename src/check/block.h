@@ -108,6 +108,10 @@ struct Block {
   bool bounds = false;        // false: spheres only
   bool self = true;
   bool floats = true;  // false: every test in doubles
+  // Spheres mode, an edge's block: the tests stop at the first lane found colliding, so
+  // `colliding` is not empty exactly when some lane collides (which lanes then means
+  // nothing more); a block with no colliding lane has every lane's verdict as without.
+  bool any = false;
   // Learning: per test (KernelRobot::order's indices), the lanes it finds colliding (the
   // bounds mode: proves colliding, at either level) are counted here, and every test runs
   // in every lane (no verdict then).

@@ -691,14 +691,20 @@ unsigned run_spheres(const Ctx<V>& c, unsigned& unsure) {
         hit = level_within(c, a, o, robot.link[a].spheres, robot.link[o].spheres, c.b.margin, need,
                            maybe);
     }
-    if (c.b.hits)
+    if (c.b.hits) {
       c.b.hits[k] += static_cast<std::uint32_t>(__builtin_popcount(hit));
-    else
-      open &= ~hit;
+      continue;
+    }
+    open &= ~hit;
+    if (hit && c.b.any) break;
   }
-  for (int w = 0; w < waiting && open; ++w)
+  // With b.any the first lane found colliding decides the block: nothing more runs.
+  const bool decided = c.b.any && open != c.p.lanes;
+  for (int w = 0; w < waiting && open && !decided; ++w) {
     open &= ~set_lists(c, lists[w], robot.link[lists[w]].spheres, c.b.margin, open, maybe);
-  unsure = maybe & open;
+    if (c.b.any && open != c.p.lanes) break;
+  }
+  unsure = c.b.any && open != c.p.lanes ? 0u : maybe & open;
   return open;
 }
 

@@ -1,6 +1,7 @@
 #include "medspheres/check/robot_checker.h"
 
 #include <algorithm>
+#include <atomic>
 #include <cmath>
 #include <limits>
 #include <memory>
@@ -122,7 +123,12 @@ struct RobotChecker::Impl {
   detail::RobotLayout layout;
   std::unique_ptr<detail::SceneGrid> grid;
   std::unique_ptr<detail::DistanceField> field;
-  std::unique_ptr<detail::PairTables> tables;  // kernel_robot.table
+  // The robot's models, kept for with_scene().
+  std::shared_ptr<const RobotModel> planner_model, fine_model;
+  // kernel_robot.table, shared by the checkers with_scene() makes; built for pairs farther
+  // apart than table_threshold (tables.h), at least the margin and this checker's allowance.
+  std::shared_ptr<const detail::PairTables> tables;
+  double table_threshold = 0.0;
   detail::SphereArrays<double> spheres_d;
   detail::SphereArrays<float> spheres_f;
   detail::KernelRobot kernel_robot;
@@ -140,6 +146,22 @@ struct RobotChecker::Impl {
   // (float_ranges).
   std::vector<double> float_range;
   std::size_t scene_objects = 0;
+
+  // Everything but options and the models (set first) for \p scene; the pair tables taken
+  // from \p donor (a checker of the same robot and options) when they hold here.
+  void build(const Scene& scene, const Impl* donor);
+  void share_or_build_tables(const Impl* donor);
+
+  // The calling thread's workspace, kept between calls for the checker that used it last
+  // (`id`): the one-configuration, one-edge and any_colliding calls that a planner makes by
+  // the million allocate nothing. The caller leaves no pointer of its own in it.
+  detail::Workspace& thread_workspace() const;
+  const std::uint64_t id = next_checker_id();
+
+  static std::uint64_t next_checker_id() {
+    static std::atomic<std::uint64_t> next{1};
+    return next++;
+  }
 
   detail::Workspace workspace() const {
     detail::Workspace w;
@@ -200,6 +222,9 @@ struct RobotChecker::Impl {
                      std::vector<UndecidedPair>* undecided, int threads) const;
   // Sets `order` from options.order_samples configurations of `planner`.
   void learn_order(const RobotModel& planner);
+  // The kernel on w.q's lanes `lanes`, in the spheres mode stopping at the first lane found
+  // colliding (Block::any): colliding is not empty exactly when some lane collides.
+  detail::Block run_any(detail::Workspace& w, unsigned lanes, Mode mode) const;
   // One edge in rake order (robot_checker.h); `checked` counts the samples run.
   Verdict edge(detail::Workspace& w, const double* q0, const double* q1, double resolution,
                Mode mode, std::vector<double>* undecided_t, std::size_t& checked) const;
@@ -326,6 +351,26 @@ detail::Block RobotChecker::Impl::run(detail::Workspace& w, unsigned lanes, Mode
   return b;
 }
 
+detail::Workspace& RobotChecker::Impl::thread_workspace() const {
+  struct Cached {
+    std::uint64_t owner = 0;
+    detail::Workspace w;
+  };
+  thread_local Cached cached;
+  if (cached.owner != id) {
+    cached.w = workspace();
+    cached.owner = id;
+  }
+  return cached.w;
+}
+
+detail::Block RobotChecker::Impl::run_any(detail::Workspace& w, unsigned lanes, Mode mode) const {
+  detail::Block b = block(w, w.q, lanes, mode, nullptr, 0, 0);
+  b.any = mode == Mode::spheres;
+  kernel(kernel_robot, *grid, b);
+  return b;
+}
+
 Verdict RobotChecker::Impl::edge(detail::Workspace& w, const double* q0, const double* q1,
                                  double resolution, Mode mode, std::vector<double>* undecided_t,
                                  std::size_t& checked) const {
@@ -343,7 +388,7 @@ Verdict RobotChecker::Impl::edge(detail::Workspace& w, const double* q0, const d
       for (std::size_t j = 0; j < layout.dof; ++j)
         w.q[j * detail::kLanes + std::size_t(l)] = q0[j] + t * (q1[j] - q0[j]);
     }
-    const detail::Block b = this->run(w, lanes, mode, false);
+    const detail::Block b = run_any(w, lanes, mode);
     for (int l = 0; l < detail::kLanes; ++l) checked += lanes >> l & 1;
     if (b.colliding & lanes) return Verdict::colliding;
     for (int l = 0; l < detail::kLanes; ++l)
@@ -495,29 +540,67 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
     throw std::invalid_argument("robot checker: the base pose is not finite");
   Impl& m = *impl_;
   m.options = options;
-  m.kernel = detail::choose_kernel(options.simd);
-  m.batch_kernel = detail::batch_kernel(m.kernel);
-  m.layout =
-      detail::make_layout(planner, fine, options.X_WB, options.disabled, options.inner_points);
-  m.allowance = rounding_allowance(m.layout, scene);
-  m.scene_objects = scene.size();
+  m.planner_model = std::make_shared<const RobotModel>(planner);
+  if (fine) m.fine_model = std::make_shared<const RobotModel>(*fine);
+  m.build(scene, nullptr);
+}
+
+RobotChecker::RobotChecker(const RobotChecker& donor, const Scene& scene)
+    : impl_(std::make_unique<Impl>()) {
+  Impl& m = *impl_;
+  m.options = donor.impl_->options;
+  m.planner_model = donor.impl_->planner_model;
+  m.fine_model = donor.impl_->fine_model;
+  m.build(scene, donor.impl_.get());
+}
+
+RobotChecker RobotChecker::with_scene(const Scene& scene) const {
+  return RobotChecker(*this, scene);
+}
+
+// Tables built beyond the margin and at least kTableAllowance: valid for any checker of the
+// robot whose allowance is at most that (a scene and robot within about 1 km of the origin,
+// robot_checker.cpp's rounding_allowance), so with_scene() shares them; 1 um more than the
+// allowance the tables need costs a negligible share of free cells.
+constexpr double kTableAllowance = 1e-6;
+
+void RobotChecker::Impl::share_or_build_tables(const Impl* donor) {
+  const double needed = options.margin + allowance;
+  if (donor && donor->table_threshold >= needed) {
+    tables = donor->tables;
+    table_threshold = donor->table_threshold;
+    return;
+  }
+  table_threshold = options.margin + std::max(allowance, kTableAllowance);
+  tables = std::make_shared<const detail::PairTables>(*planner_model, layout, table_threshold,
+                                                      options.self ? options.pair_table_cells : 0);
+}
+
+void RobotChecker::Impl::build(const Scene& scene, const Impl* donor) {
+  const RobotModel& planner = *planner_model;
+  kernel = detail::choose_kernel(options.simd);
+  batch_kernel = detail::batch_kernel(kernel);
+  layout = detail::make_layout(planner, fine_model.get(), options.X_WB, options.disabled,
+                               options.inner_points);
+  allowance = rounding_allowance(layout, scene);
+  scene_objects = scene.size();
   // One cell's list answers balls up to the radius of three in four spheres (the models'
   // own: the inner points leave the grid as it was); larger ones read a few cells
   // (scene_grid.h): short lists for the many, no miss for the few.
-  std::vector<double> radii = m.layout.r;
+  std::vector<double> radii = layout.r;
   std::sort(radii.begin(), radii.end());
   for (const auto& [link, points] : options.inner_points)
     for (const Sphere& p : points)
       radii.erase(std::lower_bound(radii.begin(), radii.end(), p.radius));
   const double typical = radii.empty() ? 0.0 : radii[radii.size() * 3 / 4];
-  const double reach = typical + options.margin + 2 * m.allowance;
-  m.grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
-                                               options.max_cells, m.allowance);
-  const detail::SceneGrid& g = *m.grid;
-  m.spheres_d = detail::sphere_arrays<double>(m.layout);
-  m.spheres_f = detail::sphere_arrays<float>(m.layout);
-  detail::KernelRobot& k = m.kernel_robot;
-  const detail::RobotLayout& l = m.layout;
+  const double reach = typical + options.margin + 2 * allowance;
+  grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
+                                             options.max_cells, allowance);
+  const detail::SceneGrid& g = *grid;
+  spheres_d = detail::sphere_arrays<double>(layout);
+  spheres_f = detail::sphere_arrays<float>(layout);
+  detail::KernelRobot& k = kernel_robot;
+  const detail::RobotLayout& l = layout;
   k.dof = static_cast<int>(l.dof);
   k.frames = l.frames;
   k.steps = static_cast<int>(l.steps.size());
@@ -525,25 +608,22 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
   k.links = static_cast<int>(l.links.size());
   k.link = l.links.data();
   k.spheres = static_cast<int>(l.x.size());
-  m.field = std::make_unique<detail::DistanceField>(g, 2);
-  k.d = m.spheres_d.view(g, *m.field);
-  k.f = m.spheres_f.view(g, *m.field);
+  field = std::make_unique<detail::DistanceField>(g, 2);
   k.pairs = static_cast<int>(l.pair_a.size());
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();
   k.fine = l.fine;
-  m.tables = std::make_unique<detail::PairTables>(planner, l, options.margin + m.allowance,
-                                                  options.self ? options.pair_table_cells : 0);
-  k.table = m.tables->tables() > 0 ? m.tables->views().data() : nullptr;
-  k.table_slots = static_cast<int>(m.tables->slots().size());
-  k.table_slot = m.tables->slots().data();
-  m.float_range = float_ranges(planner, l);
-  m.slack = float_slack(l, scene, g, m.float_range);
-  detail::set_pair_reach(m.spheres_d, l, options.margin, m.allowance, 0.0);
-  detail::set_pair_reach(m.spheres_f, l, options.margin, m.allowance, m.slack);
-  k.d = m.spheres_d.view(g, *m.field);
-  k.f = m.spheres_f.view(g, *m.field);
-  m.learn_order(planner);
+  share_or_build_tables(donor);
+  k.table = tables->tables() > 0 ? tables->views().data() : nullptr;
+  k.table_slots = static_cast<int>(tables->slots().size());
+  k.table_slot = tables->slots().data();
+  float_range = float_ranges(planner, l);
+  slack = float_slack(l, scene, g, float_range);
+  detail::set_pair_reach(spheres_d, l, options.margin, allowance, 0.0);
+  detail::set_pair_reach(spheres_f, l, options.margin, allowance, slack);
+  k.d = spheres_d.view(g, *field);
+  k.f = spheres_f.view(g, *field);
+  learn_order(planner);
 }
 
 RobotChecker::~RobotChecker() = default;
@@ -821,15 +901,29 @@ Verdict RobotChecker::check(const double* q, Mode mode,
                             std::vector<UndecidedPair>* undecided) const {
   const Impl& m = *impl_;
   m.validate(q, 0);
-  detail::Workspace w = m.workspace();
+  detail::Workspace& w = m.thread_workspace();
   fill_block(w.q, q, 0, 1, m.layout.dof);
   std::vector<UndecidedPair> pairs;
   w.pairs[0] = &pairs;
   const detail::Block b = m.run(w, 1u, mode, undecided != nullptr && mode == Mode::bounds);
+  w.pairs[0] = nullptr;
   const Verdict v = verdict_of(b, 0);
   if (undecided && v == Verdict::undecided)
     undecided->insert(undecided->end(), pairs.begin(), pairs.end());
   return v;
+}
+
+bool RobotChecker::any_colliding(const double* q, std::size_t n) const {
+  const Impl& m = *impl_;
+  validate(q, n);
+  detail::Workspace& w = m.thread_workspace();
+  for (std::size_t first = 0; first < n; first += detail::kLanes) {
+    fill_block(w.q, q, first, n, m.layout.dof);
+    const std::size_t count = std::min<std::size_t>(detail::kLanes, n - first);
+    const unsigned lanes = (1u << count) - 1u;
+    if (m.run_any(w, lanes, Mode::spheres).colliding & lanes) return true;
+  }
+  return false;
 }
 
 void RobotChecker::check_bounds(const double* q, std::size_t n, Verdict* out,
@@ -858,7 +952,7 @@ Verdict RobotChecker::check_edge(const double* q0, const double* q1, double reso
   m.validate(q0, 0);
   m.validate(q1, 1);
   edge_steps(q0, q1, resolution);  // validates the resolution
-  detail::Workspace w = m.workspace();
+  detail::Workspace& w = m.thread_workspace();
   std::size_t count = 0;
   const Verdict v = m.edge(w, q0, q1, resolution, mode, undecided_t, count);
   if (checked) *checked = count;

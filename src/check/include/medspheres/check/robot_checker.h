@@ -109,8 +109,9 @@ struct CheckerOptions {
   /// Joint-space tables of the self pairs whose relative pose hangs on at most three joint
   /// positions with finite limits: at construction, a grid of at most this many cells per
   /// pair over those positions, a cell marked free when the pair's spheres-mode sets are
-  /// proven farther apart than margin + allowance() at every configuration in it (the
-  /// sets' gap at the cell's centre less a bound of how far the cell's joints move them).
+  /// proven farther apart than margin + max(allowance(), 1e-6 m) at every configuration in
+  /// it (the sets' gap at the cell's centre less a bound of how far the cell's joints move
+  /// them; the 1e-6 lets with_scene() share the tables with any scene within about 1 km).
   /// The spheres mode skips such a pair in a configuration that falls in a free cell (the
   /// bounds mode does not use them). 0: none. The verdicts are the same with or without.
   std::size_t pair_table_cells = 1u << 16;
@@ -155,6 +156,12 @@ class RobotChecker {
   RobotChecker(RobotChecker&&) noexcept;
   RobotChecker& operator=(RobotChecker&&) noexcept;
 
+  /// The same robot, options and fine model against another scene (a planner's next
+  /// problem): the self pairs' joint-space tables, which the scene does not change and which
+  /// take most of a checker's construction, are shared, not built again. The verdicts are
+  /// those of a checker built anew on \p scene.
+  RobotChecker with_scene(const Scene& scene) const;
+
   std::size_t num_positions() const noexcept;
   const std::vector<std::string>& joint_names() const noexcept;
   /// The links with spheres, as UndecidedPair::link indexes them.
@@ -193,6 +200,12 @@ class RobotChecker {
   void check_bounds(const double* q, std::size_t n, Verdict* out,
                     std::vector<UndecidedPair>* undecided, int threads = 1) const;
 
+  /// Whether some of the \p n configurations (rows as above) collides in Mode::spheres:
+  /// what a planner's own motion validation asks of the samples it chose (VAMP's rake).
+  /// Eight at a time in the order given; a block stops at the first lane found colliding,
+  /// so the answer is that of check() in fewer tests. Throws what check() would.
+  bool any_colliding(const double* q, std::size_t n) const;
+
   /// \p n edges from q0[i] to q1[i] (rows as above); returns the configurations checked.
   std::size_t check_edges(const double* q0, const double* q1, std::size_t n, double resolution,
                           Mode mode, Verdict* out, int threads = 1) const;
@@ -209,6 +222,8 @@ class RobotChecker {
   void validate_edges(const double* q0, const double* q1, std::size_t n, double resolution) const;
 
  private:
+  RobotChecker(const RobotChecker& donor, const Scene& scene);  // with_scene()
+
   struct Impl;
   std::unique_ptr<Impl> impl_;
 };
