@@ -42,6 +42,7 @@ struct Options : mb::RobotBenchOptions {
   std::size_t tree_spheres = 0;
   std::size_t order_samples = 0;
   std::size_t table_cells = 0;
+  std::size_t max_cells = medspheres::check::CheckerOptions{}.max_cells;
   std::size_t table_pairs = 0;
   std::string table_store;
   double edge_length = 0.5;
@@ -65,6 +66,7 @@ Options parse(int argc, char** argv) {
   args.add("--order-samples", o.order_samples,
            "The certified fallback's pair order and witnesses, learnt from this many "
            "configurations (0: none)");
+  args.add("--max-cells", o.max_cells, "The checkers' scene grid: cells at most");
   args.add("--table-cells", o.table_cells,
            "The certified fallback's joint-space tables of self pairs: cells per pair (0: none)");
   args.add("--table-pairs", o.table_pairs,
@@ -122,6 +124,7 @@ int run(const Options& o) {
   in.table_cells = o.table_cells;
   in.table_pairs = o.table_pairs;
   in.table_store = o.table_store;
+  in.max_cells = o.max_cells;
   in.scene = objects;
   in.disabled = disabled;
   in.configs = configs;

@@ -502,6 +502,7 @@ void print_checker_rows(const CheckerBenchInput& in) {
   o.disabled = in.disabled;
   o.self = in.self;
   o.order_seed = in.order_seed;
+  o.max_cells = in.max_cells;
   const auto t0 = Clock::now();
   const RobotModel* fine = in.fine != in.planner ? &in.fine->model : nullptr;
   fcl::FallbackOptions fallback;

@@ -12,6 +12,7 @@
 #include <fcl/narrowphase/collision_object.h>
 #include <Eigen/Core>
 
+#include "medspheres/check/robot_checker.h"
 #include "robot_bench_robot.h"
 
 namespace medspheres::bench {
@@ -32,6 +33,8 @@ struct CheckerBenchInput {
   std::size_t table_pairs = 0;
   /// Their store (FallbackOptions::table_store); empty: none.
   std::string table_store;
+  /// The checkers' scene grid: cells at most (CheckerOptions::max_cells).
+  std::size_t max_cells = check::CheckerOptions{}.max_cells;
   std::vector<const ::fcl::CollisionObjectd*> scene;
   std::vector<std::pair<std::string, std::string>> disabled;
   std::vector<Eigen::VectorXd> configs;
