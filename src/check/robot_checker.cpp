@@ -126,7 +126,8 @@ struct RobotChecker::Impl {
   // The robot's models, kept for with_scene().
   std::shared_ptr<const RobotModel> planner_model, fine_model;
   // kernel_robot.table, shared by the checkers with_scene() makes; built for pairs farther
-  // apart than table_threshold (tables.h), at least the margin and this checker's allowance.
+  // apart than table_threshold (pair_table.h), at least the margin and this checker's
+  // allowance.
   std::shared_ptr<const detail::PairTables> tables;
   double table_threshold = 0.0;
   detail::SphereArrays<double> spheres_d;
