@@ -419,6 +419,13 @@ TEST_CASE("robot: --from-visual bakes a link's visual geometry where it has no c
   REQUIRE(batch.exit_code == 0);
   CHECK_THAT(batch.err, Contains(urdf + ": continuous joint 'j' has no <limit>"));
   CHECK_THAT(batch.err, !Contains(limited + ": continuous"));
+  // And a batch of the bare robot and the limited one says the bare one has no geometry.
+  const CommandResult bare_batch =
+      cli("robot " + shell_quote(bare) + " " + shell_quote(limited) + " -o " +
+          shell_quote(dir.file("bare_batch")) + " --spheres-per-link 4 --no-outer --format robot");
+  REQUIRE(bare_batch.exit_code == 0);
+  CHECK_THAT(bare_batch.err, Contains(bare + ": no link has collision geometry"));
+  CHECK_THAT(bare_batch.err, !Contains(limited + ": no link"));
 }
 
 TEST_CASE("robot: --target-error and --dilate apply to every link", "[cli][robot]") {

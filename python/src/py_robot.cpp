@@ -7,7 +7,6 @@
 
 #include <pybind11/stl.h>
 
-#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/measure/evaluate_set.h"
@@ -18,6 +17,7 @@
 #include "medspheres/robot_bake/evaluate_set_robot.h"
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
+#include "medspheres/robot_bake/robot_warnings.h"
 #include "medspheres/robot_file.h"
 #include "medspheres/thread_option.h"
 #include "py_common.h"
@@ -128,7 +128,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   for (const auto& [package, dir] : a.packages) add_package_dir(read.packages, package + "=" + dir);
   read.from_visual = a.from_visual;
   RobotBake out;
-  std::vector<std::string> curobo_problems;
+  std::vector<std::string> warnings;
   out.urdf = urdf;
   out.planner = a.planner;
   out.planner.self_collision.threads = a.jobs;
@@ -136,7 +136,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
     py::gil_scoped_release release;
     const UrdfRobot robot = read_urdf(urdf, read);
     check_planner_request(robot.model, out.planner);
-    curobo_problems = formats::curobo_urdf_problems(robot.model);
+    warnings = robot_warnings(robot, read.from_visual);
     out.solids = load_link_solids(robot);
     out.result = bake_robot(robot, out.solids, options);
     plan_for(out, formats::robot_output_choice(set, out.result.model));
@@ -148,7 +148,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
               " of cover_start with no meshed part in the robot, not used:" + links},
              urdf);
   }
-  warn_all(curobo_problems, urdf);
+  warn_all(warnings, urdf);
   if (a.output) write_outputs(out, *a.output, a.formats, a.set);
   return out;
 }

@@ -341,3 +341,20 @@ def test_bake_robot_warns_of_what_curobos_urdf_parser_refuses(tmp_path):
     with warnings.catch_warnings():
         warnings.simplefilter("error")
         medspheres.bake_robot(limited, spheres_per_link=2, self_collision=False)
+
+
+def test_bake_robot_warns_of_a_robot_without_collision_geometry(tmp_path):
+    """A robot with visual geometry alone bakes no sphere: bake_robot says so, as the robot
+    command does, and names from_visual, which bakes it."""
+    urdf = tmp_path / "bare.urdf"
+    urdf.write_text('<robot name="bare"><link name="v"><visual><geometry>'
+                    '<box size="0.1 0.2 0.3"/></geometry></visual></link></robot>\n')
+    with pytest.warns(UserWarning, match="no link has collision geometry.*from_visual=True"):
+        bare = medspheres.bake_robot(urdf, spheres_per_link=2, self_collision=False)
+    assert len(bare.links["v"]["outer"]) == 0
+    import warnings
+    with warnings.catch_warnings():
+        warnings.simplefilter("error")
+        visual = medspheres.bake_robot(urdf, spheres_per_link=2, self_collision=False,
+                                       from_visual=True)
+    assert len(visual.links["v"]["outer"]) > 0

@@ -11,13 +11,13 @@
 #include "batch_driver.h"
 #include "medspheres/batch/batch_cache.h"
 #include "medspheres/error.h"
-#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/sphere_document.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/number_text.h"
 #include "medspheres/robot/link_solid.h"
+#include "medspheres/robot_bake/robot_warnings.h"
 #include "medspheres/robot_file.h"
 #include "medspheres/sha256.h"
 #include "medspheres/version.h"
@@ -48,6 +48,7 @@ RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, 
   check_planner_request(robot.model, job.planner);
   const std::vector<LinkSolid> solids = load_link_solids(robot);
   RobotFileResult r;
+  r.warnings = robot_warnings(robot, job.read.from_visual);
   r.bake = bake_robot(robot, solids, job.bake);
   if (job.contact && job.planner.sample && job.bake.outer) {
     RobotBakeOptions again = job.bake;
@@ -180,7 +181,7 @@ std::string entry_bytes(const std::map<std::string, std::string>& files, const B
 void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row) {
   const std::string urdf_sha = file_sha256(row.input.path);
   const UrdfRobot robot = read_urdf(row.input.path, job.read);
-  row.warnings = formats::curobo_urdf_problems(robot.model);
+  row.warnings = robot_warnings(robot, job.read.from_visual);
   std::string key;
   if (cache) {
     key = robot_cache_key(robot, urdf_sha, job, row.input.relative);

@@ -15,7 +15,6 @@
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
-#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/self_collision_report.h"
@@ -174,25 +173,6 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
               << " touch at the default configuration\n";
 }
 
-// What keeps cuRobo's URDF parser from loading the robot (formats::curobo_urdf_problems).
-void warn_curobo_urdf(const RobotModel& model, const std::string& urdf) {
-  for (const std::string& w : formats::curobo_urdf_problems(model))
-    std::cerr << "medspheres: warning: " << urdf << ": " << w << "\n";
-}
-
-// A robot none of whose links has collision geometry: its files carry no sphere, which
-// --from-visual would change.
-void warn_no_collision_geometry(const RobotBakeResult& r, bool from_visual,
-                                const std::string& urdf) {
-  const bool none = std::all_of(r.links.begin(), r.links.end(), [](const LinkBakeStats& s) {
-    return s.parts == 0 && s.primitive_spheres == 0;
-  });
-  if (none && !from_visual && !r.links.empty())
-    std::cerr << "medspheres: warning: " << urdf
-              << ": no link has collision geometry, so the files carry no sphere; --from-visual "
-                 "bakes the visual geometry of such links\n";
-}
-
 // The options of the run as the robot file's provenance ("options" in its metadata): every
 // flag that changes the spheres, as given (lengths as written, before L is resolved).
 std::string options_json(const RobotArgs& a) {
@@ -327,8 +307,8 @@ int run_robot(const RobotArgs& a) {
     std::cout << "the planner formats carry each link's "
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
     print_planner_summary(*r.bake.model.planner, r.planner, a.free_joints);
-    warn_curobo_urdf(r.bake.model, urdf);
-    warn_no_collision_geometry(r.bake, a.from_visual, urdf);
+    for (const std::string& w : r.warnings)
+      std::cerr << "medspheres: warning: " << urdf << ": " << w << "\n";
   }
   return kExitOk;
 }

@@ -58,7 +58,8 @@ struct RobotFileResult {
   RobotBakeResult bake;      ///< its model carries the planner setup
   SelfCollisionRun planner;  ///< the matrix's run (empty with planner.sample false)
   formats::SphereChoice choice = formats::SphereChoice::kInner;  ///< the planner formats' set
-  std::size_t spheres = 0;  ///< of that set, all links (robot_spheres)
+  std::size_t spheres = 0;            ///< of that set, all links (robot_spheres)
+  std::vector<std::string> warnings;  ///< robot_warnings of the URDF read
 };
 
 /// Reads \p urdf (read_urdf), loads its meshes, bakes it (bake_robot) and replaces the
