@@ -27,6 +27,7 @@
 #include <vamp/robots/panda.hh>
 
 #include "bench_args.h"
+#include "bench_percentile.h"
 #include "bench_timing.h"
 #include "mbm_problems.h"
 #include "medspheres/check/robot_checker.h"
@@ -341,10 +342,9 @@ void plan(const VampScene& env, const mb::MbmProblem& p, PlanRow& row) {
   row.plan_us.push_back(us);
 }
 
-double median(std::vector<double> v) {
-  if (v.empty()) return 0.0;
-  std::nth_element(v.begin(), v.begin() + long(v.size() / 2), v.end());
-  return v[v.size() / 2];
+// The median of \p v (bench_percentile.h), 0 for none.
+double median(const std::vector<double>& v) {
+  return v.empty() ? 0.0 : mb::percentile(v, 0.5);
 }
 
 // Every problem planned by VAMP with its own kernel, then with a checker of each model for
