@@ -7,6 +7,7 @@
 #include <cstdio>
 #include <functional>
 #include <limits>
+#include <stdexcept>
 
 #include <fcl/fcl.h>
 #include <omp.h>
@@ -289,6 +290,26 @@ void print_checker_setup(const CheckerBenchInput& in, const fcl::CertifiedChecke
   print_test_order(spheres);
 }
 
+// with_scene on the scene the checker has: the scene's own parts built, the robot's shared,
+// timed against the whole build; its verdicts must be the checker's (else it throws).
+void print_with_scene(const CheckerBenchInput& in, const fcl::CertifiedChecker& certified,
+                      const std::vector<double>& q, double build) {
+  const auto t0 = Clock::now();
+  const fcl::CertifiedChecker moved = certified.with_scene(in.scene);
+  const double seconds = seconds_since(t0);
+  const std::size_t n = in.configs.size();
+  std::vector<Verdict> a(n), b(n);
+  certified.check(q.data(), n, a.data(), 0);
+  moved.check(q.data(), n, b.data(), 0);
+  std::size_t differ = 0;
+  for (std::size_t i = 0; i < n; ++i) differ += a[i] != b[i];
+  std::printf(
+      "certified checker with_scene (the same scene): built in %.3f s against %.2f s anew; %zu "
+      "of %zu verdicts differ\n",
+      seconds, build, differ, n);
+  if (differ > 0) throw std::runtime_error("with_scene changed verdicts");
+}
+
 // The spheres mode's rows (learnt order, doubles, default order) and the bounds row.
 void add_sphere_rows(const CheckerBenchInput& in, const check::CheckerOptions& o,
                      const RobotModel* fine, const check::RobotChecker& spheres,
@@ -517,13 +538,14 @@ void print_checker_rows(const CheckerBenchInput& in) {
                                         fallback);
   const double build = seconds_since(t0);
   print_checker_setup(in, certified, fine, build);
+  const std::vector<double> q = rows_of(in.configs);
+  print_with_scene(in, certified, q, build);
   // The same checks with the tests in their default order (each link against the scene,
   // then each self pair), not the learnt one: the order's gain, side by side.
   check::CheckerOptions o0 = o;
   o0.order_samples = 0;
   const check::RobotChecker unordered(in.planner->model, fcl::scene_from_fcl(in.scene).scene, o0,
                                       fine);
-  const std::vector<double> q = rows_of(in.configs);
   std::vector<Row> rows;
   add_sphere_rows(in, o, fine, certified.spheres(), unordered, q, rows);
   add_certified_rows(in, o, fine, fallback, certified, q, rows);

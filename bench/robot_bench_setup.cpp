@@ -5,6 +5,7 @@
 #include <algorithm>
 #include <cstdio>
 #include <cstdlib>
+#include <exception>
 #include <system_error>
 
 #include <unistd.h>
@@ -104,6 +105,9 @@ int run_robot_bench(const char* bench, const std::string& generated, const std::
   } catch (const InputError& e) {
     std::fprintf(stderr, "%s: %s\n", bench, e.what());
     return 2;
+  } catch (const std::exception& e) {  // a figure the bench checks came out wrong
+    std::fprintf(stderr, "%s: %s\n", bench, e.what());
+    return 1;
   }
 }
 

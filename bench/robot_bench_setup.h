@@ -63,7 +63,8 @@ class GeneratedRobot {
 
 /// What main() of bench_robot and bench_checker does around their run: \p urdf replaced by
 /// the robot \p generated names (GeneratedRobot, in \p cache_dir) when it names one, then
-/// \p run; 2 with a message naming \p bench for a missing robot file or an InputError, else
+/// \p run; 2 with a message naming \p bench for a missing robot file or an InputError, 1
+/// with the message of any other exception (a figure the bench checks came out wrong), else
 /// what \p run returns.
 int run_robot_bench(const char* bench, const std::string& generated, const std::string& cache_dir,
                     std::string& urdf, const std::function<int()>& run);

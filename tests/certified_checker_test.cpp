@@ -480,6 +480,61 @@ TEST_CASE("certified checker: joint-space tables for the pairs two revolute join
   CHECK(beyond > 0);  // pairs that take a table left without one
 }
 
+TEST_CASE("certified checker: with_scene gives a new checker's verdicts, its robot's parts shared",
+          "[check][fcl]") {
+  const RobotModel arm = test::capsule_arm(4), fine = test::capsule_arm(10);
+  const double margin = 0.01;
+  mf::FallbackOptions fallback;
+  fallback.order.samples = 400;
+  fallback.table_cells = 64;
+  // Built on no scene (no octree: the links' cells are made when a scene brings one), then
+  // moved to the world of the other tests, and back.
+  const mf::CertifiedChecker empty(arm, &fine, world().meshes, {}, options(margin), fallback);
+  const mf::CertifiedChecker moved = empty.with_scene(world().scene());
+  const mf::CertifiedChecker anew(arm, &fine, world().meshes, world().scene(), options(margin),
+                                  fallback);
+  const mf::CertifiedChecker back = moved.with_scene({});
+  CHECK(&moved.fallback() == &empty.fallback());
+  CHECK(&back.fallback() == &empty.fallback());
+  std::size_t shared_tables = 0;
+  for (const auto& [a, b] : empty.fallback().self_pairs()) {
+    CHECK(moved.table(a, b) == empty.table(a, b));
+    shared_tables += empty.table(a, b) != nullptr;
+  }
+  CHECK(shared_tables > 0);
+  const std::vector<double> q = test::capsule_arm_configs(300, 27);
+  std::vector<Verdict> v_moved(300), v_anew(300), v_empty(300), v_back(300);
+  mf::FallbackStats s_moved, s_anew, s_empty, s_back;
+  moved.check(q.data(), 300, v_moved.data(), 2, &s_moved);
+  anew.check(q.data(), 300, v_anew.data(), 2, &s_anew);
+  empty.check(q.data(), 300, v_empty.data(), 1, &s_empty);
+  back.check(q.data(), 300, v_back.data(), 1, &s_back);
+  CHECK(v_moved == v_anew);
+  CHECK(v_back == v_empty);
+  CHECK(v_moved != v_empty);  // the world's objects matter
+  // The same path through the fallback: the octree's cells, planes and meshes alike.
+  CHECK(s_moved.configurations == s_anew.configurations);
+  CHECK(s_moved.pairs == s_anew.pairs);
+  CHECK(s_moved.planes == s_anew.planes);
+  CHECK(s_moved.meshes == s_anew.meshes);
+  CHECK(s_moved.meshes > 0);
+  CHECK(s_back.meshes == s_empty.meshes);
+  // And against the exact meshes.
+  std::size_t missed = 0, alarms = 0;
+  for (std::size_t i = 0; i < 300; ++i) {
+    const double d = exact_distance(moved, arm, q.data() + 8 * i, margin + 1e-3);
+    if (std::abs(d - margin) < kGjkTolerance) continue;
+    missed += d <= margin && v_moved[i] == Verdict::free;
+    alarms += d > margin && v_moved[i] == Verdict::colliding;
+  }
+  CHECK(missed == 0);
+  CHECK(alarms == 0);
+  std::vector<Verdict> e_moved(40), e_anew(40);
+  CHECK(moved.check_edges(q.data(), q.data() + 8, 40, 0.1, e_moved.data(), 2) ==
+        anew.check_edges(q.data(), q.data() + 8, 40, 0.1, e_anew.data(), 2));
+  CHECK(e_moved == e_anew);
+}
+
 // A folding chain: a base, a short middle link and a tip of half length tip_half that folds
 // back onto the base (two revolute joints apart: a pair PairJointTable takes), with the
 // capsule arm's closed-form sets and meshes.

@@ -87,58 +87,96 @@ CertifiedChecker::CertifiedChecker(
     const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
     const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
     const check::CheckerOptions& options, const FallbackOptions& fallback)
-    : bounds_(make_bounds(planner, fine, meshes, options, fallback)),
-      checker_(make_checker(planner, fine, bounds_, converted, options, fallback)),
+    : bounds_(std::make_shared<const RobotBounds>(
+          make_bounds(planner, fine, meshes, options, fallback))),
+      checker_(make_checker(planner, fine, *bounds_, converted, options, fallback)),
       scene_(scene),
       scene_source_(std::move(converted.source)) {
-  if (bounds_.kinematics().joint_names() != checker_.joint_names())
+  if (bounds_->kinematics().joint_names() != checker_.joint_names())
     throw InputError("certified checker",
                      "the sphere trees' model is not the planner's robot (its joints differ)");
   for (const std::string& link : checker_.links()) {
     std::size_t g = 0;
-    while (g < bounds_.geometries().size() && bounds_.geometries()[g].link() != link) ++g;
-    if (g == bounds_.geometries().size())
+    while (g < bounds_->geometries().size() && bounds_->geometries()[g].link() != link) ++g;
+    if (g == bounds_->geometries().size())
       throw InputError(link, "the fallback's model has no sets for this link");
     geometry_of_.push_back(g);
   }
   // The witnesses the kernel has not tested already (those of links it took none for).
   const std::map<std::string, std::vector<Sphere>>& in_kernel = checker_.options().inner_points;
-  for (const SelfWitness& w : bounds_.witnesses())
-    if (!fallback.kernel_witnesses || !in_kernel.count(bounds_.geometries()[w.a].link()) ||
-        !in_kernel.count(bounds_.geometries()[w.b].link()))
+  for (const SelfWitness& w : bounds_->witnesses())
+    if (!fallback.kernel_witnesses || !in_kernel.count(bounds_->geometries()[w.a].link()) ||
+        !in_kernel.count(bounds_->geometries()[w.b].link()))
       witnesses_.push_back(w);
-  const std::size_t G = bounds_.geometries().size();
-  rank_.assign(G * G, bounds_.self_pairs().size());
-  for (std::size_t k = 0; k < bounds_.self_pairs().size(); ++k) {
-    const auto [a, b] = bounds_.self_pairs()[k];
+  const std::size_t G = bounds_->geometries().size();
+  rank_.assign(G * G, bounds_->self_pairs().size());
+  for (std::size_t k = 0; k < bounds_->self_pairs().size(); ++k) {
+    const auto [a, b] = bounds_->self_pairs()[k];
     rank_[std::min(a, b) * G + std::max(a, b)] = k;
   }
   if (fallback.table_cells > 0)
-    bake_tables(fallback.trees ? *fallback.trees
-                : fine         ? *fine
-                               : planner,
-                fallback.table_cells, fallback.table_pairs, fallback.table_store);
+    tables_ = std::make_shared<const Tables>(bake_tables(fallback.trees ? *fallback.trees
+                                                         : fine         ? *fine
+                                                                        : planner,
+                                                         fallback.table_cells, fallback.table_pairs,
+                                                         fallback.table_store));
   // tables_first: the tables that can prove a collision, in the self pairs' order.
-  for (const auto& [a, b] : bounds_.self_pairs())
+  for (const auto& [a, b] : bounds_->self_pairs())
     if (const PairJointTable* t = table(a, b);
         fallback.tables_first && t != nullptr && t->colliding_cells() > 0)
       tabled_.push_back(t);
+  if (fallback.separating_planes) make_supports();
+  attach_scene(nullptr);
+}
+
+CertifiedChecker::CertifiedChecker(const CertifiedChecker& donor,
+                                   const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                                   FclScene converted)
+    : bounds_(donor.bounds_),
+      checker_(donor.checker_.with_scene(converted.scene)),
+      scene_(scene),
+      scene_source_(std::move(converted.source)),
+      geometry_of_(donor.geometry_of_),
+      witnesses_(donor.witnesses_),
+      rank_(donor.rank_),
+      tables_(donor.tables_),
+      tabled_(donor.tabled_),
+      supports_(donor.supports_) {
+  attach_scene(&donor);
+}
+
+CertifiedChecker CertifiedChecker::with_scene(
+    const std::vector<const ::fcl::CollisionObjectd*>& scene) const {
+  return CertifiedChecker(*this, scene, scene_from_fcl(scene));
+}
+
+// The scene's own parts of the fallback: an octree's cells, with the links as OctreeCells
+// takes them (the donor's when it has them), and the objects' supports when the links have
+// theirs (FallbackOptions::separating_planes).
+void CertifiedChecker::attach_scene(const CertifiedChecker* donor) {
   bool octree = false;
   for (const ::fcl::CollisionObjectd* o : scene_) {
     cells_.push_back(octree_cells_of(*o->collisionGeometry(), o->getTransform()));
     octree = octree || cells_.back() != nullptr;
   }
-  cell_links_.resize(G);
-  for (std::size_t g = 0; octree && g < G; ++g)
-    if (bounds_.geometries()[g].mesh() != nullptr)
-      cell_links_[g] = std::make_unique<const OctreeCells::Link>(bounds_.geometries()[g]);
-  if (fallback.separating_planes) make_supports();
+  if (donor != nullptr) cell_links_ = donor->cell_links_;
+  if (octree && cell_links_ == nullptr) {
+    CellLinks links(bounds_->geometries().size());
+    for (std::size_t g = 0; g < links.size(); ++g)
+      if (bounds_->geometries()[g].mesh() != nullptr)
+        links[g] = std::make_unique<const OctreeCells::Link>(bounds_->geometries()[g]);
+    cell_links_ = std::make_shared<const CellLinks>(std::move(links));
+  }
+  if (supports_ != nullptr)
+    for (const ::fcl::CollisionObjectd* o : scene_)
+      scene_supports_.push_back(support_of(*o->collisionGeometry()));
 }
 
-// The sides' supports for separating planes: a link's mesh vertices, or its balls when
-// its sets are the solid itself (exact_balls); each scene object's, where it has one.
+// The links' supports for separating planes: a link's mesh vertices, or its balls when its
+// sets are the solid itself (exact_balls).
 void CertifiedChecker::make_supports() {
-  for (const BoundedGeometry& g : bounds_.geometries()) {
+  Supports links;
+  for (const BoundedGeometry& g : bounds_->geometries()) {
     std::unique_ptr<const VertexSupport> s;
     if (g.mesh() != nullptr) {
       s = std::make_unique<const VertexSupport>(*g.mesh());
@@ -148,10 +186,9 @@ void CertifiedChecker::make_supports() {
         balls.push_back(g.outer().sphere(i));
       s = std::make_unique<const VertexSupport>(balls);
     }
-    supports_.push_back(std::move(s));
+    links.push_back(std::move(s));
   }
-  for (const ::fcl::CollisionObjectd* o : scene_)
-    scene_supports_.push_back(support_of(*o->collisionGeometry()));
+  supports_ = std::make_shared<const Supports>(std::move(links));
 }
 
 // Whether a plane between the pair's two sides clears the margin (separating_plane.h),
@@ -160,11 +197,11 @@ void CertifiedChecker::make_supports() {
 bool CertifiedChecker::plane_free(const check::UndecidedPair& p,
                                   const std::vector<::fcl::Transform3d>& X,
                                   const CollideResult& decided) const {
-  if (supports_.empty()) return false;
-  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+  if (supports_ == nullptr) return false;
+  const std::vector<BoundedGeometry>& g = bounds_->geometries();
   const std::size_t a = geometry_of_[p.link];
-  const VertexSupport* s_a = supports_[a].get();
-  const VertexSupport* s_b = p.self ? supports_[geometry_of_[p.other]].get()
+  const VertexSupport* s_a = (*supports_)[a].get();
+  const VertexSupport* s_b = p.self ? (*supports_)[geometry_of_[p.other]].get()
                                     : scene_supports_[scene_source_[p.other]].get();
   if (s_a == nullptr || s_b == nullptr) return false;
   const ::fcl::Transform3d& X_WB =
@@ -187,7 +224,7 @@ bool CertifiedChecker::plane_free(const check::UndecidedPair& p,
 // (the bounds' order kept among equals).
 std::vector<check::UndecidedPair> CertifiedChecker::ordered(
     const std::vector<check::UndecidedPair>& pairs) const {
-  const std::size_t G = bounds_.geometries().size(), seen = bounds_.seen_colliding();
+  const std::size_t G = bounds_->geometries().size(), seen = bounds_->seen_colliding();
   auto key = [&](const check::UndecidedPair& p) {
     if (!p.self) return seen;
     const std::size_t a = geometry_of_[p.link], b = geometry_of_[p.other];
@@ -204,13 +241,14 @@ std::vector<check::UndecidedPair> CertifiedChecker::ordered(
 
 // The self pairs' tables (the first `first` pairs of the learnt order, or all for 0), two
 // pairs at a time.
-void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, std::size_t first,
-                                   const std::string& store_folder) {
-  const std::size_t G = bounds_.geometries().size();
-  const auto& pairs = bounds_.self_pairs();
+CertifiedChecker::Tables CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells,
+                                                       std::size_t first,
+                                                       const std::string& store_folder) const {
+  const std::size_t G = bounds_->geometries().size();
+  const auto& pairs = bounds_->self_pairs();
   const std::size_t count = first > 0 ? std::min(first, pairs.size()) : pairs.size();
-  tables_.resize(G * G);
-  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+  Tables tables(G * G);
+  const std::vector<BoundedGeometry>& g = bounds_->geometries();
   const std::unique_ptr<const PairTableStore> store =
       store_folder.empty() ? nullptr : std::make_unique<const PairTableStore>(store_folder);
   std::vector<std::exception_ptr> failed(count);  // no exception may leave the parallel loop
@@ -218,8 +256,8 @@ void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, s
   for (long k = 0; k < static_cast<long>(count); ++k) {
     const auto [a, b] = pairs[std::size_t(k)];
     try {
-      tables_[std::min(a, b) * G + std::max(a, b)] = PairJointTable::build(
-          model, bounds_.kinematics(), bounds_.link_of()[a], g[a], bounds_.link_of()[b], g[b],
+      tables[std::min(a, b) * G + std::max(a, b)] = PairJointTable::build(
+          model, bounds_->kinematics(), bounds_->link_of()[a], g[a], bounds_->link_of()[b], g[b],
           checker_.options().margin, cells, store.get());
     } catch (...) {
       failed[std::size_t(k)] = std::current_exception();
@@ -227,6 +265,7 @@ void CertifiedChecker::bake_tables(const RobotModel& model, std::size_t cells, s
   }
   for (const std::exception_ptr& e : failed)
     if (e) std::rethrow_exception(e);
+  return tables;
 }
 
 // Whether a joint-space table proves the configuration colliding (a look-up per table, the
@@ -238,15 +277,15 @@ bool CertifiedChecker::table_colliding(const double* q) const {
 }
 
 const PairJointTable* CertifiedChecker::table(std::size_t a, std::size_t b) const {
-  const std::size_t G = bounds_.geometries().size();
-  if (tables_.empty() || a >= G || b >= G) return nullptr;
-  return tables_[std::min(a, b) * G + std::max(a, b)].get();
+  const std::size_t G = bounds_->geometries().size();
+  if (tables_ == nullptr || a >= G || b >= G) return nullptr;
+  return (*tables_)[std::min(a, b) * G + std::max(a, b)].get();
 }
 
 CertifiedChecker::Poses CertifiedChecker::poses(const double* q) const {
   const Eigen::Map<const Eigen::VectorXd> qv(q,
                                              static_cast<Eigen::Index>(checker_.num_positions()));
-  return bounds_.poses(qv, checker_.options().X_WB);
+  return bounds_->poses(qv, checker_.options().X_WB);
 }
 
 // Whether some witness (two points of a self pair's solids, each in its link's frame) is
@@ -311,7 +350,7 @@ check::Verdict CertifiedChecker::settle_pairs(const double* q, const Poses& X,
                                               const std::vector<check::UndecidedPair>& pairs,
                                               FallbackStats& stats) const {
   const double margin = checker_.options().margin;
-  const std::vector<BoundedGeometry>& g = bounds_.geometries();
+  const std::vector<BoundedGeometry>& g = bounds_->geometries();
   auto object = [&](const check::UndecidedPair& p) { return scene_[scene_source_[p.other]]; };
   std::vector<std::pair<const check::UndecidedPair*, CollideResult>> open;
   const std::vector<check::UndecidedPair> in_order = ordered(pairs);
@@ -340,8 +379,8 @@ check::Verdict CertifiedChecker::settle_pairs(const double* q, const Poses& X,
     ++stats.meshes;
     const std::size_t a = geometry_of_[p->link];
     const OctreeCells* cells = p->self ? nullptr : cells_[scene_source_[p->other]].get();
-    if (cells != nullptr && cell_links_[a] != nullptr) {
-      if (cells->distance(*cell_links_[a], X[a], margin) <= margin)
+    if (cells != nullptr && (*cell_links_)[a] != nullptr) {
+      if (cells->distance(*(*cell_links_)[a], X[a], margin) <= margin)
         return check::Verdict::colliding;
       continue;
     }

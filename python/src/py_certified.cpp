@@ -69,6 +69,15 @@ std::shared_ptr<Certified> make_certified(Inputs in, const check::Scene& scene) 
   return c;
 }
 
+// The same robot and fallback against another scene (CertifiedChecker::with_scene).
+std::shared_ptr<Certified> with_scene(const Certified& c, const check::Scene& scene) {
+  auto out = std::make_shared<Certified>();
+  out->scene = fcl::fcl_from_scene(scene);
+  out->checker =
+      std::make_unique<const fcl::CertifiedChecker>(c.checker->with_scene(out->scene.objects));
+  return out;
+}
+
 py::dict stats_dict(const fcl::FallbackStats& s) {
   py::dict d;
   d["table_first"] = s.table_first;
@@ -170,6 +179,16 @@ void register_certified(py::module_& m) {
                              [](const Certified& c) { return c.checker->spheres().joint_names(); })
       .def_property_readonly("links",
                              [](const Certified& c) { return c.checker->spheres().links(); })
+      .def(
+          "with_scene",
+          [](const Certified& c, const check::Scene& scene) {
+            py::gil_scoped_release release;
+            return with_scene(c, scene);
+          },
+          py::arg("scene"),
+          "The same robot and fallback against another CheckScene (a planner's next "
+          "problem): the fallback's geometries, learnt witnesses and joint-space tables are "
+          "shared, only the scene's parts are built; the verdicts of a checker built anew.")
       .def("check", &check_rows, py::arg("q"), py::arg("threads") = 1, py::arg("stats") = false,
            "Verdicts (uint8 array of n) of the n x dof configurations q; threads 0: every "
            "core. stats: (verdicts, {what the fallback did: 'configurations' that reached it, "

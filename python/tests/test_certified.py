@@ -151,6 +151,25 @@ def test_levels_change_no_verdict(folder, finer):
     assert stats["configurations"] < len(q)
 
 
+def test_with_scene(folder, finer):
+    urdf, robot = folder
+    q = configurations(400, 7)
+    alone = medspheres.CertifiedChecker(urdf, robot, medspheres.CheckScene(), fine=finer,
+                                        order_samples=200, table_cells=4096)
+    moved = alone.with_scene(scene())
+    assert moved.joint_names == alone.joint_names
+    verdicts, stats = moved.check(q, stats=True)
+    assert np.array_equal(verdicts, [brute_force(x) for x in q])
+    assert stats["meshes"] > 0
+    anew = medspheres.CertifiedChecker(urdf, robot, scene(), fine=finer, order_samples=200,
+                                       table_cells=4096)
+    assert np.array_equal(verdicts, anew.check(q))
+    self_only = [int(boxes_meet(placed(x)["base"], placed(x)["link2"])) for x in q]
+    assert np.array_equal(moved.with_scene(medspheres.CheckScene()).check(q), self_only)
+    assert np.array_equal(alone.check(q), self_only)
+    assert not np.array_equal(verdicts, self_only)
+
+
 def test_threads_and_edges(folder):
     urdf, robot = folder
     checker = medspheres.CertifiedChecker(urdf, robot, scene(), order_samples=200)

@@ -129,11 +129,21 @@ class CertifiedChecker {
                    const std::vector<const ::fcl::CollisionObjectd*>& scene,
                    const check::CheckerOptions& options = {}, const FallbackOptions& fallback = {});
 
+  /// The same robot, options and fallback against another scene (a planner's next
+  /// problem): what does not depend on the scene is shared, not built again (the
+  /// fallback's geometries, learnt order and witnesses, the self pairs' joint-space tables
+  /// of FallbackOptions::table_cells, the links' supports for separating planes, and the
+  /// kernel's own tables: RobotChecker::with_scene). Only the scene's parts are built: the
+  /// kernel's grid and field, an octree's cells, the objects' supports. The verdicts are
+  /// those of a checker built anew on \p scene with the same arguments. Errors: those of
+  /// the constructor for the scene (scene_from_fcl's).
+  CertifiedChecker with_scene(const std::vector<const ::fcl::CollisionObjectd*>& scene) const;
+
   /// The spheres-only and bounds modes without a fallback.
   const check::RobotChecker& spheres() const noexcept { return checker_; }
   /// The fallback's geometries (the trees' sets when given, else the fine sets when given,
   /// else the planner's; with the meshes).
-  const RobotBounds& fallback() const noexcept { return bounds_; }
+  const RobotBounds& fallback() const noexcept { return *bounds_; }
   /// The table of the self pair of geometries a and b (indices in fallback().geometries()),
   /// or null (FallbackOptions::table_cells).
   const PairJointTable* table(std::size_t a, std::size_t b) const;
@@ -167,7 +177,13 @@ class CertifiedChecker {
                    const std::map<std::string, std::shared_ptr<const MeshModel>>& meshes,
                    const std::vector<const ::fcl::CollisionObjectd*>& scene, FclScene converted,
                    const check::CheckerOptions& options, const FallbackOptions& fallback);
+  CertifiedChecker(const CertifiedChecker& donor,
+                   const std::vector<const ::fcl::CollisionObjectd*>& scene,
+                   FclScene converted);  // with_scene()
   using Poses = std::vector<::fcl::Transform3d>;
+  using Tables = std::vector<std::unique_ptr<const PairJointTable>>;
+  using Supports = std::vector<std::unique_ptr<const VertexSupport>>;
+  using CellLinks = std::vector<std::unique_ptr<const OctreeCells::Link>>;
   check::Verdict settle(const double* q, FallbackStats& stats) const;
   Poses poses(const double* q) const;
   bool witnessed(const Poses& X) const;
@@ -183,11 +199,16 @@ class CertifiedChecker {
   bool table_colliding(const double* q) const;
   void check_untabled(const double* q, std::size_t n, check::Verdict* out, int threads,
                       FallbackStats* stats) const;
-  void bake_tables(const RobotModel& model, std::size_t cells, std::size_t first,
-                   const std::string& store_folder);
+  Tables bake_tables(const RobotModel& model, std::size_t cells, std::size_t first,
+                     const std::string& store_folder) const;
   void make_supports();
+  void attach_scene(const CertifiedChecker* donor);
 
-  RobotBounds bounds_;  // before checker_, whose inner sets may take its witnesses
+  // What does not depend on the scene is held by shared pointers, shared by the checkers
+  // with_scene() makes; the scene's parts (checker_, scene_, scene_source_, cells_,
+  // scene_supports_) are each checker's own.
+  // bounds_ comes before checker_, whose inner sets may take its witnesses.
+  std::shared_ptr<const RobotBounds> bounds_;
   check::RobotChecker checker_;
   std::vector<const ::fcl::CollisionObjectd*> scene_;
   std::vector<std::size_t> scene_source_;  // check scene object -> index in scene_
@@ -198,16 +219,18 @@ class CertifiedChecker {
   // By geometry pair (a * geometries + b, a < b): the rank of the pair in the order of
   // decide() (FallbackOptions::order).
   std::vector<std::size_t> rank_;
-  std::vector<std::unique_ptr<const PairJointTable>> tables_;  // by geometry pair, or null
+  std::shared_ptr<const Tables> tables_;       // by geometry pair (or null); null: no tables
   std::vector<const PairJointTable*> tabled_;  // tables_first: in the self pairs' order
   // By index in scene_: the cells of an fcl::OcTree, else null; by geometry: the link as
-  // OctreeCells takes it (null without a mesh or without an octree in the scene).
+  // OctreeCells takes it (null without a mesh; cell_links_ null while no scene of the
+  // checker or its donors has had an octree).
   std::vector<std::unique_ptr<const OctreeCells>> cells_;
-  std::vector<std::unique_ptr<const OctreeCells::Link>> cell_links_;
-  // FallbackOptions::separating_planes: by geometry, the support of its mesh's vertices
-  // (or of its balls), else null; by index in scene_, the object's, else null.
-  std::vector<std::unique_ptr<const VertexSupport>> supports_;
-  std::vector<std::unique_ptr<const VertexSupport>> scene_supports_;
+  std::shared_ptr<const CellLinks> cell_links_;
+  // FallbackOptions::separating_planes (else supports_ null): by geometry, the support of
+  // its mesh's vertices (or of its balls), else null; by index in scene_, the object's,
+  // else null.
+  std::shared_ptr<const Supports> supports_;
+  Supports scene_supports_;
 };
 
 }  // namespace medspheres::fcl
