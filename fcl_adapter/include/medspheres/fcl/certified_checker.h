@@ -204,9 +204,11 @@ class CertifiedChecker {
   void make_supports();
   void attach_scene(const CertifiedChecker* donor);
 
-  // What does not depend on the scene is held by shared pointers, shared by the checkers
-  // with_scene() makes; the scene's parts (checker_, scene_, scene_source_, cells_,
-  // scene_supports_) are each checker's own.
+  // What does not depend on the scene and costs to build (bounds_, tables_, cell_links_,
+  // supports_) is held by shared pointers, shared by the checkers with_scene() makes; the
+  // small indices derived from it (geometry_of_, witnesses_, rank_, tabled_) are copied;
+  // the scene's parts (checker_, scene_, scene_source_, cells_, scene_supports_) are each
+  // checker's own.
   // bounds_ comes before checker_, whose inner sets may take its witnesses.
   std::shared_ptr<const RobotBounds> bounds_;
   check::RobotChecker checker_;
