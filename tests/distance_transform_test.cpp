@@ -1,5 +1,6 @@
 // distance_transform.h against brute force: the squared distance from every cell's centre to
-// the nearest seed's, on random grids of odd shapes (exact integers, so equal).
+// the nearest seed's, on random grids of odd shapes (exact integers, so equal), on one
+// thread and on three.
 #include <random>
 
 #include <catch2/catch.hpp>
@@ -18,8 +19,9 @@ TEST_CASE("the squared distance transform equals brute force", "[distance_transf
       const std::size_t cells = static_cast<std::size_t>(n[0] * n[1] * n[2]);
       std::vector<bool> is_seed(cells);
       for (std::size_t c = 0; c < cells; ++c) is_seed[c] = seed(rng);
-      const std::vector<std::int64_t> d = squared_distance_transform(n, is_seed);
+      const std::vector<std::int64_t> d = squared_distance_transform(n, is_seed, 1);
       REQUIRE(d.size() == cells);
+      CHECK(squared_distance_transform(n, is_seed, 3) == d);
       for (std::int64_t k = 0; k < n[2]; ++k)
         for (std::int64_t j = 0; j < n[1]; ++j)
           for (std::int64_t i = 0; i < n[0]; ++i) {

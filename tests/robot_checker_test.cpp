@@ -536,6 +536,11 @@ TEST_CASE("robot checker: bad input is refused with a message naming it", "[chec
   o.disabled = {{"l1", "nope"}};
   CHECK_THROWS_WITH(check::RobotChecker(arm, scene, o), Catch::Contains("nope"));
   o.disabled.clear();
+  for (const int threads : {-1, medspheres::kMaxThreads + 1}) {
+    o.build_threads = threads;
+    CHECK_THROWS_WITH(check::RobotChecker(arm, scene, o), Catch::Contains("build_threads"));
+  }
+  o.build_threads = 0;
   RobotModel other = test::capsule_arm(3);
   other.joints[2].origin.translation().x() += 0.1;
   CHECK_THROWS_WITH(check::RobotChecker(arm, scene, o, &other), Catch::Contains("j3"));

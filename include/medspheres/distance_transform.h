@@ -17,8 +17,10 @@ inline constexpr std::int64_t kNoSeed = std::int64_t{1} << 60;
 
 /// For the grid of \p n cells (x fastest: index i + n0 (j + n1 k)) whose seeds are the cells
 /// with is_seed[index] true: the squared distance in cells from each cell to the nearest
-/// seed (0 on seeds), or kNoSeed when there is none.
+/// seed (0 on seeds), or kNoSeed when there is none. Each pass's lines run on \p threads
+/// (medspheres/threads.h: 0 for every core); the result is the same for any count.
 std::vector<std::int64_t> squared_distance_transform(const std::array<std::int64_t, 3>& n,
-                                                     const std::vector<bool>& is_seed);
+                                                     const std::vector<bool>& is_seed,
+                                                     int threads = 1);
 
 }  // namespace medspheres::detail

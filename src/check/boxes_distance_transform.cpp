@@ -8,9 +8,9 @@
 
 namespace medspheres::check::detail {
 
-std::vector<double> boxes_distance_transform(const std::vector<Element>& elements,
-                                             const double* origin, double h, const int* n,
-                                             double pad) {
+std::vector<std::int64_t> boxes_distance_transform(const std::vector<Element>& elements,
+                                                   const double* origin, double h, const int* n,
+                                                   double pad, int threads) {
   const std::size_t count = static_cast<std::size_t>(n[0]) * static_cast<std::size_t>(n[1]) *
                             static_cast<std::size_t>(n[2]);
   std::vector<bool> touched(count, false);
@@ -25,13 +25,7 @@ std::vector<double> boxes_distance_transform(const std::vector<Element>& element
         for (int x = lo[0]; x <= hi[0]; ++x)
           touched[std::size_t(x) + n[0] * (std::size_t(y) + std::size_t(n[1]) * z)] = true;
   }
-  const std::vector<std::int64_t> cells =
-      medspheres::detail::squared_distance_transform({n[0], n[1], n[2]}, touched);
-  const double far = 3.0 * double(n[0] + n[1] + n[2]) * double(n[0] + n[1] + n[2]);
-  std::vector<double> out(cells.size());
-  for (std::size_t i = 0; i < cells.size(); ++i)
-    out[i] = cells[i] == medspheres::detail::kNoSeed ? far : double(cells[i]);
-  return out;
+  return medspheres::detail::squared_distance_transform({n[0], n[1], n[2]}, touched, threads);
 }
 
 }  // namespace medspheres::check::detail

@@ -4,6 +4,7 @@
 #include <cmath>
 
 #include "boxes_distance_transform.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::check::detail {
 namespace {
@@ -25,7 +26,7 @@ std::uint16_t bytes_above(double x, double unit) {
 
 }  // namespace
 
-DistanceField::DistanceField(const SceneGrid& grid, int split) {
+DistanceField::DistanceField(const SceneGrid& grid, int split, int threads) {
   if (grid.empty()) return;
   h_ = grid.cell_side() / split;
   unit_ = h_ / kSteps;
@@ -35,16 +36,19 @@ DistanceField::DistanceField(const SceneGrid& grid, int split) {
   }
   const std::size_t cells = std::size_t(n_[0]) * n_[1] * n_[2];
   const double pad = grid.pad(), reach = grid.reach();
-  const std::vector<double> d2 = boxes_distance_transform(grid.elements(), origin_, h_, n_, pad);
+  const std::vector<std::int64_t> d2 =
+      boxes_distance_transform(grid.elements(), origin_, h_, n_, pad, threads);
   bounds_.assign(cells + 2, 0);
-  std::size_t c = 0;
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
   for (int z = 0; z < n_[2]; ++z)
     for (int y = 0; y < n_[1]; ++y)
-      for (int x = 0; x < n_[0]; ++x, ++c) {
+      for (int x = 0; x < n_[0]; ++x) {
+        const std::size_t c =
+            std::size_t(x) + std::size_t(n_[0]) * (std::size_t(y) + std::size_t(n_[1]) * z);
         const double p[3] = {origin_[0] + h_ * (x + 0.5), origin_[1] + h_ * (y + 0.5),
                              origin_[2] + h_ * (z + 0.5)};
         // A cube of side h whose centre is D h away is at least (D - sqrt 3 / 2) h away.
-        const double transform = h_ * (std::sqrt(d2[c]) - kHalfDiagonal) - pad;
+        const double transform = h_ * (std::sqrt(double(d2[c])) - kHalfDiagonal) - pad;
         const double d = grid.nearest(p, reach);
         const bool near = d <= reach;
         const double lower = near ? d - pad : std::max(reach, transform);

@@ -20,9 +20,9 @@ namespace medspheres::check::detail {
 
 class DistanceField {
  public:
-  /// Cells of side grid.cell_side() / \p split over the grid's extent. An empty grid gives
-  /// an empty field.
-  DistanceField(const SceneGrid& grid, int split);
+  /// Cells of side grid.cell_side() / \p split over the grid's extent, built by \p threads
+  /// (threads.h; the field the same for any count). An empty grid gives an empty field.
+  DistanceField(const SceneGrid& grid, int split, int threads = 1);
 
   bool empty() const noexcept { return bounds_.empty(); }
   const double* origin() const noexcept { return origin_; }

@@ -539,6 +539,8 @@ RobotChecker::RobotChecker(const RobotModel& planner, const Scene& scene,
     throw std::invalid_argument("robot checker: the margin must be finite and >= 0");
   if (!options.X_WB.matrix().allFinite())
     throw std::invalid_argument("robot checker: the base pose is not finite");
+  if (const std::string problem = threads_problem(options.build_threads); !problem.empty())
+    throw std::invalid_argument("robot checker: build_threads " + problem);
   Impl& m = *impl_;
   m.options = options;
   m.planner_model = std::make_shared<const RobotModel>(planner);
@@ -596,7 +598,7 @@ void RobotChecker::Impl::build(const Scene& scene, const Impl* donor) {
   const double typical = radii.empty() ? 0.0 : radii[radii.size() * 3 / 4];
   const double reach = typical + options.margin + 2 * allowance;
   grid = std::make_unique<detail::SceneGrid>(scene, std::max(reach, 1e-6), options.cell,
-                                             options.max_cells, allowance);
+                                             options.max_cells, allowance, options.build_threads);
   const detail::SceneGrid& g = *grid;
   spheres_d = detail::sphere_arrays<double>(layout);
   spheres_f = detail::sphere_arrays<float>(layout);
@@ -609,7 +611,7 @@ void RobotChecker::Impl::build(const Scene& scene, const Impl* donor) {
   k.links = static_cast<int>(l.links.size());
   k.link = l.links.data();
   k.spheres = static_cast<int>(l.x.size());
-  field = std::make_unique<detail::DistanceField>(g, 2);
+  field = std::make_unique<detail::DistanceField>(g, 2, options.build_threads);
   k.pairs = static_cast<int>(l.pair_a.size());
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();

@@ -6,6 +6,7 @@
 #include <stdexcept>
 
 #include "boxes_distance_transform.h"
+#include "medspheres/threads.h"
 
 namespace medspheres::check::detail {
 namespace {
@@ -27,7 +28,7 @@ constexpr std::size_t kMaxCells = std::size_t(1) << 30;
 }  // namespace
 
 SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t max_cells,
-                     double pad)
+                     double pad, int threads)
     : elements_(scene_elements(scene)), reach_(reach), pad_(pad) {
   if (!(reach > 0.0) || !std::isfinite(reach))
     throw std::invalid_argument("scene grid: the reach must be finite and > 0");
@@ -56,8 +57,8 @@ SceneGrid::SceneGrid(const Scene& scene, double reach, double cell, std::size_t 
   origin_ = bounds_.min().array() - (reach + h_);
   inverse_h_ = 1.0 / h_;
   unit_ = h_ / kLowerSteps;
-  build_lists(pad);
-  build_lower(pad);
+  build_lists(pad, threads);
+  build_lower(pad, threads);
 }
 
 long SceneGrid::cell_of(const double* p, long* xyz) const {
@@ -83,41 +84,63 @@ double SceneGrid::outside_lower(const double* p) const {
   return std::sqrt(s) - pad_;
 }
 
-void SceneGrid::build_lists(double pad) {
+// Element i's entries (the cells within reach of it) appended to `hits`, cells in order.
+void SceneGrid::list_element(std::size_t i, double pad, std::vector<Hit>& hits) const {
+  const Element& e = elements_[i];
+  int lo[3], hi[3];
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::max(0, int(std::floor((e.box.min()[k] - reach_ - pad - origin_[k]) / h_)));
+    hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
+  }
+  for (int z = lo[2]; z <= hi[2]; ++z)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int x = lo[0]; x <= hi[0]; ++x) {
+        const Eigen::Vector3d c = origin_ + h_ * Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5);
+        const double d = element_distance(e, c);
+        if (d - kHalfDiagonal * h_ - pad > reach_) continue;  // beyond reach of the cell
+        const auto cell = static_cast<std::uint32_t>(x + n_[0] * (y + std::size_t(n_[1]) * z));
+        hits.push_back({cell, static_cast<std::uint32_t>(i), float_below(std::max(d - pad, 0.0)),
+                        -float_below(-(d + pad))});
+      }
+}
+
+// The elements in chunks of consecutive indices, each chunk's hits apart (reserved for
+// every cell of its elements' boxes, so that no vector grows), then gathered per cell in
+// the chunks' order and sorted: the lists are the same for any thread count.
+void SceneGrid::build_lists(double pad, int threads) {
   const std::size_t cells = std::size_t(n_[0]) * n_[1] * n_[2];
-  struct Hit {
-    std::uint32_t cell, element;
-    float lower, upper;
-  };
-  std::vector<Hit> hits;
-  for (std::size_t i = 0; i < elements_.size(); ++i) {
-    const Element& e = elements_[i];
-    int lo[3], hi[3];
-    for (int k = 0; k < 3; ++k) {
-      lo[k] = std::max(0, int(std::floor((e.box.min()[k] - reach_ - pad - origin_[k]) / h_)));
-      hi[k] =
-          std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
+  constexpr std::size_t kChunk = 256;
+  const std::size_t count = elements_.size(), chunks = (count + kChunk - 1) / kChunk;
+  std::vector<std::vector<Hit>> hits(chunks);
+#pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
+  for (long j = 0; j < long(chunks); ++j) {
+    const std::size_t first = std::size_t(j) * kChunk, last = std::min(count, first + kChunk);
+    std::size_t most = 0;
+    for (std::size_t i = first; i < last; ++i) {
+      std::size_t box = 1;
+      for (int k = 0; k < 3; ++k) {
+        const Eigen::AlignedBox3d& b = elements_[i].box;
+        box *= std::size_t(std::ceil((b.max()[k] - b.min()[k] + 2 * (reach_ + pad)) / h_) + 1);
+      }
+      most += box;
     }
-    for (int z = lo[2]; z <= hi[2]; ++z)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int x = lo[0]; x <= hi[0]; ++x) {
-          const Eigen::Vector3d c = origin_ + h_ * Eigen::Vector3d(x + 0.5, y + 0.5, z + 0.5);
-          const double d = element_distance(e, c);
-          if (d - kHalfDiagonal * h_ - pad > reach_) continue;  // beyond reach of the cell
-          const auto cell = static_cast<std::uint32_t>(x + n_[0] * (y + std::size_t(n_[1]) * z));
-          hits.push_back({cell, static_cast<std::uint32_t>(i), float_below(std::max(d - pad, 0.0)),
-                          -float_below(-(d + pad))});
-        }
+    hits[std::size_t(j)].reserve(most);
+    for (std::size_t i = first; i < last; ++i) list_element(i, pad, hits[std::size_t(j)]);
   }
   begin_.assign(cells + 1, 0);
-  for (const Hit& h : hits) ++begin_[h.cell + 1];
+  for (const std::vector<Hit>& chunk : hits)
+    for (const Hit& h : chunk) ++begin_[h.cell + 1];
   for (std::size_t c = 0; c < cells; ++c) begin_[c + 1] += begin_[c];
-  entries_.resize(hits.size());
+  entries_.resize(begin_[cells]);
   std::vector<std::uint32_t> next(begin_.begin(), begin_.end() - 1);
-  for (const Hit& h : hits) entries_[next[h.cell]++] = {h.element, h.lower, h.upper};
-  for (std::size_t c = 0; c < cells; ++c)
-    std::sort(entries_.begin() + begin_[c], entries_.begin() + begin_[c + 1],
-              [](const Entry& a, const Entry& b) {
+  for (std::vector<Hit>& chunk : hits) {
+    for (const Hit& h : chunk) entries_[next[h.cell]++] = {h.element, h.lower, h.upper};
+    std::vector<Hit>().swap(chunk);
+  }
+#pragma omp parallel for schedule(dynamic, 4096) num_threads(thread_count(threads))
+  for (long c = 0; c < long(cells); ++c)
+    std::sort(entries_.begin() + begin_[std::size_t(c)],
+              entries_.begin() + begin_[std::size_t(c) + 1], [](const Entry& a, const Entry& b) {
                 return a.lower < b.lower || (a.lower == b.lower && a.element < b.element);
               });
 }
@@ -125,16 +148,17 @@ void SceneGrid::build_lists(double pad) {
 // Per cell: a lower bound of the distance from its centre to the scene, the larger of the
 // lists' (the first entry, or reach when none is listed: every element
 // not listed is farther than that from the centre) and the distance transform's.
-void SceneGrid::build_lower(double pad) {
+void SceneGrid::build_lower(double pad, int threads) {
   const std::size_t cells = begin_.size() - 1;
-  const std::vector<double> d2 = boxes_distance_transform(elements_, origin_.data(), h_, n_, pad);
+  const std::vector<std::int64_t> d2 =
+      boxes_distance_transform(elements_, origin_.data(), h_, n_, pad, threads);
   lower_.assign(cells + 3, 0);  // 3 bytes beyond the last cell for 4-byte reads
   // Every element not listed is farther than reach from the cell, so from its centre.
   const double unlisted = reach_;
   for (std::size_t c = 0; c < cells; ++c) {
     // A cube of side h whose centre is D h from this centre is at least (D - sqrt 3 / 2) h
     // from it.
-    const double transform = h_ * (std::sqrt(d2[c]) - kHalfDiagonal) - pad;
+    const double transform = h_ * (std::sqrt(double(d2[c])) - kHalfDiagonal) - pad;
     const double listed =
         begin_[c] < begin_[c + 1] ? double(entries_[begin_[c]].lower) - pad : unlisted;
     const double value = std::max({std::min(listed, unlisted), transform, 0.0});

@@ -33,8 +33,10 @@ class SceneGrid {
  public:
   /// \p reach: the query radius answered from one cell's list (larger ones read the cells
   /// around); \p cell: the cell side (0: reach / 2); at most \p max_cells cells (the side
-  /// grows to fit); \p pad: the rounding allowance of bounds.
-  SceneGrid(const Scene& scene, double reach, double cell, std::size_t max_cells, double pad);
+  /// grows to fit); \p pad: the rounding allowance of bounds; \p threads: the build's
+  /// threads (threads.h), the grid the same for any count.
+  SceneGrid(const Scene& scene, double reach, double cell, std::size_t max_cells, double pad,
+            int threads = 1);
 
   bool empty() const noexcept { return elements_.empty(); }
   double reach() const noexcept { return reach_; }
@@ -85,8 +87,13 @@ class SceneGrid {
   Eigen::Vector3d centre(long x, long y, long z) const;
   double outside_lower(const double* p) const;
   double cell_lower(std::size_t c, const Eigen::Vector3d& centre, const Eigen::Vector3d& p) const;
-  void build_lists(double pad);
-  void build_lower(double pad);
+  struct Hit {
+    std::uint32_t cell, element;
+    float lower, upper;
+  };
+  void list_element(std::size_t i, double pad, std::vector<Hit>& hits) const;
+  void build_lists(double pad, int threads);
+  void build_lower(double pad, int threads);
 
   std::vector<Element> elements_;
   std::vector<double> balls_;   // per element: its ball's centre and radius (x, y, z, r)

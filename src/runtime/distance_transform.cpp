@@ -3,6 +3,8 @@
 #include <algorithm>
 #include <cstddef>
 
+#include "medspheres/threads.h"
+
 namespace medspheres::detail {
 
 namespace {
@@ -46,18 +48,25 @@ void envelope_pass(std::vector<std::int64_t>& f, std::int64_t first, std::int64_
 }  // namespace
 
 std::vector<std::int64_t> squared_distance_transform(const std::array<std::int64_t, 3>& n,
-                                                     const std::vector<bool>& is_seed) {
+                                                     const std::vector<bool>& is_seed,
+                                                     int threads) {
   std::vector<std::int64_t> f(is_seed.size());
   for (std::size_t c = 0; c < f.size(); ++c) f[c] = is_seed[c] ? 0 : kNoSeed;
   const std::array<std::int64_t, 3> stride = {1, n[0], n[0] * n[1]};
-  const std::int64_t longest = std::max(n[0], std::max(n[1], n[2]));
-  std::vector<std::int64_t> v(static_cast<std::size_t>(longest)), column(v.size());
-  std::vector<double> z(v.size() + 1);
+  const std::size_t longest = static_cast<std::size_t>(std::max(n[0], std::max(n[1], n[2])));
+  const int team = thread_count(threads);
   for (int a = 0; a < 3; ++a) {
     const int u = (a + 1) % 3, w = (a + 2) % 3;
-    for (std::int64_t j = 0; j < n[w]; ++j)
-      for (std::int64_t i = 0; i < n[u]; ++i)
-        envelope_pass(f, i * stride[u] + j * stride[w], stride[a], n[a], v, z, column);
+    // The lines of a pass are independent: each thread its own scratch.
+#pragma omp parallel num_threads(team)
+    {
+      std::vector<std::int64_t> v(longest), column(longest);
+      std::vector<double> z(longest + 1);
+#pragma omp for schedule(static)
+      for (std::int64_t j = 0; j < n[w]; ++j)
+        for (std::int64_t i = 0; i < n[u]; ++i)
+          envelope_pass(f, i * stride[u] + j * stride[w], stride[a], n[a], v, z, column);
+    }
   }
   return f;
 }

@@ -83,6 +83,10 @@ struct CheckerOptions {
   bool float_tests = true;
   double cell = 0.0;                 ///< m: the scene grid's cell side (0: half the reach)
   std::size_t max_cells = 1u << 22;  ///< the grid's cells at most (the side grows to fit)
+  /// Threads that build the scene's grid and distance field, here and in with_scene():
+  /// 0 for every core, else 1 to kMaxThreads (medspheres/threads.h). The checker built is
+  /// the same for any count.
+  int build_threads = 0;
   /// The order of the tests (a link against the scene, a self pair; in the bounds mode
   /// within each level): at construction, this many configurations drawn within the
   /// joints' limits (sample_configurations.h, seed order_seed) are checked in the spheres
