@@ -104,12 +104,14 @@ void SceneGrid::list_element(std::size_t i, double pad, std::vector<Hit>& hits) 
       }
 }
 
-// The elements in chunks of consecutive indices, each chunk's hits apart (reserved for
-// every cell of its elements' boxes, so that no vector grows), then gathered per cell in
-// the chunks' order and sorted: the lists are the same for any thread count.
+// The elements in chunks of consecutive indices, each chunk's hits apart, then gathered
+// per cell in the chunks' order and sorted: the lists are the same for any thread count.
+// A chunk reserves a hit for every cell of its elements' boxes, up to kReserve (a chunk of
+// a point cloud's points grows no vector; one of long diagonal triangles, whose boxes hold
+// far more cells than they reach, reserves no more than that).
 void SceneGrid::build_lists(double pad, int threads) {
   const std::size_t cells = std::size_t(n_[0]) * n_[1] * n_[2];
-  constexpr std::size_t kChunk = 256;
+  constexpr std::size_t kChunk = 256, kReserve = std::size_t(1) << 16;
   const std::size_t count = elements_.size(), chunks = (count + kChunk - 1) / kChunk;
   std::vector<std::vector<Hit>> hits(chunks);
 #pragma omp parallel for schedule(dynamic, 1) num_threads(thread_count(threads))
@@ -124,7 +126,7 @@ void SceneGrid::build_lists(double pad, int threads) {
       }
       most += box;
     }
-    hits[std::size_t(j)].reserve(most);
+    hits[std::size_t(j)].reserve(std::min(most, kReserve));
     for (std::size_t i = first; i < last; ++i) list_element(i, pad, hits[std::size_t(j)]);
   }
   begin_.assign(cells + 1, 0);
