@@ -16,8 +16,8 @@
 #include <console_bridge/console.h>
 #include <srdfdom/model.h>
 #include <urdf_parser/urdf_parser.h>
-#include <CLI/CLI.hpp>
 
+#include "bench_args.h"
 #include "medspheres/error.h"
 #include "medspheres/formats/planner_options.h"
 #include "medspheres/formats/robot_spheres.h"
@@ -101,9 +101,8 @@ bool same_spheres(const srdf::Model& srdf, const formats::RobotSpheres& meant) {
   return same;
 }
 
-int run(const std::string& urdf_path, const std::string& srdf_path, const std::string& robot_path) {
-  Counter counter;
-  console_bridge::useOutputHandler(&counter);
+int run(const std::string& urdf_path, const std::string& srdf_path, const std::string& robot_path,
+        Counter& counter) {
   const urdf::ModelInterfaceSharedPtr urdf = urdf::parseURDFFile(urdf_path);
   if (!urdf) {
     std::printf("urdfdom could not read %s\n", urdf_path.c_str());
@@ -130,7 +129,9 @@ int run(const std::string& urdf_path, const std::string& srdf_path, const std::s
 }  // namespace
 
 int main(int argc, char** argv) {
-  CLI::App app{"MoveIt's SRDF parser (srdfdom) on the SRDF of `medspheres robot`"};
+  medspheres::bench::Args args("bench_srdfdom",
+                               "MoveIt's SRDF parser (srdfdom) on the SRDF of `medspheres robot`");
+  CLI::App& app = args.app();
   std::string urdf, srdf, robot;
   app.add_option("urdf", urdf, "The robot's URDF")->required()->check(CLI::ExistingFile);
   app.add_option("srdf", srdf, "NAME.srdf written by medspheres robot")
@@ -139,9 +140,11 @@ int main(int argc, char** argv) {
   app.add_option("robot", robot, "NAME.robot.json written with it")
       ->required()
       ->check(CLI::ExistingFile);
-  CLI11_PARSE(app, argc, argv);
+  args.parse(argc, argv);
+  static Counter counter;  // console_bridge keeps the handler until exit
+  console_bridge::useOutputHandler(&counter);
   try {
-    return run(urdf, srdf, robot);
+    return run(urdf, srdf, robot, counter);
   } catch (const medspheres::InputError& e) {
     std::fprintf(stderr, "bench_srdfdom: %s\n", e.what());
     return 2;
