@@ -84,14 +84,24 @@ double SceneGrid::outside_lower(const double* p) const {
   return std::sqrt(s) - pad_;
 }
 
+// The cells [lo, hi] (inclusive, per axis) that element i's box, grown by reach + pad,
+// touches; returns their count.
+std::size_t SceneGrid::reach_cells(std::size_t i, double pad, int* lo, int* hi) const {
+  const Element& e = elements_[i];
+  std::size_t count = 1;
+  for (int k = 0; k < 3; ++k) {
+    lo[k] = std::max(0, int(std::floor((e.box.min()[k] - reach_ - pad - origin_[k]) / h_)));
+    hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
+    count *= std::size_t(std::max(hi[k] - lo[k] + 1, 0));
+  }
+  return count;
+}
+
 // Element i's entries (the cells within reach of it) appended to `hits`, cells in order.
 void SceneGrid::list_element(std::size_t i, double pad, std::vector<Hit>& hits) const {
   const Element& e = elements_[i];
   int lo[3], hi[3];
-  for (int k = 0; k < 3; ++k) {
-    lo[k] = std::max(0, int(std::floor((e.box.min()[k] - reach_ - pad - origin_[k]) / h_)));
-    hi[k] = std::min(n_[k] - 1, int(std::floor((e.box.max()[k] + reach_ + pad - origin_[k]) / h_)));
-  }
+  reach_cells(i, pad, lo, hi);
   for (int z = lo[2]; z <= hi[2]; ++z)
     for (int y = lo[1]; y <= hi[1]; ++y)
       for (int x = lo[0]; x <= hi[0]; ++x) {
@@ -119,12 +129,8 @@ void SceneGrid::build_lists(double pad, int threads) {
     const std::size_t first = std::size_t(j) * kChunk, last = std::min(count, first + kChunk);
     std::size_t most = 0;
     for (std::size_t i = first; i < last; ++i) {
-      std::size_t box = 1;
-      for (int k = 0; k < 3; ++k) {
-        const Eigen::AlignedBox3d& b = elements_[i].box;
-        box *= std::size_t(std::ceil((b.max()[k] - b.min()[k] + 2 * (reach_ + pad)) / h_) + 1);
-      }
-      most += box;
+      int lo[3], hi[3];
+      most += reach_cells(i, pad, lo, hi);
     }
     hits[std::size_t(j)].reserve(std::min(most, kReserve));
     for (std::size_t i = first; i < last; ++i) list_element(i, pad, hits[std::size_t(j)]);

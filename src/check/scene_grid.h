@@ -91,6 +91,7 @@ class SceneGrid {
     std::uint32_t cell, element;
     float lower, upper;
   };
+  std::size_t reach_cells(std::size_t i, double pad, int* lo, int* hi) const;
   void list_element(std::size_t i, double pad, std::vector<Hit>& hits) const;
   void build_lists(double pad, int threads);
   void build_lower(double pad, int threads);
