@@ -23,14 +23,13 @@
 //   of it, and how the tightened set compares with the grown one.
 //   Cover rows also give lb%L, a lower bound on the max protrusion of ANY set of K balls
 //   covering the surface (cover_lower_bound.h; --lb-resolution, --lb-refine: its depth
-//   grid and refinement queries; --lb-count, --lb-count-witnesses: its counting argument's
-//   boxes per pass and witnesses, --lb-count 0 for pairs alone), its wall clock and CPU
-//   seconds (lb_sec, lb_cpu) and the
-//   solid it bounds (closed mesh, or an open mesh's winding solid, under the assumption the
-//   header states); the tally counts the links where that bound alone exceeds a third of
-//   the grown set's (the target is out of reach there), how many links can meet the target
-//   at all, and the median of the cover's max protrusion over the bound.
-//   spheretree (spheretree_run.h): given its build folder (--spheretree-bin DIR, or the
+//   grid and refinement queries; --lb-count, --lb-count-witnesses, --lb-count-passes: its
+//   counting argument's boxes per pass, witnesses and passes, --lb-count 0 for pairs alone), its
+//   wall clock and CPU seconds (lb_sec, lb_cpu) and the solid it bounds (closed mesh, or an open
+//   mesh's winding solid, under the assumption the header states); the tally counts the links where
+//   that bound alone exceeds a third of the grown set's (the target is out of reach there), how
+//   many links can meet the target at all, and the median of the cover's max protrusion over the
+//   bound. spheretree (spheretree_run.h): given its build folder (--spheretree-bin DIR, or the
 //   environment's SPHERETREE_BIN), each cover row gets two more at the same K: `st`, the
 //   spheres of spheretree's medial method with foam's settings, and `st+`, the same grown to
 //   cover as cuRobo's `grown` row. --spheretree-cache DIR keeps its runs (tens of seconds
@@ -151,6 +150,7 @@ std::size_t bound_refine = CoverLowerBoundOptions{}.refine_queries;
 std::size_t bound_candidates = CoverLowerBoundOptions{}.candidates;
 std::size_t bound_count = CoverLowerBoundOptions{}.count_queries;
 std::size_t bound_count_witnesses = CoverLowerBoundOptions{}.count_witnesses;
+int bound_count_passes = CoverLowerBoundOptions{}.count_passes;
 
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
@@ -159,6 +159,7 @@ void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   o.candidates = bound_candidates;
   o.count_queries = bound_count;
   o.count_witnesses = bound_count_witnesses;
+  o.count_passes = bound_count_passes;
   const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
@@ -536,6 +537,8 @@ int main(int argc, char** argv) {
                  "Boxes per pass of the lower bound's counting argument (0: pairs only)");
   app.add_option("--lb-count-witnesses", bound_count_witnesses,
                  "Surface points the counting argument weighs");
+  app.add_option("--lb-count-passes", bound_count_passes,
+                 "Passes of the counting argument, each against the previous ones' cheapest balls");
   app.add_option("--protrusion-allowance", protrusion_allowance,
                  "The cover's volume stage may raise the largest protrusion by this fraction");
   app.add_option("--protrusion-restarts", protrusion_restarts,

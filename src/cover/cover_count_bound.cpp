@@ -58,7 +58,7 @@
 //    (kBisections steps; a t at which no ball holds any witness is feasible with any
 //    weights). Those weights, scaled to integers 0 .. kScale, go to the branch
 //    and bound (step 5). Then the kFound boxes of least value (the cheapest balls the
-//    grid missed) join the centres and the weights are chosen again (kPasses passes in
+//    grid missed) join the centres and the weights are chosen again (`passes` passes in
 //    all); the largest bound is kept. A last pass blends in the pair argument's K + 1
 //    witnesses, each of weight Y / (kBlend K) beside the best pass's weights (total Y):
 //    then a ball must hold several pair witnesses, or some of them and a share of the
@@ -223,7 +223,6 @@ constexpr int kRounds = 300;               // multiplicative-weight rounds per t
 constexpr double kStep = 0.1;              // their factor 1 - kStep
 constexpr int kBisections = 14;
 constexpr long kScale = 1000;        // integer weights 0 .. kScale
-constexpr int kPasses = 3;           // weights chosen, bound proven; then again with the cheapest
 constexpr std::size_t kFound = 256;  // boxes found as cheap centres
 constexpr double kBlend = 2.0;       // a pair witness weighs the total / (kBlend K)
 
@@ -351,7 +350,7 @@ std::vector<Eigen::Vector3d> prove(const MeshQuery& query, bool closed, std::siz
 CountBound count_lower_bound(const MeshQuery& query, bool closed, std::size_t budget,
                              const std::vector<Eigen::Vector3d>& pool, const DepthSamples& samples,
                              const std::vector<Eigen::Vector3d>& pairs, double slack,
-                             std::size_t queries, int threads) {
+                             std::size_t queries, int passes, int threads) {
   const double L = query.mesh().bounds().sizes().maxCoeff();
   const double finest = 1e-4 * L;
   Centres cheap;
@@ -365,7 +364,7 @@ CountBound count_lower_bound(const MeshQuery& query, bool closed, std::size_t bu
       pool.begin(), pool.begin() + static_cast<long>(std::min(pool.size(), kCoarse)));
   CountBound out;
   std::vector<long> best;
-  for (int pass = 0; pass < kPasses; ++pass) {
+  for (int pass = 0; pass < passes; ++pass) {
     const std::vector<long> weight =
         spread(pool, coarse, chosen_weights(coarse, cheap, budget, L, threads));
     const double before = out.bound;

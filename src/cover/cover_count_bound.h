@@ -33,15 +33,14 @@ struct DepthSamples {
 // The counting bound for \p budget balls: weights on the points of \p pool (points of the
 // surface, spread first: farthest-point order) are chosen starting from \p cheap
 // (heuristic: no part of the proof), then inf_c (d_y(c) - D(c)) is bounded from below by
-// branch and bound over the mesh's box with at most \p queries boxes per pass; the largest
-// bound of the passes, lowered by \p slack, is returned with its weights. \p pairs (points of
-// the surface, may be empty: the pair argument's witnesses) join the best weights in one more
-// pass. \p closed: the mesh is
-// closed (else its winding solid, with the assumption of cover_lower_bound.h). Deterministic for
-// every thread count.
+// branch and bound over the mesh's box with at most \p queries boxes in each of \p passes
+// passes; the largest bound of the passes, lowered by \p slack, is returned with its weights. \p
+// pairs (points of the surface, may be empty: the pair argument's witnesses) join the best weights
+// in one more pass. \p closed: the mesh is closed (else its winding solid, with the assumption of
+// cover_lower_bound.h). Deterministic for every thread count.
 CountBound count_lower_bound(const MeshQuery& query, bool closed, std::size_t budget,
                              const std::vector<Eigen::Vector3d>& pool, const DepthSamples& cheap,
                              const std::vector<Eigen::Vector3d>& pairs, double slack,
-                             std::size_t queries, int threads);
+                             std::size_t queries, int passes, int threads);
 
 }  // namespace medspheres::detail

@@ -138,6 +138,8 @@ void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBou
     throw std::invalid_argument("candidates must be >= 2, got " + std::to_string(o.candidates));
   if (o.starts < 1)
     throw std::invalid_argument("starts must be >= 1, got " + std::to_string(o.starts));
+  if (o.count_passes < 1)
+    throw std::invalid_argument("count_passes must be >= 1, got " + std::to_string(o.count_passes));
   if (o.count_witnesses < 2)
     throw std::invalid_argument("count_witnesses must be >= 2, got " +
                                 std::to_string(o.count_witnesses));
@@ -704,7 +706,7 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
     const detail::CountBound c = detail::count_lower_bound(
         query, closed, budget, candidates(mesh, options.count_witnesses, options.seed),
         {&grid.points, &grid.depth}, out.witnesses, 4.0 * cover_radius_slack(L, X),
-        options.count_queries, options.threads);
+        options.count_queries, options.count_passes, options.threads);
     out.count_bound = c.bound;
     out.count_points = c.points;
     out.count_weights = c.weights;
