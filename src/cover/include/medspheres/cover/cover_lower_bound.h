@@ -41,10 +41,11 @@ namespace medspheres {
 
 struct CoverLowerBoundOptions {
   /// Depth grid cells along L, in [4, 256]; finer: tighter, slower. Its inside points are
-  /// also where the counting argument looks for cheap balls first. These defaults against
-  /// resolution 48 and 50,000 counting queries: the G1's pelvis 5.26% of L against 4.00%,
-  /// its elbows 4.2% against 3.5 and 3.8%, for 4 to 6 times the CPU; 256 was no tighter on
-  /// the right elbow (its cheap balls sampled more sparsely).
+  /// also where the counting argument looks for cheap balls first. The defaults against
+  /// resolution 48, 50,000 counting queries and 3 passes, on the G1's 33 links at cuRobo's
+  /// counts: higher on 29 (the pelvis 5.26% of L against 4.00%, the elbows 4.2% against 3.5
+  /// and 3.8%), lower by up to 1.1% on 2, for 6 times the CPU (653 s against 107 s in all);
+  /// 256 was no tighter on the right elbow (its cheap balls sampled more sparsely).
   int resolution = 128;
   std::size_t candidates = 600;  ///< surface points the witnesses are chosen from, >= 2
   int starts = 4;              ///< greedy choices of witnesses, each from another first point, >= 1
