@@ -257,6 +257,7 @@ TEST_CASE("cover lower bound: no ball holding a K-th of the weight protrudes les
   const MeshQuery query(mesh);
   const std::size_t K = 12;
   CoverLowerBoundOptions o = quick();
+  o.count_passes = CoverLowerBoundOptions{}.count_passes;  // the default's later passes too
   const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
   REQUIRE(lb.count_bound > 0.0);
   REQUIRE(lb.count_points.size() == lb.count_weights.size());
