@@ -126,7 +126,6 @@ TEST_CASE("cover lower bound: never above a certified bake_cover", "[cover_lower
       const CoverResult cover = bake_cover(fit.query(), K, co);
       REQUIRE(cover.stats.certified);
       CoverLowerBoundOptions lo = quick();
-      lo.threads = 2;
       // Any budget and witnesses give a valid bound; these are cheap. The sanitizer builds
       // run the pair argument alone here: the counting argument's weights took most of this
       // test's time there, and its other tests run it under the sanitizers.
@@ -142,9 +141,9 @@ TEST_CASE("cover lower bound: never above a certified bake_cover", "[cover_lower
 
 TEST_CASE("cover lower bound: no ball holding two witnesses protrudes less (sampled)",
           "[cover_lower_bound]") {
-  // Brute force on the claim behind the bound: a ball holding witnesses x and y has radius
-  // >= max(|c - x|, |c - y|), so it protrudes by >= max(|c - x|, |c - y|) - D(c) at every
-  // centre c. The least of that over 20000 random centres must not fall below the bound.
+  // Brute force on the claim behind the pair argument's bound: a ball holding witnesses x and
+  // y has radius >= max(|c - x|, |c - y|), so it protrudes by >= max(|c - x|, |c - y|) - D(c)
+  // at every centre c. The least of that over 20000 random centres must not fall below it.
   const TriangleMesh mesh = make_capsule(0.3, 0.8, 24, 6);
   const MeshQuery query(mesh);
   const CoverLowerBound lb = cover_protrusion_lower_bound(query, 3, quick());
@@ -163,7 +162,7 @@ TEST_CASE("cover lower bound: no ball holding two witnesses protrudes less (samp
         least = std::min(least,
                          std::max((c - lb.witnesses[i]).norm(), (c - lb.witnesses[j]).norm()) - D);
   }
-  // The witnesses carry the pair argument's bound; the counting argument may prove more.
+  // `bound` may be the counting argument's, which these witnesses do not carry.
   INFO("pair bound " << lb.pair_bound << " sampled least " << least);
   CHECK(least >= lb.pair_bound);
   for (const Eigen::Vector3d& w : lb.witnesses)
