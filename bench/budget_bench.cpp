@@ -216,6 +216,7 @@ std::string spheretree_bin, spheretree_cache, spheretree_work;
 bool spheretree_cached_only = false;                                // --spheretree-cached-only
 double protrusion_allowance = CoverOptions().protrusion_allowance;  // --protrusion-allowance
 int protrusion_restarts = CoverOptions().protrusion_restarts;       // --protrusion-restarts
+int balance_rounds = CoverOptions().balance_rounds;                 // --balance-rounds
 int cover_rounds = CoverOptions().rounds;                           // --cover-rounds
 
 // spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
@@ -251,6 +252,7 @@ Comparison cover_rows(const std::string& name, const FitEvaluator& fit, std::siz
   o.threads = threads;
   o.protrusion_allowance = protrusion_allowance;
   o.protrusion_restarts = protrusion_restarts;
+  o.balance_rounds = balance_rounds;
   o.rounds = cover_rounds;
   const Stopwatch t;
   const CoverResult c = bake_cover(fit.query(), K, o);
@@ -543,6 +545,8 @@ int main(int argc, char** argv) {
                  "The cover's volume stage may raise the largest protrusion by this fraction");
   app.add_option("--protrusion-restarts", protrusion_restarts,
                  "The cover's perturbed restarts of its protrusion stage");
+  app.add_option("--balance-rounds", balance_rounds,
+                 "The cover's balancing rounds at most after each run of minimax rounds");
   app.add_option("--cover-rounds", cover_rounds, "The cover's minimax rounds at most");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";

@@ -269,8 +269,9 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
       detail::make_patches(e, budget, kFinePatchFloor, query.mesh().bounds().min());
   s.patches = fine.surface;
   const detail::BallWeights weights(options.weights);
-  detail::ProtrusionStage p = detail::protrusion_stage(
-      query, e, fine, budget, options.rounds, solid, threads, weights, options.protrusion_restarts);
+  detail::ProtrusionStage p =
+      detail::protrusion_stage(query, e, fine, budget, options.rounds, solid, threads, weights,
+                               options.protrusion_restarts, options.balance_rounds);
   s.rounds_run = p.rounds;
   // Weighted: the protrusion stage's result as it is (the volume stage and the choice
   // below measure the unweighted protrusion, which would undo the weights).
@@ -318,6 +319,9 @@ void check_cover_options(std::size_t budget, const CoverOptions& o) {
   if (o.protrusion_restarts < 0)
     throw std::invalid_argument("protrusion_restarts must be >= 0, got " +
                                 std::to_string(o.protrusion_restarts));
+  if (o.balance_rounds < 0)
+    throw std::invalid_argument("balance_rounds must be >= 0, got " +
+                                std::to_string(o.balance_rounds));
   check_threads(o.threads);
   const std::string weights = protrusion_weights_problem(o.weights);
   if (!weights.empty()) throw std::invalid_argument(weights);

@@ -25,6 +25,9 @@
 //   surface, then the same rounds and moves; the threshold start's greedy picks can hold
 //   the minimax rounds in a worse local optimum, which at small K costs most (the lower
 //   of the two results is kept).
+// - Balancing rounds (CoverOptions::balance_rounds, none by default): after each run of
+//   minimax rounds, rounds whose assignment adds an offset per ball that moves elements from
+//   the balls that stick out most to their neighbours (Rounds).
 // - Perturbed restarts (CoverOptions::protrusion_restarts, none by default): from the best
 //   result so far, the centres jittered, a ball exchanged for a split of the worst, or the
 //   spread start from a random patch; then the same rounds and moves, kept when P falls.
@@ -60,6 +63,12 @@ constexpr int kMoves = 6, kMovesAbove16 = 3;  // moves at most, up to K = 16 and
 constexpr std::size_t kSpreadBudget = 16;     // the spread start runs up to this budget
 constexpr int kMoveRounds = 2;
 constexpr int kFillRounds = 6;  // the fill's tries at most
+// Balancing rounds (Rounds; CoverOptions::balance_rounds of them at most): the offsets'
+// gain; they stop after kBalancePatience rounds in a row that lower the largest protrusion
+// by less than kBalanceLeastGain of itself.
+constexpr double kBalanceGain = 0.5;
+constexpr int kBalancePatience = 4;
+constexpr double kBalanceLeastGain = 5e-3;
 
 // The pattern search of deepen (file comment): the six axis steps, halved on failure, from
 // \p first times the radius down to 1e-3 of it, each centre to lower the radius needed to
@@ -112,40 +121,85 @@ std::vector<double> depths_of(const std::vector<Sphere>& balls, const std::vecto
   return depth;
 }
 
-// Minimax rounds (file comment), at most \p rounds, stopping when the largest protrusion
-// drops by less than 1e-3 of itself; the best round is kept, then shrunk, which only lowers
-// protrusions. \p run counts the rounds.
-Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int rounds, int threads,
-                   int& run, const BallWeights& weights) {
-  drop_empty(c);
-  auto largest = [&](const Clustering& k, std::vector<double>* depth) {
-    const std::vector<double> p = sphere_protrusions(query, k.balls, threads);
-    if (depth) *depth = depths_of(k.balls, p);
-    const std::vector<double> w = weighted(k.balls, weights, p);
-    return *std::max_element(w.begin(), w.end());
-  };
-  std::vector<double> depth;
-  double best_p = largest(c, &depth);
-  Clustering best = c;
-  for (int round = 0; round < rounds; ++round) {
-    ++run;
-    if (weights.active())
-      assign_weighted(e, c.balls, depth, weights, c.owner, threads);
-    else
-      assign(e, c.balls, c.owner, threads, depth);
-    c.settled.clear();
-    const auto members = members_of(c.owner, c.balls.size());
-    for (std::size_t j = 0; j < c.balls.size(); ++j)
-      if (members[j].empty()) c.balls[j].radius = 0.0;
-    deepen(query, e, c, threads, 0.1, weights);
-    drop_empty(c);
-    const double p = largest(c, &depth);
-    if (p < best_p) best = c;
-    if (!(p < best_p - 1e-3 * std::abs(best_p))) break;
-    best_p = p;
+// The minimax rounds of one local search. A round gives each element to the ball whose
+// protrusion, less the ball's offset, is least to hold it, then deepens every centre.
+// Without offsets (gain 0) that is the plain round of the file comment. Plain rounds stall
+// where balls of unequal protrusion border each other: a ball keeps every element it holds
+// more cheaply than its neighbours would, whatever its own protrusion, so the ball that
+// sticks out most keeps its elements, and the balls along a tube stay unevenly spaced
+// (tests/cover_flow_test.cpp: a torus at K = 16 stops at 1.45 times the P of a ring of balls
+// on its axis). Balancing rounds carry an offset per ball that grows by \p gain times the
+// mean protrusion less the ball's own, so a ball above the mean cedes its farthest elements
+// to its neighbours, which move in turn (the torus: 1.06 times the ring's P).
+struct Rounds {
+  Rounds(const MeshQuery& query_, const Elements& e_, const BallWeights& weights_, int threads_,
+         int& run_)
+      : query(query_), e(e_), weights(weights_), threads(threads_), run(run_) {}
+  const MeshQuery& query;
+  const Elements& e;
+  const BallWeights& weights;
+  int threads;
+  int& run;
+  Clustering c, best;
+  std::vector<double> depth, q;  // per ball of c: its depth and its weighted protrusion
+  double best_p = 0.0;
+
+  double measure() {
+    const std::vector<double> p = sphere_protrusions(query, c.balls, threads);
+    depth = depths_of(c.balls, p);
+    q = weighted(c.balls, weights, p);
+    return *std::max_element(q.begin(), q.end());
   }
-  shrink(e, best);
-  return best;
+  void start(Clustering from) {
+    c = std::move(from);
+    best = c;
+    best_p = measure();
+  }
+  // At most \p rounds rounds from the best so far, stopping after \p patience in a row that
+  // lower the best by less than \p least_gain of itself.
+  void descend(int rounds, double gain, int patience, double least_gain) {
+    c = best;
+    if (gain > 0.0) measure();
+    std::vector<double> offset(c.balls.size(), 0.0);
+    for (int round = 0, stale = 0; round < rounds && stale < patience; ++round) {
+      ++run;
+      if (offset.size() != depth.size()) offset.assign(depth.size(), 0.0);
+      const double mean = std::accumulate(q.begin(), q.end(), 0.0) / static_cast<double>(q.size());
+      std::vector<double> cost_depth = depth;
+      for (std::size_t j = 0; j < offset.size(); ++j)
+        offset[j] += gain * (mean - q[j]), cost_depth[j] += offset[j];
+      if (weights.active())
+        assign_weighted(e, c.balls, cost_depth, weights, c.owner, threads);
+      else
+        assign(e, c.balls, c.owner, threads, cost_depth);
+      c.settled.clear();
+      const auto members = members_of(c.owner, c.balls.size());
+      for (std::size_t j = 0; j < c.balls.size(); ++j)
+        if (members[j].empty()) c.balls[j].radius = 0.0;
+      deepen(query, e, c, threads, 0.1, weights);
+      const std::size_t before = c.balls.size();
+      drop_empty(c);
+      if (c.balls.size() != before) offset.clear();
+      const double p = measure();
+      stale = p < best_p - least_gain * std::abs(best_p) ? 0 : stale + 1;
+      if (p < best_p) best = c, best_p = p;
+    }
+  }
+};
+
+// Minimax rounds (file comment), at most \p rounds, stopping when the largest protrusion
+// drops by less than 1e-3 of itself; then at most \p balance balancing rounds from the best
+// so far (Rounds). The best round is kept, then shrunk, which only lowers protrusions. \p run
+// counts the rounds.
+Clustering minimax(const MeshQuery& query, const Elements& e, Clustering c, int rounds, int threads,
+                   int& run, const BallWeights& weights, int balance = 0) {
+  drop_empty(c);
+  Rounds r(query, e, weights, threads, run);
+  r.start(std::move(c));
+  r.descend(rounds, 0.0, 1, 1e-3);
+  if (balance > 0) r.descend(balance, kBalanceGain, kBalancePatience, kBalanceLeastGain);
+  shrink(e, r.best);
+  return std::move(r.best);
 }
 
 // The candidate centres: the points of a grid inside the solid (about kCandidates of them,
@@ -308,7 +362,7 @@ void hand_over(const Elements& e, Clustering& c, std::size_t gone,
 // minimax rounds and kept when the largest protrusion \p p (that of \p c, updated) falls; the
 // first move that does not help ends them.
 Clustering moves(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                 double& p, int threads, int& run, const BallWeights& weights) {
+                 double& p, int threads, int& run, const BallWeights& weights, int balance) {
   const int most = budget <= 16 ? kMoves : kMovesAbove16;
   for (int move = 0; move < most; ++move) {
     Clustering d = c;
@@ -326,7 +380,7 @@ Clustering moves(const MeshQuery& query, const Elements& e, Clustering c, std::s
     }
     if (!split(e, d, worst)) break;
     hold_members(e, d);
-    d = minimax(query, e, std::move(d), kMoveRounds, threads, run, weights);
+    d = minimax(query, e, std::move(d), kMoveRounds, threads, run, weights, balance);
     const double v = largest_weighted_protrusion(query, d.balls, weights, threads);
     if (!(v < p)) break;
     c = std::move(d), p = v;
@@ -373,7 +427,8 @@ Clustering spread_start(const MeshQuery& query, const Elements& e, const Element
 // surface, and two rounds do not take it deep enough); kept while the largest protrusion \p p
 // (updated) does not rise, else tried again with half as many splits; at most kFillRounds tries.
 Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                int rounds, double& p, int threads, int& run, const BallWeights& weights) {
+                int rounds, double& p, int threads, int& run, const BallWeights& weights,
+                int balance) {
   auto missing = [&] { return budget > c.balls.size() ? budget - c.balls.size() : 0; };
   // c's balls, the most protruding first (ranked again only when c changes).
   auto ranked = [&] {
@@ -396,7 +451,7 @@ Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::si
       made += split(e, d, order[j]) ? 1 : 0;
     if (made == 0) break;
     hold_members(e, d);
-    d = minimax(query, e, std::move(d), rounds, threads, run, weights);
+    d = minimax(query, e, std::move(d), rounds, threads, run, weights, balance);
     const double v = largest_weighted_protrusion(query, d.balls, weights, threads);
     if (v <= p) {
       drop_empty(d);
@@ -411,13 +466,16 @@ Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::si
 }
 
 // Minimax rounds (at most \p rounds), the split and exchange moves up to kMoveBudget, then the
-// fill while balls are still missing; \p p is the result's largest protrusion.
+// fill while balls are still missing; \p p is the result's largest protrusion. Each minimax
+// call of them ends with at most \p balance balancing rounds.
 Clustering local_search(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                        int rounds, int threads, double& p, int& run, const BallWeights& weights) {
-  c = minimax(query, e, std::move(c), rounds, threads, run, weights);
+                        int rounds, int balance, int threads, double& p, int& run,
+                        const BallWeights& weights) {
+  c = minimax(query, e, std::move(c), rounds, threads, run, weights, balance);
   p = largest_weighted_protrusion(query, c.balls, weights, threads);
-  if (budget <= kMoveBudget) c = moves(query, e, std::move(c), budget, p, threads, run, weights);
-  c = fill(query, e, std::move(c), budget, rounds, p, threads, run, weights);
+  if (budget <= kMoveBudget)
+    c = moves(query, e, std::move(c), budget, p, threads, run, weights, balance);
+  c = fill(query, e, std::move(c), budget, rounds, p, threads, run, weights, balance);
   return c;
 }
 
@@ -487,16 +545,17 @@ Clustering one_ball(const MeshQuery& query, const Elements& e, int threads) {
 ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
                                  std::size_t budget, int rounds,
                                  const std::optional<double>& volume, int threads,
-                                 const BallWeights& weights, int restarts) {
+                                 const BallWeights& weights, int restarts, int balance) {
   ProtrusionStage out;
   Clustering c = threshold_start(query, e, fine, budget, volume, threads, weights);
   if (c.balls.empty()) c = one_ball(query, e, threads);
   double p = 0.0;
-  c = local_search(query, e, std::move(c), budget, rounds, threads, p, out.rounds, weights);
+  c = local_search(query, e, std::move(c), budget, rounds, balance, threads, p, out.rounds,
+                   weights);
   if (budget <= kSpreadBudget) {
     double q = 0.0;
     Clustering d = local_search(query, e, spread_start(query, e, fine, budget, threads), budget,
-                                rounds, threads, q, out.rounds, weights);
+                                rounds, balance, threads, q, out.rounds, weights);
     if (q < p) std::swap(c, d), std::swap(p, q);
     out.others.push_back(std::move(d));
   }
@@ -507,7 +566,7 @@ ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, cons
     double q = 0.0;
     Clustering d =
         local_search(query, e, perturbed(query, e, fine, c, budget, kind, scale, rng, threads),
-                     budget, rounds, threads, q, out.rounds, weights);
+                     budget, rounds, balance, threads, q, out.rounds, weights);
     if (q < p) c = std::move(d), p = q;
   }
   out.clustering = std::move(c);

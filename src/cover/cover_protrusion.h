@@ -32,7 +32,8 @@ struct ProtrusionStage {
 ProtrusionStage protrusion_stage(const MeshQuery& query, const Elements& e, const Elements& fine,
                                  std::size_t budget, int rounds,
                                  const std::optional<double>& volume, int threads,
-                                 const BallWeights& weights = {}, int restarts = 0);
+                                 const BallWeights& weights = {}, int restarts = 0,
+                                 int balance = 0);
 
 // One ball: the minimum enclosing ball of the surface elements of \p e, moved inward.
 Clustering one_ball(const MeshQuery& query, const Elements& e, int threads);
