@@ -28,6 +28,15 @@ using detail::Elements;
 
 namespace {
 
+// The same balls, bit for bit.
+void check_same_balls(const std::vector<Sphere>& a, const std::vector<Sphere>& b) {
+  REQUIRE(a.size() == b.size());
+  for (std::size_t j = 0; j < a.size(); ++j) {
+    CHECK(a[j].center == b[j].center);
+    CHECK(a[j].radius == b[j].radius);
+  }
+}
+
 // Every element lies in the ball that owns it: its points within the radius.
 bool all_held(const Elements& e, const Clustering& c) {
   for (std::size_t i = 0; i < e.size(); ++i) {
@@ -306,19 +315,19 @@ TEST_CASE("protrusion restarts: P never rises, every element held, the same for 
     const CoverResult two = bake_cover(query, k, o);
     CHECK(one.stats.certified);
     CHECK(test::sampled_gap(solid.mesh, one.spheres.spheres) == 0.0);
-    REQUIRE(one.spheres.spheres.size() == two.spheres.spheres.size());
-    for (std::size_t j = 0; j < one.spheres.spheres.size(); ++j) {
-      CHECK(one.spheres.spheres[j].center == two.spheres.spheres[j].center);
-      CHECK(one.spheres.spheres[j].radius == two.spheres.spheres[j].radius);
-    }
+    check_same_balls(one.spheres.spheres, two.spheres.spheres);
   }
 }
 
-TEST_CASE("bake_cover rejects a negative number of protrusion restarts", "[cover]") {
+TEST_CASE("bake_cover rejects a negative number of protrusion restarts or balancing rounds",
+          "[cover]") {
   const MeshQuery query(make_icosphere(1.0, 1));
   CoverOptions o;
   o.protrusion_restarts = -1;
   CHECK_THROWS_WITH(bake_cover(query, 4, o), Catch::Contains("protrusion_restarts"));
+  o = CoverOptions{};
+  o.balance_rounds = -1;
+  CHECK_THROWS_WITH(bake_cover(query, 4, o), Catch::Contains("balance_rounds"));
 }
 
 namespace {
@@ -371,16 +380,5 @@ TEST_CASE(
   CHECK(balanced_p <= 1.1 * ring_p);
   const detail::ProtrusionStage two =
       detail::protrusion_stage(query, e, fine, k, 8, volume, 2, {}, 0, 40);
-  REQUIRE(two.clustering.balls.size() == balanced.clustering.balls.size());
-  for (std::size_t j = 0; j < two.clustering.balls.size(); ++j) {
-    CHECK(two.clustering.balls[j].center == balanced.clustering.balls[j].center);
-    CHECK(two.clustering.balls[j].radius == balanced.clustering.balls[j].radius);
-  }
-}
-
-TEST_CASE("bake_cover rejects a negative number of balancing rounds", "[cover]") {
-  const MeshQuery query(make_icosphere(1.0, 1));
-  CoverOptions o;
-  o.balance_rounds = -1;
-  CHECK_THROWS_WITH(bake_cover(query, 4, o), Catch::Contains("balance_rounds"));
+  check_same_balls(balanced.clustering.balls, two.clustering.balls);
 }
