@@ -28,15 +28,6 @@ using detail::Elements;
 
 namespace {
 
-// The same balls, bit for bit.
-void check_same_balls(const std::vector<Sphere>& a, const std::vector<Sphere>& b) {
-  REQUIRE(a.size() == b.size());
-  for (std::size_t j = 0; j < a.size(); ++j) {
-    CHECK(a[j].center == b[j].center);
-    CHECK(a[j].radius == b[j].radius);
-  }
-}
-
 // Every element lies in the ball that owns it: its points within the radius.
 bool all_held(const Elements& e, const Clustering& c) {
   for (std::size_t i = 0; i < e.size(); ++i) {
@@ -315,7 +306,7 @@ TEST_CASE("protrusion restarts: P never rises, every element held, the same for 
     const CoverResult two = bake_cover(query, k, o);
     CHECK(one.stats.certified);
     CHECK(test::sampled_gap(solid.mesh, one.spheres.spheres) == 0.0);
-    check_same_balls(one.spheres.spheres, two.spheres.spheres);
+    test::check_same_spheres(one.spheres.spheres, two.spheres.spheres);
   }
 }
 
@@ -380,5 +371,5 @@ TEST_CASE(
   CHECK(balanced_p <= 1.1 * ring_p);
   const detail::ProtrusionStage two =
       detail::protrusion_stage(query, e, fine, k, 8, volume, 2, {}, 0, 40);
-  check_same_balls(balanced.clustering.balls, two.clustering.balls);
+  test::check_same_spheres(balanced.clustering.balls, two.clustering.balls);
 }
