@@ -143,6 +143,7 @@ struct Rounds {
   Clustering c, best;
   std::vector<double> depth, q;  // per ball of c: its depth and its weighted protrusion
   double best_p = 0.0;
+  bool c_is_best = false;  // c equals best (depth and q describe both)
 
   double measure() {
     const std::vector<double> p = sphere_protrusions(query, c.balls, threads);
@@ -154,16 +155,15 @@ struct Rounds {
     c = std::move(from);
     best = c;
     best_p = measure();
+    c_is_best = true;
   }
   // At most \p rounds rounds from the best so far, stopping after \p patience in a row that
   // lower the best by less than \p least_gain of itself.
   void descend(int rounds, double gain, int patience, double least_gain) {
-    c = best;
-    if (gain > 0.0) measure();
+    if (!c_is_best) c = best, measure(), c_is_best = true;
     std::vector<double> offset(c.balls.size(), 0.0);
     for (int round = 0, stale = 0; round < rounds && stale < patience; ++round) {
       ++run;
-      if (offset.size() != depth.size()) offset.assign(depth.size(), 0.0);
       const double mean = std::accumulate(q.begin(), q.end(), 0.0) / static_cast<double>(q.size());
       std::vector<double> cost_depth = depth;
       for (std::size_t j = 0; j < offset.size(); ++j)
@@ -179,10 +179,11 @@ struct Rounds {
       deepen(query, e, c, threads, 0.1, weights);
       const std::size_t before = c.balls.size();
       drop_empty(c);
-      if (c.balls.size() != before) offset.clear();
+      if (c.balls.size() != before) offset.assign(c.balls.size(), 0.0);
       const double p = measure();
       stale = p < best_p - least_gain * std::abs(best_p) ? 0 : stale + 1;
-      if (p < best_p) best = c, best_p = p;
+      c_is_best = p < best_p;
+      if (c_is_best) best = c, best_p = p;
     }
   }
 };
