@@ -112,6 +112,7 @@ struct Options {
   std::vector<std::string> buffers;            // NAME=M, added to the medspheres row's
   std::string cover_start;                     // a per-link sphere file the covers start from
   bool fill_covers = false;                    // add the row of thin shells' covers filled
+  CoverSearch cover_search;                    // of every row's covers (robot's flags)
   int fill_resolution = kFillCoverResolution;  // of their filled solid
   bool contact = false;                        // add the contact-aware row
   bool contact_regions = false;                // and print its regions' protrusions
@@ -151,6 +152,7 @@ RobotJob robot_job(const Options& o, bool fill_covers = false) {
     job.bake.budget.links[link] = static_cast<std::size_t>(k);
   job.bake.jobs = o.threads;
   job.bake.request.measure = false;
+  job.bake.request.cover_search = o.cover_search;
   return job;
 }
 
@@ -639,6 +641,12 @@ int main(int argc, char** argv) {
   args.add("--cover-start", o.cover_start,
            "A per-link sphere file: those links' covers are tightened from its spheres "
            "(robot --cover-start), in every row");
+  args.add("--protrusion-allowance", o.cover_search.protrusion_allowance,
+           "Every row's covers: the volume stage's allowance (robot --protrusion-allowance)");
+  args.add("--protrusion-restarts", o.cover_search.protrusion_restarts,
+           "Every row's covers: perturbed restarts (robot --protrusion-restarts)");
+  args.add("--balance-rounds", o.cover_search.balance_rounds,
+           "Every row's covers: balancing rounds (robot --balance-rounds)");
   args.app().add_flag("--fill-covers", o.fill_covers,
                       "Add the row of thin shells' covers baked on their filled solids (robot "
                       "--fill-covers) and what their filled solids alone report");

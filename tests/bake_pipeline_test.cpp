@@ -8,12 +8,14 @@
 #include <nlohmann/json.hpp>
 
 #include "medspheres/bake/bake_pipeline.h"
+#include "medspheres/cover/cover.h"
 #include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/mesh/mesh_report.h"
 #include "medspheres/sha256.h"
+#include "support/cover_solids.h"
 #include "support/mesh_writers.h"
 #include "support/run_command.h"
 #include "support/temp_dir.h"
@@ -197,6 +199,12 @@ TEST_CASE("every request problem is out of range or a conflict, named by its fie
        ErrorKind::kOutOfRange, "cover_start", "2 spheres"},
       {[](BakeRequest& r) { r.method = BakeMethod::kCover; }, ErrorKind::kConflict, "method",
        "cover"},
+      {[](BakeRequest& r) { r.cover_search.protrusion_allowance = -0.5; }, ErrorKind::kOutOfRange,
+       "protrusion_allowance", "-0.5"},
+      {[](BakeRequest& r) { r.cover_search.protrusion_restarts = -2; }, ErrorKind::kOutOfRange,
+       "protrusion_restarts", "-2"},
+      {[](BakeRequest& r) { r.cover_search.balance_rounds = -1; }, ErrorKind::kOutOfRange,
+       "balance_rounds", "-1"},
   };
   const TriangleMesh m = make_box({1, 1, 1});
   for (const Case& c : cases) {
@@ -314,6 +322,36 @@ TEST_CASE("a budget gives exactly that many inner spheres, or a cover within it"
   CHECK(t.spheres.size() <= 2);
   CHECK(nlohmann::json::parse(t.spheres.metadata_json)["generator"]["params"]["mode"] ==
         "cover_tighten");
+}
+
+TEST_CASE("a cover's search settings reach the bake and its file", "[bake_pipeline]") {
+  const TriangleMesh knot = load_mesh(example_mesh("knot1.off")).mesh;
+  BakeRequest request;
+  request.method = BakeMethod::kCover;
+  request.max_spheres = 6;
+  request.medial.threads = 1;
+  request.cover_search = {0.0, 2, 40};
+  const BakeOutcome out = bake_mesh(knot, analyze_mesh(knot), request, "knot");
+  // The same balls as bake_cover with those options, bit for bit, and not the default's.
+  CoverOptions options;
+  options.threads = 1;
+  options.protrusion_allowance = 0.0;
+  options.protrusion_restarts = 2;
+  options.balance_rounds = 40;
+  const MeshQuery query(knot);
+  test::check_same_spheres(out.spheres.spheres, bake_cover(query, 6, options).spheres.spheres);
+  const std::vector<Sphere> plain = bake_cover(query, 6,
+                                               [] {
+                                                 CoverOptions o;
+                                                 o.threads = 1;
+                                                 return o;
+                                               }())
+                                        .spheres.spheres;
+  CHECK(!test::same_spheres(out.spheres.spheres, plain));
+  const auto params = nlohmann::json::parse(out.spheres.metadata_json)["generator"]["params"];
+  CHECK(params["protrusion_allowance"] == 0.0);
+  CHECK(params["protrusion_restarts"] == 2);
+  CHECK(params["balance_rounds"] == 40);
 }
 #endif
 

@@ -317,3 +317,34 @@ TEST_CASE("bake --cover-start: given spheres become a certified cover, misuse ex
     CHECK_FALSE(std::filesystem::exists(out));
   }
 }
+
+TEST_CASE("bake's cover search flags reach the file; misuse exits 2 naming the flag",
+          "[cli][bake]") {
+  TempDir dir;
+  const std::string good = dir.file("good.json"), out = dir.file("c.json");
+  const CommandResult r = cli("bake -q " + shell_quote(kEight) + " -o " + shell_quote(good) +
+                              " --method cover --max-spheres 6 --protrusion-allowance 0 "
+                              "--protrusion-restarts 2 --balance-rounds 40");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  const auto params =
+      nlohmann::json::parse(medspheres::load_sphere_set(good).metadata_json)["generator"]["params"];
+  CHECK(params["protrusion_allowance"] == 0.0);
+  CHECK(params["protrusion_restarts"] == 2);
+  CHECK(params["balance_rounds"] == 40);
+  const std::string mesh = " " + shell_quote(kEight) + " -o " + shell_quote(out);
+  for (const auto& [args, expect] : std::vector<std::pair<std::string, std::string>>{
+           {" --method cover --max-spheres 6 --balance-rounds -1",
+            "--balance-rounds: must be >= 0, got -1"},
+           {" --method cover --max-spheres 6 --protrusion-allowance -0.5",
+            "--protrusion-allowance: must be finite and >= 0, got -0.5"},
+           {" --max-spheres 6 --protrusion-restarts 3", "--protrusion-restarts"},
+           {" --method cover --cover-start " + shell_quote(good) + " --balance-rounds 4",
+            "--balance-rounds"}}) {
+    INFO(args);
+    const CommandResult bad = cli("bake" + mesh + args);
+    CHECK(bad.exit_code == 2);
+    CHECK_THAT(bad.err, Contains(expect));
+    CHECK_FALSE(std::filesystem::exists(out));
+  }
+}

@@ -235,6 +235,9 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
                                  std::string(" --contact --contact-weight 0.5"),
                                  std::string(" --contact --contact-samples 0"),
                                  std::string(" --fill-covers --no-outer"),
+                                 std::string(" --balance-rounds 4 --no-outer"),
+                                 std::string(" --protrusion-restarts -1"),
+                                 std::string(" --protrusion-allowance -1"),
                                  std::string(" --robust-resolution 5")}) {
     INFO(bad);
     const CommandResult r = cli("robot " + shell_quote(urdf) + " -o " + out + pkg + bad);

@@ -253,6 +253,9 @@ def bake(
     robust_resolution: int = ...,
     robust_thickness: Optional[Length] = ...,
     cover_start: Optional[Spheres] = ...,
+    protrusion_allowance: float = ...,
+    protrusion_restarts: int = ...,
+    balance_rounds: int = ...,
     name: str = ...,
 ) -> SphereSet: ...
 def evaluate(
@@ -319,6 +322,9 @@ def bake_robot(
     cover_start: Optional[Union[PathLike, Mapping[str, Any]]] = ...,
     fill: bool = ...,
     fill_covers: bool = ...,
+    protrusion_allowance: float = ...,
+    protrusion_restarts: int = ...,
+    balance_rounds: int = ...,
     tool_frames: Sequence[str] = ...,
     free_joints: Sequence[str] = ...,
     srdf: Optional[PathLike] = ...,

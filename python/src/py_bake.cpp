@@ -38,6 +38,7 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
                   const py::object& cover, std::uint64_t seed, int threads,
                   const std::string& solid, int robust_resolution,
                   const py::object& robust_thickness, const py::object& cover_start,
+                  double protrusion_allowance, int protrusion_restarts, int balance_rounds,
                   std::string name) {
   BakeFlags f;
   f.method = method;
@@ -50,6 +51,7 @@ SphereSet bake_py(const py::handle& mesh, const std::string& method, int resolut
                 length_text(max_protrusion, "max_protrusion"), length_text(cover, "cover"), seed};
   f.threads = threads;
   f.solid = {solid, robust_resolution, length_text(robust_thickness, "robust_thickness")};
+  f.cover_search = {protrusion_allowance, protrusion_restarts, balance_rounds};
   if (is_path(cover_start))
     f.cover_start =
         formats::one_set_of(formats::read_sphere_document(path_of(cover_start)), "", "cover_start");
@@ -113,7 +115,9 @@ void register_bake(py::module_& m) {
         py::arg("cover") = py::none(), py::arg("seed") = BakeRequest{}.seed, py::arg("threads") = 0,
         py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
         py::arg("robust_thickness") = py::none(), py::arg("cover_start") = py::none(),
-        py::arg("name") = "",
+        py::arg("protrusion_allowance") = CoverSearch{}.protrusion_allowance,
+        py::arg("protrusion_restarts") = CoverSearch{}.protrusion_restarts,
+        py::arg("balance_rounds") = CoverSearch{}.balance_rounds, py::arg("name") = "",
         "Bakes spheres of a mesh, as `medspheres bake` does, and returns a SphereSet.\n\n"
         "mesh: a file path (STL, OBJ, PLY, OFF, DAE, glTF, ...) or a pair (vertices n x 3, "
         "triangles m x 3) of arrays, oriented as load_mesh orients a file.\n"
@@ -124,6 +128,9 @@ void register_bake(py::module_& m) {
         "n x 4 array, or a sphere file of one set or one link) that need not cover, made "
         "into a certified cover of at most as many, each grown or shrunk to the surface "
         "nearest it, then tightened (generator params mode 'cover_tighten').\n"
+        "protrusion_allowance, protrusion_restarts, balance_rounds: with method 'cover' and "
+        "max_spheres, the search's trade and effort (CoverSearch; docs/covers.md, \"Tighter "
+        "covers for a longer bake\"); recorded in generator params.\n"
         "max_spheres / target_error: a budget, or the smallest resolution whose nerr is at "
         "most E. Lengths (vertex_tolerance, max_protrusion, cover, robust_thickness) are "
         "numbers in the mesh's units or text such as '0.003L' (a multiple of the box's "

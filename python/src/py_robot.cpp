@@ -88,6 +88,7 @@ struct RobotArgs {
   bool measure, outer;
   bool fill = false;         // thin-shelled links' inner sets on their filled solid
   bool fill_covers = false;  // and their covering sets
+  CoverSearch cover_search;  // of the covering sets
   std::map<std::string, std::vector<Sphere>> cover_start;
   PlannerRequest planner;
 };
@@ -112,6 +113,7 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   if (a.resolution) flags.resolution = *a.resolution;
   options.request = bake_request(flags);
   options.request.measure = a.measure;
+  set_robot_cover_search(a.cover_search, a.outer, !a.cover_start.empty(), options.request);
   options.budget = robot_budget(a.budget, options.request, a.resolution.has_value());
   options.jobs = a.jobs;
   options.outer = a.outer;
@@ -245,11 +247,11 @@ void register_robot(py::module_& m) {
          bool dilate, const py::object& vertex_tolerance, const py::object& max_protrusion,
          const py::object& cover, std::uint64_t seed, const std::string& solid,
          int robust_resolution, const py::object& robust_thickness, bool measure, bool outer,
-         const py::object& cover_start, bool fill, bool fill_covers,
-         const std::vector<std::string>& tool_frames, const std::vector<std::string>& free_joints,
-         const py::object& srdf, bool self_collision, std::size_t self_collision_samples,
-         unsigned self_collision_seed, double self_collision_threshold,
-         double self_collision_margin) {
+         const py::object& cover_start, bool fill, bool fill_covers, double protrusion_allowance,
+         int protrusion_restarts, int balance_rounds, const std::vector<std::string>& tool_frames,
+         const std::vector<std::string>& free_joints, const py::object& srdf, bool self_collision,
+         std::size_t self_collision_samples, unsigned self_collision_seed,
+         double self_collision_threshold, double self_collision_margin) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -273,6 +275,7 @@ void register_robot(py::module_& m) {
         a.cover_start = link_spheres_arg(cover_start);
         a.fill = fill;
         a.fill_covers = fill_covers;
+        a.cover_search = {protrusion_allowance, protrusion_restarts, balance_rounds};
         a.planner.tool_frames = tool_frames;
         a.planner.free_joints = free_joints;
         if (!srdf.is_none()) a.planner.srdf = path_of(srdf);
@@ -295,6 +298,9 @@ void register_robot(py::module_& m) {
       py::arg("solid") = "auto", py::arg("robust_resolution") = RobustSolidOptions{}.resolution,
       py::arg("robust_thickness") = py::none(), py::arg("measure") = true, py::arg("outer") = true,
       py::arg("cover_start") = py::none(), py::arg("fill") = false, py::arg("fill_covers") = false,
+      py::arg("protrusion_allowance") = CoverSearch{}.protrusion_allowance,
+      py::arg("protrusion_restarts") = CoverSearch{}.protrusion_restarts,
+      py::arg("balance_rounds") = CoverSearch{}.balance_rounds,
       py::arg("tool_frames") = std::vector<std::string>{},
       py::arg("free_joints") = std::vector<std::string>{}, py::arg("srdf") = py::none(),
       py::arg("self_collision") = true,
@@ -313,7 +319,9 @@ void register_robot(py::module_& m) {
       "from it (tighten_cover) instead of baked; links with no meshed part are named in a "
       "UserWarning. fill: a thin-shelled link's inner set on its filled solid (--fill; its "
       "stats row says inner_filled). fill_covers: a thin-shelled link's covering set baked on "
-      "its filled solid and certified on its real surface (--fill-covers). measure=False skips the "
+      "its filled solid and certified on its real surface (--fill-covers). protrusion_allowance, "
+      "protrusion_restarts, balance_rounds: the covering sets' search, as --protrusion-allowance, "
+      "--protrusion-restarts and --balance-rounds (docs/covers.md). measure=False skips the "
       "exact volume error. tool_frames, free_joints (finger joints left free that the "
       "rules would lock), srdf and the self_collision options: the planner files, as the "
       "robot command's --tool-frame, --free-joint, --srdf and --self-collision-*. solid, "

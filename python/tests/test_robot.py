@@ -66,6 +66,8 @@ def test_bake_robot_without_output_and_save(arm, tmp_path):
         ({"self_collision_margin": -0.01}, ["--self-collision-margin", "-0.01"]),
         ({"tool_frames": ["nope"]}, ["--tool-frame", "nope"]),
         ({"free_joints": ["nope"]}, ["--free-joint", "nope"]),
+        ({"balance_rounds": -1}, ["--balance-rounds", "-1"]),
+        ({"protrusion_allowance": -0.5}, ["--protrusion-allowance", "-0.5"]),
         ({"jobs": -1}, ["--jobs", "-1"]),
         ({"jobs": 2000}, ["--jobs", "2000"]),
     ],
@@ -191,6 +193,21 @@ def test_bake_robot_cover_start_equals_cli(cli, arm, tmp_path):
     with pytest.warns(UserWarning, match="nope"):
         medspheres.bake_robot(arm, spheres_per_link=6,
                               cover_start={"nope": doc.links["upper"], **dict(doc.links)})
+
+
+def test_bake_robot_cover_search_equals_cli(cli, arm, tmp_path):
+    """The covering sets' search (allowance, restarts, balancing rounds) as the robot
+    command's flags give it: the same files, and covers other than the default's."""
+    search = {"protrusion_allowance": 0.0, "protrusion_restarts": 2, "balance_rounds": 40}
+    baked = medspheres.bake_robot(arm, tmp_path / "py", spheres_per_link=6, **search)
+    cli("robot", arm, "-o", tmp_path / "cli", "--spheres-per-link", "6", "-q",
+        "--protrusion-allowance", "0", "--protrusion-restarts", "2", "--balance-rounds", "40")
+    for name in PLANNER_FILES:
+        assert (tmp_path / "py" / name).read_bytes() == (tmp_path / "cli" / name).read_bytes(), name
+    plain = medspheres.bake_robot(arm, spheres_per_link=6)
+    assert all(r["outer_certified"] for r in baked.stats)
+    assert any(baked.links[link]["outer"].tobytes() != plain.links[link]["outer"].tobytes()
+               for link in baked.links)
 
 
 def test_bake_robot_planner_setup_equals_cli(cli, arm, tmp_path):

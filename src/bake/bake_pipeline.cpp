@@ -153,6 +153,7 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
   CoverOptions options;
   options.threads = r.medial.threads;
   options.weights = r.cover_weights;
+  static_cast<CoverSearch&>(options) = r.cover_search;
   out.cover = r.cover_start.empty() ? bake_cover(fit.query(), *r.max_spheres, options)
                                     : tighten_cover(fit.query(), r.cover_start, options);
   out.self_intersecting_pairs = fit.self_intersections().count();
@@ -168,6 +169,12 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
 void validate(const BakeRequest& r) {
   if (std::optional<InputError> problem = bake_options_problem(r.medial)) throw *problem;
   validate(r.robust);
+  const std::string search = cover_search_problem(r.cover_search);
+  if (!search.empty()) {  // "FIELD must be ..., got VALUE"
+    const std::size_t space = search.find(' '), got = search.rfind("got ");
+    throw request_error(ErrorKind::kOutOfRange, search.substr(0, space), search.substr(got + 4),
+                        search.substr(space + 1));
+  }
   if (r.max_spheres && *r.max_spheres < 1)
     throw request_error(ErrorKind::kOutOfRange, "max_spheres", std::to_string(*r.max_spheres),
                         "must be >= 1, got " + std::to_string(*r.max_spheres));

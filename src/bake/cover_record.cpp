@@ -14,6 +14,7 @@ BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& re
   r.source = source;
   r.mode = s.start_spheres > 0 ? "cover_tighten" : "cover_budget";
   r.mode_target = static_cast<double>(s.budget);
+  if (s.start_spheres == 0) r.cover_search = result.search;
   r.stats.spheres = s.spheres;
   r.stats.seconds = s.seconds;
   r.stats.total_seconds = s.seconds;
@@ -47,6 +48,11 @@ std::string cover_metadata_json(const BakeRecord& record) {
   Json& gen = meta["generator"];
   gen["method"] = "cover";
   gen["params"] = {{"mode", record.mode}, {"budget", record.mode_target}};
+  if (record.cover_search) {
+    gen["params"]["protrusion_allowance"] = record.cover_search->protrusion_allowance;
+    gen["params"]["protrusion_restarts"] = record.cover_search->protrusion_restarts;
+    gen["params"]["balance_rounds"] = record.cover_search->balance_rounds;
+  }
   Json& st = meta["stats"];
   for (const char* medial : {"resolution", "closest_point_queries", "winding_queries"})
     st.erase(medial);

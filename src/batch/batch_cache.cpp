@@ -63,6 +63,9 @@ std::string bake_request_text(const BakeRequest& r) {
   line("robust_resolution", std::to_string(r.robust.resolution));
   line("robust_thickness", r.robust_thickness ? optional_text(r.robust_thickness)
                                               : exact_number_text(r.robust.thickness));
+  line("cover_search", exact_number_text(r.cover_search.protrusion_allowance) + " " +
+                           std::to_string(r.cover_search.protrusion_restarts) + " " +
+                           std::to_string(r.cover_search.balance_rounds));
   return t;
 }
 

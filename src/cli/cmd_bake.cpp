@@ -276,6 +276,7 @@ Runner register_bake(CLI::App& app) {
       ->check(non_negative)
       ->capture_default_str();
   add_solid_flags(sub, a->flags.solid);
+  add_cover_search_flags(sub, a->flags.cover_search, "Method cover");
   sub->add_option("--threads", a->flags.threads, "Threads, at most 1024 (default 0: all cores)")
       ->capture_default_str();
   sub->add_flag("-q,--quiet", a->quiet, "No progress bar, warnings or summary");

@@ -51,6 +51,7 @@ struct RobotArgs {
   bool no_outer = false;
   bool fill = false;
   bool fill_covers = false;
+  CoverSearch cover_search;
   std::string cover_start;  ///< a per-link sphere file the outer sets start from
   std::string set = "auto";
   std::vector<std::string> tool_frames;
@@ -72,7 +73,7 @@ BakeRequest bake_request(const RobotArgs& a) {
   set_dilation(a.dilation, r);
   set_solid(a.solid, r);
   r.measure = !a.no_measure;
-  validate(r);
+  set_robot_cover_search(a.cover_search, !a.no_outer, !a.cover_start.empty(), r);
   return r;
 }
 
@@ -200,6 +201,9 @@ std::string options_json(const RobotArgs& a) {
   o["outer"] = !a.no_outer;
   o["fill"] = a.fill;
   o["fill_covers"] = a.fill_covers;
+  o["protrusion_allowance"] = a.cover_search.protrusion_allowance;
+  o["protrusion_restarts"] = a.cover_search.protrusion_restarts;
+  o["balance_rounds"] = a.cover_search.balance_rounds;
   o["cover_start"] = a.cover_start.empty() ? nlohmann::ordered_json(nullptr)
                                            : nlohmann::ordered_json(a.cover_start);
   o["set"] = a.set;
@@ -356,6 +360,7 @@ void add_robot_bake_options(CLI::App* sub, RobotArgs* a) {
       ->check(non_negative)
       ->capture_default_str();
   add_solid_flags(sub, a->solid);
+  add_cover_search_flags(sub, a->cover_search, "Covering sets");
   sub->add_flag("--no-measure", a->no_measure, "Skip the exact volume error of each link");
   sub->add_flag("--no-outer", a->no_outer,
                 "Bake inner sets only (default: also a certified covering set per link, which "

@@ -1,5 +1,6 @@
 #pragma once
-// The solid flags of bake, eval and robot, registered on a subcommand.
+// The solid flags of bake, eval and robot, and the cover search flags of bake and robot,
+// registered on a subcommand.
 
 #include <CLI/CLI.hpp>
 
@@ -9,5 +10,9 @@ namespace medspheres::cli {
 
 /// Adds --solid, --robust-resolution and --robust-thickness to \p sub, bound to \p flags.
 void add_solid_flags(CLI::App* sub, SolidFlags& flags);
+
+/// Adds --protrusion-allowance, --protrusion-restarts and --balance-rounds to \p sub, bound to
+/// \p search; \p what names the sets they apply to.
+void add_cover_search_flags(CLI::App* sub, CoverSearch& search, const std::string& what);
 
 }  // namespace medspheres::cli

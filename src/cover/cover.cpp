@@ -40,6 +40,7 @@
 
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/measure/union_volume.h"
+#include "medspheres/number_text.h"
 #include "medspheres/threads.h"
 
 namespace medspheres {
@@ -313,15 +314,8 @@ void check_cover_options(std::size_t budget, const CoverOptions& o) {
     throw std::invalid_argument(
         "certificate.max_depth must be >= " + std::to_string(detail::kMaxElementDepth) + ", got " +
         std::to_string(o.certificate.max_depth));
-  if (!(o.protrusion_allowance >= 0.0) || !std::isfinite(o.protrusion_allowance))
-    throw std::invalid_argument("protrusion_allowance must be finite and >= 0, got " +
-                                std::to_string(o.protrusion_allowance));
-  if (o.protrusion_restarts < 0)
-    throw std::invalid_argument("protrusion_restarts must be >= 0, got " +
-                                std::to_string(o.protrusion_restarts));
-  if (o.balance_rounds < 0)
-    throw std::invalid_argument("balance_rounds must be >= 0, got " +
-                                std::to_string(o.balance_rounds));
+  const std::string search = cover_search_problem(o);
+  if (!search.empty()) throw std::invalid_argument(search);
   check_threads(o.threads);
   const std::string weights = protrusion_weights_problem(o.weights);
   if (!weights.empty()) throw std::invalid_argument(weights);
@@ -373,6 +367,7 @@ CoverResult bake_cover(const MeshQuery& query, std::size_t budget, const CoverOp
   check_cover_options(budget, options);
   const int threads = thread_count(options.threads);
   CoverResult out;
+  out.search = options;
   CoverStats& s = out.stats;
   s.budget = budget;
   s.largest_side = query.mesh().bounds().sizes().maxCoeff();
@@ -418,6 +413,17 @@ CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& sta
   }
   finish(query, refined(e, std::move(c), options).clustering, options, start, out);
   return out;
+}
+
+std::string cover_search_problem(const CoverSearch& o) {
+  if (!(o.protrusion_allowance >= 0.0) || !std::isfinite(o.protrusion_allowance))
+    return "protrusion_allowance must be finite and >= 0, got " +
+           number_text(o.protrusion_allowance);
+  if (o.protrusion_restarts < 0)
+    return "protrusion_restarts must be >= 0, got " + std::to_string(o.protrusion_restarts);
+  if (o.balance_rounds < 0)
+    return "balance_rounds must be >= 0, got " + std::to_string(o.balance_rounds);
+  return "";
 }
 
 std::string cover_start_problem(const std::vector<Sphere>& start) {

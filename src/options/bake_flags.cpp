@@ -1,6 +1,7 @@
 #include "medspheres/options/bake_flags.h"
 
 #include "medspheres/error.h"
+#include "medspheres/number_text.h"
 #include "medspheres/options/option_text.h"
 
 namespace medspheres {
@@ -70,6 +71,33 @@ RobotBudget robot_budget(const RobotBudgetFlags& f, const BakeRequest& request,
   return b;
 }
 
+void check_cover_search_unused(const CoverSearch& search, const std::string& problem,
+                               std::vector<std::string> related) {
+  const CoverSearch d;
+  std::string field, value;
+  if (search.protrusion_allowance != d.protrusion_allowance)
+    field = "protrusion_allowance", value = number_text(search.protrusion_allowance);
+  else if (search.protrusion_restarts != d.protrusion_restarts)
+    field = "protrusion_restarts", value = std::to_string(search.protrusion_restarts);
+  else if (search.balance_rounds != d.balance_rounds)
+    field = "balance_rounds", value = std::to_string(search.balance_rounds);
+  else
+    return;
+  throw InputError::option(ErrorKind::kConflict, field, value,
+                           "sets the search of a covering set baked to a budget, but " + problem,
+                           {}, std::move(related));
+}
+
+void set_robot_cover_search(const CoverSearch& search, bool outer, bool cover_start,
+                            BakeRequest& request) {
+  if (!outer)
+    check_cover_search_unused(search, "no_outer leaves the covering sets out", {"no_outer"});
+  if (cover_start)
+    check_cover_search_unused(search, "cover_start tightens its spheres instead", {"cover_start"});
+  request.cover_search = search;
+  validate(request);
+}
+
 BakeRequest bake_request(const BakeFlags& f) {
   if (f.method != "medial" && f.method != "cover")
     throw InputError::option(ErrorKind::kOutOfRange, "method", f.method,
@@ -90,6 +118,12 @@ BakeRequest bake_request(const BakeFlags& f) {
   }
   r.target_error = f.target_error;
   r.cover_start = f.cover_start;
+  if (f.method != "cover")
+    check_cover_search_unused(f.cover_search, "method is " + f.method, {"method"});
+  if (!f.cover_start.empty())
+    check_cover_search_unused(f.cover_search, "cover_start tightens a given set instead",
+                              {"cover_start"});
+  r.cover_search = f.cover_search;
   set_dilation(f.dilation, r);
   set_solid(f.solid, r);
   validate(r);

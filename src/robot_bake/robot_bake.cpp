@@ -115,6 +115,7 @@ BakeOutcome bake_outer(const FitEvaluator& fit, const MeshReport& report, const 
     request.cover_start = job.outer_start;
   } else {
     request.cover_weights = job.outer_weights;
+    request.cover_search = inner.cover_search;
   }
   if (fill.covers) {
     std::optional<BakeOutcome> filled = bake_filled_cover(fit.query().mesh(), report, request, name,

@@ -33,6 +33,14 @@ inline double sampled_gap(const TriangleMesh& mesh, const std::vector<Sphere>& b
   return summarize_coverage(s, point_coverage(balls, s.points)).max;
 }
 
+/// Whether two sphere lists are the same, bit for bit, in the same order.
+inline bool same_spheres(const std::vector<Sphere>& a, const std::vector<Sphere>& b) {
+  if (a.size() != b.size()) return false;
+  for (std::size_t i = 0; i < a.size(); ++i)
+    if (a[i].center != b[i].center || a[i].radius != b[i].radius) return false;
+  return true;
+}
+
 /// Checks that two covers have the same spheres, bit for bit, in the same order.
 inline void check_same_spheres(const std::vector<Sphere>& a, const std::vector<Sphere>& b) {
   REQUIRE(a.size() == b.size());

@@ -9,6 +9,7 @@
 
 #include "medspheres/bake/bake.h"
 #include "medspheres/bake/dilate.h"
+#include "medspheres/cover/cover.h"
 #include "medspheres/mesh/mesh_report.h"
 
 namespace medspheres {
@@ -29,6 +30,7 @@ struct BakeRecord {
   double mode_target = 0.0;                       ///< the budget or the error target of the mode
   std::optional<DilateOptions> dilation_options;  ///< set when the spheres were dilated
   std::optional<DilateStats> dilation_stats;
+  std::optional<CoverSearch> cover_search;           ///< set for a covering set baked to a budget
   std::map<std::string, double> extra_stats;         ///< numbers, such as nerr
   std::map<std::string, std::string> extra_strings;  ///< such as nerr_kind
   bool record_seconds = true;  ///< false: no wall-clock time is written (every "*seconds")

@@ -45,6 +45,9 @@ struct BakeRequest {
   /// kCover with max_spheres only: where the cover should stick out less (CoverOptions::
   /// weights, protrusion_weights.h), in the mesh's frame.
   ProtrusionWeights cover_weights;
+  /// kCover with max_spheres only: the search's trade and effort (CoverSearch: allowance,
+  /// restarts, balancing rounds; out of range: kOutOfRange naming the field).
+  CoverSearch cover_search;
   std::optional<double> target_error;  ///< nerr at most E, in (0, 1) (closed meshes only)
   bool dilate = false;                 ///< write S+ (implied by cover)
   /// Dilation lengths (DilateOptions): vertex_tolerance > 0, max_protrusion >= 0, cover > 0.

@@ -13,13 +13,15 @@
 namespace medspheres {
 
 /// The BakeRecord of a cover: mode "cover_budget" ("cover_tighten" for tighten_cover),
-/// target the budget, and the cover's statistics (certified 1/0, the certificate's counts,
+/// target the budget, its search (cover_budget only: CoverResult::search), and the cover's
+/// statistics (certified 1/0, the certificate's counts,
 /// union and excess volume, max protrusion, the worst uncovered distance when not
 /// certified) in extra_stats.
 BakeRecord cover_bake_record(const MeshProvenance& source, const CoverResult& result);
 
 /// bake_metadata_json(record) with generator.method "cover", the medial parameters
-/// replaced by the budget, and "certified" and "surface_covered" written as booleans;
+/// replaced by the budget (and the search's protrusion_allowance, protrusion_restarts and
+/// balance_rounds when recorded), and "certified" and "surface_covered" written as booleans;
 /// "interior_certified" is false (only the surface is certified).
 std::string cover_metadata_json(const BakeRecord& record);
 

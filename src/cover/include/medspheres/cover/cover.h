@@ -90,16 +90,12 @@
 
 namespace medspheres {
 
-struct CoverOptions {
-  int rounds = 8;                       ///< step 2 minimax rounds at most, >= 1
-  int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
-  int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
-  CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
-  int threads = 0;                      ///< 0: all cores
-  bool volume_descent = true;           ///< step 3, the volume stage
-  bool volume_polish = true;            ///< step 4's polish (bake_cover, with volume_descent)
-  /// Step 4's choice among polished candidates (bake_cover, K <= 8, with volume_polish)
-  bool volume_choice = true;
+/// What a caller trades and spends in the cover's search (CoverOptions): the protrusion
+/// given up for volume, and time for a lower protrusion. The defaults are the bake's; a bake
+/// run once for a planner may spend more (docs/covers.md, "Tighter covers for a longer
+/// bake": balance_rounds 40, protrusion_allowance 0 and protrusion_restarts 48 take P to a
+/// median 0.85 of the default's on the G1's links, at about 14 times the CPU).
+struct CoverSearch {
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
   /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2). Step 4 keeps
   /// a result that uses it only when the product of its volume outside the solid and its
@@ -118,6 +114,22 @@ struct CoverOptions {
   /// "Balancing rounds"): P a median 0.95 times that without on the G1's links and 0.94 on
   /// the classic meshes at K = 16 and 32, at 1.2 to 1.3 times the CPU.
   int balance_rounds = 0;
+};
+
+/// The first out-of-range field of \p search, as "NAME must be ..., got VALUE"; empty when
+/// every field is in range.
+std::string cover_search_problem(const CoverSearch& search);
+
+struct CoverOptions : CoverSearch {
+  int rounds = 8;                       ///< step 2 minimax rounds at most, >= 1
+  int interior_resolution = 12;         ///< step 1 interior grid: cells along L; 0: none
+  int repair_rounds = 8;                ///< step 5 certify-and-grow rounds at most, >= 1
+  CoverCertificateOptions certificate;  ///< max_depth must be >= 5 (the element depth)
+  int threads = 0;                      ///< 0: all cores
+  bool volume_descent = true;           ///< step 3, the volume stage
+  bool volume_polish = true;            ///< step 4's polish (bake_cover, with volume_descent)
+  /// Step 4's choice among polished candidates (bake_cover, K <= 8, with volume_polish)
+  bool volume_choice = true;
   /// bake_cover only: where the balls should stick out less (protrusion_weights.h). When
   /// active, step 2 lowers the largest weighted protrusion and its result is the candidate
   /// kept (step 3 and step 4's choice, which weigh every ball alike, are skipped); step 4's
@@ -148,6 +160,7 @@ struct CoverResult {
   SphereSet spheres;
   CoverCertificate certificate;  ///< of the returned spheres
   CoverStats stats;
+  CoverSearch search;  ///< the settings the search ran with (CoverOptions)
 };
 
 /// At most \p budget balls covering the surface of query.mesh() (file comment).

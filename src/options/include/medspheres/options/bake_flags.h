@@ -61,12 +61,27 @@ struct BakeFlags {
   SolidFlags solid;
   int threads = 0;
   std::vector<Sphere> cover_start;  ///< the spheres --cover-start names, read (BakeRequest)
+  CoverSearch cover_search;         ///< method cover with max_spheres only
 };
+
+/// Unless \p search is the default: a conflict (InputError kConflict) naming its first field
+/// that differs, because \p problem (what keeps the search from running: "the covering
+/// sets are not baked", ...); \p related: the options that cause it.
+void check_cover_search_unused(const CoverSearch& search, const std::string& problem,
+                               std::vector<std::string> related);
 
 /// The flags as a request, validated (validate()): nonsense is reported before any work.
 /// \throws InputError (kOutOfRange: field "method" for a method other than medial or
-///   cover, "max_spheres" for a count below 1; and as validate()).
+///   cover, "max_spheres" for a count below 1; kConflict: a cover search (CoverSearch's
+///   fields) for inner spheres or a cover_start; and as validate()).
 BakeRequest bake_request(const BakeFlags& flags);
+
+/// A robot bake's cover search into its \p request (whose method is medial: the search is
+/// the covering sets'), unless it is the default and cannot run: a conflict naming its field
+/// when no covering set is baked (\p outer false: "no_outer") or each is tightened from
+/// given spheres (\p cover_start).
+void set_robot_cover_search(const CoverSearch& search, bool outer, bool cover_start,
+                            BakeRequest& request);
 
 /// The budget options of a robot bake, as given (counts signed: below 1 is reported).
 struct RobotBudgetFlags {
