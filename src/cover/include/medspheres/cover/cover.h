@@ -94,7 +94,7 @@ namespace medspheres {
 /// given up for volume, and time for a lower protrusion. The defaults are the bake's; a bake
 /// run once for a planner may spend more (docs/covers.md, "Tighter covers for a longer
 /// bake": balance_rounds 40, protrusion_allowance 0 and protrusion_restarts 48 take P to a
-/// median 0.85 of the default's on the G1's links, at about 14 times the CPU).
+/// median 0.85 of the default's on the G1's links, at 11 to 14 times the CPU).
 struct CoverSearch {
   /// Step 3 may raise the largest protrusion by this fraction of step 2's to lower the
   /// union's volume (finite, >= 0; 0: step 3 never protrudes beyond step 2). Step 4 keeps
