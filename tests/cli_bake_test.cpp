@@ -318,7 +318,7 @@ TEST_CASE("bake --cover-start: given spheres become a certified cover, misuse ex
   }
 }
 
-TEST_CASE("bake's cover search flags reach the file; misuse exits 2 naming the flag",
+TEST_CASE("bake's cover search flags reach the file, and misuse exits 2 naming the flag",
           "[cli][bake]") {
   TempDir dir;
   const std::string good = dir.file("good.json"), out = dir.file("c.json");
