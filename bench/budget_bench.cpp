@@ -213,11 +213,9 @@ void check_bound(const std::string& name, std::size_t k, const char* method, con
 
 // spheretree's build folder (empty: no spheretree rows), its cache and its scratch folder.
 std::string spheretree_bin, spheretree_cache, spheretree_work;
-bool spheretree_cached_only = false;                                // --spheretree-cached-only
-double protrusion_allowance = CoverOptions().protrusion_allowance;  // --protrusion-allowance
-int protrusion_restarts = CoverOptions().protrusion_restarts;       // --protrusion-restarts
-int balance_rounds = CoverOptions().balance_rounds;                 // --balance-rounds
-int cover_rounds = CoverOptions().rounds;                           // --cover-rounds
+bool spheretree_cached_only = false;  // --spheretree-cached-only
+CoverSearch cover_search;  // --protrusion-allowance, --protrusion-restarts, --balance-rounds
+int cover_rounds = CoverOptions().rounds;  // --cover-rounds
 
 // spheretree's set at K (`st`) and the same grown to cover (`st+`), printed; the grown row,
 // or nothing when spheretree made no set (the reason in \p error).
@@ -250,9 +248,7 @@ Comparison cover_rows(const std::string& name, const FitEvaluator& fit, std::siz
                       std::size_t samples, int threads) {
   CoverOptions o;
   o.threads = threads;
-  o.protrusion_allowance = protrusion_allowance;
-  o.protrusion_restarts = protrusion_restarts;
-  o.balance_rounds = balance_rounds;
+  static_cast<CoverSearch&>(o) = cover_search;
   o.rounds = cover_rounds;
   const Stopwatch t;
   const CoverResult c = bake_cover(fit.query(), K, o);
@@ -541,11 +537,11 @@ int main(int argc, char** argv) {
                  "Surface points the counting argument weighs");
   app.add_option("--lb-count-passes", bound_count_passes,
                  "Passes of the counting argument, each against the previous ones' cheapest balls");
-  app.add_option("--protrusion-allowance", protrusion_allowance,
+  app.add_option("--protrusion-allowance", cover_search.protrusion_allowance,
                  "The cover's volume stage may raise the largest protrusion by this fraction");
-  app.add_option("--protrusion-restarts", protrusion_restarts,
+  app.add_option("--protrusion-restarts", cover_search.protrusion_restarts,
                  "The cover's perturbed restarts of its protrusion stage");
-  app.add_option("--balance-rounds", balance_rounds,
+  app.add_option("--balance-rounds", cover_search.balance_rounds,
                  "The cover's balancing rounds at most after each run of minimax rounds");
   app.add_option("--cover-rounds", cover_rounds, "The cover's minimax rounds at most");
   std::string curobo_file =
