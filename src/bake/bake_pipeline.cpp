@@ -166,15 +166,15 @@ void cover_output(const FitEvaluator& fit, const BakeRequest& r, BakeOutcome& ou
 
 }  // namespace
 
+void validate(const CoverSearch& search) {
+  if (const std::optional<CoverSearchProblem> p = cover_search_problem(search))
+    throw request_error(ErrorKind::kOutOfRange, p->field, p->value, p->problem);
+}
+
 void validate(const BakeRequest& r) {
   if (std::optional<InputError> problem = bake_options_problem(r.medial)) throw *problem;
   validate(r.robust);
-  const std::string search = cover_search_problem(r.cover_search);
-  if (!search.empty()) {  // "FIELD must be ..., got VALUE"
-    const std::size_t space = search.find(' '), got = search.rfind("got ");
-    throw request_error(ErrorKind::kOutOfRange, search.substr(0, space), search.substr(got + 4),
-                        search.substr(space + 1));
-  }
+  validate(r.cover_search);
   if (r.max_spheres && *r.max_spheres < 1)
     throw request_error(ErrorKind::kOutOfRange, "max_spheres", std::to_string(*r.max_spheres),
                         "must be >= 1, got " + std::to_string(*r.max_spheres));

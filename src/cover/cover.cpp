@@ -314,8 +314,8 @@ void check_cover_options(std::size_t budget, const CoverOptions& o) {
     throw std::invalid_argument(
         "certificate.max_depth must be >= " + std::to_string(detail::kMaxElementDepth) + ", got " +
         std::to_string(o.certificate.max_depth));
-  const std::string search = cover_search_problem(o);
-  if (!search.empty()) throw std::invalid_argument(search);
+  if (const std::optional<CoverSearchProblem> search = cover_search_problem(o))
+    throw std::invalid_argument(search->message());
   check_threads(o.threads);
   const std::string weights = protrusion_weights_problem(o.weights);
   if (!weights.empty()) throw std::invalid_argument(weights);
@@ -415,15 +415,18 @@ CoverResult tighten_cover(const MeshQuery& query, const std::vector<Sphere>& sta
   return out;
 }
 
-std::string cover_search_problem(const CoverSearch& o) {
+std::optional<CoverSearchProblem> cover_search_problem(const CoverSearch& o) {
+  const auto problem = [](const char* field, const std::string& value, const char* must) {
+    return CoverSearchProblem{field, value, std::string(must) + ", got " + value};
+  };
   if (!(o.protrusion_allowance >= 0.0) || !std::isfinite(o.protrusion_allowance))
-    return "protrusion_allowance must be finite and >= 0, got " +
-           number_text(o.protrusion_allowance);
+    return problem("protrusion_allowance", number_text(o.protrusion_allowance),
+                   "must be finite and >= 0");
   if (o.protrusion_restarts < 0)
-    return "protrusion_restarts must be >= 0, got " + std::to_string(o.protrusion_restarts);
+    return problem("protrusion_restarts", std::to_string(o.protrusion_restarts), "must be >= 0");
   if (o.balance_rounds < 0)
-    return "balance_rounds must be >= 0, got " + std::to_string(o.balance_rounds);
-  return "";
+    return problem("balance_rounds", std::to_string(o.balance_rounds), "must be >= 0");
+  return std::nullopt;
 }
 
 std::string cover_start_problem(const std::vector<Sphere>& start) {

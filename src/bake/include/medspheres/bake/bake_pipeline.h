@@ -110,5 +110,8 @@ BakeOutcome bake_file(const std::string& path, const BakeRequest& request,
 /// The request's first problem that needs no mesh (every option's range, conflicts).
 /// \throws InputError of kind kOutOfRange or kConflict.
 void validate(const BakeRequest& request);
+/// The check of a request's cover_search alone (validate runs it): an out-of-range field
+/// throws InputError naming it.
+void validate(const CoverSearch& search);
 
 }  // namespace medspheres

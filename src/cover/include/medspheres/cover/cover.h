@@ -116,9 +116,14 @@ struct CoverSearch {
   int balance_rounds = 0;
 };
 
-/// The first out-of-range field of \p search, as "NAME must be ..., got VALUE"; empty when
-/// every field is in range.
-std::string cover_search_problem(const CoverSearch& search);
+/// An out-of-range field of a CoverSearch: its name, its value as text, and what it must be
+/// ("must be >= 0, got -1"); message() joins name and problem.
+struct CoverSearchProblem {
+  std::string field, value, problem;
+  std::string message() const { return field + " " + problem; }
+};
+/// The first out-of-range field of \p search; none when every field is in range.
+std::optional<CoverSearchProblem> cover_search_problem(const CoverSearch& search);
 
 struct CoverOptions : CoverSearch {
   int rounds = 8;                       ///< step 2 minimax rounds at most, >= 1
