@@ -113,7 +113,8 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   if (a.resolution) flags.resolution = *a.resolution;
   options.request = bake_request(flags);
   options.request.measure = a.measure;
-  set_robot_cover_search(a.cover_search, a.outer, !a.cover_start.empty(), options.request);
+  set_robot_cover_search(a.cover_search, a.outer, !a.cover_start.empty(), options.request,
+                         "outer=False");
   options.budget = robot_budget(a.budget, options.request, a.resolution.has_value());
   options.jobs = a.jobs;
   options.outer = a.outer;

@@ -210,6 +210,17 @@ def test_bake_robot_cover_search_equals_cli(cli, arm, tmp_path):
                for link in baked.links)
 
 
+def test_bake_robot_cover_search_without_covers_names_the_keywords(arm, tmp_path):
+    """A cover search asked of a bake without covering sets names the keyword given and the
+    one that leaves the covers out, as Python spells them, and writes nothing."""
+    with pytest.raises(medspheres.InputError) as info:
+        medspheres.bake_robot(arm, tmp_path / "o", outer=False, balance_rounds=4)
+    message = str(info.value)
+    assert "balance_rounds" in message and "outer=False" in message, message
+    assert "no_outer" not in message, message
+    assert not (tmp_path / "o").exists()
+
+
 def test_bake_robot_planner_setup_equals_cli(cli, arm, tmp_path):
     """Tool frames, the self-collision matrix and the default configuration: the same files as
     the robot command's flags, and RobotBake.planner as the robot file's "planner"."""

@@ -89,13 +89,13 @@ void check_cover_search_unused(const CoverSearch& search, const std::string& pro
 }
 
 void set_robot_cover_search(const CoverSearch& search, bool outer, bool cover_start,
-                            BakeRequest& request) {
+                            BakeRequest& request, const std::string& no_outer) {
   if (!outer)
-    check_cover_search_unused(search, "no_outer leaves the covering sets out", {"no_outer"});
+    check_cover_search_unused(search, no_outer + " leaves the covering sets out", {no_outer});
   if (cover_start)
     check_cover_search_unused(search, "cover_start tightens its spheres instead", {"cover_start"});
+  validate(search);
   request.cover_search = search;
-  validate(request);
 }
 
 BakeRequest bake_request(const BakeFlags& f) {

@@ -78,10 +78,11 @@ BakeRequest bake_request(const BakeFlags& flags);
 
 /// A robot bake's cover search into its \p request (whose method is medial: the search is
 /// the covering sets'), unless it is the default and cannot run: a conflict naming its field
-/// when no covering set is baked (\p outer false: "no_outer") or each is tightened from
-/// given spheres (\p cover_start).
+/// when no covering set is baked (\p outer false, the option that asks it named
+/// \p no_outer: "no_outer" on the command line, "outer=False" in Python) or each is
+/// tightened from given spheres (\p cover_start).
 void set_robot_cover_search(const CoverSearch& search, bool outer, bool cover_start,
-                            BakeRequest& request);
+                            BakeRequest& request, const std::string& no_outer = "no_outer");
 
 /// The budget options of a robot bake, as given (counts signed: below 1 is reported).
 struct RobotBudgetFlags {
