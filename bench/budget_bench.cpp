@@ -72,6 +72,7 @@
 #include "medspheres/measure/fit_metrics.h"
 #include "medspheres/mesh/cover_certificate.h"
 #include "medspheres/mesh/mesh_io.h"
+#include "solid_flags.h"
 #include "spheretree_run.h"
 #include "support/shared_meshes.h"
 
@@ -537,12 +538,7 @@ int main(int argc, char** argv) {
                  "Surface points the counting argument weighs");
   app.add_option("--lb-count-passes", bound_count_passes,
                  "Passes of the counting argument, each against the previous ones' cheapest balls");
-  app.add_option("--protrusion-allowance", cover_search.protrusion_allowance,
-                 "The cover's volume stage may raise the largest protrusion by this fraction");
-  app.add_option("--protrusion-restarts", cover_search.protrusion_restarts,
-                 "The cover's perturbed restarts of its protrusion stage");
-  app.add_option("--balance-rounds", cover_search.balance_rounds,
-                 "The cover's balancing rounds at most after each run of minimax rounds");
+  cli::add_cover_search_flags(&app, cover_search, "The cover rows");
   app.add_option("--cover-rounds", cover_rounds, "The cover's minimax rounds at most");
   std::string curobo_file =
       std::string(MEDSPHERES_SOURCE_DIR) + "/../shared/robots/unitree_g1/curobo_unitree_g1.yml";

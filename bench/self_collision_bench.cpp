@@ -85,6 +85,7 @@
 #include "medspheres/robot_bake/robot_planner_setup.h"
 #include "medspheres/robot_file.h"
 #include "medspheres/sha256.h"
+#include "solid_flags.h"
 #include "support/coarse_arm.h"
 #include "support/generated_arms.h"
 
@@ -641,12 +642,7 @@ int main(int argc, char** argv) {
   args.add("--cover-start", o.cover_start,
            "A per-link sphere file: those links' covers are tightened from its spheres "
            "(robot --cover-start), in every row");
-  args.add("--protrusion-allowance", o.cover_search.protrusion_allowance,
-           "Every row's covers: the volume stage's allowance (robot --protrusion-allowance)");
-  args.add("--protrusion-restarts", o.cover_search.protrusion_restarts,
-           "Every row's covers: perturbed restarts (robot --protrusion-restarts)");
-  args.add("--balance-rounds", o.cover_search.balance_rounds,
-           "Every row's covers: balancing rounds (robot --balance-rounds)");
+  cli::add_cover_search_flags(&args.app(), o.cover_search, "Every row's covers");
   args.app().add_flag("--fill-covers", o.fill_covers,
                       "Add the row of thin shells' covers baked on their filled solids (robot "
                       "--fill-covers) and what their filled solids alone report");

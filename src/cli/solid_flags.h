@@ -1,6 +1,7 @@
 #pragma once
 // The solid flags of bake, eval and robot, and the cover search flags of bake and robot,
-// registered on a subcommand.
+// registered on a subcommand; bench_budget and bench_self_collision register the same cover
+// search flags (library medspheres_cli_flags).
 
 #include <CLI/CLI.hpp>
 
