@@ -6,7 +6,8 @@ from_robot_yaml_file; then v1's link poses at the YAML's retract_config are comp
 yourdfpy's, and the sphere pairs v1's self-collision matrix checks (with its offsets) are
 counted, penetrating or not, at that configuration. v1's CUDA modules are stood in for: the
 loaders import them but call only the kinematics, to fold locked joints into fixed
-transforms, which cpu_kinematics below computes instead.
+transforms, which cpu_kinematics below computes instead; the pose products of that fold,
+which v1 runs as warp kernels, come from curobo_cpu_poses.py.
 
 Set-up: ../shared/clients/curobo/setup.sh (it unpacks v1 beside v2 and writes env_v1.sh).
 Usage: . /tmp/curobo_client/env_v1.sh && /usr/bin/python3 bench/curobo_v1_check.py OUTDIR URDF
@@ -60,6 +61,10 @@ def cpu_kinematics(link_pos, link_quat, spheres, cumul, q, fixed, link_spheres, 
 
 
 gen.get_cuda_kinematics = cpu_kinematics
+
+import curobo.types.math
+import curobo_cpu_poses
+curobo_cpu_poses.install(curobo.types.math)  # the fold's pose products (warp kernels in v1)
 from curobo.types.base import TensorDeviceType
 from curobo.cuda_robot_model.cuda_robot_model import CudaRobotModelConfig
 from curobo.types.robot import RobotConfig
