@@ -33,6 +33,29 @@ CommandResult cli(const std::string& args, int seconds = 300) {
                      " " + args);
 }
 
+// The sphere pairs a loader of the cuRobo YAML \p path checks for self-collision, counted
+// sphere by sphere as cuRobo builds them: every sphere of collision_spheres against every
+// sphere of another listed link, unless self_collision_ignore names the pair either way.
+std::size_t curobo_sphere_pairs(const std::string& path) {
+  const YAML::Node k = YAML::LoadFile(path)["robot_cfg"]["kinematics"];
+  std::vector<std::string> owner;  // the link of each sphere
+  for (const auto& link : k["collision_link_names"]) {
+    const std::string name = link.as<std::string>();
+    for (std::size_t i = 0; i < k["collision_spheres"][name].size(); ++i) owner.push_back(name);
+  }
+  auto ignored = [&](const std::string& a, const std::string& b) {
+    for (const auto& other : k["self_collision_ignore"][a])
+      if (other.as<std::string>() == b) return true;
+    return false;
+  };
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < owner.size(); ++i)
+    for (std::size_t j = i + 1; j < owner.size(); ++j)
+      if (owner[i] != owner[j] && !ignored(owner[i], owner[j]) && !ignored(owner[j], owner[i]))
+        ++pairs;
+  return pairs;
+}
+
 std::string arm_args(const TempDir& dir, const std::string& urdf, const std::string& out) {
   return shell_quote(urdf) + " -o " + shell_quote(out) + " --package " +
          shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string()) + " --spheres-per-link 10";
@@ -547,6 +570,12 @@ TEST_CASE("robot: tool frames, the matrix and the default configuration in every
       medspheres::read_text_file(out + "/generated_arm_7.self_collision.txt");
   CHECK_THAT(report, Contains("300 samples (seed 1)"));
   CHECK_THAT(report, Contains("adjacent"));
+  // The sphere pairs that the summary and the report count are those a loader builds from
+  // the written cuRobo file.
+  const std::size_t pairs = curobo_sphere_pairs(out + "/generated_arm_7.curobo.yml");
+  CHECK(pairs > 0);
+  CHECK_THAT(r.out, Contains("; cuRobo checks " + std::to_string(pairs) + " sphere pairs\n"));
+  CHECK_THAT(report, Contains("sphere pairs cuRobo checks: " + std::to_string(pairs) + " ("));
 
   // --free-joint: the gripper's two finger joints are locked by default; one given stays free.
   const std::string freed = dir.file("freed");

@@ -15,6 +15,7 @@
 #include "medspheres/bake/bake_pipeline.h"
 #include "medspheres/batch/batch_robot.h"
 #include "medspheres/error.h"
+#include "medspheres/formats/planner_options.h"
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/self_collision_report.h"
@@ -147,7 +148,7 @@ std::string joined(const std::vector<std::string>& names) {
 
 // Where the tool frames and the default configuration came from, and the matrix's classes.
 void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
-                           const std::vector<std::string>& free_joints) {
+                           std::size_t sphere_pairs, const std::vector<std::string>& free_joints) {
   std::cout << "tool frames: " << joined(s.tool_frames) << " ("
             << tool_frames_from_text(s.tool_frames_from) << ")\n";
   if (!s.locked_joints.empty())
@@ -168,6 +169,10 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
     std::cout << "; " << count_text(run.mirrored, "pair") << " checked as "
               << (run.mirrored == 1 ? "its mirror image was" : "their mirror images were")
               << " seen colliding";
+  std::cout << "; cuRobo checks " << count_text(sphere_pairs, "sphere pair");
+  if (sphere_pairs > formats::kCuroboV1FastPairs)
+    std::cout << " (more than the " << formats::kCuroboV1FastPairs
+              << " of cuRobo v1's faster self-collision kernel; fewer spheres a link: fewer)";
   std::cout << "\n";
   for (const auto& [a, b] : run.default_pairs)
     std::cout << "medspheres: warning: " << a << " and " << b
@@ -310,7 +315,10 @@ int run_robot(const RobotArgs& a) {
     print_summary(r.bake, a.out);
     std::cout << "the planner formats carry each link's "
               << (r.choice == formats::SphereChoice::kInner ? "inner" : "covering") << " set\n";
-    print_planner_summary(*r.bake.model.planner, r.planner, a.free_joints);
+    print_planner_summary(
+        *r.bake.model.planner, r.planner,
+        formats::curobo_sphere_pairs(r.bake.model, formats::robot_spheres(r.bake.model, r.choice)),
+        a.free_joints);
     for (const std::string& w : r.warnings)
       std::cerr << "medspheres: warning: " << urdf << ": " << w << "\n";
   }

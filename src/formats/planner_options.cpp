@@ -4,6 +4,8 @@
 #include <algorithm>
 #include <map>
 #include <set>
+#include <string>
+#include <utility>
 
 #include "medspheres/forward_kinematics.h"
 
@@ -114,6 +116,19 @@ CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& sphere
   for (const std::string& j : setup.locked_joints)
     o.lock_joints.emplace_back(j, setup.default_positions.at(j));
   return o;
+}
+
+std::size_t curobo_sphere_pairs(const RobotModel& model, const RobotSpheres& spheres) {
+  std::set<std::pair<std::string, std::string>> skipped;
+  for (const auto& [link, others] :
+       curobo_options(model, spheres, CuroboLayout::kV2, "").self_collision_ignore)
+    for (const std::string& other : others) skipped.insert(std::minmax(link, other));
+  std::size_t pairs = 0;
+  for (std::size_t i = 0; i < spheres.size(); ++i)
+    for (std::size_t j = i + 1; j < spheres.size(); ++j)
+      if (!skipped.count(std::minmax(spheres[i].link, spheres[j].link)))
+        pairs += spheres[i].spheres.size() * spheres[j].spheres.size();
+  return pairs;
 }
 
 XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres) {

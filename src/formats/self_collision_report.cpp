@@ -57,7 +57,9 @@ std::string self_collision_report(const RobotModel& model, const RobotSpheres& s
     total += n.first;
     skipped += n.second;
   }
-  t += pad("total", 13) + pad(std::to_string(total), 7) + std::to_string(skipped) + "\n\n";
+  t += pad("total", 13) + pad(std::to_string(total), 7) + std::to_string(skipped) + "\n";
+  t += "sphere pairs cuRobo checks: " + std::to_string(curobo_sphere_pairs(model, spheres)) +
+       " (each sphere of a link against each sphere of a partner its files do not skip)\n\n";
   std::size_t width = 6;
   for (const LinkPairClass& p : m.pairs) width = std::max(width, p.link1.size() + 2);
   t += pad("link1", width) + pad("link2", width) + pad("class", 13) + "planner\n";

@@ -13,6 +13,7 @@
 ///   joints XRDF's cspace leaves out are the setup's locked joints;
 /// - SRDF: one <disable_collisions> per skipped pair, with its reason (srdf_reason).
 
+#include <cstddef>
 #include <string>
 #include <vector>
 
@@ -31,6 +32,16 @@ PlannerSetup planner_setup_for(const RobotModel& model, const RobotSpheres& sphe
 /// cuRobo's options in \p layout; \p urdf_path is written as urdf_path when not empty.
 CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& spheres,
                              CuroboLayout layout, const std::string& urdf_path);
+
+/// The sphere pairs cuRobo checks for self-collision with the cuRobo options of \p model
+/// over \p spheres: every sphere of a link against every sphere of each other link that
+/// their self_collision_ignore does not skip. cuRobo's work grows with it; v1's faster
+/// kernel takes at most kCuroboV1FastPairs.
+std::size_t curobo_sphere_pairs(const RobotModel& model, const RobotSpheres& spheres);
+
+/// The sphere pairs cuRobo v1's faster self-collision kernel takes (32 x 512); beyond, v1
+/// warns and runs its slower one.
+inline constexpr std::size_t kCuroboV1FastPairs = 32 * 512;
 
 XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres);
 
