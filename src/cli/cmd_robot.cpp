@@ -172,7 +172,8 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
   std::cout << "; cuRobo checks " << count_text(sphere_pairs, "sphere pair");
   if (sphere_pairs > formats::kCuroboV1FastPairs)
     std::cout << " (more than the " << formats::kCuroboV1FastPairs
-              << " of cuRobo v1's faster self-collision kernel; fewer spheres a link: fewer)";
+              << " that cuRobo v1's faster self-collision kernel takes; --spheres-per-link "
+                 "lowers it)";
   std::cout << "\n";
   for (const auto& [a, b] : run.default_pairs)
     std::cout << "medspheres: warning: " << a << " and " << b
