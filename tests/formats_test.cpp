@@ -7,6 +7,7 @@
 #include <catch2/catch.hpp>
 
 #include "medspheres/error.h"
+#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/foam_json.h"
 #include "medspheres/formats/sph_file.h"
@@ -665,4 +666,34 @@ TEST_CASE("SRDF: every skipped pair as a disable_collisions with its reason", "[
   CHECK(pairs[1].link2 == "tool");
   CHECK(pairs[1].reason == "User");  // a given pair keeps the SRDF's own reason
   CHECK(identical(parse_srdf_spheres(text, "f"), doc.links));
+}
+
+TEST_CASE("cuRobo v1's URDF parser: a mimic joint driven beyond its own limits is named",
+          "[formats]") {
+  auto revolute = [](const std::string& name, double limit, double velocity) {
+    medspheres::Joint j;
+    j.name = name;
+    j.type = medspheres::JointType::kRevolute;
+    j.limits = medspheres::JointLimits{-limit, limit, velocity, 1.0};
+    return j;
+  };
+  auto mimic = [&](const std::string& name, double limit, double velocity, double multiplier,
+                   double offset) {
+    medspheres::Joint j = revolute(name, limit, velocity);
+    j.mimic = medspheres::JointMimic{"source", multiplier, offset};
+    return j;
+  };
+  medspheres::RobotModel m;
+  m.joints = {revolute("source", 1.0, 2.0),
+              mimic("within", 2.0, 3.0, 1.0, 0.5),      // [-0.5, 1.5] within [-2, 2]; 2 <= 3
+              mimic("above", 1.0, 3.0, 1.0, 0.5),       // upper 1.5 > 1
+              mimic("faster", 3.0, 3.0, 2.0, 0.0),      // velocity 4 > 3
+              mimic("mirrored", 1.0, 2.0, -1.0, 0.0)};  // v1 maps lower to -1 * -1: 1, not < -1
+  const std::vector<std::string> problems = medspheres::formats::curobo_urdf_problems(m);
+  REQUIRE(problems.size() == 2);
+  CHECK_THAT(problems[0], Catch::Matchers::Contains("mimic joint 'above' follows 'source'"));
+  CHECK_THAT(problems[0], Catch::Matchers::Contains("(upper 1.5 > 1)"));
+  CHECK_THAT(problems[0], Catch::Matchers::Contains("cuRobo v1's URDF parser refuses"));
+  CHECK_THAT(problems[1], Catch::Matchers::Contains("mimic joint 'faster'"));
+  CHECK_THAT(problems[1], Catch::Matchers::Contains("(velocity 4 > 3)"));
 }

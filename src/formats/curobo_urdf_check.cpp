@@ -18,11 +18,53 @@ std::string empty_ranges(const Joint& j) {
   return out;
 }
 
+// The limits cuRobo v1's parser reads for \p j: a continuous joint's range is [-6.28, 6.28].
+JointLimits v1_limits(const Joint& j) {
+  JointLimits l = *j.limits;
+  if (j.type == JointType::kContinuous) l.lower = -6.28, l.upper = 6.28;
+  return l;
+}
+
+// What cuRobo v1's parser refuses in mimic joint \p j of \p source (its get_link_parameters):
+// the source's lower or upper limit, or its velocity, mapped by the multiplier (and the
+// offset) beyond the mimic's own; empty when none. v2 widens the mimic's limits instead.
+std::string v1_mimic_problem(const Joint& j, const Joint& source) {
+  const JointLimits own = v1_limits(j), from = v1_limits(source);
+  const double m = j.mimic->multiplier, o = j.mimic->offset;
+  std::string out;
+  auto add = [&](const std::string& what) { out += (out.empty() ? "" : ", ") + what; };
+  if (from.lower * m + o < own.lower)
+    add("lower " + exact_number_text(from.lower * m + o) + " < " + exact_number_text(own.lower));
+  if (from.upper * m + o > own.upper)
+    add("upper " + exact_number_text(from.upper * m + o) + " > " + exact_number_text(own.upper));
+  if (from.velocity * m > own.velocity)
+    add("velocity " + exact_number_text(from.velocity * m) + " > " +
+        exact_number_text(own.velocity));
+  return out;
+}
+
+// The sentence for mimic joint \p j, or "" (no problem, or limits missing on either side).
+std::string mimic_problem(const RobotModel& model, const Joint& j) {
+  const Joint* source = model.find_joint(j.mimic->joint);
+  if (!j.limits || !source || !source->limits || source->type == JointType::kFixed) return "";
+  const std::string beyond = v1_mimic_problem(j, *source);
+  if (beyond.empty()) return "";
+  return "mimic joint '" + j.name + "' follows '" + source->name + "' beyond its own <limit> (" +
+         beyond +
+         "); cuRobo v1's URDF parser refuses the robot whatever the configuration (v2 widens "
+         "the limit and loads it); widen the <limit> of '" +
+         j.name + "'";
+}
+
 }  // namespace
 
 std::vector<std::string> curobo_urdf_problems(const RobotModel& model) {
   std::vector<std::string> out;
   for (const Joint& j : model.joints) {
+    if (j.type != JointType::kFixed && j.mimic) {
+      const std::string problem = mimic_problem(model, j);
+      if (!problem.empty()) out.push_back(problem);
+    }
     if (j.type == JointType::kFixed || j.mimic) continue;
     if (!j.limits) {
       if (j.type == JointType::kContinuous)

@@ -14,7 +14,9 @@ namespace medspheres::formats {
 /// the joint: URDF allows a continuous joint without <limit>, but the parser reads its effort
 /// and velocity and fails before it reads any configuration, cuRobo's own as well; and an
 /// actuated joint whose velocity or effort limit is not positive (URDF generators write 0),
-/// which cuRobo v2 takes as the empty range [-0, 0] and refuses.
+/// which cuRobo v2 takes as the empty range [-0, 0] and refuses; and a mimic joint that its
+/// source joint, mapped by the multiplier and offset, drives beyond its own lower or upper
+/// limit or velocity, which cuRobo v1's parser refuses (v2 widens the limit).
 std::vector<std::string> curobo_urdf_problems(const RobotModel& model);
 
 }  // namespace medspheres::formats
