@@ -31,8 +31,7 @@ def as_pose(T, like):
 def install(module):
     """Replaces pose_multiply, pose_inverse, pose_to_matrix and, where the module has them,
     pose_to_affine_matrix, matrix_to_quaternion and normalize_quaternion in the namespace of
-    `module`
-    (curobo.types.math in v1, curobo._src.types.pose in v2)."""
+    `module` (curobo.types.math in v1, curobo._src.types.pose in v2)."""
     module.pose_multiply = lambda p1, q1, p2, q2, *rest: as_pose(
         as_matrices(p1, q1) @ as_matrices(p2, q2), p1 if p1.numel() >= p2.numel() else p2)
     module.pose_inverse = lambda p, q, *rest: as_pose(np.linalg.inv(as_matrices(p, q)), p)

@@ -21,7 +21,10 @@ std::string empty_ranges(const Joint& j) {
 // The limits cuRobo v1's parser reads for \p j: a continuous joint's range is [-6.28, 6.28].
 JointLimits v1_limits(const Joint& j) {
   JointLimits l = *j.limits;
-  if (j.type == JointType::kContinuous) l.lower = -6.28, l.upper = 6.28;
+  if (j.type == JointType::kContinuous) {
+    l.lower = -6.28;
+    l.upper = 6.28;
+  }
   return l;
 }
 
