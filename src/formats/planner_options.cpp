@@ -91,6 +91,16 @@ void check_one_untouchable_pair(LinkPairLists& ignore,
           -(largest_radius(spheres, a) + largest_radius(spheres, b) + std::max(0.0, other)) - 0.01;
 }
 
+// The keys the cuRobo file and the XRDF share: tool frames, skipped pairs and buffers.
+template <class Options>
+void fill_self_collision_keys(const RobotModel& model, const RobotSpheres& spheres,
+                              const PlannerSetup& setup, Options& o) {
+  o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
+  o.self_collision_ignore = ignore_lists(model, spheres, setup);
+  o.self_collision_buffer = buffers(spheres, setup);
+  check_one_untouchable_pair(o.self_collision_ignore, o.self_collision_buffer, spheres);
+}
+
 }  // namespace
 
 PlannerSetup planner_setup_for(const RobotModel& model, const RobotSpheres& spheres) {
@@ -104,10 +114,7 @@ CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& sphere
   o.layout = layout;
   o.base_link = model.root_link;
   o.urdf_path = urdf_path;
-  o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
-  o.self_collision_ignore = ignore_lists(model, spheres, setup);
-  o.self_collision_buffer = buffers(spheres, setup);
-  check_one_untouchable_pair(o.self_collision_ignore, o.self_collision_buffer, spheres);
+  fill_self_collision_keys(model, spheres, setup, o);
   const KinematicTree tree(model);
   for (const std::string& j : tree.joint_names()) {
     o.joint_names.push_back(j);
@@ -119,9 +126,10 @@ CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& sphere
 }
 
 std::size_t curobo_sphere_pairs(const RobotModel& model, const RobotSpheres& spheres) {
+  CuroboOptions keys;
+  fill_self_collision_keys(model, spheres, planner_setup_for(model, spheres), keys);
   std::set<std::pair<std::string, std::string>> skipped;
-  for (const auto& [link, others] :
-       curobo_options(model, spheres, CuroboLayout::kV2, "").self_collision_ignore)
+  for (const auto& [link, others] : keys.self_collision_ignore)
     for (const std::string& other : others) skipped.insert(std::minmax(link, other));
   std::size_t pairs = 0;
   for (std::size_t i = 0; i < spheres.size(); ++i)
@@ -140,10 +148,7 @@ XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres) {
     if (!locked.count(j)) o.joint_names.push_back(j);
     o.default_positions.emplace_back(j, setup.default_positions.at(j));
   }
-  o.tool_frames = listed_tool_frames(model, setup.tool_frames, spheres_flags(model, spheres));
-  o.self_collision_ignore = ignore_lists(model, spheres, setup);
-  o.self_collision_buffer = buffers(spheres, setup);
-  check_one_untouchable_pair(o.self_collision_ignore, o.self_collision_buffer, spheres);
+  fill_self_collision_keys(model, spheres, setup, o);
   return o;
 }
 
