@@ -303,24 +303,15 @@ bool is_closed_consistent(const TriangleMesh& mesh) {
   });
 }
 
-// Cavities. A hollow solid (a ball with a spherical void) has an inner shell wound
-// inward: its negative volume is what makes the total the solid's volume. So a closed,
-// consistently wound component at nesting depth 0 (outermost), 2, ... bounds material and
-// must face out; at odd depth it bounds a cavity and already faces the right way. The
-// containment test sums the solid angles of D's triangles directly, with no far-field
-// approximation, and takes the absolute value, so D's own orientation does not matter.
-OrientationFix orient_mesh(TriangleMesh& mesh) {
-  detail::check_indices(mesh);
-  OrientationFix fix;
-  const detail::EdgeTable edges = detail::build_edge_table(mesh);
-  std::size_t ncomp = 0;
-  const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
-  const std::size_t nt = mesh.triangles.size();
+namespace {
 
-  // Per triangle, its manifold edges (as edge ids, ascending; -1 after the last) for the
-  // breadth-first walk. A triangle has three edges, so three slots hold them all, in one
-  // flat array rather than a vector per triangle.
-  std::vector<char> comp_nonmanifold(ncomp, 0);
+// Per triangle, its manifold edges (as edge ids, ascending; -1 after the last) for the
+// breadth-first walk of orient_components, and per component whether an edge of it has
+// three or more triangles. A triangle has three edges, so three slots hold them all, in
+// one flat array rather than a vector per triangle.
+std::vector<std::array<int, 3>> manifold_edges(const detail::EdgeTable& edges,
+                                               const std::vector<int>& comp, std::size_t nt,
+                                               std::vector<char>& comp_nonmanifold) {
   std::vector<std::array<int, 3>> tri_edges(nt, {-1, -1, -1});
   const auto add_edge = [&](int t, std::size_t e) {
     for (int& slot : tri_edges[static_cast<std::size_t>(t)])
@@ -338,14 +329,21 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
         add_edge(edges.half_edges[b + 1].triangle, e);
     }
   }
+  return tri_edges;
+}
 
-  // flip[t]: 0 keep, 1 flip, -1 not yet visited.
-  std::vector<signed char> flip(nt, -1);
-  std::vector<char> comp_ok(ncomp, 1);
-  std::vector<std::vector<int>> members(ncomp);
-  for (std::size_t t = 0; t < nt; ++t)
-    if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
-
+// Winds every manifold, orientable component consistently (its smaller set of triangles
+// flipped), counting the flips in fix; returns per component whether it was (0: a
+// non-manifold or non-orientable component, left as it is).
+std::vector<char> orient_components(TriangleMesh& mesh, const detail::EdgeTable& edges,
+                                    const std::vector<int>& comp,
+                                    const std::vector<std::vector<int>>& members,
+                                    OrientationFix& fix) {
+  const std::size_t nt = mesh.triangles.size(), ncomp = members.size();
+  std::vector<char> comp_ok(ncomp, 1), comp_nonmanifold(ncomp, 0);
+  const std::vector<std::array<int, 3>> tri_edges =
+      manifold_edges(edges, comp, nt, comp_nonmanifold);
+  std::vector<signed char> flip(nt, -1);  // 0 keep, 1 flip, -1 not yet visited
   for (std::size_t c = 0; c < ncomp; ++c) {
     if (comp_nonmanifold[c]) {
       comp_ok[c] = 0;
@@ -387,19 +385,24 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
       }
     }
   }
+  return comp_ok;
+}
 
-  // Closed, consistent components with negative volume are turned outward.
+// Turns outward the closed, consistently wound components (comp_ok) with negative volume
+// that bound material: those an even number of the other closed components contain (see
+// mesh_report.h); one at odd depth is a cavity, correctly wound inward.
+void turn_solids_outward(TriangleMesh& mesh, const detail::EdgeTable& edges,
+                         const std::vector<int>& comp, const std::vector<std::vector<int>>& members,
+                         const std::vector<char>& comp_ok, OrientationFix& fix) {
+  const std::size_t ncomp = members.size();
   std::vector<double> vol(ncomp, 0.0);
   std::vector<char> closed(ncomp, 1);
   for (std::size_t e = 0; e < edges.num_edges(); ++e) {
     const std::size_t n = edges.edge_begin[e + 1] - edges.edge_begin[e];
     if (n != 2) closed[comp[edges.half_edges[edges.edge_begin[e]].triangle]] = 0;
   }
-  for (std::size_t t = 0; t < nt; ++t)
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
     if (comp[t] >= 0) vol[comp[t]] += triangle_signed_volume(mesh, t);
-  // A closed component whose inside is a solid's cavity is correctly wound inward: one
-  // with negative volume is turned outward only when an even number of the other closed
-  // components contain it (see mesh_report.h).
   std::vector<char> solid(ncomp, 0), inward(ncomp, 0);
   for (std::size_t c = 0; c < ncomp; ++c) {
     solid[c] = comp_ok[c] && closed[c];
@@ -413,6 +416,27 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
     for (int t : members[c]) std::swap(mesh.triangles[t][1], mesh.triangles[t][2]);
     ++fix.components_flipped_outward;
   }
+}
+
+}  // namespace
+
+// Cavities. A hollow solid (a ball with a spherical void) has an inner shell wound
+// inward: its negative volume is what makes the total the solid's volume. So a closed,
+// consistently wound component at nesting depth 0 (outermost), 2, ... bounds material and
+// must face out; at odd depth it bounds a cavity and already faces the right way. The
+// containment test sums the solid angles of D's triangles directly, with no far-field
+// approximation, and takes the absolute value, so D's own orientation does not matter.
+OrientationFix orient_mesh(TriangleMesh& mesh) {
+  detail::check_indices(mesh);
+  OrientationFix fix;
+  const detail::EdgeTable edges = detail::build_edge_table(mesh);
+  std::size_t ncomp = 0;
+  const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
+  std::vector<std::vector<int>> members(ncomp);
+  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
+    if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
+  const std::vector<char> comp_ok = orient_components(mesh, edges, comp, members, fix);
+  turn_solids_outward(mesh, edges, comp, members, comp_ok, fix);
   return fix;
 }
 
