@@ -286,10 +286,12 @@ void check_mesh_arrays(const std::string& path, const aiScene* scene) {
   }
 }
 
-}  // namespace
-
-FlatScene import_flat(const std::string& path) {
-  Assimp::Importer importer;
+// The scene of path as assimp reads it (owned by importer), with assimp's structural
+// validation; a scene that fails only the validation is read again without it and the
+// failure kept in validation_failure (the rest of a scene, its cameras, lights and names,
+// is no concern of a mesh, and the meshes are checked afterwards).
+const aiScene* read_scene(Assimp::Importer& importer, const std::string& path,
+                          std::string& validation_failure) {
   // Drop point and line primitives; triangulate polygons. No vertex joining: load_mesh
   // welds on positions only, so that split normals or UVs do not split vertices.
   importer.SetPropertyInteger(AI_CONFIG_PP_SBP_REMOVE,
@@ -299,10 +301,7 @@ FlatScene import_flat(const std::string& path) {
   importer.SetPropertyBool(AI_CONFIG_IMPORT_COLLADA_IGNORE_UP_DIRECTION, true);
   const unsigned steps = aiProcess_Triangulate | aiProcess_SortByPType;
   const aiScene* scene = importer.ReadFile(path, steps | aiProcess_ValidateDataStructure);
-  std::string validation_failure;
   if (scene == nullptr) {
-    // assimp's validation reports "Validation failed: ..."; the rest of the scene (its
-    // cameras, lights, names) is no concern of a mesh, and the meshes are checked below.
     const std::string why = importer.GetErrorString();
     if (why.rfind("Validation failed", 0) == 0) {
       validation_failure = why;
@@ -316,9 +315,12 @@ FlatScene import_flat(const std::string& path) {
     if (why.empty()) why = "unknown error";
     throw InputError(path, "cannot parse the file (assimp: " + why + ")");
   }
+  return scene;
+}
 
-  check_mesh_arrays(path, scene);
-  // The file's own coordinates first, so that the message can name the vertex as read.
+// The file's own coordinates, checked before any transform, so that the message can name
+// the vertex as read.
+void check_finite_vertices(const std::string& path, const aiScene* scene) {
   for (unsigned mi = 0; mi < scene->mNumMeshes; ++mi) {
     const aiMesh* m = scene->mMeshes[mi];
     for (unsigned v = 0; v < m->mNumVertices; ++v) {
@@ -331,45 +333,55 @@ FlatScene import_flat(const std::string& path) {
                                  number_text(p.z) + ")");
     }
   }
+}
 
+// Mesh mesh_index of the scene, its vertices moved by X (the transform of `node`, null for
+// a mesh no node references), its triangles' indices.
+FlatMesh flat_mesh(const std::string& path, const aiScene* scene, unsigned mesh_index,
+                   const Eigen::Matrix4d& X, const aiNode* node) {
+  const aiMesh* m = scene->mMeshes[mesh_index];
+  FlatMesh flat;
+  flat.xyz.resize(3 * static_cast<std::size_t>(m->mNumVertices));
+  const bool identity = X == Eigen::Matrix4d::Identity();
+  for (unsigned v = 0; v < m->mNumVertices; ++v) {
+    const aiVector3D& p = m->mVertices[v];
+    Eigen::Vector3d q(p.x, p.y, p.z);
+    if (!identity) {
+      const Eigen::Vector4d h = X * Eigen::Vector4d(p.x, p.y, p.z, 1.0);
+      q = h.head<3>() / h.w();
+      if (!q.allFinite())
+        throw InputError(path, "vertex " + std::to_string(v) + " of mesh " +
+                                   std::to_string(mesh_index) +
+                                   " is finite in the file but not after the transform of "
+                                   "scene node '" +
+                                   std::string(node != nullptr ? node->mName.C_Str() : "") + "'");
+    }
+    for (int i = 0; i < 3; ++i) flat.xyz[3 * static_cast<std::size_t>(v) + i] = q[i];
+  }
+  flat.index.reserve(3 * static_cast<std::size_t>(m->mNumFaces));
+  for (unsigned f = 0; f < m->mNumFaces; ++f) {
+    const aiFace& face = m->mFaces[f];
+    if (face.mNumIndices != 3) continue;  // points and lines
+    for (int k = 0; k < 3; ++k) {
+      if (face.mIndices[k] >= m->mNumVertices)  // ValidateDataStructure rules this out
+        throw InputError(path, "face " + std::to_string(f) + " of mesh " +
+                                   std::to_string(mesh_index) + " refers to vertex " +
+                                   std::to_string(face.mIndices[k]) + ", out of range");
+      flat.index.push_back(face.mIndices[k]);
+    }
+  }
+  return flat;
+}
+
+}  // namespace
+
+FlatScene import_flat(const std::string& path) {
+  Assimp::Importer importer;
   FlatScene out;
-  out.validation_failure = validation_failure;
+  const aiScene* scene = read_scene(importer, path, out.validation_failure);
+  check_mesh_arrays(path, scene);
+  check_finite_vertices(path, scene);
   std::vector<char> referenced(scene->mNumMeshes, 0);
-  auto add_mesh = [&](unsigned mesh_index, const Eigen::Matrix4d& X, const aiNode* node) {
-    const aiMesh* m = scene->mMeshes[mesh_index];
-    FlatMesh flat;
-    flat.xyz.resize(3 * static_cast<std::size_t>(m->mNumVertices));
-    const bool identity = X == Eigen::Matrix4d::Identity();
-    for (unsigned v = 0; v < m->mNumVertices; ++v) {
-      const aiVector3D& p = m->mVertices[v];
-      Eigen::Vector3d q(p.x, p.y, p.z);
-      if (!identity) {
-        const Eigen::Vector4d h = X * Eigen::Vector4d(p.x, p.y, p.z, 1.0);
-        q = h.head<3>() / h.w();
-        if (!q.allFinite())
-          throw InputError(path, "vertex " + std::to_string(v) + " of mesh " +
-                                     std::to_string(mesh_index) +
-                                     " is finite in the file but not after the transform of "
-                                     "scene node '" +
-                                     std::string(node != nullptr ? node->mName.C_Str() : "") + "'");
-      }
-      for (int i = 0; i < 3; ++i) flat.xyz[3 * static_cast<std::size_t>(v) + i] = q[i];
-    }
-    flat.index.reserve(3 * static_cast<std::size_t>(m->mNumFaces));
-    for (unsigned f = 0; f < m->mNumFaces; ++f) {
-      const aiFace& face = m->mFaces[f];
-      if (face.mNumIndices != 3) continue;  // points and lines
-      for (int k = 0; k < 3; ++k) {
-        if (face.mIndices[k] >= m->mNumVertices)  // ValidateDataStructure rules this out
-          throw InputError(path, "face " + std::to_string(f) + " of mesh " +
-                                     std::to_string(mesh_index) + " refers to vertex " +
-                                     std::to_string(face.mIndices[k]) + ", out of range");
-        flat.index.push_back(face.mIndices[k]);
-      }
-    }
-    out.meshes.push_back(std::move(flat));
-  };
-
   std::function<void(const aiNode*, const Eigen::Matrix4d&)> walk =
       [&](const aiNode* node, const Eigen::Matrix4d& parent) {
         const Eigen::Matrix4d X = parent * to_eigen(node->mTransformation);
@@ -377,7 +389,7 @@ FlatScene import_flat(const std::string& path) {
           const unsigned mi = node->mMeshes[i];
           if (mi >= scene->mNumMeshes) continue;
           referenced[mi] = 1;
-          add_mesh(mi, X, node);
+          out.meshes.push_back(flat_mesh(path, scene, mi, X, node));
         }
         for (unsigned c = 0; node->mChildren != nullptr && c < node->mNumChildren; ++c)
           if (node->mChildren[c] != nullptr) walk(node->mChildren[c], X);
@@ -385,7 +397,7 @@ FlatScene import_flat(const std::string& path) {
   if (scene->mRootNode != nullptr) walk(scene->mRootNode, Eigen::Matrix4d::Identity());
   for (unsigned i = 0; i < scene->mNumMeshes; ++i) {
     if (referenced[i]) continue;
-    add_mesh(i, Eigen::Matrix4d::Identity(), nullptr);
+    out.meshes.push_back(flat_mesh(path, scene, i, Eigen::Matrix4d::Identity(), nullptr));
     ++out.orphans;
   }
   return out;
