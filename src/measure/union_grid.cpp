@@ -37,12 +37,17 @@ UnionGrid::UnionGrid(const std::vector<Sphere>& balls) {
     balls_.emplace_back(b.center.x(), b.center.y(), b.center.z(), b.radius);
     radii.push_back(b.radius);
   }
+  size_cells(box, radii);
+  build_lists();
+}
+
+void UnionGrid::size_cells(const Eigen::AlignedBox3d& box, std::vector<double>& radii) {
   const auto middle = radii.begin() + static_cast<std::ptrdiff_t>(radii.size() / 2);
   std::nth_element(radii.begin(), middle, radii.end());
   const Eigen::Vector3d size = box.sizes();
   const double magnitude = box.min().cwiseAbs().cwiseMax(box.max().cwiseAbs()).maxCoeff();
   // cbrt(volume / (64 n)); as a product of cube roots when the volume overflows.
-  const double n = kMaxCellsPerBall * static_cast<double>(balls.size());
+  const double n = kMaxCellsPerBall * static_cast<double>(radii.size());
   const double per_ball = std::isfinite(box.volume()) ? std::cbrt(box.volume() / n)
                                                       : std::cbrt(size[0]) * std::cbrt(size[1]) *
                                                             std::cbrt(size[2]) / std::cbrt(n);
@@ -55,36 +60,37 @@ UnionGrid::UnionGrid(const std::vector<Sphere>& balls) {
     dims_[k] =
         static_cast<int>(std::clamp(std::ceil(size[k] * inv_h_), 1.0, kMaxCellsPerAxis + 1.0));
   slack_ = 64.0 * kEps * (magnitude + h_);
+}
 
+template <class Fn>
+void UnionGrid::for_each_cell(const Eigen::Vector4d& b, Fn&& fn) const {
+  std::array<int, 3> lo{}, hi{};
+  for (int k = 0; k < 3; ++k) {
+    const double reach = b[3] + slack_;
+    const double a = std::floor((b[k] - reach - origin_[k]) * inv_h_);
+    const double z = std::floor((b[k] + reach - origin_[k]) * inv_h_);
+    lo[k] = static_cast<int>(std::clamp(a, 0.0, dims_[k] - 1.0));
+    hi[k] = static_cast<int>(std::clamp(z, 0.0, dims_[k] - 1.0));
+  }
+  for (int x = lo[0]; x <= hi[0]; ++x)
+    for (int y = lo[1]; y <= hi[1]; ++y)
+      for (int z = lo[2]; z <= hi[2]; ++z) {
+        const int index[3] = {x, y, z};
+        double near2 = 0.0, far2 = 0.0;
+        for (int k = 0; k < 3; ++k) {
+          const double c0 = origin_[k] + index[k] * h_, c1 = c0 + h_;
+          const double gap = std::max({c0 - b[k], 0.0, b[k] - c1});
+          const double reach = std::max(std::abs(b[k] - c0), std::abs(b[k] - c1));
+          near2 += gap * gap;
+          far2 += reach * reach;
+        }
+        fn(flat(x, y, z), near2, far2);
+      }
+}
+
+void UnionGrid::build_lists() {
   const std::size_t cells = static_cast<std::size_t>(dims_[0]) *
                             static_cast<std::size_t>(dims_[1]) * static_cast<std::size_t>(dims_[2]);
-  // Calls fn(cell, near2, far2) for every cell of the ball's bounding box, with the squared
-  // distances from the centre to the nearest and the farthest point of the cell.
-  auto for_each_cell = [&](const Eigen::Vector4d& b, auto&& fn) {
-    std::array<int, 3> lo{}, hi{};
-    for (int k = 0; k < 3; ++k) {
-      const double reach = b[3] + slack_;
-      const double a = std::floor((b[k] - reach - origin_[k]) * inv_h_);
-      const double z = std::floor((b[k] + reach - origin_[k]) * inv_h_);
-      lo[k] = static_cast<int>(std::clamp(a, 0.0, dims_[k] - 1.0));
-      hi[k] = static_cast<int>(std::clamp(z, 0.0, dims_[k] - 1.0));
-    }
-    for (int x = lo[0]; x <= hi[0]; ++x)
-      for (int y = lo[1]; y <= hi[1]; ++y)
-        for (int z = lo[2]; z <= hi[2]; ++z) {
-          const int index[3] = {x, y, z};
-          double near2 = 0.0, far2 = 0.0;
-          for (int k = 0; k < 3; ++k) {
-            const double c0 = origin_[k] + index[k] * h_, c1 = c0 + h_;
-            const double gap = std::max({c0 - b[k], 0.0, b[k] - c1});
-            const double reach = std::max(std::abs(b[k] - c0), std::abs(b[k] - c1));
-            near2 += gap * gap;
-            far2 += reach * reach;
-          }
-          fn(flat(x, y, z), near2, far2);
-        }
-  };
-
   // Pass 1: the first ball that contains each cell.
   std::vector<int> owner(cells, -1);
   for (int i = 0; i < static_cast<int>(balls_.size()); ++i) {

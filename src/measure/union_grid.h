@@ -52,6 +52,15 @@ class UnionGrid {
   Nearest nearest(const Eigen::Vector3d& p) const;
 
  private:
+  // The cell side, origin, counts and rounding slack for balls of bounding box \p box and
+  // radii \p radii (reordered).
+  void size_cells(const Eigen::AlignedBox3d& box, std::vector<double>& radii);
+  // Calls fn(cell, near2, far2) for every cell of the ball's bounding box, with the squared
+  // distances from the centre to the nearest and the farthest point of the cell.
+  template <class Fn>
+  void for_each_cell(const Eigen::Vector4d& b, Fn&& fn) const;
+  // Each cell's list (start_, items_) and whether one ball holds it whole (full_).
+  void build_lists();
   std::array<long long, 3> cell_of(const Eigen::Vector3d& p) const;
   std::size_t flat(long long x, long long y, long long z) const {
     return (static_cast<std::size_t>(x) * static_cast<std::size_t>(dims_[1]) +
