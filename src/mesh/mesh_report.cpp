@@ -191,13 +191,16 @@ std::vector<std::size_t> containment_depth(const TriangleMesh& m,
   return depth;
 }
 
-}  // namespace
+// The triangles of each component (comp: a triangle's component, -1 for none).
+std::vector<std::vector<int>> component_members(const std::vector<int>& comp, std::size_t ncomp) {
+  std::vector<std::vector<int>> members(ncomp);
+  for (std::size_t t = 0; t < comp.size(); ++t)
+    if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
+  return members;
+}
 
-MeshReport analyze_mesh(const TriangleMesh& mesh) {
-  detail::check_indices(mesh);
-  MeshReport r;
-  r.triangles = mesh.triangles.size();
-
+// The vertices the triangles use, the unused ones and the used ones' bounding box.
+void count_vertices(const TriangleMesh& mesh, MeshReport& r) {
   std::vector<char> used(mesh.vertices.size(), 0);
   for (const auto& tri : mesh.triangles)
     for (int k : tri) used[static_cast<std::size_t>(k)] = 1;
@@ -212,14 +215,13 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
     r.bbox_min = box.min();
     r.bbox_max = box.max();
   }
+}
 
-  const detail::EdgeTable edges = detail::build_edge_table(mesh);
-  std::size_t ncomp = 0;
-  const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
-  r.components = ncomp;
-  r.component_reports.assign(ncomp, ComponentReport{});
-  std::vector<char> inconsistent(ncomp, 0);
-
+// Boundary, non-manifold and inconsistently wound edges, over the mesh and per component;
+// returns per component whether an edge of it is wound inconsistently.
+std::vector<char> count_edges(const detail::EdgeTable& edges, const std::vector<int>& comp,
+                              MeshReport& r) {
+  std::vector<char> inconsistent(r.component_reports.size(), 0);
   r.edges = edges.num_edges();
   for (std::size_t e = 0; e < edges.num_edges(); ++e) {
     const std::size_t b = edges.edge_begin[e], n = edges.edge_begin[e + 1] - b;
@@ -236,7 +238,12 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
       inconsistent[comp[edges.half_edges[b].triangle]] = 1;
     }
   }
+  return inconsistent;
+}
 
+// Degenerate and collapsed triangles, and the signed volume, over the mesh and per
+// component.
+void count_triangles(const TriangleMesh& mesh, const std::vector<int>& comp, MeshReport& r) {
   for (std::size_t t = 0; t < mesh.triangles.size(); ++t) {
     if (is_degenerate(mesh, t)) ++r.degenerate_triangles;
     if (comp[t] < 0) {
@@ -249,8 +256,14 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
     ++c.triangles;
     c.signed_volume += v;
   }
+}
 
-  r.closed = r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.triangles > 0;
+// Each component's closedness, orientation and whether it is a cavity: an inward component
+// at odd nesting depth (see orient_mesh).
+void classify_components(const TriangleMesh& mesh, const std::vector<int>& comp,
+                         const std::vector<char>& inconsistent, MeshReport& r) {
+  const std::size_t ncomp = r.component_reports.size();
+  std::vector<char> solid(ncomp, 0), inward(ncomp, 0);
   for (std::size_t i = 0; i < ncomp; ++i) {
     ComponentReport& c = r.component_reports[i];
     c.closed = c.boundary_edges == 0 && c.nonmanifold_edges == 0;
@@ -260,22 +273,32 @@ MeshReport analyze_mesh(const TriangleMesh& mesh) {
       c.orientation = Orientation::kInconsistent;
     else
       c.orientation = c.signed_volume >= 0.0 ? Orientation::kOutward : Orientation::kInward;
+    solid[i] = c.orientation == Orientation::kOutward || c.orientation == Orientation::kInward;
+    inward[i] = c.orientation == Orientation::kInward;
   }
-  // Inward components at odd nesting depth are cavities (see orient_mesh).
-  std::vector<char> solid(ncomp, 0), inward(ncomp, 0);
-  for (std::size_t i = 0; i < ncomp; ++i) {
-    const Orientation o = r.component_reports[i].orientation;
-    solid[i] = o == Orientation::kOutward || o == Orientation::kInward;
-    inward[i] = o == Orientation::kInward;
-  }
-  if (std::any_of(inward.begin(), inward.end(), [](char x) { return x != 0; })) {
-    std::vector<std::vector<int>> members(ncomp);
-    for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-      if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
-    const std::vector<std::size_t> depth = containment_depth(mesh, members, solid, inward);
-    for (std::size_t i = 0; i < ncomp; ++i)
-      r.component_reports[i].cavity = inward[i] && depth[i] % 2 == 1;
-  }
+  if (std::none_of(inward.begin(), inward.end(), [](char x) { return x != 0; })) return;
+  const std::vector<std::size_t> depth =
+      containment_depth(mesh, component_members(comp, ncomp), solid, inward);
+  for (std::size_t i = 0; i < ncomp; ++i)
+    r.component_reports[i].cavity = inward[i] && depth[i] % 2 == 1;
+}
+
+}  // namespace
+
+MeshReport analyze_mesh(const TriangleMesh& mesh) {
+  detail::check_indices(mesh);
+  MeshReport r;
+  r.triangles = mesh.triangles.size();
+  count_vertices(mesh, r);
+  const detail::EdgeTable edges = detail::build_edge_table(mesh);
+  std::size_t ncomp = 0;
+  const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
+  r.components = ncomp;
+  r.component_reports.assign(ncomp, ComponentReport{});
+  const std::vector<char> inconsistent = count_edges(edges, comp, r);
+  count_triangles(mesh, comp, r);
+  r.closed = r.boundary_edges == 0 && r.nonmanifold_edges == 0 && r.triangles > 0;
+  classify_components(mesh, comp, inconsistent, r);
   return r;
 }
 
@@ -432,9 +455,7 @@ OrientationFix orient_mesh(TriangleMesh& mesh) {
   const detail::EdgeTable edges = detail::build_edge_table(mesh);
   std::size_t ncomp = 0;
   const std::vector<int> comp = detail::triangle_components(mesh, edges, &ncomp);
-  std::vector<std::vector<int>> members(ncomp);
-  for (std::size_t t = 0; t < mesh.triangles.size(); ++t)
-    if (comp[t] >= 0) members[comp[t]].push_back(static_cast<int>(t));
+  const std::vector<std::vector<int>> members = component_members(comp, ncomp);
   const std::vector<char> comp_ok = orient_components(mesh, edges, comp, members, fix);
   turn_solids_outward(mesh, edges, comp, members, comp_ok, fix);
   return fix;
