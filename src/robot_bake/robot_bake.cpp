@@ -360,6 +360,61 @@ std::vector<std::string> unused_outer_start(const RobotBakeOptions& options,
   return unused;
 }
 
+// A link of sphere primitives alone: they are its inner set and, with outer sets, their
+// own exact cover.
+void fill_primitive_link(const LinkSolid& solid, bool outer, LinkBakeStats& stats,
+                         LinkSpheres& sets) {
+  sets.inner.spheres = solid.spheres;
+  if (!outer || solid.spheres.empty()) return;
+  sets.outer.spheres = solid.spheres;
+  sets.outer_certificate_json =
+      R"({"certified":true,"surface_covered":true,"interior_certified":true,)"
+      R"("sphere_primitives":true})";
+  stats.outer_spheres = solid.spheres.size();
+  stats.outer_certified = true;
+  stats.outer_protrusion = 0.0;
+}
+
+// The bake job of link i (solids[i] with parts), shared with an earlier link whose bake
+// computes the same, else added to jobs; returns its index.
+std::size_t job_for_link(std::size_t i, const std::vector<LinkSolid>& solids,
+                         const std::vector<std::optional<std::size_t>>& budgets,
+                         const RobotBakeOptions& options, const std::string& urdf_path,
+                         std::vector<BakeJob>& jobs,
+                         std::map<std::string, std::size_t>& job_by_key) {
+  const std::vector<Sphere>* given = outer_start_of(options, solids[i], urdf_path);
+  const ProtrusionWeights* weights = given ? nullptr : outer_weights_of(options, solids[i]);
+  // A link whose cover starts from its own spheres or has its own weights shares no bake.
+  const std::string key = job_key(solids[i], budgets[i]) +
+                          (given ? " start of " + solids[i].link : "") +
+                          (weights ? " weights of " + solids[i].link : "");
+  const auto [it, fresh] = job_by_key.emplace(key, jobs.size());
+  if (fresh) {
+    jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, {}, {}, 0.0, 0.0, nullptr});
+    if (given) jobs.back().outer_start = start_in_bake_frame(*given, solids[i]);
+    if (weights) jobs.back().outer_weights = weights_in_bake_frame(*weights, solids[i]);
+  }
+  return it->second;
+}
+
+// Throws the error of the first failed job (in link order), naming its link.
+void rethrow_first_error(const std::vector<BakeJob>& jobs, const std::vector<LinkSolid>& solids,
+                         const std::string& urdf_path) {
+  for (const BakeJob& job : jobs) {
+    if (!job.error) continue;
+    const std::string link = "link '" + solids[job.link].link + "': ";
+    try {
+      std::rethrow_exception(job.error);
+    } catch (const InputError& e) {
+      throw InputError(urdf_path, link + e.what());
+    } catch (const std::invalid_argument& e) {
+      throw InputError(urdf_path, link + e.what());
+    } catch (const std::exception& e) {
+      throw Error(urdf_path + ": " + link + e.what());
+    }
+  }
+}
+
 }  // namespace
 
 RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>& solids,
@@ -382,33 +437,11 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
     result.links.push_back(link_stats(robot.links[i], solids[i]));
     result.model.links[i].note = result.links[i].note;
     if (solids[i].parts.empty()) {
-      result.model.links[i].spheres.inner.spheres = solids[i].spheres;
-      if (options.outer && !solids[i].spheres.empty()) {
-        // Sphere primitives are their own exact cover.
-        result.model.links[i].spheres.outer.spheres = solids[i].spheres;
-        result.model.links[i].spheres.outer_certificate_json =
-            R"({"certified":true,"surface_covered":true,"interior_certified":true,)"
-            R"("sphere_primitives":true})";
-        result.links[i].outer_spheres = solids[i].spheres.size();
-        result.links[i].outer_certified = true;
-        result.links[i].outer_protrusion = 0.0;
-      }
+      fill_primitive_link(solids[i], options.outer, result.links[i], result.model.links[i].spheres);
       if (options.progress) options.progress(result.links[i]);
       continue;
     }
-    const std::vector<Sphere>* given = outer_start_of(options, solids[i], robot.path);
-    const ProtrusionWeights* weights = given ? nullptr : outer_weights_of(options, solids[i]);
-    // A link whose cover starts from its own spheres or has its own weights shares no bake.
-    const std::string key = job_key(solids[i], budgets[i]) +
-                            (given ? " start of " + solids[i].link : "") +
-                            (weights ? " weights of " + solids[i].link : "");
-    const auto [it, fresh] = job_by_key.emplace(key, jobs.size());
-    if (fresh) {
-      jobs.push_back(BakeJob{i, budgets[i], {}, std::nullopt, {}, {}, 0.0, 0.0, nullptr});
-      if (given) jobs.back().outer_start = start_in_bake_frame(*given, solids[i]);
-      if (weights) jobs.back().outer_weights = weights_in_bake_frame(*weights, solids[i]);
-    }
-    job_of[i] = it->second;
+    job_of[i] = job_for_link(i, solids, budgets, options, robot.path, jobs, job_by_key);
   }
 
   auto finish_links = [&](std::size_t j) {
@@ -426,20 +459,7 @@ RobotBakeResult bake_robot(const UrdfRobot& robot, const std::vector<LinkSolid>&
   const FillChoice fill{options.fill_thin_shells, options.fill_thin_shell_covers,
                         options.fill_cover_resolution};
   run_jobs(jobs, solids, options.request, options.outer, fill, std::max(1, workers), finish_links);
-
-  for (const BakeJob& job : jobs) {  // in link order: the first failing link is reported
-    if (!job.error) continue;
-    const std::string link = "link '" + solids[job.link].link + "': ";
-    try {
-      std::rethrow_exception(job.error);
-    } catch (const InputError& e) {
-      throw InputError(robot.path, link + e.what());
-    } catch (const std::invalid_argument& e) {
-      throw InputError(robot.path, link + e.what());
-    } catch (const std::exception& e) {
-      throw Error(robot.path + ": " + link + e.what());
-    }
-  }
+  rethrow_first_error(jobs, solids, robot.path);
   result.model.metadata_json =
       robot_metadata(robot, solids, result.links, options.request.record_seconds);
   result.seconds = seconds_since(start);
