@@ -80,6 +80,89 @@ void write_node(BoundingVolumeKind kind, const Eigen::Matrix3d& axes,
   }
 }
 
+// The hierarchy builder's input: every sphere a split point and a ball of its own.
+detail::BuildInput build_input(const SphereSet& set) {
+  const std::size_t n = set.spheres.size();
+  detail::BuildInput input;
+  input.split_points.reserve(n);
+  input.ball_begin.reserve(n + 1);
+  input.balls.reserve(n);
+  for (std::size_t i = 0; i < n; ++i) {
+    input.split_points.push_back(set.spheres[i].center);
+    input.ball_begin.push_back(static_cast<int>(i));
+    input.balls.push_back({set.spheres[i].center, set.spheres[i].radius});
+  }
+  input.ball_begin.push_back(static_cast<int>(n));
+  return input;
+}
+
+// The layout's one allocation: nodes, then spheres, then original indices and their
+// inverse, each part aligned; the spheres and indices written in tree order.
+void allocate_and_fill(SphereTree::Layout& layout, const SphereSet& set,
+                       const std::vector<int>& order) {
+  const std::size_t n = layout.num_spheres, num_nodes = layout.num_nodes;
+  const std::size_t node_bytes = layout.kind == BoundingVolumeKind::rss
+                                     ? sizeof(detail::RssNode) * num_nodes
+                                     : sizeof(detail::BallNode) * num_nodes;
+  const std::size_t sphere_offset = round_up(node_bytes);
+  const std::size_t index_offset = sphere_offset + round_up(sizeof(detail::PackedSphere) * n);
+  const std::size_t position_offset = index_offset + round_up(sizeof(std::int32_t) * n);
+  const std::size_t total = position_offset + round_up(sizeof(std::int32_t) * n);
+  layout.block_bytes = total;
+  if (total > 0)
+    layout.block.reset(
+        static_cast<unsigned char*>(::operator new[](total, std::align_val_t(kAlign))));
+  unsigned char* base = layout.block.get();
+  auto* spheres = reinterpret_cast<detail::PackedSphere*>(base + sphere_offset);
+  auto* original = reinterpret_cast<std::int32_t*>(base + index_offset);
+  auto* position = reinterpret_cast<std::int32_t*>(base + position_offset);
+  for (std::size_t i = 0; i < n; ++i) {
+    const Sphere& s = set.spheres[static_cast<std::size_t>(order[i])];
+    new (spheres + i) detail::PackedSphere{{s.center.x(), s.center.y(), s.center.z()}, s.radius};
+    new (original + i) std::int32_t(order[i]);
+  }
+  for (std::size_t i = 0; i < n; ++i)
+    new (position + order[i]) std::int32_t(static_cast<std::int32_t>(i));
+  layout.spheres = spheres;
+  layout.original_index = original;
+  layout.tree_position = position;
+}
+
+// Every node of the built hierarchy written into the layout's block, and the tree's
+// statistics.
+void write_nodes(SphereTree::Layout& layout, const detail::BuildInput& input,
+                 const std::vector<int>& order, const std::vector<detail::BuildNode>& built) {
+  unsigned char* base = layout.block.get();
+  const std::size_t n = layout.num_spheres;
+  SphereTreeStats& stats = layout.stats;
+  stats.spheres = n;
+  stats.nodes = built.size();
+  stats.min_leaf_size = n == 0 ? 0 : n;
+  for (std::size_t k = 0; k < built.size(); ++k) {
+    const detail::BuildNode& b = built[k];
+    const std::vector<detail::Ball> balls = detail::balls_below(input, order, b.begin, b.end);
+    double max_r = 0.0;
+    for (const detail::Ball& ball : balls) max_r = std::max(max_r, ball.radius);
+    const bool leaf = b.first_child < 0;
+    const std::int32_t first = leaf ? b.begin : b.first_child;
+    const std::int32_t count = leaf ? b.end - b.begin : 0;
+    if (leaf) {
+      const std::size_t size = static_cast<std::size_t>(b.end - b.begin);
+      ++stats.leaves;
+      stats.min_leaf_size = std::min(stats.min_leaf_size, size);
+      stats.max_leaf_size = std::max(stats.max_leaf_size, size);
+    }
+    stats.depth = std::max(stats.depth, static_cast<std::size_t>(b.depth));
+    write_node(layout.kind, b.axes, balls, max_r, first, count, base, k);
+  }
+  stats.mean_leaf_size = stats.leaves == 0 ? 0.0 : static_cast<double>(n) / stats.leaves;
+  stats.bytes = layout.block_bytes + sizeof(SphereTree) + sizeof(SphereTree::Layout);
+  if (layout.kind == BoundingVolumeKind::rss)
+    layout.rss_nodes = reinterpret_cast<const detail::RssNode*>(base);
+  else
+    layout.ball_nodes = reinterpret_cast<const detail::BallNode*>(base);
+}
+
 }  // namespace
 
 const SphereTree::Layout* tree_layout(const SphereTree& tree) noexcept {
@@ -114,82 +197,14 @@ SphereTree::SphereTree(const SphereSet& set, const SphereTreeOptions& options) {
 
   auto layout = std::make_shared<Layout>();
   layout->kind = options.kind;
-  const std::size_t n = set.spheres.size();
-  layout->num_spheres = n;
-
-  detail::BuildInput input;
-  input.split_points.reserve(n);
-  input.ball_begin.reserve(n + 1);
-  input.balls.reserve(n);
-  for (std::size_t i = 0; i < n; ++i) {
-    input.split_points.push_back(set.spheres[i].center);
-    input.ball_begin.push_back(static_cast<int>(i));
-    input.balls.push_back({set.spheres[i].center, set.spheres[i].radius});
-  }
-  input.ball_begin.push_back(static_cast<int>(n));
+  layout->num_spheres = set.spheres.size();
+  const detail::BuildInput input = build_input(set);
   std::vector<int> order;
   const std::vector<detail::BuildNode> built =
       detail::build_hierarchy(input, options.max_leaf_size, order);
-  const std::size_t num_nodes = built.size();
-  layout->num_nodes = num_nodes;
-
-  // One allocation: nodes, then spheres, then original indices and their inverse.
-  const std::size_t node_bytes = options.kind == BoundingVolumeKind::rss
-                                     ? sizeof(detail::RssNode) * num_nodes
-                                     : sizeof(detail::BallNode) * num_nodes;
-  const std::size_t sphere_offset = round_up(node_bytes);
-  const std::size_t index_offset = sphere_offset + round_up(sizeof(detail::PackedSphere) * n);
-  const std::size_t position_offset = index_offset + round_up(sizeof(std::int32_t) * n);
-  const std::size_t total = position_offset + round_up(sizeof(std::int32_t) * n);
-  layout->block_bytes = total;
-  if (total > 0) {
-    layout->block.reset(
-        static_cast<unsigned char*>(::operator new[](total, std::align_val_t(kAlign))));
-  }
-  unsigned char* base = layout->block.get();
-
-  auto* spheres = reinterpret_cast<detail::PackedSphere*>(base + sphere_offset);
-  auto* original = reinterpret_cast<std::int32_t*>(base + index_offset);
-  auto* position = reinterpret_cast<std::int32_t*>(base + position_offset);
-  for (std::size_t i = 0; i < n; ++i) {
-    const Sphere& s = set.spheres[static_cast<std::size_t>(order[i])];
-    new (spheres + i) detail::PackedSphere{{s.center.x(), s.center.y(), s.center.z()}, s.radius};
-    new (original + i) std::int32_t(order[i]);
-  }
-  for (std::size_t i = 0; i < n; ++i)
-    new (position + order[i]) std::int32_t(static_cast<std::int32_t>(i));
-
-  SphereTreeStats& stats = layout->stats;
-  stats.spheres = n;
-  stats.nodes = num_nodes;
-  stats.min_leaf_size = n == 0 ? 0 : n;
-  for (std::size_t k = 0; k < num_nodes; ++k) {
-    const detail::BuildNode& b = built[k];
-    const std::vector<detail::Ball> balls = detail::balls_below(input, order, b.begin, b.end);
-    double max_r = 0.0;
-    for (const detail::Ball& ball : balls) max_r = std::max(max_r, ball.radius);
-    const bool leaf = b.first_child < 0;
-    const std::int32_t first = leaf ? b.begin : b.first_child;
-    const std::int32_t count = leaf ? b.end - b.begin : 0;
-    if (leaf) {
-      const std::size_t size = static_cast<std::size_t>(b.end - b.begin);
-      ++stats.leaves;
-      stats.min_leaf_size = std::min(stats.min_leaf_size, size);
-      stats.max_leaf_size = std::max(stats.max_leaf_size, size);
-    }
-    stats.depth = std::max(stats.depth, static_cast<std::size_t>(b.depth));
-    write_node(options.kind, b.axes, balls, max_r, first, count, base, k);
-  }
-  stats.mean_leaf_size = stats.leaves == 0 ? 0.0 : static_cast<double>(n) / stats.leaves;
-  stats.bytes = total + sizeof(SphereTree) + sizeof(Layout);
-
-  if (options.kind == BoundingVolumeKind::rss)
-    layout->rss_nodes = reinterpret_cast<const detail::RssNode*>(base);
-  else
-    layout->ball_nodes = reinterpret_cast<const detail::BallNode*>(base);
-  layout->spheres = spheres;
-  layout->original_index = original;
-  layout->tree_position = position;
+  layout->num_nodes = built.size();
+  allocate_and_fill(*layout, set, order);
+  write_nodes(*layout, input, order, built);
   layout_ = std::move(layout);
 }
 
