@@ -284,3 +284,20 @@ TEST_CASE("bake_cover: a thin rod along its box's diagonal gets the good of its 
     previous = r.stats.max_protrusion;
   }
 }
+
+TEST_CASE("bake_cover: above K = 64 the protrusion stage spends the whole budget", "[cover]") {
+  // A thin torus (minor radius 0.05) at K = 256: its largest protrusion sits on balls that no
+  // split lowers, and the minimax rounds after the fill's splits raise it a little, so those
+  // splits are refused and left the stage with 182 balls. Splits in place (each part's ball
+  // started at its parent's centre, then moved only to stick out less) cannot raise it and
+  // spend the budget. Oracles: the count, the certificate, the sampled gap, and the same bake
+  // at K = 128 (a larger budget never sticks out farther here).
+  const TriangleMesh torus = make_torus(1.0, 0.05, 96, 12);
+  const MeshQuery query(torus);
+  const CoverResult half = bake_cover(query, 128), r = bake_cover(query, 256);
+  REQUIRE(r.stats.certified);
+  CHECK(sampled_gap(torus, r.spheres.spheres) == 0.0);
+  CHECK(r.stats.stage_spheres == 256);
+  CHECK(r.spheres.size() <= 256);
+  CHECK(r.stats.max_protrusion <= half.stats.max_protrusion);
+}

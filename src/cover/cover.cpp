@@ -274,6 +274,7 @@ Candidate search(const MeshQuery& query, const Elements& e, std::size_t budget,
       detail::protrusion_stage(query, e, fine, budget, options.rounds, solid, threads, weights,
                                options.protrusion_restarts, options.balance_rounds);
   s.rounds_run = p.rounds;
+  s.stage_spheres = p.clustering.balls.size();
   // Weighted: the protrusion stage's result as it is (the volume stage and the choice
   // below measure the unweighted protrusion, which would undo the weights).
   if (options.weights.active()) return refined(e, std::move(p.clustering), options);

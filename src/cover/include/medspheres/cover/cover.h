@@ -21,7 +21,9 @@
 ///    (pattern search) to where its ball sticks out least. While fewer than K balls are left
 ///    (the candidates too coarse for a thin solid), the fill: the balls that protrude most,
 ///    as many as are missing, are split at once, then minimax rounds, kept while P does not
-///    rise (else half as many splits; at most 6 tries). For K <= 64, split and exchange
+///    rise (else half as many splits; at most 6 tries); above K = 64, the balls still
+///    missing are then split in place (each part's ball started at its parent's centre and
+///    moved only to stick out less, so P never rises). For K <= 64, split and exchange
 ///    moves follow: the ball that protrudes most is split in two (filling the budget, or in
 ///    exchange for the ball whose elements the others take at the least protrusion), then
 ///    two minimax rounds; each move kept while P falls (at most 6; 3 above K = 16). For
@@ -149,6 +151,7 @@ struct CoverStats {
   std::size_t interior_points = 0;  ///< interior grid points of step 1
   std::size_t patches = 0;          ///< surface patches of step 2
   int rounds_run = 0;               ///< minimax rounds of step 2
+  std::size_t stage_spheres = 0;    ///< balls after step 2 (steps 3 and 4 may drop some)
   std::size_t repaired = 0;         ///< balls grown by step 5, counted per growth
   int repair_rounds_run = 0;
   std::size_t start_spheres = 0;      ///< tighten_cover: the balls it started from; 0: bake_cover
