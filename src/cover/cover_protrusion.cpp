@@ -279,11 +279,11 @@ Clustering threshold_start(const MeshQuery& query, const Elements& e, const Elem
   return c;
 }
 
-// Ball j's elements split in two about their two most distant centroids (the
-// farthest from the ball's centre, then the farthest from that), each part fitted with its
-// minimum enclosing ball; the second part becomes a new ball. False when j has fewer than
-// two elements.
-bool split(const Elements& e, Clustering& c, std::size_t j) {
+// Ball j's elements divided about their two most distant centroids (the farthest from the
+// ball's centre, then the farthest from that); the second part goes to a new ball, centred
+// at its far centroid, whose radius (as j's) is left for the caller to set. False when j
+// has fewer than two elements.
+bool halve(const Elements& e, Clustering& c, std::size_t j) {
   std::vector<std::size_t> members;
   for (std::size_t i = 0; i < c.owner.size(); ++i)
     if (c.owner[i] == static_cast<int>(j)) members.push_back(i);
@@ -300,20 +300,28 @@ bool split(const Elements& e, Clustering& c, std::size_t j) {
   c.balls.push_back({b, 0.0});
   for (std::size_t i : members)
     if ((e.centroids[i] - b).squaredNorm() < (e.centroids[i] - a).squaredNorm()) c.owner[i] = fresh;
+  return true;
+}
+
+// Ball j halved, each part fitted with its minimum enclosing ball; the second part becomes
+// a new ball. False when j has fewer than two elements.
+bool split(const Elements& e, Clustering& c, std::size_t j) {
+  if (!halve(e, c, j)) return false;
+  const std::size_t fresh = c.balls.size() - 1;
   const auto parts = members_of(c.owner, c.balls.size());
   std::vector<char> mark(e.points.size(), 0);
-  for (std::size_t part : {j, static_cast<std::size_t>(fresh)})
+  for (std::size_t part : {j, fresh})
     c.balls[part] =
         parts[part].empty() ? Sphere{c.balls[part].center, 0.0} : fit(e, parts[part], mark);
   return true;
 }
 
-// split, with both parts' balls then centred where ball j was: each holds part of j's
-// elements, so it protrudes there no more than j did, and deepen only lowers that (the
-// fill's splits in place).
+// Ball j halved, both parts' balls centred where ball j was: each holds part of j's
+// elements, so once its radius holds them (the caller's hold_members) it protrudes there no
+// more than j did, and deepen only lowers that (the fill's splits in place).
 bool split_in_place(const Elements& e, Clustering& c, std::size_t j) {
   const Eigen::Vector3d parent = c.balls[j].center;
-  if (!split(e, c, j)) return false;
+  if (!halve(e, c, j)) return false;
   c.balls[j].center = parent;
   c.balls.back().center = parent;
   return true;
