@@ -269,8 +269,8 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
   }
   // Unsigned options: "-1" is refused by name, not read as the type's largest value (which
   // once failed allocating the samples, exit 1, or ran with another seed).
-  for (const std::string flag :
-       {"--self-collision-samples", "--self-collision-seed", "--contact-samples", "--seed"}) {
+  for (const std::string flag : {"--self-collision-samples", "--self-collision-seed",
+                                 "--self-collision-estimate", "--contact-samples", "--seed"}) {
     INFO(flag);
     const std::string contact = flag == "--contact-samples" ? " --contact" : "";
     const CommandResult r =
@@ -541,13 +541,18 @@ TEST_CASE("robot: tool frames, the matrix and the default configuration in every
   const std::string per_link = medspheres::test::kSanitizerBuild ? "3" : "6";
   const CommandResult r = cli(
       "robot " + shell_quote(urdf) + " -o " + shell_quote(out) + " --spheres-per-link " + per_link +
-      " --no-measure --self-collision-samples 300 --tool-frame link4 --tool-frame hand");
+      " --no-measure --self-collision-samples 300 --self-collision-estimate 200 --tool-frame "
+      "link4 --tool-frame hand");
   INFO(r.err);
   REQUIRE(r.exit_code == 0);
   // The summary names the choices.
   CHECK_THAT(r.out, Contains("tool frames: link4, hand (as given)"));
   CHECK_THAT(r.out, Contains("default configuration: "));
   CHECK_THAT(r.out, Contains("self-collision matrix: 300 samples"));
+  CHECK_THAT(r.out, Contains("self-collision estimate: of 200 other random configurations (seed "
+                             "7920), "));
+  CHECK_THAT(r.out, Contains(", and 0 have a checked pair's meshes touching while no checked "
+                             "pair's spheres do"));
   std::set<std::string> files;
   for (const auto& e : fs::directory_iterator(out)) files.insert(e.path().filename().string());
   for (const char* f : {"generated_arm_7.curobo.yml", "generated_arm_7.curobo_v1.yml",

@@ -22,6 +22,7 @@
 #include "medspheres/robot_bake/mirror_links.h"
 #include "medspheres/robot_bake/robot_bake.h"
 #include "medspheres/robot_bake/robot_planner_setup.h"
+#include "medspheres/robot_bake/self_collision_estimate.h"
 #include "support/generated_arms.h"
 #include "support/robot_fixtures.h"
 #include "support/sanitizer_build.h"
@@ -381,6 +382,125 @@ TEST_CASE("self-collision matrix: the same for 1 and 2 threads", "[robot][self_c
     CHECK(a[k].ignored == b[k].ignored);
   }
   CHECK(setups[0].default_positions == setups[1].default_positions);
+}
+
+namespace {
+
+// The estimate by brute force (self_collision_estimate.h): every judged pair's solids
+// (solid[s][k]: the matrix's pair k touches in configuration s) and every sphere pair of
+// every checked pair, with \p mx's buffers.
+SelfCollisionEstimate brute_estimate(const RobotModel& model, const SelfCollisionMatrix& mx,
+                                     const std::vector<Poses>& poses,
+                                     const std::vector<std::vector<char>>& solid) {
+  SelfCollisionEstimate e;
+  std::map<std::pair<std::string, std::string>, std::size_t> alone;
+  for (std::size_t s = 0; s < poses.size(); ++s) {
+    std::vector<std::size_t> touching;
+    bool any_solid = false, checked_solid = false;
+    for (std::size_t k = 0; k < mx.pairs.size(); ++k) {
+      const LinkPairClass& p = mx.pairs[k];
+      any_solid = any_solid || solid[s][k];
+      if (p.ignored) continue;
+      checked_solid = checked_solid || solid[s][k];
+      if (planner_touch(model, mx, poses[s], link_index(model, p.link1),
+                        link_index(model, p.link2)))
+        touching.push_back(k);
+    }
+    if (!touching.empty() && !any_solid) {
+      ++e.false_positives;
+      if (touching.size() == 1) ++alone[{mx.pairs[touching[0]].link1, mx.pairs[touching[0]].link2}];
+    }
+    e.false_negatives += touching.empty() && checked_solid;
+  }
+  for (const auto& [pair, n] : alone) e.alone.push_back({pair, n});
+  return e;
+}
+
+std::map<std::pair<std::string, std::string>, std::size_t> alone_map(
+    const SelfCollisionEstimate& e) {
+  return {e.alone.begin(), e.alone.end()};
+}
+
+}  // namespace
+
+TEST_CASE("self-collision estimate: brute force agrees, 1 and 2 threads, shrunk spheres miss",
+          "[robot][self_collision]") {
+  TempDir dir;
+  const BakedRobot r = generated_arm(dir, 3, false);
+  PlannerRequest request;
+  request.self_collision.samples = 300;
+  request.self_collision.seed = 3;
+  request.self_collision.estimate = 400;
+  SelfCollisionRun run;
+  const PlannerSetup s =
+      make_planner_setup(r.model, r.solids, formats::SphereChoice::kOuter, request, &run);
+  const SelfCollisionMatrix& m = *s.self_collision;
+  const SelfCollisionEstimate& e = run.estimate;
+  CHECK(e.samples == 400);
+  CHECK(e.seed == 3 + 7919);
+  std::map<std::string, double> locked;
+  for (const std::string& j : s.locked_joints) locked[j] = s.default_positions.at(j);
+  // The oracle's configurations, drawn as the estimate draws its own.
+  const std::vector<Poses> poses = posed(r.model, locked, 400, 3 + 7919);
+  const std::vector<ExactLink> exact = exact_links(r.model, r.solids);
+  // Two truths per judged pair: the exact distance (the oracle's own geometry) within 1e-9 m
+  // (FCL's distance of two meshes in contact is not always 0 to the last bit: a subnormal at
+  // times), and LinkSolids' certified test, which the estimate uses: it takes a sphere
+  // primitive of a meshed link as an icosphere that contains it, so it may call touching a
+  // pair a little apart. The estimate must equal the count over LinkSolids' truth (the
+  // brute force: every pair, every sphere pair), and differ from the exact count by no more
+  // than the configurations in which some pair lies within 2 mm without touching.
+  const LinkSolids solids(r.model, r.solids);
+  std::vector<std::vector<char>> exact_solid(poses.size()), certified(poses.size());
+  std::size_t borderline = 0;
+  for (std::size_t i = 0; i < poses.size(); ++i) {
+    bool near = false;
+    for (const LinkPairClass& p : m.pairs) {
+      const std::size_t a = link_index(r.model, p.link1), b = link_index(r.model, p.link2);
+      const bool judged = p.kind != PairClass::kAdjacent && p.kind != PairClass::kAlways;
+      const double d = judged ? exact_distance(exact, r.solids, r.model, poses[i], a, b) : 1.0;
+      exact_solid[i].push_back(d <= 1e-9);
+      near = near || (d > 1e-9 && d <= 0.002);
+      certified[i].push_back(judged && solids.within(poses[i], a, b, 0.0));
+    }
+    borderline += near;
+  }
+  CHECK(borderline <= poses.size() / 20);
+  const auto differ = [](std::size_t x, std::size_t y) { return x > y ? x - y : y - x; };
+  const SelfCollisionEstimate want = brute_estimate(r.model, m, poses, certified);
+  CHECK(e.false_positives == want.false_positives);
+  CHECK(e.false_negatives == 0);  // covering sets
+  CHECK(want.false_negatives == 0);
+  CHECK(alone_map(e) == alone_map(want));
+  for (std::size_t k = 1; k < e.alone.size(); ++k)
+    CHECK(e.alone[k - 1].second >= e.alone[k].second);
+  CHECK(e.false_positives > 0);  // the covers stick out: a count that can be wrong
+  const SelfCollisionEstimate exact_count = brute_estimate(r.model, m, poses, exact_solid);
+  CHECK(differ(e.false_positives, exact_count.false_positives) <= borderline);
+  CHECK(exact_count.false_negatives == 0);
+  // Every link's spheres shrunk by 1 cm for self-collision (no longer covers): they miss
+  // contacts, and the estimate counts them as the brute force does, on 1 and 2 threads.
+  SelfCollisionMatrix shrunk = m;
+  for (auto& [link, b] : shrunk.buffer) b = -0.01;
+  const SelfCollisionEstimate want_shrunk = brute_estimate(r.model, shrunk, poses, certified);
+  CHECK(want_shrunk.false_negatives > 0);
+  CHECK(differ(want_shrunk.false_negatives,
+               brute_estimate(r.model, shrunk, poses, exact_solid).false_negatives) <= borderline);
+  const formats::RobotSpheres carried =
+      formats::robot_spheres(r.model, formats::SphereChoice::kOuter);
+  for (int threads : {1, 2}) {
+    INFO(threads << " threads");
+    const SelfCollisionEstimate got =
+        estimate_self_collision(r.model, solids, carried, shrunk, locked, 400, 3 + 7919, threads);
+    CHECK(got.false_positives == want_shrunk.false_positives);
+    CHECK(got.false_negatives == want_shrunk.false_negatives);
+    CHECK(alone_map(got) == alone_map(want_shrunk));
+  }
+  // None asked: none computed.
+  request.self_collision.estimate = 0;
+  SelfCollisionRun none;
+  make_planner_setup(r.model, r.solids, formats::SphereChoice::kOuter, request, &none);
+  CHECK(none.estimate.samples == 0);
 }
 
 TEST_CASE("planner setup: --tool-frame, an SRDF's pairs and end effectors, bad options",

@@ -34,12 +34,13 @@ struct RobotBake {
   std::vector<LinkSolid> solids;
   PlannerRequest planner;
   formats::SphereChoice choice = formats::SphereChoice::kOuter;  // of result.model.planner
+  SelfCollisionRun run;                                          // of result.model.planner
 };
 
 // The model's planner setup made for \p choice, when it was made for another.
 void plan_for(RobotBake& b, formats::SphereChoice choice) {
   if (b.result.model.planner && b.choice == choice) return;
-  b.result.model.planner = make_planner_setup(b.result.model, b.solids, choice, b.planner);
+  b.result.model.planner = make_planner_setup(b.result.model, b.solids, choice, b.planner, &b.run);
   b.choice = choice;
 }
 
@@ -219,6 +220,29 @@ void register_robot_bake(py::module_& m) {
           "default_from), self_collision: samples, seed, threshold, margin, srdf, buffer "
           "{link: metres}, pairs [[link1, link2, class, skipped(, reason)]] (docs/"
           "self-collision.md).")
+      .def_property_readonly(
+          "self_collision_estimate",
+          [](const RobotBake& b) -> py::object {
+            const SelfCollisionEstimate& e = b.run.estimate;
+            if (e.samples == 0) return py::none();
+            py::dict d;
+            d["samples"] = e.samples;
+            d["seed"] = e.seed;
+            d["false_positives"] = e.false_positives;
+            d["false_negatives"] = e.false_negatives;
+            py::list alone;
+            for (const auto& [pair, n] : e.alone)
+              alone.append(py::make_tuple(pair.first, pair.second, n));
+            d["alone"] = alone;
+            return py::object(std::move(d));
+          },
+          "The files' self-collision checks against the meshes over other random "
+          "configurations (the robot command's \"self-collision estimate\" line; None without "
+          "the matrix, when it checks no pair, or with self_collision_estimate=0): samples, seed, "
+          "false_positives "
+          "(a checked pair's spheres touch, no two links' meshes do), false_negatives (a "
+          "checked pair's meshes touch, no checked pair's spheres do), alone [(link1, link2, "
+          "configurations)] (the pairs whose spheres alone make false positives, most first).")
       .def(
           "to_json", [](const RobotBake& b) { return robot_to_json(b.result.model); },
           "The medspheres robot file's JSON text.")
@@ -252,7 +276,8 @@ void register_robot(py::module_& m) {
          int protrusion_restarts, int balance_rounds, const std::vector<std::string>& tool_frames,
          const std::vector<std::string>& free_joints, const py::object& srdf, bool self_collision,
          std::size_t self_collision_samples, unsigned self_collision_seed,
-         double self_collision_threshold, double self_collision_margin) {
+         double self_collision_threshold, double self_collision_margin,
+         std::size_t self_collision_estimate) {
         RobotArgs a;
         if (!output.is_none()) a.output = path_of(output);
         a.formats = formats;
@@ -285,6 +310,7 @@ void register_robot(py::module_& m) {
         a.planner.self_collision.seed = self_collision_seed;
         a.planner.self_collision.threshold = self_collision_threshold;
         a.planner.self_collision.margin = self_collision_margin;
+        a.planner.self_collision.estimate = self_collision_estimate;
         return bake_robot_py(path_of(urdf), a);
       },
       py::arg("urdf"), py::arg("output") = py::none(), py::kw_only(),
@@ -309,6 +335,7 @@ void register_robot(py::module_& m) {
       py::arg("self_collision_seed") = SelfCollisionOptions{}.seed,
       py::arg("self_collision_threshold") = SelfCollisionOptions{}.threshold,
       py::arg("self_collision_margin") = SelfCollisionOptions{}.margin,
+      py::arg("self_collision_estimate") = SelfCollisionOptions{}.estimate,
       "Bakes every link of a URDF robot, as `medspheres robot URDF -o OUTPUT` does, and "
       "returns a RobotBake (per-link arrays, stats); with `output`, also writes the "
       "planners' files there (see RobotBake.save).\n\n"

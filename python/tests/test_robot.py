@@ -227,8 +227,8 @@ def test_bake_robot_planner_setup_equals_cli(cli, arm, tmp_path):
     ours_dir, theirs_dir = tmp_path / "py", tmp_path / "cli"
     baked = medspheres.bake_robot(arm, ours_dir, spheres_per_link=6, tool_frames=["hand"],
                                   self_collision_samples=300, self_collision_seed=3)
-    cli("robot", arm, "-o", theirs_dir, "--spheres-per-link", "6", "-q", "--tool-frame", "hand",
-        "--self-collision-samples", "300", "--self-collision-seed", "3")
+    run = cli("robot", arm, "-o", theirs_dir, "--spheres-per-link", "6", "--tool-frame", "hand",
+              "--self-collision-samples", "300", "--self-collision-seed", "3")
     for name in ["arm.curobo.yml", "arm.curobo_v1.yml", "arm.curobo_spheres.yml", "arm.xrdf",
                  "arm.srdf", "arm.self_collision.txt"]:
         assert (ours_dir / name).read_bytes() == (theirs_dir / name).read_bytes(), name
@@ -243,10 +243,60 @@ def test_bake_robot_planner_setup_equals_cli(cli, arm, tmp_path):
     assert {p[2] for p in matrix["pairs"]} <= {"adjacent", "always", "never", "sphere_only",
                                                 "default", "checked"}
     assert set(planner["default_positions"]) == {"j1"}
+    # The arm's matrix checks no pair: no estimate (the summary prints none).
+    assert {p[3] for p in matrix["pairs"]} == {True}
+    assert baked.self_collision_estimate is None
+    assert "self-collision estimate" not in run.stdout
     # Without the matrix: adjacent pairs only, the zero pose unchecked.
     plain = medspheres.bake_robot(arm, spheres_per_link=6, self_collision=False)
     assert plain.planner["default_from"] == "zero_unchecked"
     assert plain.planner["self_collision"]["samples"] == 0
+    assert plain.self_collision_estimate is None
+
+
+FOLDING_URDF = """<?xml version="1.0"?>
+<robot name="fold">
+  <link name="base"><collision><geometry><box size="0.3 0.3 0.05"/></geometry></collision></link>
+  <link name="upper">
+    <collision><origin xyz="0 0 0.1"/><geometry><box size="0.04 0.04 0.2"/></geometry></collision>
+  </link>
+  <link name="fore">
+    <collision><origin xyz="0 0 0.1"/><geometry><box size="0.04 0.04 0.2"/></geometry></collision>
+  </link>
+  <joint name="j1" type="revolute">
+    <parent link="base"/><child link="upper"/><origin xyz="0 0 0.03"/>
+    <axis xyz="0 1 0"/><limit lower="-1.5" upper="1.5" velocity="1" effort="1"/>
+  </joint>
+  <joint name="j2" type="revolute">
+    <parent link="upper"/><child link="fore"/><origin xyz="0 0 0.2"/>
+    <axis xyz="0 1 0"/><limit lower="-3" upper="3" velocity="1" effort="1"/>
+  </joint>
+</robot>
+"""
+
+
+def test_bake_robot_self_collision_estimate_equals_cli(cli, tmp_path):
+    """RobotBake.self_collision_estimate: the robot command's summary line, in numbers, on an
+    arm whose forearm folds onto its base; none when asked for none."""
+    urdf = tmp_path / "fold.urdf"
+    urdf.write_text(FOLDING_URDF)
+    options = dict(spheres_per_link=6, self_collision_samples=300)
+    baked = medspheres.bake_robot(urdf, **options, self_collision_estimate=500)
+    assert ["base", "fore", "checked", False] in baked.planner["self_collision"]["pairs"]
+    run = cli("robot", urdf, "-o", tmp_path / "cli", "--spheres-per-link", "6",
+              "--self-collision-samples", "300", "--self-collision-estimate", "500")
+    estimate = baked.self_collision_estimate
+    assert estimate["samples"] == 500 and estimate["seed"] == 1 + 7919
+    assert estimate["false_negatives"] == 0  # covering sets
+    line = (f"self-collision estimate: of 500 other random configurations (seed 7920), "
+            f"{estimate['false_positives']} (")
+    assert line in run.stdout, run.stdout
+    assert ", and 0 have a checked pair's meshes touching" in run.stdout, run.stdout
+    for link1, link2, n in estimate["alone"][:3]:
+        assert f"{link1}-{link2} {n}" in run.stdout, run.stdout
+    assert sum(n for _, _, n in estimate["alone"]) <= estimate["false_positives"]
+    none = medspheres.bake_robot(urdf, **options, self_collision_estimate=0)
+    assert none.self_collision_estimate is None
 
 
 def test_bake_robot_srdf_pairs_and_end_effectors(cli, arm, tmp_path):

@@ -146,6 +146,27 @@ std::string joined(const std::vector<std::string>& names) {
   return out.empty() ? "none" : out;
 }
 
+// The matrix's estimate (self_collision_estimate.h): false positives, the pairs that make
+// most of them alone, and false negatives.
+void print_estimate(const SelfCollisionRun& run) {
+  const SelfCollisionEstimate& e = run.estimate;
+  if (e.samples == 0) return;
+  std::cout << "self-collision estimate: of " << e.samples << " other random configurations (seed "
+            << e.seed << "), " << e.false_positives << " ("
+            << number_text(100.0 * double(e.false_positives) / double(e.samples), 3)
+            << "%) have a checked pair's spheres touching while no two links' meshes do";
+  if (!e.alone.empty()) {
+    std::cout << " (by one pair alone:";
+    for (std::size_t k = 0; k < e.alone.size() && k < 3; ++k)
+      std::cout << (k ? ", " : " ") << e.alone[k].first.first << "-" << e.alone[k].first.second
+                << " " << e.alone[k].second;
+    std::cout << "; more spheres on such links, --link NAME=K, lower it)";
+  }
+  std::cout << ", and " << e.false_negatives
+            << " have a checked pair's meshes touching while no checked pair's spheres do; "
+            << number_text(run.estimate_seconds, 3) << " s\n";
+}
+
 // Where the tool frames and the default configuration came from, and the matrix's classes.
 void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
                            std::size_t sphere_pairs, const std::vector<std::string>& free_joints) {
@@ -178,6 +199,7 @@ void print_planner_summary(const PlannerSetup& s, const SelfCollisionRun& run,
   for (const auto& [a, b] : run.default_pairs)
     std::cout << "medspheres: warning: " << a << " and " << b
               << " touch at the default configuration\n";
+  print_estimate(run);
 }
 
 // The options of the run as the robot file's provenance ("options" in its metadata): every
@@ -419,6 +441,11 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
       ->capture_default_str();
   sub->add_option("--self-collision-margin", a->self_collision.margin,
                   "Metres: a pair whose solids never come this close is never colliding")
+      ->capture_default_str();
+  sub->add_option("--self-collision-estimate", a->self_collision.estimate,
+                  "Other random configurations over which the summary counts the files' false "
+                  "self-collisions and missed ones (0: none; no file changes)")
+      ->check(non_negative)
       ->capture_default_str();
   sub->add_flag("--contact", a->contact,
                 "Contact-aware covers: bake the covers again to stick out less where the "

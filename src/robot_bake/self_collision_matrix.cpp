@@ -9,8 +9,8 @@
 #include <set>
 
 #include "contact_search.h"
+#include "locked_samples.h"
 #include "medspheres/error.h"
-#include "medspheres/fcl/robot_bounds.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/number_text.h"
 #include "medspheres/robot_bake/mirror_links.h"
@@ -117,22 +117,6 @@ std::map<std::pair<std::string, std::string>, std::string> given_pairs(
   std::map<std::pair<std::string, std::string>, std::string> out;
   for (const formats::DisabledCollision& g : given) out[std::minmax(g.link1, g.link2)] = g.reason;
   return out;
-}
-
-// The sampled configurations, the locked joints held, and every link's pose in each.
-std::vector<Eigen::VectorXd> locked_samples(const RobotModel& model, const KinematicTree& tree,
-                                            const std::map<std::string, double>& locked,
-                                            const SelfCollisionOptions& o) {
-  std::vector<Eigen::VectorXd> qs = fcl::sample_configurations(model, tree, o.samples, o.seed);
-  const auto& names = tree.joint_names();
-  for (const auto& [joint, q] : locked) {
-    const auto it = std::find(names.begin(), names.end(), joint);
-    if (it == names.end())
-      throw InputError::option(ErrorKind::kOutOfRange, "locked_joints", joint,
-                               "\"" + joint + "\" is no actuated joint of the robot");
-    for (Eigen::VectorXd& s : qs) s[it - names.begin()] = q;
-  }
-  return qs;
 }
 
 // The matrix's samples: the configurations (the locked joints held) and every link's poses
@@ -352,7 +336,7 @@ SelfCollisionRun compute_self_collision(const RobotModel& model, const LinkSolid
   run.matrix.threshold = o.threshold;
   run.matrix.margin = o.margin;
   const auto index = list_pairs(model, carried, run.matrix);
-  Sampled sampled{tree, locked, locked_samples(model, tree, locked, o), {}};
+  Sampled sampled{tree, locked, detail::locked_samples(model, tree, locked, o.samples, o.seed), {}};
   const std::vector<Eigen::VectorXd>& qs = sampled.qs;
   std::vector<Poses>& poses = sampled.poses;
   poses.resize(qs.size());
@@ -362,7 +346,16 @@ SelfCollisionRun compute_self_collision(const RobotModel& model, const LinkSolid
   classify_pairs(model, solids, carried, index, sampled, given, o, run, seen_colliding);
   check_mirror_images(model, index, seen_colliding, run);
   choose_default(model, tree, solids, carried, index, qs, poses, locked, run);
-  run.seconds = std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+  const auto t1 = std::chrono::steady_clock::now();
+  run.seconds = std::chrono::duration<double>(t1 - t0).count();
+  const auto& pairs = run.matrix.pairs;
+  if (o.estimate == 0 ||
+      std::none_of(pairs.begin(), pairs.end(), [](const LinkPairClass& p) { return !p.ignored; }))
+    return run;  // none asked, or no pair checked: nothing a planner reports
+  run.estimate = estimate_self_collision(model, solids, carried_spheres, run.matrix, locked,
+                                         o.estimate, o.seed + 7919, o.threads);
+  run.estimate_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t1).count();
   return run;
 }
 

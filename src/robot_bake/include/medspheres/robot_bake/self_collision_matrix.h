@@ -56,6 +56,7 @@
 #include "medspheres/formats/srdf_disabled_collisions.h"
 #include "medspheres/planner_setup.h"
 #include "medspheres/robot_bake/link_collision_geometry.h"
+#include "medspheres/robot_bake/self_collision_estimate.h"
 #include "medspheres/robot_model.h"
 
 namespace medspheres {
@@ -67,6 +68,9 @@ struct SelfCollisionOptions {
   double margin = 0.01;         ///< metres, >= 0: "never" beyond it
   int threads = 0;              ///< pairs at once, 0 to kMaxThreads (0: all cores)
   bool search = true;           ///< never and sphere_only pairs searched for a contact
+  /// Configurations of the estimate (self_collision_estimate.h; 0: none), drawn with seed +
+  /// 7919; none when the matrix checks no pair. It changes no file.
+  std::size_t estimate = 10000;
 };
 
 /// \throws InputError naming the option (samples, threshold, margin, threads) out of range.
@@ -90,6 +94,10 @@ struct SelfCollisionRun {
   double seconds = 0.0;          ///< wall clock
   SolidQueryCounts solids;       ///< the exact side's work
   std::size_t sphere_tests = 0;  ///< the planner's spheres, pair by pair
+  /// The matrix's false positives and negatives over other configurations
+  /// (SelfCollisionOptions::estimate of them; 0 samples when none was made).
+  SelfCollisionEstimate estimate;
+  double estimate_seconds = 0.0;  ///< wall clock
 };
 
 /// The matrix of \p model's links over the planner's spheres \p carried, with the solids
