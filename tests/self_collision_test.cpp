@@ -496,6 +496,11 @@ TEST_CASE("self-collision estimate: brute force agrees, 1 and 2 threads, shrunk 
     CHECK(got.false_negatives == want_shrunk.false_negatives);
     CHECK(alone_map(got) == alone_map(want_shrunk));
   }
+  // A matrix naming a link the robot lacks is refused by name.
+  SelfCollisionMatrix ghost = m;
+  ghost.pairs[0].link2 = "ghost";
+  CHECK_THROWS_WITH(estimate_self_collision(r.model, solids, carried, ghost, locked, 10, 1, 1),
+                    Contains("\"ghost\", no link of the robot"));
   // None asked: none computed.
   request.self_collision.estimate = 0;
   SelfCollisionRun none;

@@ -238,9 +238,9 @@ void register_robot_bake(py::module_& m) {
           },
           "The files' self-collision checks against the meshes over other random "
           "configurations (the robot command's \"self-collision estimate\" line; None without "
-          "the matrix, when it checks no pair, or with self_collision_estimate=0): samples, seed, "
-          "false_positives "
-          "(a checked pair's spheres touch, no two links' meshes do), false_negatives (a "
+          "the matrix, when it checks no pair, or with self_collision_estimate=0): samples, "
+          "seed, false_positives (a checked pair's spheres touch, no two links' meshes do), "
+          "false_negatives (a "
           "checked pair's meshes touch, no checked pair's spheres do), alone [(link1, link2, "
           "configurations)] (the pairs whose spheres alone make false positives, most first).")
       .def(

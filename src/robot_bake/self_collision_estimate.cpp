@@ -2,8 +2,10 @@
 #include "medspheres/robot_bake/self_collision_estimate.h"
 
 #include <algorithm>
+#include <cstdint>
 
 #include "locked_samples.h"
+#include "medspheres/error.h"
 #include "medspheres/forward_kinematics.h"
 #include "medspheres/threads.h"
 
@@ -27,6 +29,11 @@ JudgedPairs judged_pairs(const RobotModel& model, const LinkSolids& solids,
   JudgedPairs out;
   for (std::size_t k = 0; k < matrix.pairs.size(); ++k) {
     const LinkPairClass& p = matrix.pairs[k];
+    for (const std::string* name : {&p.link1, &p.link2})
+      if (!index.count(*name))
+        throw InputError::option(ErrorKind::kOutOfRange, "self_collision", *name,
+                                 "the matrix's pair (\"" + p.link1 + "\", \"" + p.link2 +
+                                     "\") names \"" + *name + "\", no link of the robot");
     const Pair link{index.at(p.link1), index.at(p.link2)};
     out.links.push_back(link);
     if (!p.ignored) out.checked.push_back(k);

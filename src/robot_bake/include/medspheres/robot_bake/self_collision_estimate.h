@@ -41,7 +41,8 @@ struct SelfCollisionEstimate {
 
 /// The estimate of \p matrix (computed for \p model, whose solids are \p solids and whose
 /// planner files carry \p carried), the joints \p locked held at their positions.
-/// \throws InputError naming a locked joint that is no actuated joint of the robot.
+/// \throws InputError naming a locked joint that is no actuated joint of the robot, or a
+///   link of the matrix or of \p carried that the robot lacks.
 SelfCollisionEstimate estimate_self_collision(const RobotModel& model, const LinkSolids& solids,
                                               const formats::RobotSpheres& carried,
                                               const SelfCollisionMatrix& matrix,
