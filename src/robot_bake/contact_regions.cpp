@@ -192,9 +192,7 @@ RobotBakeResult rebake_contact_aware(const UrdfRobot& robot, const std::vector<L
                                      formats::SphereChoice choice, const PlannerRequest& planner,
                                      const ContactOptions& contact) {
   validate(contact);
-  PlannerRequest first_request = planner;
-  first_request.self_collision.estimate = 0;  // the first bake's files are not written
-  const PlannerSetup setup = make_planner_setup(first.model, solids, choice, first_request);
+  const PlannerSetup setup = make_planner_setup(first.model, solids, choice, planner);
   if (!setup.self_collision) return first;
   std::map<std::string, double> locked;
   for (const std::string& j : setup.locked_joints) locked[j] = setup.default_positions.at(j);

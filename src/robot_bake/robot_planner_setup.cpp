@@ -2,6 +2,7 @@
 #include "medspheres/robot_bake/robot_planner_setup.h"
 
 #include <algorithm>
+#include <chrono>
 
 #include "medspheres/error.h"
 #include "medspheres/formats/srdf_disabled_collisions.h"
@@ -110,6 +111,22 @@ void check_planner_request(const RobotModel& model, const PlannerRequest& r) {
     check_disabled_pairs(model, formats::parse_srdf_disabled_collisions(srdf_text, r.srdf));
 }
 
+// The run's estimate (SelfCollisionOptions::estimate configurations), unless none is asked
+// for or the matrix checks no pair (nothing a planner reports).
+void add_estimate(const RobotModel& model, const LinkSolids& solids,
+                  const formats::RobotSpheres& spheres, const std::map<std::string, double>& locked,
+                  const SelfCollisionOptions& o, SelfCollisionRun& run) {
+  const auto& pairs = run.matrix.pairs;
+  if (o.estimate == 0 ||
+      std::none_of(pairs.begin(), pairs.end(), [](const LinkPairClass& p) { return !p.ignored; }))
+    return;
+  const auto t0 = std::chrono::steady_clock::now();
+  run.estimate = estimate_self_collision(model, solids, spheres, run.matrix, locked, o.estimate,
+                                         o.seed + 7919, o.threads);
+  run.estimate_seconds =
+      std::chrono::duration<double>(std::chrono::steady_clock::now() - t0).count();
+}
+
 PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkSolid>& solids,
                                 formats::SphereChoice carried, const PlannerRequest& r,
                                 SelfCollisionRun* run_out) {
@@ -138,13 +155,16 @@ PlannerSetup make_planner_setup(const RobotModel& model, const std::vector<LinkS
   const std::vector<formats::DisabledCollision> given =
       srdf_text.empty() ? std::vector<formats::DisabledCollision>{}
                         : formats::parse_srdf_disabled_collisions(srdf_text, r.srdf);
-  SelfCollisionRun run = compute_self_collision(model, LinkSolids(model, solids), spheres, locked,
-                                                given, r.self_collision);
+  const LinkSolids link_solids(model, solids);
+  SelfCollisionRun run =
+      compute_self_collision(model, link_solids, spheres, locked, given, r.self_collision);
   if (!r.srdf.empty()) run.matrix.srdf = r.srdf;
   s.default_positions = run.default_positions;
   s.default_from = run.default_from;
   s.self_collision = run.matrix;
-  if (run_out) *run_out = std::move(run);
+  if (!run_out) return s;
+  add_estimate(model, link_solids, spheres, locked, r.self_collision, run);
+  *run_out = std::move(run);
   return s;
 }
 

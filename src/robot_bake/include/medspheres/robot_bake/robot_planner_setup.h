@@ -41,7 +41,9 @@ std::string planner_request_text(const PlannerRequest& request);
 void check_planner_request(const RobotModel& model, const PlannerRequest& request);
 
 /// The setup of \p model (baked, with its spheres) whose solids are \p solids, for the planner
-/// files' set \p carried.
+/// files' set \p carried. With \p run, the matrix's run, and its estimate
+/// (self_collision_estimate.h) unless request.self_collision.estimate is 0 or no pair is
+/// checked.
 /// \throws InputError naming the option: a tool frame that is no link of the robot, a free
 ///   joint that is no actuated joint of it or that the rules do not lock, an SRDF that
 ///   cannot be read or names unknown links, options out of range.

@@ -69,7 +69,8 @@ struct SelfCollisionOptions {
   int threads = 0;              ///< pairs at once, 0 to kMaxThreads (0: all cores)
   bool search = true;           ///< never and sphere_only pairs searched for a contact
   /// Configurations of the estimate (self_collision_estimate.h; 0: none), drawn with seed +
-  /// 7919; none when the matrix checks no pair. It changes no file.
+  /// 7919: made by make_planner_setup for a caller that asks for the run, unless the matrix
+  /// checks no pair. It changes no file.
   std::size_t estimate = 10000;
 };
 
@@ -95,7 +96,8 @@ struct SelfCollisionRun {
   SolidQueryCounts solids;       ///< the exact side's work
   std::size_t sphere_tests = 0;  ///< the planner's spheres, pair by pair
   /// The matrix's false positives and negatives over other configurations
-  /// (SelfCollisionOptions::estimate of them; 0 samples when none was made).
+  /// (SelfCollisionOptions::estimate of them; 0 samples when none was made: compute_self_collision
+  /// leaves it so, make_planner_setup fills it).
   SelfCollisionEstimate estimate;
   double estimate_seconds = 0.0;  ///< wall clock
 };
