@@ -22,6 +22,10 @@ namespace medspheres::detail {
 namespace {
 
 constexpr double kElementCap = 40000.0;
+// Up to this budget the element size is coarsened by kCoarsen at a time until the elements
+// fit the cap; above it, the finest size that fits is found exactly (element_size).
+constexpr std::size_t kExactSizeAbove = 64;
+constexpr double kCoarsen = 1.5;
 constexpr double kPatchesPerBall = 60.0;
 
 // reach_from(atoms, c) of the atoms that atoms_into lists for \p members, without the list:
@@ -195,6 +199,57 @@ Elements group_patches(const Elements& e, double cell, const Eigen::Vector3d& or
   return p;
 }
 
+// The depth of midpoint subdivision that brings a triangle of longest edge \p length to
+// \p size (at most kMaxElementDepth).
+int element_depth(double length, double size) {
+  int d = 0;
+  while (d < kMaxElementDepth && length > size * (1 << d)) ++d;
+  return d;
+}
+
+// The elements that triangles of longest edges \p edge make at \p size.
+double element_count(const std::vector<double>& edge, double size) {
+  double count = 0.0;
+  for (double l : edge) count += std::pow(4.0, element_depth(l, size));
+  return count;
+}
+
+// The element size for budget K: L / (2 + 3 sqrt K) when its elements fit \p cap, else
+// coarser. Up to kExactSizeAbove by kCoarsen at a time: hundreds of elements a ball, whose
+// grain matters little, and a finer size there moves the covers only within their local
+// optima's noise (steps of 1.05 took the G1's false self-collisions at 32 spheres a link
+// from 1788 to 1842 configurations of 10^4). Above it the cap binds at large K and leaves few
+// elements a ball (cap / K), so their grain sets the balls' protrusion, and steps of 1.5 from
+// different starts land on different sizes: on the G1's right hip roll link K = 4096 got coarser
+// elements than K = 1024, and a cover that stuck out 5.9 mm against 4.7 (docs/covers.md). There the
+// least size >= the start whose elements fit is found: the count is a step function of the
+// size, falling at the sizes l / 2^d (a triangle's longest edge l halved d times), so that
+// size is the start or the least such breakpoint above it that fits (binary search; the
+// count never rises with the size). It never grows with K.
+double element_size(const std::vector<double>& edge, std::size_t budget, double L, double cap) {
+  double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
+  if (element_count(edge, h) <= cap) return h;
+  if (budget <= kExactSizeAbove) {
+    while (element_count(edge, h) > cap) h *= kCoarsen;
+    return h;
+  }
+  std::vector<double> sizes;
+  for (double l : edge)
+    for (int d = 0; d <= kMaxElementDepth; ++d)
+      if (l / (1 << d) > h) sizes.push_back(l / (1 << d));
+  std::sort(sizes.begin(), sizes.end());
+  // Every triangle at depth 0 fits (cap >= the triangles), so the largest breakpoint does.
+  std::size_t lo = 0, hi = sizes.size() - 1;
+  while (lo < hi) {
+    const std::size_t mid = lo + (hi - lo) / 2;
+    if (element_count(edge, sizes[mid]) <= cap)
+      hi = mid;
+    else
+      lo = mid + 1;
+  }
+  return sizes[lo];
+}
+
 }  // namespace
 
 Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_resolution,
@@ -202,27 +257,16 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_
   const TriangleMesh& mesh = query.mesh();
   const Eigen::AlignedBox3d box = mesh.bounds();
   const double L = box.sizes().maxCoeff();
-  // Element size: about L / (2 + 3 sqrt K), coarsened (by 1.5 at a time) until there are
-  // at most max(2 triangles, kElementCap) elements: beyond that, finer elements cost time
-  // and gain little.
+  // Element size: about L / (2 + 3 sqrt K), coarsened (element_size) until there are at
+  // most max(2 triangles, kElementCap) elements: beyond that, finer elements cost time and
+  // gain little.
   std::vector<double> edge(mesh.num_triangles());
   for (std::size_t t = 0; t < edge.size(); ++t) {
     const Eigen::Vector3d &a = mesh.corner(t, 0), &b = mesh.corner(t, 1), &c = mesh.corner(t, 2);
     edge[t] = std::max({(a - b).norm(), (b - c).norm(), (c - a).norm()});
   }
-  auto depth = [](double length, double size) {
-    int d = 0;
-    while (d < kMaxElementDepth && length > size * (1 << d)) ++d;
-    return d;
-  };
-  double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
   const double cap = std::max(2.0 * static_cast<double>(mesh.num_triangles()), kElementCap);
-  for (;;) {
-    double count = 0.0;
-    for (double l : edge) count += std::pow(4.0, depth(l, h));
-    if (count <= cap) break;
-    h *= 1.5;
-  }
+  const double h = element_size(edge, budget, L, cap);
   // Still more than twice kElementCap (a mesh of that many triangles smaller than the
   // size, such as quartet/dragon.obj's 100k): the triangles left whole go in pairs, about
   // halving what every step scans, and still more elements than the other meshes have.
@@ -231,7 +275,7 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_
   std::vector<char> whole(edge.size());
   double count = 0.0;
   for (std::size_t t = 0; t < edge.size(); ++t)
-    whole[t] = depth(edge[t], h) == 0, count += std::pow(4.0, depth(edge[t], h));
+    whole[t] = element_depth(edge[t], h) == 0, count += std::pow(4.0, element_depth(edge[t], h));
   Elements e;
   e.element_size = h;
   e.paired = count > 2.0 * kElementCap;
@@ -246,7 +290,8 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_
     else if (whole[t])
       push_element(e, v[0], v[1], v[2]);
     else
-      subdivide(e, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2), depth(edge[t], h));
+      subdivide(e, mesh.corner(t, 0), mesh.corner(t, 1), mesh.corner(t, 2),
+                element_depth(edge[t], h));
   }
   e.surface = e.items.size();
   if (interior_resolution <= 0) return e;

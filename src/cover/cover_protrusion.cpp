@@ -20,8 +20,9 @@
 //   start picks fewer when its candidates are too coarse for the solid, as on thin links:
 //   the G1's right hip roll link kept 29 to 45 balls at K = 32 to 256, and its largest
 //   protrusion at K = 256 was above that at K = 64), the balls that protrude most are split,
-//   as many at once as are missing, then minimax rounds. Above kMoveBudget the balls still
-//   missing are then spent by splits in place: each part's ball starts where its parent
+//   as many at once as are missing, then minimax rounds (above kMoveBudget with enough
+//   tries to double the balls up to any budget, fill_tries). Above kMoveBudget the balls
+//   still missing are then spent by splits in place: each part's ball starts where its parent
 //   was, so it protrudes no more, and only deepen moves it. Minimax rounds may raise the
 //   largest protrusion a little and be refused, and one ball pinned by the surface keeps
 //   P where it is whatever the budget, so without them a large budget went mostly unspent
@@ -68,7 +69,7 @@ constexpr std::size_t kMoveBudget = 64;
 constexpr int kMoves = 6, kMovesAbove16 = 3;  // moves at most, up to K = 16 and above
 constexpr std::size_t kSpreadBudget = 16;     // the spread start runs up to this budget
 constexpr int kMoveRounds = 2;
-constexpr int kFillRounds = 6;  // the fill's tries at most
+constexpr int kFillRounds = 6;  // the fill's tries at most, up to kMoveBudget
 // The splits in place's tries at most: an accepted one doubles the balls at most, so 32
 // reach any budget and leave room for tries of half as many.
 constexpr int kSplitInPlaceRounds = 32;
@@ -451,13 +452,27 @@ Clustering spread_start(const MeshQuery& query, const Elements& e, const Element
   return c;
 }
 
+// The fill's tries above kMoveBudget: kFillRounds, and one more for each doubling that
+// the budget takes from one ball (ceil(log2 K)). An accepted try at most doubles the balls;
+// the threshold start leaves a thin link with few (the G1's right hip roll link: 38 at
+// K = 4096), so six tries spent 1072 balls there, the splits in place the rest, and those
+// never lower the ball that sticks out most: P 5.9 mm at K = 4096 against 4.7 at 1024.
+int fill_tries(std::size_t budget) {
+  int doublings = 0;
+  while ((std::size_t{1} << doublings) < budget) ++doublings;
+  return kFillRounds + doublings;
+}
+
 // Rounds of splits while c has fewer balls than \p budget (at most \p tries): in a copy of c,
 // \p split_one (split or split_in_place) splits the balls that protrude most, as many as are
 // missing, each ball then holds its elements and \p improve runs; the copy is kept while the
 // largest protrusion \p p (updated) does not rise, else the next try splits half as many.
+// With \p stop_stalled, the rounds also stop at a kept copy that neither lowers p nor holds
+// more balls.
 template <class Improve>
 Clustering split_rounds(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
-                        int tries, double& p, int threads, const BallWeights& weights,
+                        int tries, bool stop_stalled, double& p, int threads,
+                        const BallWeights& weights,
                         bool (*split_one)(const Elements&, Clustering&, std::size_t),
                         Improve&& improve) {
   auto missing = [&] { return budget > c.balls.size() ? budget - c.balls.size() : 0; };
@@ -486,9 +501,11 @@ Clustering split_rounds(const MeshQuery& query, const Elements& e, Clustering c,
     const double v = largest_weighted_protrusion(query, d.balls, weights, threads);
     if (v <= p) {
       drop_empty(d);
+      const bool stalled = v >= p && d.balls.size() <= c.balls.size();
       c = std::move(d), p = v;
       order.clear();
       batch = missing();
+      if (stop_stalled && stalled) break;
     } else {
       batch /= 2;
     }
@@ -499,17 +516,19 @@ Clustering split_rounds(const MeshQuery& query, const Elements& e, Clustering c,
 // The fill (file comment): the balls that protrude most, as many as are missing, are split at
 // once, then minimax rounds (at most \p rounds: a split part's fitted ball sits near the
 // surface, and two rounds do not take it deep enough); at most kFillRounds tries of
-// split_rounds. Above kMoveBudget, balls still missing are then spent by splits in place.
+// split_rounds up to kMoveBudget. Above it, fill_tries, stopping at a stall; then the balls
+// still missing are spent by splits in place.
 Clustering fill(const MeshQuery& query, const Elements& e, Clustering c, std::size_t budget,
                 int rounds, double& p, int threads, int& run, const BallWeights& weights,
                 int balance) {
-  c = split_rounds(query, e, std::move(c), budget, kFillRounds, p, threads, weights, split,
-                   [&](Clustering& d) {
+  const bool large = budget > kMoveBudget;
+  c = split_rounds(query, e, std::move(c), budget, large ? fill_tries(budget) : kFillRounds, large,
+                   p, threads, weights, split, [&](Clustering& d) {
                      d = minimax(query, e, std::move(d), rounds, threads, run, weights, balance);
                    });
-  if (budget <= kMoveBudget) return c;
-  return split_rounds(query, e, std::move(c), budget, kSplitInPlaceRounds, p, threads, weights,
-                      split_in_place,
+  if (!large) return c;
+  return split_rounds(query, e, std::move(c), budget, kSplitInPlaceRounds, false, p, threads,
+                      weights, split_in_place,
                       [&](Clustering& d) { deepen(query, e, d, threads, 0.25, weights); });
 }
 

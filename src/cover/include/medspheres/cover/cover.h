@@ -7,7 +7,8 @@
 /// Method (derivation and choices in cover.cpp and the files it names):
 /// 1. Elements. Every triangle is split by midpoint subdivision into elements no longer
 ///    than about L / (2 + 3 sqrt K) (at most 4^5 per triangle; coarser when that would make
-///    more than max(2 triangles, 40000) elements); each element is the three corners of a
+///    more than max(2 triangles, 40000) elements: above K = 64 the finest size that fits,
+///    which never grows with K); each element is the three corners of a
 ///    piece the certificate also tests. Points of a grid inside the solid (winding number >
 ///    1/2, interior_resolution cells along L) are added as one-point elements, so that the
 ///    balls also fill the interior and centres sit inside; their coverage is not certified.
@@ -21,8 +22,9 @@
 ///    (pattern search) to where its ball sticks out least. While fewer than K balls are left
 ///    (the candidates too coarse for a thin solid), the fill: the balls that protrude most,
 ///    as many as are missing, are split at once, then minimax rounds, kept while P does not
-///    rise (else half as many splits; at most 6 tries); above K = 64, the balls still
-///    missing are then split in place (each part's ball started at its parent's centre and
+///    rise (else half as many splits; at most 6 tries; above K = 64, 6 + ceil(log2 K),
+///    stopping at a kept try that neither lowers P nor adds a ball); above K = 64, the balls
+///    still missing are then split in place (each part's ball started at its parent's centre and
 ///    moved only to stick out less, so P never rises). For K <= 64, split and exchange
 ///    moves follow: the ball that protrudes most is split in two (filling the budget, or in
 ///    exchange for the ball whose elements the others take at the least protrusion), then
