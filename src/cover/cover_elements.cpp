@@ -230,7 +230,8 @@ double element_size(const std::vector<double>& edge, std::size_t budget, double 
   double h = L / (2.0 + 3.0 * std::sqrt(static_cast<double>(budget)));
   if (element_count(edge, h) <= cap) return h;
   if (budget <= kExactSizeAbove) {
-    while (element_count(edge, h) > cap) h *= kCoarsen;
+    do h *= kCoarsen;
+    while (element_count(edge, h) > cap);
     return h;
   }
   std::vector<double> sizes;
@@ -273,12 +274,10 @@ Elements make_elements(const MeshQuery& query, std::size_t budget, int interior_
   // (Meshes between one and two caps, such as the G1's torso at 51k triangles, keep their
   // triangles: pairs there gave a cover 5% and 12% worse on protrusion and excess.)
   std::vector<char> whole(edge.size());
-  double count = 0.0;
-  for (std::size_t t = 0; t < edge.size(); ++t)
-    whole[t] = element_depth(edge[t], h) == 0, count += std::pow(4.0, element_depth(edge[t], h));
+  for (std::size_t t = 0; t < edge.size(); ++t) whole[t] = element_depth(edge[t], h) == 0;
   Elements e;
   e.element_size = h;
-  e.paired = count > 2.0 * kElementCap;
+  e.paired = element_count(edge, h) > 2.0 * kElementCap;
   e.points = mesh.vertices;
   const std::vector<int> partner =
       e.paired ? pair_triangles(mesh, whole) : std::vector<int>(edge.size(), -1);
