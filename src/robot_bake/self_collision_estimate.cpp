@@ -22,19 +22,17 @@ struct JudgedPairs {
   std::vector<Pair> links;                   // per matrix pair
 };
 
-JudgedPairs judged_pairs(const RobotModel& model, const LinkSolids& solids,
-                         const SelfCollisionMatrix& matrix) {
-  std::map<std::string, std::size_t> index;
-  for (std::size_t i = 0; i < model.links.size(); ++i) index[model.links[i].name] = i;
+JudgedPairs judged_pairs(const RobotModel& model, const KinematicTree& tree,
+                         const LinkSolids& solids, const SelfCollisionMatrix& matrix) {
   JudgedPairs out;
   for (std::size_t k = 0; k < matrix.pairs.size(); ++k) {
     const LinkPairClass& p = matrix.pairs[k];
     for (const std::string* name : {&p.link1, &p.link2})
-      if (!index.count(*name))
+      if (!model.find_link(*name))
         throw InputError::option(ErrorKind::kOutOfRange, "self_collision", *name,
                                  "the matrix's pair (\"" + p.link1 + "\", \"" + p.link2 +
                                      "\") names \"" + *name + "\", no link of the robot");
-    const Pair link{index.at(p.link1), index.at(p.link2)};
+    const Pair link{tree.link_index(p.link1), tree.link_index(p.link2)};
     out.links.push_back(link);
     if (!p.ignored) out.checked.push_back(k);
     if (p.kind != PairClass::kAdjacent && p.kind != PairClass::kAlways && solids.has(link.first) &&
@@ -79,7 +77,7 @@ SelfCollisionEstimate estimate_self_collision(const RobotModel& model, const Lin
                                               std::size_t samples, unsigned seed, int threads) {
   const KinematicTree tree(model);
   const PlannerSpheres spheres(model, carried, matrix.buffer);
-  const JudgedPairs pairs = judged_pairs(model, solids, matrix);
+  const JudgedPairs pairs = judged_pairs(model, tree, solids, matrix);
   const std::vector<Eigen::VectorXd> qs =
       detail::locked_samples(model, tree, locked, samples, seed);
   std::vector<Verdict> verdicts(qs.size());
