@@ -13,6 +13,7 @@
 #include "medspheres/mesh/mesh_generators.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/sha256.h"
+#include "support/coarse_arm.h"
 #include "support/file_tree.h"
 #include "support/mesh_writers.h"
 #include "support/sanitizer_build.h"
@@ -86,6 +87,27 @@ RobotBatchOptions small_options(const std::string& out) {
   return o;
 }
 
+// \p row's planner summary against the single bake \p b of its URDF, and its checked pairs
+// against the SRDF the row wrote: every pair of the robot's \p n links with spheres that the
+// SRDF does not disable.
+void check_planner_summary(const BatchRow& row, const RobotFileResult& b, std::size_t n) {
+  REQUIRE(row.planner);
+  REQUIRE(b.bake.model.planner);
+  CHECK(row.planner->default_from == b.bake.model.planner->default_from);
+  CHECK(row.planner->estimate_samples == b.planner.estimate.samples);
+  CHECK(row.planner->false_positives == b.planner.estimate.false_positives);
+  CHECK(row.planner->false_negatives == b.planner.estimate.false_negatives);
+  std::string srdf;
+  for (const auto& [name, text] : file_tree(row.output))
+    if (name.size() > 5 && name.compare(name.size() - 5, 5, ".srdf") == 0) srdf = text;
+  REQUIRE_FALSE(srdf.empty());
+  std::size_t disabled = 0;
+  for (auto at = srdf.find("<disable_collisions"); at != std::string::npos;
+       at = srdf.find("<disable_collisions", at + 1))
+    ++disabled;
+  CHECK(row.planner->checked_pairs == n * (n - 1) / 2 - disabled);
+}
+
 const std::set<std::string> kGood = {"arm/arm.urdf", "gripper.urdf", "sub/pole.urdf",
                                      "sub/ring.urdf"};
 
@@ -131,6 +153,8 @@ TEST_CASE("bake_robot_batch: each folder as a single robot bake, a broken URDF i
     CHECK(row.links == b.bake.links.size());
     CHECK(row.spheres == b.spheres);
     CHECK(row.spheres > 0);
+    check_planner_summary(row, b, row.links);  // every link of these robots has spheres
+    CHECK(row.planner->default_from == "zero");
     // No times in the files: they are a pure function of the inputs.
     for (const auto& [name, text] : file_tree(row.output))
       CHECK(text.find("seconds") == std::string::npos);
@@ -139,8 +163,12 @@ TEST_CASE("bake_robot_batch: each folder as a single robot bake, a broken URDF i
   CHECK(report["rows"][0].contains("links"));
   CHECK_FALSE(report["rows"][0].contains("nerr"));
   CHECK(report["totals"]["failed"] == 1);
+  for (const auto& row : report["rows"])
+    CHECK(row["checked_pairs"].is_null() == (row["outcome"] == "failed"));
   const std::string csv = batch_report_csv(r);
-  CHECK(csv.rfind("input,relative,output,outcome,links,spheres,seconds,error\r\n", 0) == 0);
+  CHECK(csv.rfind("input,relative,output,outcome,links,spheres,default_from,checked_pairs,"
+                  "estimate_samples,false_positives,false_negatives,seconds,error\r\n",
+                  0) == 0);
 }
 
 TEST_CASE(
@@ -181,6 +209,14 @@ TEST_CASE(
   for (std::size_t i = 0; i < hit.rows.size(); ++i) {
     CHECK(hit.rows[i].links == all.rows[i].links);
     CHECK(hit.rows[i].spheres == all.rows[i].spheres);
+    // The planner summary travels with the cache entry.
+    REQUIRE(hit.rows[i].planner.has_value() == all.rows[i].planner.has_value());
+    if (!hit.rows[i].planner) continue;
+    CHECK(hit.rows[i].planner->default_from == all.rows[i].planner->default_from);
+    CHECK(hit.rows[i].planner->checked_pairs == all.rows[i].planner->checked_pairs);
+    CHECK(hit.rows[i].planner->estimate_samples == all.rows[i].planner->estimate_samples);
+    CHECK(hit.rows[i].planner->false_positives == all.rows[i].planner->false_positives);
+    CHECK(hit.rows[i].planner->false_negatives == all.rows[i].planner->false_negatives);
   }
 
   // A run killed after shard 0 of 2, resumed: what it finished is copied, the rest baked.
@@ -306,4 +342,42 @@ TEST_CASE("robot batch: an output folder that would hold another's is refused be
                        small_options(dir.file("out"))),
       Catch::Contains("arm.urdf") && Catch::Contains("arm/hand") && Catch::Contains("hold"));
   CHECK_FALSE(fs::exists(dir.file("out")));
+}
+
+TEST_CASE("robot batch: a row reports the planner files' summary, baked or from the cache",
+          "[batch][robot]") {
+  TempDir dir;
+  test::write_coarse_arm(dir.path() / "lib/arm");
+  const std::vector<BatchInput> inputs = collect_inputs({dir.file("lib")}, {{"urdf"}, ""});
+  REQUIRE(inputs.size() == 1);
+  RobotBatchOptions o = small_options(dir.file("out"));
+  o.robot.planner.self_collision.estimate = 2000;
+  o.cache_dir = dir.file("cache");
+  const BatchResult baked = bake_robot_batch(inputs, o);
+  REQUIRE(baked.count(BatchOutcome::kBaked) == 1);
+  const BatchRow& row = baked.rows.front();
+  const RobotFileResult alone = bake_robot_file(inputs.front().path, dir.file("alone"), o.robot);
+  check_planner_summary(row, alone, test::coarse_arm_links().size());
+  // The arm's links two and more joints apart come close: pairs are checked, and the
+  // estimate ran over the option's configurations.
+  CHECK(row.planner->checked_pairs > 0);
+  CHECK(row.planner->estimate_samples == 2000);
+  CHECK(row.planner->false_positives <= 2000);
+  o.output_dir = dir.file("again");
+  const BatchResult cached = bake_robot_batch(inputs, o);
+  REQUIRE(cached.count(BatchOutcome::kCached) == 1);
+  const BatchRow& copy = cached.rows.front();
+  check_planner_summary(copy, alone, test::coarse_arm_links().size());
+  // The report's columns: the CSV row's fields after links and spheres.
+  const std::string csv = batch_report_csv(cached);
+  const std::string line = csv.substr(csv.find("\r\n") + 2);
+  const std::string fields = "," + std::to_string(copy.links) + "," + std::to_string(copy.spheres) +
+                             "," + copy.planner->default_from + "," +
+                             std::to_string(copy.planner->checked_pairs) + ",2000," +
+                             std::to_string(copy.planner->false_positives) + "," +
+                             std::to_string(copy.planner->false_negatives) + ",";
+  CHECK(line.find(fields) != std::string::npos);
+  const nlohmann::json report = nlohmann::json::parse(batch_report_json(cached));
+  CHECK(report["rows"][0]["checked_pairs"] == copy.planner->checked_pairs);
+  CHECK(report["rows"][0]["false_positives"] == copy.planner->false_positives);
 }

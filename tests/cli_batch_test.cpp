@@ -175,9 +175,14 @@ TEST_CASE(
   CHECK(fs::exists(dir.file("out/pole/pole.robot.json")));
   CHECK_FALSE(fs::exists(dir.file("out/broken")));
   const std::string csv = read_file(dir.file("r.csv"));
-  CHECK_THAT(csv, Contains("input,relative,output,outcome,links,spheres,seconds,error") &&
+  CHECK_THAT(csv, Contains("input,relative,output,outcome,links,spheres,default_from,"
+                           "checked_pairs,estimate_samples,false_positives,false_negatives,"
+                           "seconds,error") &&
                       Contains("arm/arm.urdf,") && Contains(",baked,2,") &&
-                      Contains("broken.urdf,") && Contains(",failed,0,0,"));
+                      Contains("broken.urdf,") && Contains(",failed,0,0,,,,,,"));
+  // The pole (one link) has no pair to check: its planner fields say so, no estimate made.
+  CHECK_THAT(csv, Contains(",baked,1,") && Contains(",zero,0,0,0,0,"));
+  CHECK_THAT(first.err, Contains("default zero, 0 pairs checked"));
   const auto baked = outputs(dir.file("out"));
   fs::remove_all(dir.file("out"));
   const CommandResult second = run_cli(cmd, 600);

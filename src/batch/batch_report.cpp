@@ -1,5 +1,6 @@
 // The report of a batch bake: one row per input, as JSON or CSV.
 #include <cmath>
+#include <optional>
 #include <string>
 
 #include <nlohmann/json.hpp>
@@ -22,6 +23,26 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
+// The robot columns of the planner summary: empty (null) for a row without one.
+const char* const kPlannerColumns =
+    "default_from,checked_pairs,estimate_samples,false_positives,false_negatives";
+
+std::string planner_csv(const std::optional<BatchPlannerSummary>& s) {
+  if (!s) return ",,,,,";
+  return csv_field(s->default_from) + "," + std::to_string(s->checked_pairs) + "," +
+         std::to_string(s->estimate_samples) + "," + std::to_string(s->false_positives) + "," +
+         std::to_string(s->false_negatives) + ",";
+}
+
+void add_planner_json(const std::optional<BatchPlannerSummary>& s, nlohmann::ordered_json& row) {
+  using Json = nlohmann::ordered_json;
+  row["default_from"] = s ? Json(s->default_from) : Json();
+  row["checked_pairs"] = s ? Json(s->checked_pairs) : Json();
+  row["estimate_samples"] = s ? Json(s->estimate_samples) : Json();
+  row["false_positives"] = s ? Json(s->false_positives) : Json();
+  row["false_negatives"] = s ? Json(s->false_negatives) : Json();
+}
+
 }  // namespace
 
 std::string batch_report_json(const BatchResult& result) {
@@ -35,6 +56,7 @@ std::string batch_report_json(const BatchResult& result) {
                 {"outcome", to_string(r.outcome)}};
     if (robots) row["links"] = r.links;
     row["spheres"] = r.spheres;
+    if (robots) add_planner_json(r.planner, row);
     if (!robots) row["nerr"] = std::isfinite(r.nerr) ? Json(r.nerr) : Json();
     row["seconds"] = r.seconds;
     row["error"] = r.error.empty() ? Json() : Json(r.error);
@@ -50,13 +72,15 @@ std::string batch_report_json(const BatchResult& result) {
 
 std::string batch_report_csv(const BatchResult& result) {
   const bool robots = result.items == BatchItems::kRobots;
-  std::string out = robots ? "input,relative,output,outcome,links,spheres,seconds,error\r\n"
+  std::string out = robots ? std::string("input,relative,output,outcome,links,spheres,") +
+                                 kPlannerColumns + ",seconds,error\r\n"
                            : "input,relative,output,outcome,spheres,nerr,seconds,error\r\n";
   for (const BatchRow& r : result.rows) {
     out += csv_field(r.input.path) + "," + csv_field(r.input.relative) + "," + csv_field(r.output) +
            "," + to_string(r.outcome) + ",";
     if (robots) out += std::to_string(r.links) + ",";
     out += std::to_string(r.spheres) + ",";
+    if (robots) out += planner_csv(r.planner);
     if (!robots) out += (std::isfinite(r.nerr) ? exact_number_text(r.nerr) : "") + ",";
     out += exact_number_text(r.seconds) + "," + csv_field(r.error) + "\r\n";
   }

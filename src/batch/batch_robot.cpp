@@ -42,6 +42,40 @@ std::size_t planner_spheres(const RobotModel& model, formats::SphereChoice choic
   return n;
 }
 
+// What the row reports of \p r's planner files: none without a planner setup.
+std::optional<BatchPlannerSummary> planner_summary(const RobotFileResult& r) {
+  if (!r.bake.model.planner) return std::nullopt;
+  const PlannerSetup& setup = *r.bake.model.planner;
+  BatchPlannerSummary s;
+  s.default_from = setup.default_from;
+  if (setup.self_collision)
+    for (const LinkPairClass& p : setup.self_collision->pairs) s.checked_pairs += !p.ignored;
+  s.estimate_samples = r.planner.estimate.samples;
+  s.false_positives = r.planner.estimate.false_positives;
+  s.false_negatives = r.planner.estimate.false_negatives;
+  return s;
+}
+
+nlohmann::json summary_json(const std::optional<BatchPlannerSummary>& s) {
+  if (!s) return nullptr;
+  return {{"default_from", s->default_from},
+          {"checked_pairs", s->checked_pairs},
+          {"estimate_samples", s->estimate_samples},
+          {"false_positives", s->false_positives},
+          {"false_negatives", s->false_negatives}};
+}
+
+std::optional<BatchPlannerSummary> summary_of(const nlohmann::json& j) {
+  if (j.is_null()) return std::nullopt;
+  BatchPlannerSummary s;
+  s.default_from = j.at("default_from").get<std::string>();
+  s.checked_pairs = j.at("checked_pairs").get<std::size_t>();
+  s.estimate_samples = j.at("estimate_samples").get<std::size_t>();
+  s.false_positives = j.at("false_positives").get<std::size_t>();
+  s.false_negatives = j.at("false_negatives").get<std::size_t>();
+  return s;
+}
+
 // A robot read and baked into \p out; its files are kept in \p files.
 RobotFileResult bake_read_robot(const UrdfRobot& robot, const std::string& out, const RobotJob& job,
                                 std::map<std::string, std::string>& files) {
@@ -145,10 +179,12 @@ bool copy_entry(const std::string& bytes, const std::map<std::string, std::strin
                 const std::string& out, BatchRow& row) {
   std::map<std::string, std::string> files;
   std::size_t links = 0, spheres = 0;
+  std::optional<BatchPlannerSummary> planner;
   try {
     const nlohmann::json entry = nlohmann::json::from_msgpack(bytes);
     links = entry.at("links").get<std::size_t>();
     spheres = entry.at("spheres").get<std::size_t>();
+    planner = summary_of(entry.at("planner"));
     for (const auto& [name, data] : entry.at("files").items()) {
       const std::vector<std::uint8_t>& b = data.get_binary();
       files[name] = std::string(b.begin(), b.end());
@@ -162,11 +198,13 @@ bool copy_entry(const std::string& bytes, const std::map<std::string, std::strin
   formats::write_output_folder(out, files);
   row.links = links;
   row.spheres = spheres;
+  row.planner = std::move(planner);
   return true;
 }
 
 std::string entry_bytes(const std::map<std::string, std::string>& files, const BatchRow& row) {
-  nlohmann::json entry = {{"links", row.links}, {"spheres", row.spheres}};
+  nlohmann::json entry = {
+      {"links", row.links}, {"spheres", row.spheres}, {"planner", summary_json(row.planner)}};
   nlohmann::json all = nlohmann::json::object();
   for (const auto& [name, text] : files)
     all[name] = nlohmann::json::binary(std::vector<std::uint8_t>(text.begin(), text.end()));
@@ -195,6 +233,7 @@ void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row
   const RobotFileResult r = bake_read_robot(robot, row.output, job, files);
   row.links = r.bake.links.size();
   row.spheres = r.spheres;
+  row.planner = planner_summary(r);
   if (cache)
     cache->store_bytes(key, kEntrySuffix,
                        entry_bytes(renamed(files, cache_names(robot, row.input.relative)), row));

@@ -56,12 +56,25 @@ std::string clock_text(double seconds) {
   return text;
 }
 
+// A robot's planner summary for its row ("" without one): the default configuration's
+// origin, the checked pairs and the estimate's false self-collisions.
+std::string planner_text(const std::optional<BatchPlannerSummary>& s) {
+  if (!s) return "";
+  std::string t =
+      "default " + s->default_from + ", " + count_text(s->checked_pairs, "pair") + " checked, ";
+  if (s->estimate_samples > 0)
+    t += std::to_string(s->false_positives) + " false and " + std::to_string(s->false_negatives) +
+         " missed self-collisions in " + std::to_string(s->estimate_samples) + " configurations, ";
+  return t;
+}
+
 std::string row_line(const BatchRow& r) {
   if (r.outcome == BatchOutcome::kFailed)
     return "failed " + (r.input_error ? message_of(*r.input_error) : r.input.path + ": " + r.error);
   return std::string(to_string(r.outcome)) + " " + r.input.path + " -> " + r.output + " (" +
          (r.links > 0 ? count_text(r.links, "link") + ", " : std::string()) +
-         count_text(r.spheres, "sphere") + ", " + number_text(r.seconds, 3) + " s)";
+         count_text(r.spheres, "sphere") + ", " + planner_text(r.planner) +
+         number_text(r.seconds, 3) + " s)";
 }
 
 // An input's warnings (the mesh loader's, cuRobo's URDF parser's), one line each.

@@ -38,6 +38,15 @@ const char* to_string(BatchOutcome outcome);
 /// What a batch bakes: meshes (one sphere-set file each) or robots (one folder each).
 enum class BatchItems { kMeshes, kRobots };
 
+/// A robot's planner files, as `medspheres robot` summarises them (robot_planner_setup.h).
+struct BatchPlannerSummary {
+  std::string default_from;          ///< PlannerSetup::default_from
+  std::size_t checked_pairs = 0;     ///< link pairs a planner checks (not ignored)
+  std::size_t estimate_samples = 0;  ///< the estimate's other configurations (0: none made)
+  std::size_t false_positives = 0;   ///< of them (SelfCollisionEstimate)
+  std::size_t false_negatives = 0;   ///< of them (SelfCollisionEstimate)
+};
+
 /// One input's result.
 struct BatchRow {
   BatchInput input;
@@ -50,6 +59,8 @@ struct BatchRow {
   std::string error;                      ///< what() of the failure; empty otherwise
   std::optional<InputError> input_error;  ///< the failure, when it is bad input
   std::vector<std::string> warnings;      ///< a baked mesh's loader's; a robot's for cuRobo
+  /// Robots baked or copied with the self-collision matrix; none otherwise.
+  std::optional<BatchPlannerSummary> planner;
 };
 
 /// Called once per finished input (one call at a time, from any thread): the row, and
