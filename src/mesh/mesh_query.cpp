@@ -93,68 +93,82 @@ class BinaryBuilder {
     int axis;
     cbox.sizes().maxCoeff(&axis);
     const double lo = cbox.min()[axis], width = cbox.sizes()[axis];
-    std::size_t mid = b + (e - b) / 2;
     // A width that overflows (centroids near +-DBL_MAX) cannot be binned: median split.
-    bool use_median = depth >= kSahDepth || !(width > 0.0) || !std::isfinite(width);
-    if (!use_median) {
-      // Bin centroids along the axis and sweep for the cheapest split. kBins * (c - lo)
-      // overflows for c - lo beyond DBL_MAX / kBins: clamp before converting to int.
-      std::size_t count[kBins] = {};
-      Eigen::AlignedBox3d bin_box[kBins];
-      auto bin_of = [&](int id) {
-        const double x = kBins * (centroids_[id][axis] - lo) / width;
-        return x < kBins ? (x > 0.0 ? static_cast<int>(x) : 0) : kBins - 1;
-      };
-      for (std::size_t i = b; i < e; ++i) {
-        const int k = bin_of(ids[i]);
-        ++count[k];
-        bin_box[k].extend(boxes_[ids[i]]);
-      }
-      double right_area[kBins];
-      std::size_t right_count[kBins];
-      Eigen::AlignedBox3d acc;
-      std::size_t n = 0;
-      for (int k = kBins - 1; k > 0; --k) {
-        acc.extend(bin_box[k]);
-        n += count[k];
-        right_area[k] = acc.isEmpty() ? 0.0 : BinaryNode{acc}.area();
-        right_count[k] = n;
-      }
-      double best = std::numeric_limits<double>::infinity();
-      int best_k = -1;
-      acc.setEmpty();
-      n = 0;
-      for (int k = 1; k < kBins; ++k) {  // split between bin k-1 and bin k
-        acc.extend(bin_box[k - 1]);
-        n += count[k - 1];
-        if (n == 0 || right_count[k] == 0) continue;
-        const double cost = BinaryNode{acc}.area() * n + right_area[k] * right_count[k];
-        if (cost < best) {
-          best = cost;
-          best_k = k;
-        }
-      }
-      if (best_k < 0) {
-        use_median = true;
-      } else {
-        auto it = std::partition(ids.begin() + b, ids.begin() + e,
-                                 [&](int id) { return bin_of(id) < best_k; });
-        mid = static_cast<std::size_t>(it - ids.begin());
-      }
-    }
-    if (use_median) {
-      mid = b + (e - b) / 2;
-      std::nth_element(ids.begin() + b, ids.begin() + mid, ids.begin() + e, [&](int x, int y) {
-        if (centroids_[x][axis] != centroids_[y][axis])
-          return centroids_[x][axis] < centroids_[y][axis];
-        return x < y;
-      });
-    }
+    const bool binned = depth < kSahDepth && width > 0.0 && std::isfinite(width);
+    std::size_t mid = binned ? sah_split(ids, b, e, axis, lo, width) : e;
+    if (mid == e) mid = median_split(ids, b, e, axis);
     const int l = recurse(ids, b, mid, depth + 1);
     const int r = recurse(ids, mid, e, depth + 1);
     nodes_[index].left = l;
     nodes_[index].right = r;
     return index;
+  }
+
+  // Bins the centroids of ids[b, e) along the axis (lo and width: their extent there) and
+  // partitions them at the split of least surface-area cost; returns where the second part
+  // starts, or e when no split leaves both parts non-empty.
+  std::size_t sah_split(std::vector<int>& ids, std::size_t b, std::size_t e, int axis, double lo,
+                        double width) const {
+    // kBins * (c - lo) overflows for c - lo beyond DBL_MAX / kBins: clamp before converting.
+    auto bin_of = [&](int id) {
+      const double x = kBins * (centroids_[id][axis] - lo) / width;
+      return x < kBins ? (x > 0.0 ? static_cast<int>(x) : 0) : kBins - 1;
+    };
+    std::size_t count[kBins] = {};
+    Eigen::AlignedBox3d bin_box[kBins];
+    for (std::size_t i = b; i < e; ++i) {
+      const int k = bin_of(ids[i]);
+      ++count[k];
+      bin_box[k].extend(boxes_[ids[i]]);
+    }
+    const int best_k = cheapest_split(count, bin_box);
+    if (best_k < 0) return e;
+    auto it = std::partition(ids.begin() + b, ids.begin() + e,
+                             [&](int id) { return bin_of(id) < best_k; });
+    return static_cast<std::size_t>(it - ids.begin());
+  }
+
+  // The bin k whose split (bins below k, the rest) costs least, area times count on each
+  // side; -1 when every split leaves a side empty.
+  static int cheapest_split(const std::size_t (&count)[kBins],
+                            const Eigen::AlignedBox3d (&bin_box)[kBins]) {
+    double right_area[kBins];
+    std::size_t right_count[kBins];
+    Eigen::AlignedBox3d acc;
+    std::size_t n = 0;
+    for (int k = kBins - 1; k > 0; --k) {
+      acc.extend(bin_box[k]);
+      n += count[k];
+      right_area[k] = acc.isEmpty() ? 0.0 : BinaryNode{acc}.area();
+      right_count[k] = n;
+    }
+    double best = std::numeric_limits<double>::infinity();
+    int best_k = -1;
+    acc.setEmpty();
+    n = 0;
+    for (int k = 1; k < kBins; ++k) {  // split between bin k-1 and bin k
+      acc.extend(bin_box[k - 1]);
+      n += count[k - 1];
+      if (n == 0 || right_count[k] == 0) continue;
+      const double cost = BinaryNode{acc}.area() * n + right_area[k] * right_count[k];
+      if (cost < best) {
+        best = cost;
+        best_k = k;
+      }
+    }
+    return best_k;
+  }
+
+  // Puts the median centroid of ids[b, e) along the axis (ties by index) at the middle,
+  // smaller ones before it; returns the middle.
+  std::size_t median_split(std::vector<int>& ids, std::size_t b, std::size_t e, int axis) const {
+    const std::size_t mid = b + (e - b) / 2;
+    std::nth_element(ids.begin() + b, ids.begin() + mid, ids.begin() + e, [&](int x, int y) {
+      if (centroids_[x][axis] != centroids_[y][axis])
+        return centroids_[x][axis] < centroids_[y][axis];
+      return x < y;
+    });
+    return mid;
   }
 
   const std::vector<Eigen::AlignedBox3d>& boxes_;
@@ -188,31 +202,33 @@ class Collapser {
   }
 
  private:
+  // The binary nodes the 4-wide node of binary node b holds: its children, the largest inner
+  // ones opened up until there are four (or only leaves); b itself for a one-triangle mesh.
+  std::vector<int> children_of(int b) const {
+    if (bin_[b].triangle >= 0) return {b};  // the root holds the triangle itself
+    std::vector<int> kids = {bin_[b].left, bin_[b].right};
+    while (kids.size() < 4) {
+      int pick = -1;
+      double pick_area = -1.0;
+      for (std::size_t k = 0; k < kids.size(); ++k) {
+        if (bin_[kids[k]].triangle >= 0) continue;
+        const double a = bin_[kids[k]].area();
+        if (a > pick_area) {
+          pick_area = a;
+          pick = static_cast<int>(k);
+        }
+      }
+      if (pick < 0) break;
+      const int opened = kids[pick];
+      kids[pick] = bin_[opened].left;
+      kids.insert(kids.begin() + pick + 1, bin_[opened].right);
+    }
+    return kids;
+  }
+
   int emit(int b, std::size_t depth) {
     out_.depth = std::max(out_.depth, depth);
-    // Open up the largest inner entries until there are four (or only leaves).
-    std::vector<int> kids;
-    if (bin_[b].triangle >= 0) {
-      kids.push_back(b);  // a one-triangle mesh: the root holds the triangle itself
-    } else {
-      kids = {bin_[b].left, bin_[b].right};
-      while (kids.size() < 4) {
-        int pick = -1;
-        double pick_area = -1.0;
-        for (std::size_t k = 0; k < kids.size(); ++k) {
-          if (bin_[kids[k]].triangle >= 0) continue;
-          const double a = bin_[kids[k]].area();
-          if (a > pick_area) {
-            pick_area = a;
-            pick = static_cast<int>(k);
-          }
-        }
-        if (pick < 0) break;
-        const int opened = kids[pick];
-        kids[pick] = bin_[opened].left;
-        kids.insert(kids.begin() + pick + 1, bin_[opened].right);
-      }
-    }
+    const std::vector<int> kids = children_of(b);
     const int index = static_cast<int>(out_.nodes.size());
     out_.nodes.emplace_back();
     out_.ranges.emplace_back();
