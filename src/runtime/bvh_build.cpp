@@ -177,6 +177,47 @@ double rss_containment_radius(const Rss& rss, const std::vector<Ball>& balls) {
   return need;
 }
 
+namespace {
+
+// The rectangle of an RSS in its plane (x0 to x1 along the major and the middle axis) that
+// comes within rho[i] of every ball's centre local[i]: the tightest extents with each ball
+// taken along one axis only, then grown along the major axis for balls beyond a corner.
+void rectangle_extents(const std::vector<Eigen::Vector3d>& local, const std::vector<double>& rho,
+                       double x0[2], double x1[2]) {
+  const std::size_t n = local.size();
+  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
+  double hi[2] = {-std::numeric_limits<double>::infinity(),
+                  -std::numeric_limits<double>::infinity()};
+  for (std::size_t i = 0; i < n; ++i) {
+    for (int k = 0; k < 2; ++k) {
+      lo[k] = std::min(lo[k], local[i][k] + rho[i]);
+      hi[k] = std::max(hi[k], local[i][k] - rho[i]);
+    }
+  }
+  for (int k = 0; k < 2; ++k) {
+    if (lo[k] <= hi[k]) {
+      x0[k] = lo[k];
+      x1[k] = hi[k];
+    } else {
+      x0[k] = x1[k] = 0.5 * (lo[k] + hi[k]);
+    }
+  }
+  for (std::size_t i = 0; i < n; ++i) {
+    const double x = local[i].x(), y = local[i].y();
+    const double dx = std::max({0.0, x0[0] - x, x - x1[0]});
+    const double dy = std::max({0.0, x0[1] - y, y - x1[1]});
+    if (dx > 0.0 && dy > 0.0 && dx * dx + dy * dy > rho[i] * rho[i]) {
+      const double s = std::sqrt(std::max(0.0, rho[i] * rho[i] - dy * dy));
+      if (x < x0[0])
+        x0[0] = x + s;
+      else
+        x1[0] = x - s;
+    }
+  }
+}
+
+}  // namespace
+
 Rss fit_rss(const Eigen::Matrix3d& axes, const std::vector<Ball>& balls) {
   MEDSPHERES_ASSERT(!balls.empty());
   const std::size_t n = balls.size();
@@ -199,39 +240,8 @@ Rss fit_rss(const Eigen::Matrix3d& axes, const std::vector<Ball>& balls) {
     const double dz = local[i].z() - z0;
     rho[i] = std::sqrt(std::max(0.0, slack * slack - dz * dz));
   }
-  // Tightest extents when each ball is considered along one axis only.
-  double lo[2] = {std::numeric_limits<double>::infinity(), std::numeric_limits<double>::infinity()};
-  double hi[2] = {-std::numeric_limits<double>::infinity(),
-                  -std::numeric_limits<double>::infinity()};
-  for (std::size_t i = 0; i < n; ++i) {
-    for (int k = 0; k < 2; ++k) {
-      lo[k] = std::min(lo[k], local[i][k] + rho[i]);
-      hi[k] = std::max(hi[k], local[i][k] - rho[i]);
-    }
-  }
   double x0[2], x1[2];
-  for (int k = 0; k < 2; ++k) {
-    if (lo[k] <= hi[k]) {
-      x0[k] = lo[k];
-      x1[k] = hi[k];
-    } else {
-      x0[k] = x1[k] = 0.5 * (lo[k] + hi[k]);
-    }
-  }
-  // Balls beyond a corner need the rectangle to grow along the major axis.
-  for (std::size_t i = 0; i < n; ++i) {
-    const double x = local[i].x(), y = local[i].y();
-    const double dx = std::max({0.0, x0[0] - x, x - x1[0]});
-    const double dy = std::max({0.0, x0[1] - y, y - x1[1]});
-    if (dx > 0.0 && dy > 0.0 && dx * dx + dy * dy > rho[i] * rho[i]) {
-      const double s = std::sqrt(std::max(0.0, rho[i] * rho[i] - dy * dy));
-      if (x < x0[0])
-        x0[0] = x + s;
-      else
-        x1[0] = x - s;
-    }
-  }
-
+  rectangle_extents(local, rho, x0, x1);
   Rss rss;
   const double lx = x1[0] - x0[0];
   const double ly = x1[1] - x0[1];
