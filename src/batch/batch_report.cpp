@@ -23,24 +23,33 @@ std::string csv_field(const std::string& s) {
   return out + "\"";
 }
 
-// The robot columns of the planner summary: empty (null) for a row without one.
-const char* const kPlannerColumns =
-    "default_from,checked_pairs,estimate_samples,false_positives,false_negatives";
-
-std::string planner_csv(const std::optional<BatchPlannerSummary>& s) {
-  if (!s) return ",,,,,";
-  return csv_field(s->default_from) + "," + std::to_string(s->checked_pairs) + "," +
-         std::to_string(s->estimate_samples) + "," + std::to_string(s->false_positives) + "," +
-         std::to_string(s->false_negatives) + ",";
+// The robot columns of the planner summary, in order: each null for a row without one. The
+// one list the JSON rows, the CSV header and the CSV rows read.
+nlohmann::ordered_json planner_fields(const std::optional<BatchPlannerSummary>& s) {
+  using Json = nlohmann::ordered_json;
+  return {{"default_from", s ? Json(s->default_from) : Json()},
+          {"checked_pairs", s ? Json(s->checked_pairs) : Json()},
+          {"estimate_samples", s ? Json(s->estimate_samples) : Json()},
+          {"false_positives", s ? Json(s->false_positives) : Json()},
+          {"false_negatives", s ? Json(s->false_negatives) : Json()}};
 }
 
-void add_planner_json(const std::optional<BatchPlannerSummary>& s, nlohmann::ordered_json& row) {
-  using Json = nlohmann::ordered_json;
-  row["default_from"] = s ? Json(s->default_from) : Json();
-  row["checked_pairs"] = s ? Json(s->checked_pairs) : Json();
-  row["estimate_samples"] = s ? Json(s->estimate_samples) : Json();
-  row["false_positives"] = s ? Json(s->false_positives) : Json();
-  row["false_negatives"] = s ? Json(s->false_negatives) : Json();
+std::string planner_csv_header() {
+  std::string out;
+  const nlohmann::ordered_json fields = planner_fields(std::nullopt);
+  for (const auto& field : fields.items()) out += field.key() + ",";
+  return out;
+}
+
+// The fields of planner_fields as CSV, each followed by a comma (a null one empty).
+std::string planner_csv(const std::optional<BatchPlannerSummary>& s) {
+  std::string out;
+  const nlohmann::ordered_json fields = planner_fields(s);
+  for (const auto& field : fields.items()) {
+    const auto& v = field.value();
+    out += (v.is_null() ? "" : v.is_string() ? csv_field(v.get<std::string>()) : v.dump()) + ",";
+  }
+  return out;
 }
 
 }  // namespace
@@ -56,7 +65,7 @@ std::string batch_report_json(const BatchResult& result) {
                 {"outcome", to_string(r.outcome)}};
     if (robots) row["links"] = r.links;
     row["spheres"] = r.spheres;
-    if (robots) add_planner_json(r.planner, row);
+    if (robots) row.update(planner_fields(r.planner));
     if (!robots) row["nerr"] = std::isfinite(r.nerr) ? Json(r.nerr) : Json();
     row["seconds"] = r.seconds;
     row["error"] = r.error.empty() ? Json() : Json(r.error);
@@ -72,8 +81,8 @@ std::string batch_report_json(const BatchResult& result) {
 
 std::string batch_report_csv(const BatchResult& result) {
   const bool robots = result.items == BatchItems::kRobots;
-  std::string out = robots ? std::string("input,relative,output,outcome,links,spheres,") +
-                                 kPlannerColumns + ",seconds,error\r\n"
+  std::string out = robots ? "input,relative,output,outcome,links,spheres," + planner_csv_header() +
+                                 "seconds,error\r\n"
                            : "input,relative,output,outcome,spheres,nerr,seconds,error\r\n";
   for (const BatchRow& r : result.rows) {
     out += csv_field(r.input.path) + "," + csv_field(r.input.relative) + "," + csv_field(r.output) +
