@@ -281,12 +281,12 @@ void print_checker_setup(const CheckerBenchInput& in, const fcl::CertifiedChecke
   const check::GridStats g = spheres.grid();
   std::printf(
       "\nrobot checker: planner sets %zu covering + %zu inner spheres, fine sets %zu + %zu; %s "
-      "kernel; scene grid of %zu cells of %.3f m, %zu element entries, %zu elements; built in "
-      "%.2f s; rounding allowance %.2g m\n",
+      "kernel; scene grid of %zu cells of %.3f m, %zu element entries, %zu elements; %zu of %zu "
+      "links never near the scene; built in %.2f s; rounding allowance %.2g m\n",
       spheres_of(in.planner->model, true), spheres_of(in.planner->model, false),
       fine ? spheres_of(*fine, true) : 0, fine ? spheres_of(*fine, false) : 0,
-      spheres.uses_avx2() ? "AVX2" : "scalar", g.cells, g.cell_side, g.entries, g.elements, build,
-      spheres.allowance());
+      spheres.uses_avx2() ? "AVX2" : "scalar", g.cells, g.cell_side, g.entries, g.elements,
+      g.far_links, spheres.links().size(), build, spheres.allowance());
   print_test_order(spheres);
 }
 

@@ -62,6 +62,9 @@ struct KernelRobot {
   KernelSpheres<float> f;
   int pairs = 0;
   const std::uint32_t *pair_a = nullptr, *pair_b = nullptr;
+  /// Per link: 1 when no configuration brings it within the margin of the scene
+  /// (link_reach.h), so that its scene tests are skipped; null: none is.
+  const unsigned char* far = nullptr;
   /// Per self pair, its joint-space table (pair_table.h; the spheres mode skips the pair
   /// in a lane whose positions fall in a free cell), or none (bits null); null: no tables.
   const PairTableView* table = nullptr;

@@ -14,6 +14,7 @@
 #include "block.h"
 #include "distance_field.h"
 #include "float_sincos.h"
+#include "link_reach.h"
 #include "robot_layout.h"
 #include "scene_grid.h"
 #include "test_order.h"
@@ -132,6 +133,7 @@ struct RobotChecker::Impl {
   double table_threshold = 0.0;
   detail::SphereArrays<double> spheres_d;
   detail::SphereArrays<float> spheres_f;
+  std::vector<unsigned char> far;  // kernel_robot.far
   detail::KernelRobot kernel_robot;
   detail::KernelFn kernel = nullptr;
   detail::BatchFn batch_kernel = nullptr;   // kernel's build
@@ -615,6 +617,10 @@ void RobotChecker::Impl::build(const Scene& scene, const Impl* donor) {
   k.pairs = static_cast<int>(l.pair_a.size());
   k.pair_a = l.pair_a.data();
   k.pair_b = l.pair_b.data();
+  // Beyond the margin by four allowances: more than the rounding of any test (and of the
+  // reach's own sums) can take back, so a skipped test is one that would find the link clear.
+  far = detail::links_far_from_scene(l, g, options.margin + 4 * allowance);
+  k.far = far.data();
   k.fine = l.fine;
   share_or_build_tables(donor);
   k.table = tables->tables() > 0 ? tables->views().data() : nullptr;
@@ -673,7 +679,9 @@ double RobotChecker::pair_tables_free() const noexcept {
 }
 GridStats RobotChecker::grid() const noexcept {
   const detail::SceneGrid& g = *impl_->grid;
-  return {g.cell_side(), g.num_cells(), g.num_entries(), g.num_elements()};
+  std::size_t far = 0;
+  for (unsigned char f : impl_->far) far += f;
+  return {g.cell_side(), g.num_cells(), g.num_entries(), g.num_elements(), far};
 }
 
 namespace {

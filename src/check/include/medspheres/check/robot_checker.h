@@ -132,6 +132,9 @@ struct UndecidedPair {
 struct GridStats {
   double cell_side = 0.0;
   std::size_t cells = 0, entries = 0, elements = 0;
+  /// The links that no configuration brings within the margin of the scene (revolute
+  /// joints at any angle): their scene tests are skipped.
+  std::size_t far_links = 0;
 };
 
 /// The order the checker runs its tests in (CheckerOptions::order_samples), for reports:
