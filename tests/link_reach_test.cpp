@@ -36,13 +36,6 @@ std::vector<Eigen::VectorXd> wild_configs(std::size_t n, unsigned seed) {
   return out;
 }
 
-std::size_t model_index(const RobotModel& m, const std::string& name) {
-  for (std::size_t i = 0; i < m.links.size(); ++i)
-    if (m.links[i].name == name) return i;
-  FAIL("no link " << name);
-  return 0;
-}
-
 // A box of half sides h at c: the distance from p (0 inside).
 double box_distance(const Eigen::Vector3d& p, const Eigen::Vector3d& c, const Eigen::Vector3d& h) {
   const Eigen::Vector3d d = (p - c).cwiseAbs() - h;
@@ -63,10 +56,12 @@ TEST_CASE("link reach: every sphere of a link inside its ball at any angle", "[c
     const std::vector<Eigen::Isometry3d> X = tree.link_poses(q, X_WB);
     for (std::size_t l = 0; l < reach.size(); ++l) {
       if (std::isinf(reach[l].radius)) continue;
-      const std::size_t i = model_index(arm, layout.link_names[l]);
-      for (const SphereSet* set : {&arm.links[i].spheres.outer, &arm.links[i].spheres.inner})
+      const std::string& name = layout.link_names[l];
+      const Link& link = *arm.find_link(name);
+      for (const SphereSet* set : {&link.spheres.outer, &link.spheres.inner})
         for (const Sphere& s : set->spheres) {
-          const double far = (X[i] * s.center - reach[l].centre).norm() + s.radius;
+          const double far =
+              (X[tree.link_index(name)] * s.center - reach[l].centre).norm() + s.radius;
           REQUIRE(far <= reach[l].radius * (1 + 1e-12));
           fill[l] = std::max(fill[l], far / reach[l].radius);
         }
@@ -103,9 +98,10 @@ TEST_CASE("links far from the scene: their scene tests skipped, brute force's ve
     const std::vector<Eigen::Isometry3d> X = tree.link_poses(q);
     for (std::size_t l = 0; l < far.size(); ++l) {
       if (!far[l]) continue;
-      const std::size_t i = model_index(arm, layout.link_names[l]);
-      for (const Sphere& s : arm.links[i].spheres.outer.spheres)
-        REQUIRE(box_distance(X[i] * s.center, centre, half) - s.radius > margin);
+      const std::string& name = layout.link_names[l];
+      for (const Sphere& s : arm.find_link(name)->spheres.outer.spheres)
+        REQUIRE(box_distance(X[tree.link_index(name)] * s.center, centre, half) - s.radius >
+                margin);
     }
   }
   for (const check::Simd simd : {check::Simd::scalar, check::Simd::automatic})
@@ -128,9 +124,11 @@ TEST_CASE("links far from the scene: their scene tests skipped, brute force's ve
       for (std::size_t k = 0; k < configs.size(); ++k) {
         const std::vector<Eigen::Isometry3d> X = tree.link_poses(configs[k]);
         bool truth = false;
-        for (std::size_t i = 0; i < arm.links.size() && !truth; ++i)
-          for (const Sphere& s : arm.links[i].spheres.outer.spheres)
-            truth = truth || box_distance(X[i] * s.center, centre, half) - s.radius <= margin;
+        for (const Link& link : arm.links)
+          for (const Sphere& s : link.spheres.outer.spheres)
+            truth = truth || box_distance(X[tree.link_index(link.name)] * s.center, centre, half) -
+                                     s.radius <=
+                                 margin;
         colliding += truth;
         disagree += truth != (v[k] == check::Verdict::colliding);
       }

@@ -6,14 +6,6 @@
 #include "scene_element.h"
 
 namespace medspheres::check::detail {
-namespace {
-
-Eigen::Vector3d times(const double m[9], const Eigen::Vector3d& y) {
-  return {m[0] * y[0] + m[1] * y[1] + m[2] * y[2], m[3] * y[0] + m[4] * y[1] + m[5] * y[2],
-          m[6] * y[0] + m[7] * y[1] + m[8] * y[2]};
-}
-
-}  // namespace
 
 std::vector<LinkReach> link_reach(const RobotLayout& layout) {
   std::vector<const FrameStep*> step(static_cast<std::size_t>(layout.frames), nullptr);
@@ -21,14 +13,14 @@ std::vector<LinkReach> link_reach(const RobotLayout& layout) {
   std::vector<LinkReach> out;
   for (const LinkLayout& l : layout.links) {
     LinkReach r{{l.bound[0], l.bound[1], l.bound[2]}, l.bound[3]};
-    for (int f = l.frame; f != 0 && !std::isinf(r.radius);) {
+    for (int f = l.frame; f != 0;) {
       const FrameStep& s = *step[static_cast<std::size_t>(f)];
       if (s.prismatic) {
         r.radius = std::numeric_limits<double>::infinity();
         break;
       }
-      r = {times(s.P, r.centre) + Eigen::Vector3d(s.u[0], s.u[1], s.u[2]),
-           times(s.C, r.centre).norm() + r.radius};
+      r = {step_matrix(s.P) * r.centre + Eigen::Vector3d(s.u[0], s.u[1], s.u[2]),
+           (step_matrix(s.C) * r.centre).norm() + r.radius};
       f = s.parent;
     }
     out.push_back(r);

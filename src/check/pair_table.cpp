@@ -13,13 +13,6 @@ namespace {
 using Eigen::Matrix3d;
 using Eigen::Vector3d;
 
-Matrix3d matrix(const double* m) {
-  Matrix3d out;
-  for (int r = 0; r < 3; ++r)
-    for (int c = 0; c < 3; ++c) out(r, c) = m[3 * r + c];
-  return out;
-}
-
 // The spectral norm of a symmetric matrix.
 double norm(const Matrix3d& m) {
   return Eigen::SelfAdjointEigenSolver<Matrix3d>(m, Eigen::EigenvaluesOnly)
@@ -39,7 +32,7 @@ double length(const double* v) {
 // / 2. Both are 1 (and a hair) for a rotation about a unit axis; 1e-9 relative more for
 // the rounding of these sums.
 void rotation_bounds(const FrameStep& s, double& rho, double& kappa) {
-  const Matrix3d P = matrix(s.P), C = matrix(s.C), S = matrix(s.S);
+  const Matrix3d P = step_matrix(s.P), C = step_matrix(s.C), S = step_matrix(s.S);
   if (s.prismatic) {
     rho = std::sqrt(norm(P.transpose() * P)) * (1.0 + 1e-9);
     kappa = 0.0;
@@ -67,11 +60,11 @@ void step_pose(const FrameStep& s, double q, Matrix3d& R, Vector3d& p) {
   const double t = q * s.multiplier + s.offset;
   p = Vector3d(s.u[0], s.u[1], s.u[2]);
   if (s.prismatic) {
-    R = matrix(s.P);
+    R = step_matrix(s.P);
     p += t * Vector3d(s.v[0], s.v[1], s.v[2]);
     return;
   }
-  R = matrix(s.P) + std::cos(t) * matrix(s.C) + std::sin(t) * matrix(s.S);
+  R = step_matrix(s.P) + std::cos(t) * step_matrix(s.C) + std::sin(t) * step_matrix(s.S);
 }
 
 // The frames from f up to W (f first), by the steps that pose them.

@@ -35,6 +35,14 @@ struct FrameStep {
   float Pf[9] = {}, Cf[9] = {}, Sf[9] = {}, uf[3] = {};
 };
 
+/// A FrameStep's row-major 3 x 3 (P, C or S) as a matrix.
+inline Eigen::Matrix3d step_matrix(const double* m) {
+  Eigen::Matrix3d out;
+  for (int r = 0; r < 3; ++r)
+    for (int c = 0; c < 3; ++c) out(r, c) = m[3 * r + c];
+  return out;
+}
+
 struct LinkLayout {
   int frame = 0;
   double bound[4] = {};  // x, y, z, r in the frame: contains every sphere of every level
