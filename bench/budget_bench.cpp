@@ -23,8 +23,9 @@
 //   of it, and how the tightened set compares with the grown one.
 //   Cover rows also give lb%L, a lower bound on the max protrusion of ANY set of K balls
 //   covering the surface (cover_lower_bound.h; --lb-resolution, --lb-refine: its depth
-//   grid and refinement queries; --lb-count, --lb-count-witnesses, --lb-count-passes: its
-//   counting argument's boxes per pass, witnesses and passes, --lb-count 0 for pairs alone), its
+//   grid and refinement queries; --lb-count, --lb-count-witnesses, --lb-count-passes,
+//   --lb-count-even: its counting argument's boxes per pass, witnesses, passes and evenly
+//   weighed witnesses of the last pass, --lb-count 0 for pairs alone), its
 //   wall clock and CPU seconds (lb_sec, lb_cpu) and the solid it bounds (closed mesh, or an open
 //   mesh's winding solid, under the assumption the header states); the tally counts the links where
 //   that bound alone exceeds a third of the grown set's (the target is out of reach there), how
@@ -152,6 +153,7 @@ std::size_t bound_candidates = CoverLowerBoundOptions{}.candidates;
 std::size_t bound_count = CoverLowerBoundOptions{}.count_queries;
 std::size_t bound_count_witnesses = CoverLowerBoundOptions{}.count_witnesses;
 int bound_count_passes = CoverLowerBoundOptions{}.count_passes;
+std::size_t bound_count_even = CoverLowerBoundOptions{}.count_even_witnesses;
 
 void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   CoverLowerBoundOptions o;
@@ -161,6 +163,7 @@ void add_bound(const FitEvaluator& fit, std::size_t K, int threads, Row& r) {
   o.count_queries = bound_count;
   o.count_witnesses = bound_count_witnesses;
   o.count_passes = bound_count_passes;
+  o.count_even_witnesses = bound_count_even;
   const Stopwatch t;
   o.threads = threads;
   o.winding_solid = true;  // open links: the bound assumes the grid resolves the solid
@@ -538,6 +541,9 @@ int main(int argc, char** argv) {
                  "Surface points the counting argument weighs");
   app.add_option("--lb-count-passes", bound_count_passes,
                  "Passes of the counting argument, each against the previous ones' cheapest balls");
+  app.add_option("--lb-count-even", bound_count_even,
+                 "Evenly spread surface points of weight 1 in the counting argument's last pass "
+                 "(0: none)");
   cli::add_cover_search_flags(&app, cover_search, "The cover rows");
   app.add_option("--cover-rounds", cover_rounds, "The cover's minimax rounds at most");
   std::string curobo_file =

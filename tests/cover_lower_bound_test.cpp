@@ -339,6 +339,47 @@ TEST_CASE("cover lower bound: a flat open square", "[cover_lower_bound]") {
   }
 }
 
+TEST_CASE("cover lower bound: evenly weighed witnesses on a torus at K = 32",
+          "[cover_lower_bound]") {
+  // The best K-ball cover of a torus is close to a ring of balls on its axis, each holding
+  // a slice of equal angle. With 1024 chosen witnesses a ball can hold a K-th of their
+  // weight with a slice narrower than a K-th of the surface; 8192 points of weight 1
+  // measure the surface itself. The bound must rise, stay below the ring, and not depend
+  // on the thread count (8192 points sample 65536: the farthest-point passes run split).
+  const int segments = 64;
+  const std::size_t K = 32;
+  const TriangleMesh mesh = make_torus(1.0, 0.25, segments, 16);
+  const MeshQuery query(mesh);
+  std::vector<Sphere> ring;  // ball j holds the vertex rings 2j .. 2j + 2: their triangles
+  for (std::size_t j = 0; j < K; ++j) {
+    const double u = 2.0 * M_PI * (2.0 * static_cast<double>(j) + 1.0) / segments;
+    const Eigen::Vector3d c(std::cos(u), std::sin(u), 0.0);
+    double r = 0.0;
+    for (int i = 0; i < 3; ++i)
+      for (int v = 0; v < 16; ++v)
+        r = std::max(r, (mesh.vertices[static_cast<std::size_t>((2 * j + i) % segments) * 16 +
+                                       static_cast<std::size_t>(v)] -
+                         c)
+                            .norm());
+    ring.push_back({c, r * (1 + 1e-9)});
+  }
+  REQUIRE(certify_cover(mesh, ring).certified);
+  CoverLowerBoundOptions o = quick();
+  const CoverLowerBound chosen = cover_protrusion_lower_bound(query, K, o);
+  o.count_even_witnesses = 8192;
+  const CoverLowerBound even = cover_protrusion_lower_bound(query, K, o);
+  o.threads = 1;
+  const CoverLowerBound one = cover_protrusion_lower_bound(query, K, o);
+  const double ring_p = max_protrusion(query, ring);
+  INFO("chosen weights " << chosen.count_bound << " with even witnesses " << even.count_bound
+                         << " ring " << ring_p);
+  CHECK(even.count_bound > 1.2 * chosen.count_bound);
+  CHECK(even.bound <= ring_p);
+  CHECK(even.pair_bound == chosen.pair_bound);
+  CHECK(one.count_bound == even.count_bound);
+  CHECK(one.count_points == even.count_points);
+}
+
 TEST_CASE("cover lower bound: the same for every thread count", "[cover_lower_bound]") {
   const MeshQuery query(make_torus(1.0, 0.3, 32, 12));
   CoverLowerBoundOptions one = quick(), two = quick();
@@ -378,6 +419,9 @@ TEST_CASE("cover lower bound rejects bad input", "[cover_lower_bound]") {
   o = {};
   o.count_passes = 0;
   rejects(o, "count_passes");
+  o = {};
+  o.count_even_witnesses = 1;
+  rejects(o, "count_even_witnesses");
   o = {};
   o.threads = -1;
   rejects(o, "threads");

@@ -36,11 +36,13 @@ struct DepthSamples {
 // branch and bound over the mesh's box with at most \p queries boxes in each of \p passes
 // passes; the largest bound of the passes, lowered by \p slack, is returned with its weights. \p
 // pairs (points of the surface, may be empty: the pair argument's witnesses) join the best weights
-// in one more pass. \p closed: the mesh is closed (else its winding solid, with the assumption of
+// in one more pass. \p even (points of the surface, may be empty) weigh 1 each in a last pass.
+// \p closed: the mesh is closed (else its winding solid, with the assumption of
 // cover_lower_bound.h). Deterministic for every thread count.
 CountBound count_lower_bound(const MeshQuery& query, bool closed, std::size_t budget,
                              const std::vector<Eigen::Vector3d>& pool, const DepthSamples& cheap,
-                             const std::vector<Eigen::Vector3d>& pairs, double slack,
+                             const std::vector<Eigen::Vector3d>& pairs,
+                             const std::vector<Eigen::Vector3d>& even, double slack,
                              std::size_t queries, int passes, int threads);
 
 }  // namespace medspheres::detail

@@ -143,6 +143,8 @@ void check_input(const MeshQuery& query, std::size_t budget, const CoverLowerBou
   if (o.count_witnesses < 2)
     throw std::invalid_argument("count_witnesses must be >= 2, got " +
                                 std::to_string(o.count_witnesses));
+  if (o.count_even_witnesses == 1)
+    throw std::invalid_argument("count_even_witnesses must be 0 or >= 2, got 1");
   check_threads(o.threads);
   if (!o.winding_solid && !solid_volume(query.mesh()))
     throw InputError(ErrorKind::kUnsupported, "mesh",
@@ -228,29 +230,43 @@ DepthGrid depth_grid(const MeshQuery& query, int resolution, bool closed, int th
   return g;
 }
 
-// The candidate witnesses: farthest-point sampling of the surface samples and vertices
-// (serial: one fused pass per point chosen).
+// The first index of the largest gap in [begin, end) (begin when empty).
+std::size_t farthest(const std::vector<double>& gap, std::size_t begin, std::size_t end) {
+  std::size_t at = begin;
+  for (std::size_t i = begin; i < end; ++i)
+    if (gap[i] > gap[at]) at = i;
+  return at;
+}
+
+// The candidate witnesses: farthest-point sampling of the surface samples and vertices (one
+// fused pass per point chosen, split over \p threads; ties to the first index, so the same
+// points for every thread count).
 std::vector<Eigen::Vector3d> candidates(const TriangleMesh& mesh, std::size_t count,
-                                        std::uint64_t seed) {
+                                        std::uint64_t seed, int threads) {
   const std::vector<Eigen::Vector3d> pool =
       sample_surface(mesh, kSamplesPerCandidate * count, seed).points;
   const Eigen::Vector3d centre = mesh.bounds().center();
   std::vector<double> gap(pool.size());
-  std::size_t next = 0;
-  for (std::size_t i = 0; i < pool.size(); ++i) {
-    gap[i] = (pool[i] - centre).squaredNorm();
-    if (gap[i] > gap[next]) next = i;
-  }
+  for (std::size_t i = 0; i < pool.size(); ++i) gap[i] = (pool[i] - centre).squaredNorm();
+  std::size_t next = farthest(gap, 0, gap.size());
   std::vector<Eigen::Vector3d> out;
+  const int parts = pool.size() < 65536 ? 1 : thread_count(threads);
+  std::vector<std::size_t> best(static_cast<std::size_t>(parts));
   while (out.size() < std::min(count, pool.size())) {
     if (!out.empty() && !(gap[next] > 0.0)) break;  // only repeated points are left
     out.push_back(pool[next]);
     const Eigen::Vector3d x = pool[next];
-    next = 0;
-    for (std::size_t i = 0; i < pool.size(); ++i) {
-      gap[i] = std::min(gap[i], (pool[i] - x).squaredNorm());
-      if (gap[i] > gap[next]) next = i;
+#pragma omp parallel for schedule(static, 1) num_threads(parts)
+    for (int part = 0; part < parts; ++part) {
+      const std::size_t begin = pool.size() * static_cast<std::size_t>(part) / parts,
+                        end = pool.size() * static_cast<std::size_t>(part + 1) / parts;
+      for (std::size_t i = begin; i < end; ++i)
+        gap[i] = std::min(gap[i], (pool[i] - x).squaredNorm());
+      best[static_cast<std::size_t>(part)] = farthest(gap, begin, end);
     }
+    next = best[0];
+    for (std::size_t b : best)
+      if (gap[b] > gap[next]) next = b;
   }
   return out;
 }
@@ -670,8 +686,8 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   const double X = std::max(box.min().cwiseAbs().maxCoeff(), box.max().cwiseAbs().maxCoeff());
   const bool closed = solid_volume(mesh).has_value();
   const DepthGrid grid = depth_grid(query, options.resolution, closed, options.threads);
-  const std::vector<Eigen::Vector3d> points =
-      candidates(mesh, std::max(options.candidates, 4 * (budget + 1)), options.seed);
+  const std::vector<Eigen::Vector3d> points = candidates(
+      mesh, std::max(options.candidates, 4 * (budget + 1)), options.seed, options.threads);
   const DepthProfiles rho(grid, points, box.diagonal().norm(), !closed, options.threads);
   const CentreBlocks blocks(grid);
   const PairBound m(rho, blocks, points, 4.0 * cover_radius_slack(L, X));
@@ -704,9 +720,14 @@ CoverLowerBound cover_protrusion_lower_bound(const MeshQuery& query, std::size_t
   out.pair_bound = out.bound;
   if (options.count_queries > 0) {
     const detail::CountBound c = detail::count_lower_bound(
-        query, closed, budget, candidates(mesh, options.count_witnesses, options.seed),
-        {&grid.points, &grid.depth}, out.witnesses, 4.0 * cover_radius_slack(L, X),
-        options.count_queries, options.count_passes, options.threads);
+        query, closed, budget,
+        candidates(mesh, options.count_witnesses, options.seed, options.threads),
+        {&grid.points, &grid.depth}, out.witnesses,
+        options.count_even_witnesses > 0
+            ? candidates(mesh, options.count_even_witnesses, options.seed, options.threads)
+            : std::vector<Eigen::Vector3d>{},
+        4.0 * cover_radius_slack(L, X), options.count_queries, options.count_passes,
+        options.threads);
     out.count_bound = c.bound;
     out.count_points = c.points;
     out.count_weights = c.weights;

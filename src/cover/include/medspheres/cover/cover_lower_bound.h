@@ -15,7 +15,8 @@
 /// bound on finer boxes. Counting (cover_count_bound.cpp): up to `count_witnesses` surface
 /// points with integer weights; K covering balls hold the total weight, so one holds a
 /// K-th of it, and every ball holding that much protrudes by at least `count_bound`
-/// (branch and bound over the balls' centres). The weights are chosen where balls are dear.
+/// (branch and bound over the balls' centres). The weights are chosen where balls are dear,
+/// and a last pass can weigh many evenly spread points alike (`count_even_witnesses`).
 ///
 /// Assumptions: a closed mesh (solid_volume defined), its query built on the oriented mesh
 /// (as FitEvaluator builds it); inside is the query's winding number > 1/2 and distances are
@@ -68,6 +69,10 @@ struct CoverLowerBoundOptions {
   int count_passes = 8;
   /// Surface points the counting argument weighs, >= 2.
   std::size_t count_witnesses = 1024;
+  /// Surface points (farthest-point spread) that weigh 1 each in the counting argument's last
+  /// pass, 0 or >= 2; 0: no such pass. They measure the surface where chosen weights on
+  /// fewer points leave cheap balls between them (a torus at K = 32).
+  std::size_t count_even_witnesses = 0;
 };
 
 struct CoverLowerBound {
