@@ -216,12 +216,27 @@ function main() {
     panel.appendChild(links);
   }
 
+  // The rows below the panel, where the view is framed when the panel leaves at least half
+  // of the window (a long title or warning can span its width): the projection's centre
+  // moves to the middle of those rows. Returns how much farther the camera must stand for
+  // a fit in them than in the whole window.
+  const frameBelowPanel = () => {
+    const width = host.clientWidth, height = host.clientHeight;
+    const bottom = panel.getBoundingClientRect().bottom;
+    const top = bottom < height / 2 ? Math.max(0, bottom) : 0;
+    camera.aspect = width / (height + top);
+    camera.setViewOffset(width, height + top, 0, 0, width, height);
+    camera.updateProjectionMatrix();
+    return (height + top) / (height - top);
+  };
+
   // Frame everything: the box of all parts, seen from (+1, -1, +1) like render's iso view.
   const box = new THREE.Box3();
   for (const o of parts) box.expandByObject(o.group);
   const center = box.isEmpty() ? new THREE.Vector3() : box.getCenter(new THREE.Vector3());
   const radius = box.isEmpty() ? 1 : Math.max(box.getSize(new THREE.Vector3()).length() / 2, 1e-6);
-  const distance = 1.1 * radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2));
+  const distance =
+    frameBelowPanel() * 1.1 * radius / Math.sin(THREE.MathUtils.degToRad(camera.fov / 2));
   camera.position.copy(center).add(new THREE.Vector3(1, -1, 1).normalize().multiplyScalar(distance));
   camera.near = distance / 100;
   camera.far = distance * 100;
@@ -249,8 +264,7 @@ function main() {
     hover.textContent = `${part ? part + ' ' : ''}${kind} sphere ${hit.instanceId}: centre (${x}, ${y}, ${z}), radius ${s}`;
   });
   window.addEventListener('resize', () => {
-    camera.aspect = host.clientWidth / host.clientHeight;
-    camera.updateProjectionMatrix();
+    frameBelowPanel();
     renderer.setSize(host.clientWidth, host.clientHeight);
     draw();
   });
