@@ -558,11 +558,15 @@ int main(int argc, char** argv) {
                  "Keep spheretree's runs here and reuse them");
   app.add_flag("--spheretree-cached-only", spheretree_cached_only,
                "spheretree rows only where the cache holds its run (no new runs)");
-  spheretree_work = (std::filesystem::temp_directory_path() /
-                     ("bench_budget_spheretree." + std::to_string(::getpid())))
-                        .string();
-  app.add_option("--spheretree-work", spheretree_work, "spheretree's scratch folder");
+  const std::string scratch = (std::filesystem::temp_directory_path() /
+                               ("bench_budget_spheretree." + std::to_string(::getpid())))
+                                  .string();
+  spheretree_work = scratch;
+  app.add_option("--spheretree-work", spheretree_work,
+                 "spheretree's scratch folder (default: one in the temporary folder, removed at "
+                 "the end)");
   CLI11_PARSE(app, argc, argv);
+  if (spheretree_bin == "none") spheretree_bin.clear();
   const bool curobo = methods.find("curobo") != std::string::npos;
   formats::RobotSpheres curobo_spheres;
   if (curobo) curobo_spheres = formats::load_curobo_yaml(curobo_file);
@@ -605,5 +609,6 @@ int main(int argc, char** argv) {
   std::printf("bound <= protrusion of every certified set: %zu checked, %zu below\n", bound_checks,
               below_bound.size());
   for (const std::string& b : below_bound) std::printf("  BELOW THE BOUND: %s\n", b.c_str());
+  if (spheretree_work == scratch) std::filesystem::remove_all(scratch);
   return below_bound.empty() ? 0 : 1;
 }
