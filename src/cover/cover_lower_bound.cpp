@@ -230,12 +230,11 @@ DepthGrid depth_grid(const MeshQuery& query, int resolution, bool closed, int th
   return g;
 }
 
-// The first index of the largest gap in [begin, end) (begin when empty).
+// The first index of the largest gap in [begin, end).
 std::size_t farthest(const std::vector<double>& gap, std::size_t begin, std::size_t end) {
-  std::size_t at = begin;
-  for (std::size_t i = begin; i < end; ++i)
-    if (gap[i] > gap[at]) at = i;
-  return at;
+  return static_cast<std::size_t>(std::max_element(gap.begin() + static_cast<long>(begin),
+                                                   gap.begin() + static_cast<long>(end)) -
+                                  gap.begin());
 }
 
 // The candidate witnesses: farthest-point sampling of the surface samples and vertices (one
@@ -256,7 +255,7 @@ std::vector<Eigen::Vector3d> candidates(const TriangleMesh& mesh, std::size_t co
     if (!out.empty() && !(gap[next] > 0.0)) break;  // only repeated points are left
     out.push_back(pool[next]);
     const Eigen::Vector3d x = pool[next];
-#pragma omp parallel for schedule(static, 1) num_threads(parts)
+#pragma omp parallel for schedule(static, 1) num_threads(parts) if (parts > 1)
     for (int part = 0; part < parts; ++part) {
       const std::size_t begin = pool.size() * static_cast<std::size_t>(part) / parts,
                         end = pool.size() * static_cast<std::size_t>(part + 1) / parts;
