@@ -58,10 +58,10 @@ TEST_CASE("link reach: every sphere of a link inside its ball at any angle", "[c
       if (std::isinf(reach[l].radius)) continue;
       const std::string& name = layout.link_names[l];
       const Link& link = *arm.find_link(name);
+      const Eigen::Isometry3d& X_WL = X[tree.link_index(name)];
       for (const SphereSet* set : {&link.spheres.outer, &link.spheres.inner})
         for (const Sphere& s : set->spheres) {
-          const double far =
-              (X[tree.link_index(name)] * s.center - reach[l].centre).norm() + s.radius;
+          const double far = (X_WL * s.center - reach[l].centre).norm() + s.radius;
           REQUIRE(far <= reach[l].radius * (1 + 1e-12));
           fill[l] = std::max(fill[l], far / reach[l].radius);
         }
@@ -124,11 +124,11 @@ TEST_CASE("links far from the scene: their scene tests skipped, brute force's ve
       for (std::size_t k = 0; k < configs.size(); ++k) {
         const std::vector<Eigen::Isometry3d> X = tree.link_poses(configs[k]);
         bool truth = false;
-        for (const Link& link : arm.links)
-          for (const Sphere& s : link.spheres.outer.spheres)
-            truth = truth || box_distance(X[tree.link_index(link.name)] * s.center, centre, half) -
-                                     s.radius <=
-                                 margin;
+        for (std::size_t i = 0; i < arm.links.size() && !truth; ++i) {
+          const Eigen::Isometry3d& X_WL = X[tree.link_index(arm.links[i].name)];
+          for (const Sphere& s : arm.links[i].spheres.outer.spheres)
+            truth = truth || box_distance(X_WL * s.center, centre, half) - s.radius <= margin;
+        }
         colliding += truth;
         disagree += truth != (v[k] == check::Verdict::colliding);
       }
