@@ -65,6 +65,7 @@ struct KernelRobot {
   /// Per link: 1 when no configuration brings it within the margin of the scene
   /// (link_reach.h), so that its scene tests are skipped; null: none is.
   const unsigned char* far = nullptr;
+  bool never_near_scene(int l) const { return far && far[l]; }
   /// Per self pair, its joint-space table (pair_table.h; the spheres mode skips the pair
   /// in a lane whose positions fall in a free cell), or none (bits null); null: no tables.
   const PairTableView* table = nullptr;

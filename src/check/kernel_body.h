@@ -463,7 +463,7 @@ unsigned level_within(const Ctx<V>& c, int a, int o, int slot_a, int slot_o, dou
 // scene.
 template <class V>
 MEDSPHERES_KERNEL_INLINE unsigned scene_near(const Ctx<V>& c, int link, unsigned open) {
-  if (c.robot.far && c.robot.far[link]) return 0;
+  if (c.robot.never_near_scene(link)) return 0;
   const double rq = double(c.sp.bound[4 * link + 3]) + c.b.margin + c.b.allowance;
   unsigned hit = 0;  // of the bounding sphere: says nothing of the link
   return grid_near(c, posed(c, link, kBoundSlot), 0, rq, open, hit);
@@ -551,7 +551,7 @@ template <class V>
 void near_links(const Ctx<V>& c, unsigned open, unsigned char* near) {
   const KernelRobot& robot = c.robot;
   for (int link = 0; link < robot.links; ++link)
-    if (!robot.far || !robot.far[link])
+    if (!robot.never_near_scene(link))
       prefetch_points<V>(c.sp.grid, posed(c, link, kBoundSlot), 0, 1);
   for (int link = 0; link < robot.links; ++link)
     near[link] = static_cast<unsigned char>(scene_near(c, link, open));
