@@ -204,6 +204,10 @@ TEST_CASE("robot: bad robots exit 2 naming the URDF and the link, with no output
       {"unsupported geometry", head + R"(<link name="a"><collision><geometry>
          <cone radius="0.1" length="0.2"/></geometry></collision></link></robot>)",
        "cone"},
+      {"floating joint below the root", head + "<link name=\"a\">" + box + R"(</link>
+         <link name="b">)" + box + R"(</link>
+         <joint name="loose" type="floating"><parent link="a"/><child link="b"/></joint></robot>)",
+       "joint 'loose'"},
   };
   for (const Case& c : cases) {
     INFO(c.what);
@@ -216,6 +220,33 @@ TEST_CASE("robot: bad robots exit 2 naming the URDF and the link, with no output
     CHECK_FALSE(fs::exists(out));
     CHECK(entries(dir.path()) == before);
   }
+}
+
+TEST_CASE(
+    "robot: a floating joint from a bare root link is left out, and the files' base is its "
+    "child",
+    "[cli][robot]") {
+  TempDir dir;
+  std::string text = medspheres::read_text_file(medspheres::test::write_arm(dir));
+  const std::string free = R"(<link name="world"/>
+  <joint name="free" type="floating"><parent link="world"/><child link="base"/></joint>
+  )";
+  text.insert(text.find("<link name=\"base\">"), free);
+  const std::string urdf = dir.write("floating_arm.urdf", text);
+  const std::string out = dir.file("out");
+  const CommandResult r = cli("robot " + arm_args(dir, urdf, out) + " --jobs 2");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  CHECK_THAT(r.err, Contains("the floating joint 'free' and the root link 'world'") &&
+                        Contains("base link is 'base'"));
+  const YAML::Node xrdf = YAML::LoadFile(out + "/arm.xrdf");
+  CHECK(xrdf["modifiers"][0]["set_base_frame"].as<std::string>() == "base");
+  const YAML::Node yml = YAML::LoadFile(out + "/arm.curobo.yml");
+  CHECK(yml["robot_cfg"]["kinematics"]["base_link"].as<std::string>() == "base");
+  const medspheres::RobotModel model = medspheres::load_robot(out + "/arm.robot.json");
+  CHECK(model.root_link == "base");
+  CHECK(model.find_link("world") == nullptr);
+  for (const medspheres::Joint& j : model.joints) CHECK(j.name != "free");
 }
 
 TEST_CASE("robot: a link name with XML special characters works", "[cli][robot]") {

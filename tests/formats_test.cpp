@@ -641,6 +641,12 @@ TEST_CASE("XRDF loader contract: every required section", "[formats]") {
   REQUIRE(x["self_collision"]["buffer_distance"].IsMap());
   CHECK(x["self_collision"]["buffer_distance"]["base"].as<double>() == -0.0125);
   CHECK(x["tool_frames"].as<Names>() == Names{"tool", "l2"});
+  // The base link named, so that the chain starts there whatever the URDF's root
+  // (UrdfRobot::free_base).
+  REQUIRE(x["modifiers"].IsSequence());
+  REQUIRE(x["modifiers"].size() == 1);
+  CHECK(x["modifiers"][0].size() == 1);
+  CHECK(x["modifiers"][0]["set_base_frame"].as<std::string>() == "base");
   // The planned joints; the locked j2 is left out of the cspace, so the loader locks it at
   // its default_joint_positions value.
   CHECK(x["cspace"]["joint_names"].as<Names>() == Names{"j1"});

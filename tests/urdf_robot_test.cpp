@@ -289,9 +289,6 @@ TEST_CASE("bad robots: each names the URDF, the link and the problem", "[robot]"
       <mesh filename="x.stl" scale="1 0 1"/></geometry></collision></link>)")),
              Contains("link 'a'") && Contains("scale"));
   CHECK_THAT(read_error(dir, urdf("<link name=\"\">" + box + "</link>")), Contains("empty name"));
-  CHECK_THAT(read_error(dir, urdf(R"(<link name="a"/><link name="b"/>
-      <joint name="f" type="floating"><parent link="a"/><child link="b"/></joint>)")),
-             Contains("joint 'f'") && Contains("unsupported joint type"));
   dir.write("empty.obj", "# no faces\nv 0 0 0\n");
   CHECK_THAT(read_error(dir, urdf(R"(<link name="e"><collision><geometry>
       <mesh filename="empty.obj"/></geometry></collision></link>)")),
@@ -383,4 +380,50 @@ TEST_CASE(
   CHECK(knee.limits->velocity == 100.0);
   const std::vector<LinkSolid> solids = load_link_solids(robot);
   for (const LinkSolid& s : solids) CHECK(s.parts.size() == 1);
+}
+
+TEST_CASE("a floating or planar joint from a bare root link is left out with it, else refused",
+          "[robot]") {
+  TempDir dir;
+  const std::string box =
+      R"(<collision><geometry><box size="0.1 0.1 0.1"/></geometry></collision>)";
+  const std::string arm = R"(<link name="base">)" + box + R"(</link><link name="hand">)" + box +
+                          R"(</link>
+      <joint name="j" type="revolute"><parent link="base"/><child link="hand"/>
+        <axis xyz="0 0 1"/><limit lower="-1" upper="1" effort="1" velocity="1"/></joint>)";
+  for (const std::string type : {"floating", "planar"}) {
+    INFO(type);
+    const std::string free = R"(<joint name="free" type=")" + type +
+                             R"("><parent link="world"/><child link="base"/>)" +
+                             (type == "planar" ? R"(<axis xyz="0 0 1"/>)" : "") + "</joint>";
+    const UrdfRobot robot =
+        read_urdf(dir.write(type + ".urdf", urdf(R"(<link name="world"/>)" + free + arm)));
+    CHECK(robot.model.root_link == "base");
+    REQUIRE(robot.links.size() == 2);
+    REQUIRE(robot.model.links.size() == 2);
+    CHECK(robot.links[0].name == "base");
+    CHECK(robot.model.links[0].name == "base");
+    CHECK(robot.links[1].name == "hand");
+    REQUIRE(robot.model.joints.size() == 1);
+    CHECK(robot.model.joints[0].name == "j");
+    CHECK(robot.free_base.joint == "free");
+    CHECK(robot.free_base.type == type);
+    CHECK(robot.free_base.link == "world");
+
+    // From a link that is not the root, from a root with geometry, or from a root with
+    // another joint: the robot would not be one rigid tree below a fixed base.
+    CHECK_THAT(read_error(dir, urdf(arm + R"(<link name="tip"/>
+        <joint name="loose" type=")" +
+                                    type + R"("><parent link="hand"/><child link="tip"/>
+        <axis xyz="0 0 1"/></joint>)")),
+               Contains("joint 'loose'") && Contains("its parent 'hand' is not the root 'base'"));
+    CHECK_THAT(read_error(dir, urdf(R"(<link name="world">)" + box + "</link>" + free + arm)),
+               Contains("joint 'free'") && Contains("the root 'world' carries geometry"));
+    CHECK_THAT(
+        read_error(dir, urdf(R"(<link name="world"/><link name="table">)" + box + R"(</link>
+        <joint name="table_fixed" type="fixed"><parent link="world"/><child link="table"/></joint>)" +
+                             free + arm)),
+        Contains("joint 'free'") && Contains("the root 'world' has the joint 'table_fixed'"));
+  }
+  CHECK(read_urdf(dir.write("fixed.urdf", urdf(arm))).free_base.joint.empty());
 }

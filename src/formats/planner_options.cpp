@@ -142,6 +142,7 @@ std::size_t curobo_sphere_pairs(const RobotModel& model, const RobotSpheres& sph
 XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres) {
   const PlannerSetup setup = planner_setup_for(model, spheres);
   XrdfOptions o;
+  o.base_frame = model.root_link;
   const std::set<std::string> locked(setup.locked_joints.begin(), setup.locked_joints.end());
   const KinematicTree tree(model);
   for (const std::string& j : tree.joint_names()) {

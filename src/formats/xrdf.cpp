@@ -23,6 +23,9 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "xrdf";
   out << YAML::Key << "format_version" << YAML::Value << yaml_float_text(1.0);
+  if (!options.base_frame.empty())
+    out << YAML::Key << "modifiers" << YAML::Value << YAML::BeginSeq << YAML::BeginMap << YAML::Key
+        << "set_base_frame" << YAML::Value << options.base_frame << YAML::EndMap << YAML::EndSeq;
   if (!options.joint_names.empty()) {
     out << YAML::Key << "cspace" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "joint_names" << YAML::Value << YAML::Flow << options.joint_names;

@@ -2,6 +2,7 @@
 // <joint> elements in the file (urdfdom keeps them in maps sorted by name), the parent and
 // child names that the tree checks below need to name the links of a cycle, and the
 // <capsule> elements (URDF's newer primitive, which urdfdom 3 does not know).
+#include <algorithm>
 #include <cmath>
 #include <filesystem>
 #include <map>
@@ -186,7 +187,8 @@ Joint to_joint(const urdf::Joint& j, const std::string& source) {
     default:
       throw InputError(source, "joint '" + j.name +
                                    "': unsupported joint type (fixed, revolute, continuous and "
-                                   "prismatic are supported)");
+                                   "prismatic are supported; floating and planar only from a "
+                                   "root link without geometry)");
   }
   const Eigen::Vector3d axis = to_vector(j.axis);
   if (out.type != JointType::kFixed) {
@@ -293,6 +295,39 @@ UrdfLink to_link(const urdf::Link& link, const XmlOrder& order, const std::strin
   return out;
 }
 
+const char* free_type(const urdf::Joint& j) {
+  if (j.type == urdf::Joint::FLOATING) return "floating";
+  if (j.type == urdf::Joint::PLANAR) return "planar";
+  return nullptr;
+}
+
+// A floating or planar joint \p j moves the whole robot below it, and planners take a fixed
+// base. It is taken only from the root link, when that link carries no geometry and has no
+// other joint (the "world" link that simulators add): the two are left out of \p robot, and
+// the robot is the tree of the joint's child.
+void leave_out_free_base(const urdf::Joint& j, const XmlOrder& order, UrdfRobot& robot,
+                         const std::string& source) {
+  const std::string type = free_type(j), root = robot.model.root_link;
+  const std::string what = "joint '" + j.name + "': a " + type +
+                           " joint is taken only from a root link without geometry or other "
+                           "joints (the robot's base is then its child), and ";
+  if (j.parent_link_name != root)
+    throw InputError(
+        source, what + "its parent '" + j.parent_link_name + "' is not the root '" + root + "'");
+  for (const XmlJoint& other : order.joints)
+    if (other.parent == root && other.name != j.name)
+      throw InputError(source,
+                       what + "the root '" + root + "' has the joint '" + other.name + "' too");
+  const auto link = std::find_if(robot.links.begin(), robot.links.end(),
+                                 [&](const UrdfLink& l) { return l.name == root; });
+  if (!link->parts.empty())
+    throw InputError(source, what + "the root '" + root + "' carries geometry");
+  robot.model.links.erase(robot.model.links.begin() + (link - robot.links.begin()));
+  robot.links.erase(link);
+  robot.model.root_link = j.child_link_name;
+  robot.free_base = {j.name, type, root};
+}
+
 }  // namespace
 
 UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const std::string& base_dir,
@@ -321,7 +356,10 @@ UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const st
   for (const XmlJoint& j : order.joints) {
     const urdf::JointConstSharedPtr joint = model->getJoint(j.name);
     if (!joint) throw InputError(source, "joint '" + j.name + "' was not read by urdfdom");
-    robot.model.joints.push_back(to_joint(*joint, source));
+    if (free_type(*joint))
+      leave_out_free_base(*joint, order, robot, source);
+    else
+      robot.model.joints.push_back(to_joint(*joint, source));
   }
   validate_robot_model(robot.model, source);  // limits, mimic chains
   return robot;

@@ -15,6 +15,9 @@
 /// - `self_collision:` required with `collision` (v2 :71-93, v1 :78-100): `geometry` the
 ///   same group, `ignore` a mapping link -> [links] (required, `{}` when empty), and
 ///   `buffer_distance` a mapping link -> metres (cuRobo's self_collision_buffer).
+/// - `modifiers`, optional: a list of one-key maps; `set_base_frame` names the base link (v2
+///   :142-150, v1 :151-159), else the URDF's root is the base (v2 :52, v1 :58), and every
+///   joint between the two would be in the chain.
 /// - `tool_frames` required, a list; the first is the primary end effector (v2 :97-100; v1
 ///   :104-108 makes it ee_link).
 /// - `cspace` required (v2 :103, v1 :111): `joint_names` (the planned joints),
@@ -27,6 +30,8 @@
 /// \code{.yaml}
 /// format: xrdf
 /// format_version: 1.0           # a number: cuRobo compares it with 1.0
+/// modifiers:                    # when a base frame is given
+///   - set_base_frame: base
 /// cspace:                       # when joint names are given
 ///   joint_names: [j1, j2]
 ///   acceleration_limits: [15.0, 15.0]
@@ -59,6 +64,9 @@ namespace medspheres::formats {
 
 struct XrdfOptions {
   std::string geometry_name = "medspheres_spheres";  ///< the geometry group's name
+  /// The base link, written as the modifier set_base_frame when not empty (a robot read from
+  /// a URDF whose root hangs from a floating joint has its base below the URDF's root).
+  std::string base_frame;
   /// The planned c-space joints (XRDF requires a cspace section for cuMotion); no cspace
   /// section is written when empty.
   std::vector<std::string> joint_names;

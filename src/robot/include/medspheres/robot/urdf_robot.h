@@ -49,10 +49,19 @@ struct UrdfReadOptions {
   bool from_visual = false;
 };
 
+/// A floating or planar joint from the URDF's root link, left out with that link (planners
+/// take a fixed base): the model's root is the joint's child. Empty names: none.
+struct FreeBase {
+  std::string joint;  ///< the joint's name
+  std::string type;   ///< "floating" or "planar"
+  std::string link;   ///< the root link left out (it carries no geometry)
+};
+
 struct UrdfRobot {
   std::string path;             ///< the URDF file as given
   RobotModel model;             ///< name, root link, links (no spheres yet) and joints, URDF order
   std::vector<UrdfLink> links;  ///< same order as model.links
+  FreeBase free_base;
 };
 
 /// Reads the URDF in \p path with urdfdom. Links and joints keep the file's order.
@@ -63,9 +72,10 @@ struct UrdfRobot {
 ///   know <capsule>: it is read here with tinyxml2), a link with an empty name, a joint
 ///   whose parent or child link does not exist, a link that is the child of two joints, a
 ///   joint cycle (no root, or links not reachable from the root), an unsupported joint type
-///   (floating, planar), a mesh name that cannot be resolved (package_path.h), a primitive
-///   with a size that is not finite and > 0, or a mesh scale that is not finite and
-///   non-zero.
+///   (floating and planar are taken only from a root link without geometry or other joints,
+///   and left out with it: UrdfRobot::free_base), a mesh name that cannot be resolved
+///   (package_path.h), a primitive with a size that is not finite and > 0, or a mesh scale that is
+///   not finite and non-zero.
 UrdfRobot read_urdf(const std::string& path, const UrdfReadOptions& options = {});
 
 /// The same from URDF text; \p source names it in errors and \p base_dir is the folder

@@ -11,7 +11,8 @@
 namespace medspheres {
 
 /// One sentence per warning, without the URDF's name: what keeps cuRobo's URDF parser from
-/// loading the robot (formats::curobo_urdf_problems), then, unless \p from_visual, a robot
+/// loading the robot (formats::curobo_urdf_problems), a floating or planar joint left out
+/// with the root link (UrdfRobot::free_base), then, unless \p from_visual, a robot
 /// none of whose links has collision geometry (its files would carry no sphere; reading the
 /// visual geometry would change that).
 std::vector<std::string> robot_warnings(const UrdfRobot& robot, bool from_visual);
