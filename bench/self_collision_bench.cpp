@@ -88,6 +88,7 @@
 #include "solid_flags.h"
 #include "support/coarse_arm.h"
 #include "support/generated_arms.h"
+#include "support/temp_dir.h"
 
 namespace {
 
@@ -684,8 +685,8 @@ int main(int argc, char** argv) {
     if (o.g1 && fs::exists(g1 / "g1_29dof_rev_1_0.urdf"))
       run_robot((g1 / "g1_29dof_rev_1_0.urdf").string(), (g1 / "curobo_unitree_g1.yml").string(),
                 o);
-    const fs::path dir = fs::temp_directory_path() / "medspheres_bench_self_collision";
-    fs::create_directories(dir);
+    const medspheres::test::TempDir scratch;  // the generated robots, removed at the end
+    const fs::path& dir = scratch.path();
     if (o.coarse_arm) run_robot(medspheres::test::write_coarse_arm(dir / "coarse_arm"), "", o);
     for (int seed = 1; seed <= o.arms; ++seed) {
       const fs::path urdf = dir / ("generated_arm_" + std::to_string(seed) + ".urdf");
