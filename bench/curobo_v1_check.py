@@ -71,6 +71,10 @@ from curobo.types.robot import RobotConfig
 from curobo.util_file import load_yaml
 
 tensor_args = TensorDeviceType(device=torch.device("cpu"))
+# An extra link's (an XRDF's add_frame) fixed transform goes through a default device, CUDA
+# (kinematics_parser.py:65); here the CPU.
+import curobo.cuda_robot_model.kinematics_parser as kinematics_parser
+kinematics_parser.TensorDeviceType = lambda: tensor_args
 path = glob.glob(os.path.join(out, "*.curobo_v1.yml"))[0]
 cfg = CudaRobotModelConfig.from_robot_yaml_file(path, urdf_path=urdf, tensor_args=tensor_args)
 print("from_robot_yaml_file, the v1 YAML as written: OK")
@@ -90,7 +94,8 @@ W = fk(kc.fixed_transforms.cpu().numpy(), kc.link_map.cpu().numpy(), kc.joint_ma
        kc.joint_map_type.cpu().numpy(), kc.joint_offset_map.cpu().numpy(), q0)
 import yourdfpy
 u = yourdfpy.URDF.load(urdf, build_scene_graph=True, load_meshes=False)
-u.update_cfg(dict(zip(kc.joint_names, q0)))
+cspace = data["kinematics"]["cspace"]  # the locked joints too, at the values v1 folds them at
+u.update_cfg({**dict(zip(cspace["joint_names"], cspace["retract_config"])), **dict(zip(kc.joint_names, q0))})
 worst = max(np.abs(W[int(k)] - u.get_transform(n)).max() for n, k in kc.link_name_to_idx_map.items())
 print("v1 link poses at retract_config vs yourdfpy: %d links, max |difference| %.3g"
       % (len(kc.link_name_to_idx_map), worst))

@@ -249,6 +249,37 @@ TEST_CASE(
   for (const medspheres::Joint& j : model.joints) CHECK(j.name != "free");
 }
 
+TEST_CASE("robot: a gripper on its own (one link, no joint) gets files cuRobo loads",
+          "[cli][robot]") {
+  TempDir dir;
+  const std::string urdf = dir.write("gripper.urdf", R"(<?xml version="1.0"?>
+<robot name="gripper">
+  <link name="hand">
+    <collision><geometry><box size="0.2 0.05 0.06"/></geometry></collision>
+  </link>
+</robot>
+)");
+  const std::string out = dir.file("out");
+  const CommandResult r =
+      cli("robot " + shell_quote(urdf) + " -o " + shell_quote(out) + " --spheres-per-link 6");
+  INFO(r.err);
+  REQUIRE(r.exit_code == 0);
+  // No XRDF: cuRobo's XRDF loaders need a cspace joint.
+  CHECK_THAT(r.err, Contains("no actuated joint") && Contains("writes no XRDF"));
+  CHECK_FALSE(fs::exists(out + "/gripper.xrdf"));
+  CHECK(fs::exists(out + "/gripper.robot.json"));
+  // cuRobo v2 gets sphere pairs to divide by, none of which can touch.
+  const YAML::Node k = YAML::LoadFile(out + "/gripper.curobo.yml")["robot_cfg"]["kinematics"];
+  CHECK(k["extra_links"]["medspheres_placeholder"]["parent_link_name"].as<std::string>() == "hand");
+  CHECK(curobo_sphere_pairs(out + "/gripper.curobo.yml") == k["collision_spheres"]["hand"].size());
+  double largest = 0.0;
+  for (const auto& sphere : k["collision_spheres"]["hand"])
+    largest = std::max(largest, sphere["radius"].as<double>());
+  CHECK(largest + k["collision_spheres"]["medspheres_placeholder"][0]["radius"].as<double>() < 0);
+  const YAML::Node v1 = YAML::LoadFile(out + "/gripper.curobo_v1.yml")["robot_cfg"]["kinematics"];
+  CHECK_FALSE(v1["extra_links"]);
+}
+
 TEST_CASE("robot: a link name with XML special characters works", "[cli][robot]") {
   TempDir dir;
   const std::string urdf = dir.write("s.urdf", R"(<robot name="s">

@@ -183,8 +183,10 @@ TEST_CASE("malformed sphere files name the file, the link and the problem", "[fo
   CHECK_THAT(problem(curobo, "a: [1"), Contains("not valid YAML"));
   CHECK_THAT(problem(curobo, "robot_cfg: {kinematics: {collision_spheres: spheres/x.yml}}"),
              Contains("separate file"));
-  CHECK_THAT(problem(curobo, "collision_spheres: {l1: [{center: [0, 0, 0], radius: -1}]}"),
-             Contains("link \"l1\"") && Contains("radius -1"));
+  CHECK_THAT(problem(curobo, "collision_spheres: {l1: [{center: [0, 0, 0], radius: 0}]}"),
+             Contains("link \"l1\"") && Contains("radius 0"));
+  CHECK_THAT(problem(curobo, "collision_spheres: {l1: [{center: [0, 0, 0], radius: -.inf}]}"),
+             Contains("link \"l1\"") && Contains("radius -inf"));
   CHECK_THAT(problem(curobo, "collision_spheres: {l1: [{center: [0, x, 0], radius: 1}]}"),
              Contains("link \"l1\" sphere 0 center"));
   CHECK_THAT(problem(curobo, "kinematics: {base_link: a}"), Contains("no \"collision_spheres\""));
@@ -594,6 +596,108 @@ TEST_CASE("cuRobo loader contract: with every pair skipped, one pair checked tha
   CHECK(
       checked_pairs(k["collision_spheres"], k["self_collision_ignore"], k["self_collision_buffer"])
           .first == 1);
+}
+
+// The arm with spheres on l2 alone.
+static medspheres::RobotModel one_link_with_spheres() {
+  medspheres::RobotModel m = planned_arm();
+  for (medspheres::Link& l : m.links)
+    if (l.name != "l2") l.spheres.outer.spheres.clear();
+  return m;
+}
+
+// Per sphere of \p spheres' link \p link, each radius.
+static std::vector<double> radii(const YAML::Node& spheres, const std::string& link) {
+  std::vector<double> out;
+  for (const YAML::Node& s : spheres[link]) out.push_back(s["radius"].as<double>());
+  return out;
+}
+
+TEST_CASE("cuRobo loader contract: spheres on one link, a placeholder frame gives v2 its pairs",
+          "[formats]") {
+  // cuRobo v2 divides by the number of checked sphere pairs, and one link has none: its
+  // files add a frame at the base with one disabled sphere, whose pairs can never touch.
+  const medspheres::RobotModel m = one_link_with_spheres();
+  const YAML::Node k = curobo_file(m, CuroboLayout::kV2)["robot_cfg"]["kinematics"];
+  CHECK(k["collision_link_names"].as<Names>() == Names{"l2", "medspheres_placeholder"});
+  const YAML::Node link = k["extra_links"]["medspheres_placeholder"];
+  REQUIRE(link.IsMap());
+  CHECK(link["parent_link_name"].as<std::string>() == "base");
+  CHECK(link["link_name"].as<std::string>() == "medspheres_placeholder");
+  CHECK(link["joint_name"].as<std::string>() == "medspheres_placeholder_joint");
+  CHECK(link["joint_type"].as<std::string>() == "FIXED");
+  CHECK(link["fixed_transform"].as<std::vector<double>>() ==
+        std::vector<double>{0, 0, 0, 1, 0, 0, 0});
+  const std::vector<double> own = radii(k["collision_spheres"], "l2");
+  const std::vector<double> placeholder = radii(k["collision_spheres"], "medspheres_placeholder");
+  REQUIRE(placeholder.size() == 1);
+  // Every pair's threshold r1 + r2 + buffers (l2's buffer 0, the frame's unset: 0) < 0.
+  CHECK(*std::max_element(own.begin(), own.end()) + placeholder[0] < 0.0);
+  CHECK(k["self_collision_buffer"]["l2"].as<double>() == 0.0);
+  // Read back, the disabled sphere and its frame are left out.
+  const SphereDocument doc = robot_document(m, SphereChoice::kOuter, "", "arm");
+  WriteOptions o;
+  o.curobo = CuroboLayout::kV2;
+  CHECK(identical(parse_curobo_yaml(sphere_document_text(doc, SphereFormat::kCurobo, o), "f"),
+                  doc.links));
+  // v1 loads a robot without checked pairs as it is.
+  const YAML::Node v1 = curobo_file(m, CuroboLayout::kV1)["robot_cfg"]["kinematics"];
+  CHECK(!v1["extra_links"]);
+  CHECK(v1["collision_link_names"].as<Names>() == Names{"l2"});
+  // The XRDF: the frame as the modifier add_frame, its sphere in the geometry group.
+  const std::string xrdf = sphere_document_text(doc, SphereFormat::kXrdf);
+  const YAML::Node x = YAML::Load(xrdf);
+  REQUIRE(x["modifiers"].size() == 2);
+  CHECK(x["modifiers"][0]["set_base_frame"].as<std::string>() == "base");
+  const YAML::Node frame = x["modifiers"][1]["add_frame"];
+  REQUIRE(frame.IsMap());
+  CHECK(frame["frame_name"].as<std::string>() == "medspheres_placeholder");
+  CHECK(frame["parent_frame_name"].as<std::string>() == "base");
+  CHECK(frame["joint_name"].as<std::string>() == "medspheres_placeholder_joint");
+  CHECK(frame["joint_type"].as<std::string>() == "FIXED");
+  CHECK(frame["fixed_transform"]["position"].as<std::vector<double>>() ==
+        std::vector<double>{0, 0, 0});
+  CHECK(frame["fixed_transform"]["orientation"]["w"].as<double>() == 1.0);
+  CHECK(frame["fixed_transform"]["orientation"]["xyz"].as<std::vector<double>>() ==
+        std::vector<double>{0, 0, 0});
+  const YAML::Node g = x["geometry"][x["collision"]["geometry"].as<std::string>()]["spheres"];
+  CHECK(keys(g) == Names{"l2", "medspheres_placeholder"});
+  CHECK(radii(g, "medspheres_placeholder") == placeholder);
+  CHECK(identical(parse_xrdf(xrdf, "f"), doc.links));
+  // A robot with spheres on two links or more has no such frame.
+  CHECK(!curobo_file(planned_arm(), CuroboLayout::kV2)["robot_cfg"]["kinematics"]["extra_links"]);
+  // The frame's name is apart from every link's.
+  medspheres::RobotModel named = m;
+  named.links.push_back(medspheres::test::make_link("medspheres_placeholder"));
+  named.joints.push_back(medspheres::test::make_joint("extra", medspheres::JointType::kFixed,
+                                                      "tool", "medspheres_placeholder", {0, 0, 1}));
+  const YAML::Node n = curobo_file(named, CuroboLayout::kV2)["robot_cfg"]["kinematics"];
+  CHECK(n["extra_links"]["medspheres_placeholder_"].IsMap());
+}
+
+TEST_CASE("cuRobo's disabled spheres (negative radius) are left out when read", "[formats]") {
+  // cuRobo's own ur10e.yml puts {center: [0, 0, 0.12], radius: -0.01} on tool0.
+  const RobotSpheres read = parse_curobo_yaml(
+      "collision_spheres:\n"
+      "  wrist: [{center: [0, 0, 0], radius: 0.05}, {center: [0, 0, 1], radius: -10.0}]\n"
+      "  tool0: [{center: [0, 0, 0.12], radius: -0.01}]\n",
+      "f");
+  REQUIRE(read.size() == 1);
+  CHECK(read[0].link == "wrist");
+  REQUIRE(read[0].spheres.size() == 1);
+  CHECK(read[0].spheres[0].radius == 0.05);
+}
+
+TEST_CASE("no XRDF for a robot without an actuated joint", "[formats]") {
+  // cuRobo's XRDF loaders take the largest acceleration limit of the cspace's joints, so a
+  // robot with none (a gripper on its own) gets no XRDF, and a warning says why.
+  medspheres::RobotModel m = planned_arm();
+  CHECK(writes_xrdf(m));
+  for (medspheres::Joint& j : m.joints) j.type = medspheres::JointType::kFixed;
+  CHECK_FALSE(writes_xrdf(m));
+  const std::vector<std::string> problems = curobo_urdf_problems(m);
+  REQUIRE(problems.size() == 1);
+  CHECK_THAT(problems[0], Contains("no actuated joint") && Contains("no XRDF"));
 }
 
 TEST_CASE("cuRobo loader contract: cspace in v2's and v1's names", "[formats]") {

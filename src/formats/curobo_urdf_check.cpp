@@ -1,6 +1,7 @@
 // What keeps cuRobo's URDF parser from loading a robot (curobo_urdf_check.h).
 #include "medspheres/formats/curobo_urdf_check.h"
 
+#include <algorithm>
 #include <string>
 
 #include "number_text.h"
@@ -61,8 +62,18 @@ std::string mimic_problem(const RobotModel& model, const Joint& j) {
 
 }  // namespace
 
+bool writes_xrdf(const RobotModel& model) {
+  return std::any_of(model.joints.begin(), model.joints.end(),
+                     [](const Joint& j) { return j.type != JointType::kFixed && !j.mimic; });
+}
+
 std::vector<std::string> curobo_urdf_problems(const RobotModel& model) {
   std::vector<std::string> out;
+  if (!writes_xrdf(model))
+    out.push_back(
+        "the robot has no actuated joint, so `medspheres robot` writes no XRDF: cuRobo's "
+        "XRDF loaders need a joint in its cspace (v1 and v2 take the largest of its "
+        "acceleration limits); the cuRobo YAML carries the spheres");
   for (const Joint& j : model.joints) {
     if (j.type != JointType::kFixed && j.mimic) {
       const std::string problem = mimic_problem(model, j);

@@ -49,15 +49,30 @@ void emit_tool_frames(YAML::Emitter& out, const CuroboOptions& o) {
     out << YAML::Key << "link_names" << YAML::Value << YAML::Flow << o.tool_frames;
 }
 
+// The placeholder frame, fixed at its parent's origin.
+void emit_extra_link(YAML::Emitter& out, const PlaceholderFrame& frame) {
+  out << YAML::Key << "extra_links" << YAML::Value << YAML::BeginMap << YAML::Key << frame.name
+      << YAML::Value << YAML::Flow << YAML::BeginMap;
+  out << YAML::Key << "parent_link_name" << YAML::Value << frame.parent;
+  out << YAML::Key << "link_name" << YAML::Value << frame.name;
+  out << YAML::Key << "joint_name" << YAML::Value << frame.name + "_joint";
+  out << YAML::Key << "joint_type" << YAML::Value << "FIXED";
+  out << YAML::Key << "fixed_transform" << YAML::Value;
+  emit_yaml_floats(out, {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0});
+  out << YAML::EndMap << YAML::EndMap;
+}
+
 void emit_kinematics(YAML::Emitter& out, const RobotSpheres& spheres, const CuroboOptions& o) {
   out << YAML::BeginMap;
   if (!o.base_link.empty()) out << YAML::Key << "base_link" << YAML::Value << o.base_link;
   if (!o.urdf_path.empty()) out << YAML::Key << "urdf_path" << YAML::Value << o.urdf_path;
   if (!o.tool_frames.empty()) emit_tool_frames(out, o);
+  if (!o.placeholder.name.empty()) emit_extra_link(out, o.placeholder);
   out << YAML::Key << "collision_link_names" << YAML::Value << YAML::Flow << YAML::BeginSeq;
   for (const LinkSphereList& l : spheres) out << l.link;
+  if (!o.placeholder.name.empty()) out << o.placeholder.name;
   out << YAML::EndSeq << YAML::Key << "collision_spheres" << YAML::Value;
-  emit_yaml_link_spheres(out, spheres);
+  emit_yaml_link_spheres(out, spheres, o.placeholder);
   out << YAML::Key << "collision_sphere_buffer" << YAML::Value << yaml_float_text(0.0);
   if (!o.tool_frames.empty()) {
     out << YAML::Key << "self_collision_buffer" << YAML::Value;

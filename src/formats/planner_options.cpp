@@ -91,6 +91,24 @@ void check_one_untouchable_pair(LinkPairLists& ignore,
           -(largest_radius(spheres, a) + largest_radius(spheres, b) + std::max(0.0, other)) - 0.01;
 }
 
+// A robot whose spheres all sit on one link checks no sphere pair, which cuRobo v2 refuses
+// (PlaceholderFrame): its files add a frame at the base with a disabled sphere, named apart
+// from every link of the model.
+PlaceholderFrame placeholder_frame(const RobotModel& model, const RobotSpheres& spheres,
+                                   const std::vector<std::pair<std::string, double>>& buffer) {
+  if (spheres.size() != 1) return {};
+  std::set<std::string> names;
+  for (const Link& l : model.links) names.insert(l.name);
+  PlaceholderFrame frame;
+  frame.name = "medspheres_placeholder";
+  while (names.count(frame.name)) frame.name += "_";
+  frame.parent = model.root_link;
+  double largest = largest_radius(spheres, spheres.front().link);
+  for (const auto& entry : buffer) largest += std::max(0.0, entry.second);
+  frame.radius = -(1.0 + largest);
+  return frame;
+}
+
 // The keys the cuRobo file and the XRDF share: tool frames, skipped pairs and buffers.
 template <class Options>
 void fill_self_collision_keys(const RobotModel& model, const RobotSpheres& spheres,
@@ -115,6 +133,8 @@ CuroboOptions curobo_options(const RobotModel& model, const RobotSpheres& sphere
   o.base_link = model.root_link;
   o.urdf_path = urdf_path;
   fill_self_collision_keys(model, spheres, setup, o);
+  if (layout == CuroboLayout::kV2)
+    o.placeholder = placeholder_frame(model, spheres, o.self_collision_buffer);
   const KinematicTree tree(model);
   for (const std::string& j : tree.joint_names()) {
     o.joint_names.push_back(j);
@@ -150,6 +170,7 @@ XrdfOptions xrdf_options(const RobotModel& model, const RobotSpheres& spheres) {
     o.default_positions.emplace_back(j, setup.default_positions.at(j));
   }
   fill_self_collision_keys(model, spheres, setup, o);
+  o.placeholder = placeholder_frame(model, spheres, o.self_collision_buffer);
   return o;
 }
 

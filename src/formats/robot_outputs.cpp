@@ -15,6 +15,7 @@
 #include <unistd.h>
 
 #include "medspheres/error.h"
+#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/self_collision_report.h"
 #include "medspheres/io.h"
 
@@ -194,7 +195,7 @@ std::map<std::string, std::string> robot_output_files(const std::vector<SphereFo
         options.curobo = layout;
         files[stem + suffix] = sphere_document_text(doc, f, options);
       }
-    } else {
+    } else if (f != SphereFormat::kXrdf || writes_xrdf(model)) {
       files[format_file(f, stem)] = sphere_document_text(doc, f, options);
     }
   }

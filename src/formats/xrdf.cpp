@@ -16,6 +16,31 @@ void emit_repeated(YAML::Emitter& out, const char* key, double value, std::size_
   emit_yaml_floats(out, std::vector<double>(n, value));
 }
 
+// set_base_frame, and add_frame for the placeholder frame (fixed at its parent's origin).
+void emit_modifiers(YAML::Emitter& out, const XrdfOptions& options) {
+  const PlaceholderFrame& frame = options.placeholder;
+  if (options.base_frame.empty() && frame.name.empty()) return;
+  out << YAML::Key << "modifiers" << YAML::Value << YAML::BeginSeq;
+  if (!options.base_frame.empty())
+    out << YAML::BeginMap << YAML::Key << "set_base_frame" << YAML::Value << options.base_frame
+        << YAML::EndMap;
+  if (!frame.name.empty()) {
+    out << YAML::BeginMap << YAML::Key << "add_frame" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "frame_name" << YAML::Value << frame.name;
+    out << YAML::Key << "parent_frame_name" << YAML::Value << frame.parent;
+    out << YAML::Key << "joint_name" << YAML::Value << frame.name + "_joint";
+    out << YAML::Key << "joint_type" << YAML::Value << "FIXED";
+    out << YAML::Key << "fixed_transform" << YAML::Value << YAML::BeginMap;
+    out << YAML::Key << "position" << YAML::Value;
+    emit_yaml_floats(out, {0.0, 0.0, 0.0});
+    out << YAML::Key << "orientation" << YAML::Value << YAML::Flow << YAML::BeginMap << YAML::Key
+        << "w" << YAML::Value << yaml_float_text(1.0) << YAML::Key << "xyz" << YAML::Value;
+    emit_yaml_floats(out, {0.0, 0.0, 0.0});
+    out << YAML::EndMap << YAML::EndMap << YAML::EndMap << YAML::EndMap;
+  }
+  out << YAML::EndSeq;
+}
+
 }  // namespace
 
 std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
@@ -23,9 +48,7 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
   YAML::Emitter out;
   out << YAML::BeginMap << YAML::Key << "format" << YAML::Value << "xrdf";
   out << YAML::Key << "format_version" << YAML::Value << yaml_float_text(1.0);
-  if (!options.base_frame.empty())
-    out << YAML::Key << "modifiers" << YAML::Value << YAML::BeginSeq << YAML::BeginMap << YAML::Key
-        << "set_base_frame" << YAML::Value << options.base_frame << YAML::EndMap << YAML::EndSeq;
+  emit_modifiers(out, options);
   if (!options.joint_names.empty()) {
     out << YAML::Key << "cspace" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "joint_names" << YAML::Value << YAML::Flow << options.joint_names;
@@ -50,7 +73,7 @@ std::string xrdf_text(const RobotSpheres& spheres, const XrdfOptions& options) {
   out << YAML::Key << "geometry" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << options.geometry_name << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "spheres" << YAML::Value;
-  emit_yaml_link_spheres(out, spheres);
+  emit_yaml_link_spheres(out, spheres, options.placeholder);
   out << YAML::EndMap << YAML::EndMap;
   out << YAML::Key << "collision" << YAML::Value << YAML::BeginMap;
   out << YAML::Key << "geometry" << YAML::Value << options.geometry_name << YAML::EndMap;

@@ -1,5 +1,6 @@
 #include "yaml_spheres.h"
 
+#include <cmath>
 #include <stdexcept>
 
 #include "medspheres/error.h"
@@ -57,10 +58,12 @@ RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& so
     if (list.IsNull()) continue;  // a link listed without spheres
     if (!list.IsSequence())
       throw InputError(source, "link \"" + link.link + "\": the spheres are not a list");
-    for (std::size_t i = 0; i < list.size(); ++i)
-      link.spheres.push_back(
-          read_sphere(list[i], source, "link \"" + link.link + "\" sphere " + std::to_string(i)));
-    out.push_back(std::move(link));
+    for (std::size_t i = 0; i < list.size(); ++i) {
+      const Sphere s =
+          read_sphere(list[i], source, "link \"" + link.link + "\" sphere " + std::to_string(i));
+      if (!(std::isfinite(s.radius) && s.radius < 0.0)) link.spheres.push_back(s);
+    }
+    if (!link.spheres.empty()) out.push_back(std::move(link));
   }
   validate_robot_spheres(out, source);
   return out;
@@ -77,18 +80,27 @@ std::string yaml_float_text(double v) {
   return mantissa + exponent;
 }
 
-void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres) {
-  out << YAML::BeginMap;
-  for (const LinkSphereList& l : spheres) {
-    out << YAML::Key << l.link << YAML::Value << YAML::BeginSeq;
-    for (const Sphere& s : l.spheres) {
-      out << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value << YAML::Flow
-          << YAML::BeginSeq << yaml_float_text(s.center.x()) << yaml_float_text(s.center.y())
-          << yaml_float_text(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
-          << yaml_float_text(s.radius) << YAML::EndMap;
-    }
-    out << YAML::EndSeq;
+namespace {
+
+void emit_link(YAML::Emitter& out, const std::string& link, const std::vector<Sphere>& spheres) {
+  out << YAML::Key << link << YAML::Value << YAML::BeginSeq;
+  for (const Sphere& s : spheres) {
+    out << YAML::Flow << YAML::BeginMap << YAML::Key << "center" << YAML::Value << YAML::Flow
+        << YAML::BeginSeq << yaml_float_text(s.center.x()) << yaml_float_text(s.center.y())
+        << yaml_float_text(s.center.z()) << YAML::EndSeq << YAML::Key << "radius" << YAML::Value
+        << yaml_float_text(s.radius) << YAML::EndMap;
   }
+  out << YAML::EndSeq;
+}
+
+}  // namespace
+
+void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres,
+                            const PlaceholderFrame& placeholder) {
+  out << YAML::BeginMap;
+  for (const LinkSphereList& l : spheres) emit_link(out, l.link, l.spheres);
+  if (!placeholder.name.empty())
+    emit_link(out, placeholder.name, {Sphere{Eigen::Vector3d::Zero(), placeholder.radius}});
   out << YAML::EndMap;
 }
 

@@ -32,7 +32,10 @@ auto read_yaml(const std::string& text, const std::string& source, Read&& read) 
 }
 
 /// Reads a mapping link -> list of {center, radius}, in the file's order, and validates it
-/// (validate_robot_spheres). \p where names the mapping ("collision_spheres").
+/// (validate_robot_spheres). \p where names the mapping ("collision_spheres"). A sphere of
+/// finite negative radius is cuRobo's disabled sphere (a placeholder, such as cuRobo's own
+/// ur10e.yml puts on tool0, or a PlaceholderFrame's): it is left out, and so is a link left
+/// with no sphere.
 /// \throws InputError naming \p source, the link, the sphere's index and the problem.
 RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& source,
                                     const std::string& where);
@@ -44,8 +47,10 @@ RobotSpheres read_yaml_link_spheres(const YAML::Node& map, const std::string& so
 std::string yaml_float_text(double v);
 
 /// Writes the mapping link -> list of {center: [x, y, z], radius: r}, each sphere on one
-/// line in flow style, numbers as yaml_float_text.
-void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres);
+/// line in flow style, numbers as yaml_float_text; then \p placeholder's one sphere at its
+/// origin, when it has a name.
+void emit_yaml_link_spheres(YAML::Emitter& out, const RobotSpheres& spheres,
+                            const PlaceholderFrame& placeholder = {});
 
 /// Writes a mapping link -> [links] (flow lists), `{}` when empty.
 void emit_yaml_link_lists(YAML::Emitter& out, const LinkPairLists& lists);

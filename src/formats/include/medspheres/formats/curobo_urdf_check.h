@@ -16,7 +16,15 @@ namespace medspheres::formats {
 /// actuated joint whose velocity or effort limit is not positive (URDF generators write 0),
 /// which cuRobo v2 takes as the empty range [-0, 0] and refuses; and a mimic joint that its
 /// source joint, mapped by the multiplier and offset, drives beyond its own lower or upper
-/// limit or velocity, which cuRobo v1's parser refuses (v2 widens the limit).
+/// limit or velocity, which cuRobo v1's parser refuses (v2 widens the limit). Also a robot
+/// with no actuated joint, for which no XRDF is written (writes_xrdf).
 std::vector<std::string> curobo_urdf_problems(const RobotModel& model);
+
+/// False for a robot with no actuated joint (no joint that is neither fixed nor mimic): an
+/// XRDF's cspace must list one, since cuRobo's XRDF loaders take the largest of its
+/// acceleration limits (v1 util/xrdf_utils.py:128, v2 _src/util/xrdf_util.py:123), and both
+/// refuse an XRDF without cspace. So `medspheres robot` writes no XRDF for such a robot (a
+/// gripper or a tool on its own); the cuRobo YAML carries its spheres.
+bool writes_xrdf(const RobotModel& model);
 
 }  // namespace medspheres::formats

@@ -41,6 +41,10 @@
 ///   (types.py:165); `max_acceleration`, `max_jerk`, `null_space_weight`,
 ///   `cspace_distance_weight` per joint. v2 requires the names to hold every joint of its
 ///   kinematic tree and no other joint that is not locked (kinematics_loader.py:536-646).
+/// - v2 divides by the number of sphere pairs that it checks (self_collision_params.py:110):
+///   a robot whose spheres sit on one link gets a PlaceholderFrame, as `extra_links: NAME:
+///   {parent_link_name, link_name, joint_name, joint_type: FIXED, fixed_transform: [x, y, z,
+///   qw, qx, qy, qz]}` (kinematics_loader_cfg.py:185-190 to robot/types/link_params.py:43).
 /// - Numbers: cuRobo reads with PyYAML; yaml_float_text writes every number so that any
 ///   YAML 1.1 reader takes it as a float.
 ///
@@ -80,6 +84,9 @@ struct CuroboOptions {
   std::vector<std::pair<std::string, double>> lock_joints;  ///< written when not empty
   double max_acceleration = 15.0;  ///< per joint, cuRobo's default (rad/s^2 or m/s^2)
   double max_jerk = 500.0;         ///< per joint, cuRobo's default (rad/s^3 or m/s^3)
+  /// Written, when it has a name, as an `extra_links` entry, a collision link and its
+  /// sphere (robot_spheres.h).
+  PlaceholderFrame placeholder;
 };
 
 /// The YAML text. \throws InputError (source "cuRobo YAML") for invalid spheres or names;

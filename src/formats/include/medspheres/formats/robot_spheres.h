@@ -41,6 +41,19 @@ void validate_robot_spheres(const RobotSpheres& spheres, const std::string& sour
 /// key -> the other links.
 using LinkPairLists = std::vector<std::pair<std::string, std::vector<std::string>>>;
 
+/// A frame that cuRobo's files add at the origin of the link \p parent. It carries one
+/// sphere of negative radius: cuRobo's disabled sphere, which no check counts (its world
+/// kernels skip a negative radius, and each self-collision threshold r1 + r2 + buffers
+/// stays below zero). cuRobo v2 divides by the number of sphere pairs that it checks, so
+/// it refuses a robot whose spheres all sit on one link (ZeroDivisionError,
+/// self_collision_params.py:110). The frame gives that robot pairs that never fire. An
+/// empty name means no frame.
+struct PlaceholderFrame {
+  std::string name;
+  std::string parent;
+  double radius = -1.0;  ///< below minus every other radius and buffer
+};
+
 /// The entry for \p link, or nullptr.
 const LinkSphereList* find_link_spheres(const RobotSpheres& spheres, const std::string& link);
 

@@ -79,6 +79,9 @@ struct XrdfOptions {
   LinkPairLists self_collision_ignore;   ///< self_collision: ignore
   /// self_collision: buffer_distance, link -> metres; not written when empty.
   std::vector<std::pair<std::string, double>> self_collision_buffer;
+  /// Written, when it has a name, as the modifier add_frame and its sphere in the geometry
+  /// group (robot_spheres.h).
+  PlaceholderFrame placeholder;
 };
 
 /// The XRDF text. \throws InputError for invalid spheres or names.
