@@ -78,9 +78,12 @@ kinematics_parser.TensorDeviceType = lambda: tensor_args
 path = glob.glob(os.path.join(out, "*.curobo_v1.yml"))[0]
 cfg = CudaRobotModelConfig.from_robot_yaml_file(path, urdf_path=urdf, tensor_args=tensor_args)
 print("from_robot_yaml_file, the v1 YAML as written: OK")
-xrdf = glob.glob(os.path.join(out, "*.xrdf"))[0]
-CudaRobotModelConfig.from_robot_yaml_file(xrdf, urdf_path=urdf, tensor_args=tensor_args)
-print("from_robot_yaml_file, the XRDF as written: OK")
+for xrdf in glob.glob(os.path.join(out, "*.xrdf")) or [None]:
+    if xrdf is None:  # a robot without an actuated joint has none
+        print("no XRDF")
+        continue
+    CudaRobotModelConfig.from_robot_yaml_file(xrdf, urdf_path=urdf, tensor_args=tensor_args)
+    print("from_robot_yaml_file, the XRDF as written: OK")
 data = load_yaml(path)["robot_cfg"]
 RobotConfig.from_dict(data, tensor_args)
 print("RobotConfig.from_dict, the v1 YAML as written: OK")
