@@ -42,9 +42,11 @@ void validate_robot_spheres(const RobotSpheres& spheres, const std::string& sour
 using LinkPairLists = std::vector<std::pair<std::string, std::vector<std::string>>>;
 
 /// A frame that cuRobo's files add at the origin of the link \p parent. It carries one
-/// sphere of negative radius: cuRobo's disabled sphere, which no check counts (its world
-/// kernels skip a negative radius, and each self-collision threshold r1 + r2 + buffers
-/// stays below zero). cuRobo v2 divides by the number of sphere pairs that it checks, so
+/// sphere of negative radius: cuRobo's disabled sphere, which no check counts (v2's world
+/// kernels skip a negative radius, wp_collision_kernel.py:138, and its self-collision
+/// kernel masks a pair with one, self_collision_helper.cuh:259; v1's world kernels skip it,
+/// sphere_obb_kernel.cu:983, and each self-collision threshold r1 + r2 + buffers stays
+/// below zero). cuRobo v2 divides by the number of sphere pairs that it checks, so
 /// it refuses a robot whose spheres all sit on one link (ZeroDivisionError,
 /// self_collision_params.py:110). The frame gives that robot pairs that never fire. An
 /// empty name means no frame.
