@@ -50,6 +50,12 @@ struct Joint {
   std::optional<JointMimic> mimic;
 };
 
+/// A joint that is a coordinate of the configuration: neither fixed nor a mimic, which
+/// follows its source.
+inline bool is_actuated(const Joint& j) {
+  return j.type != JointType::kFixed && !j.mimic;
+}
+
 /// The spheres of one link, in its frame: an inner set (inside the link's solid) and a
 /// covering set (its union contains the solid's surface), either may be empty.
 struct LinkSpheres {

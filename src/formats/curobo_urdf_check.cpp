@@ -63,8 +63,7 @@ std::string mimic_problem(const RobotModel& model, const Joint& j) {
 }  // namespace
 
 bool writes_xrdf(const RobotModel& model) {
-  return std::any_of(model.joints.begin(), model.joints.end(),
-                     [](const Joint& j) { return j.type != JointType::kFixed && !j.mimic; });
+  return std::any_of(model.joints.begin(), model.joints.end(), is_actuated);
 }
 
 std::vector<std::string> curobo_urdf_problems(const RobotModel& model) {
@@ -79,7 +78,7 @@ std::vector<std::string> curobo_urdf_problems(const RobotModel& model) {
       const std::string problem = mimic_problem(model, j);
       if (!problem.empty()) out.push_back(problem);
     }
-    if (j.type == JointType::kFixed || j.mimic) continue;
+    if (!is_actuated(j)) continue;
     if (!j.limits) {
       if (j.type == JointType::kContinuous)
         out.push_back("continuous joint '" + j.name +

@@ -55,7 +55,7 @@ void emit_extra_link(YAML::Emitter& out, const PlaceholderFrame& frame) {
       << YAML::Value << YAML::Flow << YAML::BeginMap;
   out << YAML::Key << "parent_link_name" << YAML::Value << frame.parent;
   out << YAML::Key << "link_name" << YAML::Value << frame.name;
-  out << YAML::Key << "joint_name" << YAML::Value << frame.name + "_joint";
+  out << YAML::Key << "joint_name" << YAML::Value << frame.joint();
   out << YAML::Key << "joint_type" << YAML::Value << "FIXED";
   out << YAML::Key << "fixed_transform" << YAML::Value;
   emit_yaml_floats(out, {0.0, 0.0, 0.0, 1.0, 0.0, 0.0, 0.0});

@@ -28,7 +28,7 @@ void emit_modifiers(YAML::Emitter& out, const XrdfOptions& options) {
     out << YAML::BeginMap << YAML::Key << "add_frame" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "frame_name" << YAML::Value << frame.name;
     out << YAML::Key << "parent_frame_name" << YAML::Value << frame.parent;
-    out << YAML::Key << "joint_name" << YAML::Value << frame.name + "_joint";
+    out << YAML::Key << "joint_name" << YAML::Value << frame.joint();
     out << YAML::Key << "joint_type" << YAML::Value << "FIXED";
     out << YAML::Key << "fixed_transform" << YAML::Value << YAML::BeginMap;
     out << YAML::Key << "position" << YAML::Value;

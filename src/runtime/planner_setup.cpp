@@ -200,7 +200,7 @@ std::vector<std::string> finger_joints(const RobotModel& model,
   std::vector<std::string> out;
   std::size_t actuated = 0;
   for (const Joint& j : model.joints) {
-    actuated += j.type != JointType::kFixed && !j.mimic;
+    actuated += is_actuated(j);
     if (names.count(j.name)) out.push_back(j.name);
   }
   // A hand or a gripper alone: its fingers are all a planner has to move.
@@ -211,7 +211,7 @@ std::vector<std::string> finger_joints(const RobotModel& model,
 std::map<std::string, double> clamped_zero(const RobotModel& model) {
   std::map<std::string, double> out;
   for (const Joint& j : model.joints) {
-    if (j.type == JointType::kFixed || j.mimic) continue;
+    if (!is_actuated(j)) continue;
     double q = 0.0;
     if (j.type != JointType::kContinuous && j.limits && j.limits->lower < j.limits->upper)
       q = std::clamp(q, j.limits->lower, j.limits->upper);
@@ -395,7 +395,7 @@ void validate_planner_setup(const RobotModel& model, const PlannerSetup& setup,
     if (!model.find_link(t)) fail(source, "the tool frame \"" + t + "\" is no link of the robot");
   std::set<std::string> actuated;
   for (const Joint& j : model.joints)
-    if (j.type != JointType::kFixed && !j.mimic) actuated.insert(j.name);
+    if (is_actuated(j)) actuated.insert(j.name);
   for (const std::string& j : setup.locked_joints)
     if (!actuated.count(j)) fail(source, "the locked joint \"" + j + "\" is no actuated joint");
   for (const auto& [j, q] : setup.default_positions) {

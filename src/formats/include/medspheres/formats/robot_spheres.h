@@ -54,6 +54,8 @@ struct PlaceholderFrame {
   std::string name;
   std::string parent;
   double radius = -1.0;  ///< below minus every other radius and buffer
+  /// The fixed joint that holds the frame.
+  std::string joint() const { return name + "_joint"; }
 };
 
 /// The entry for \p link, or nullptr.
