@@ -156,3 +156,26 @@ TEST_CASE("convert rejects bad input with exit 2, a message and no output", "[cl
         dir.file("r.robot.json"));
   fails(shell_quote(dir.file("missing.yml")) + " " + shell_quote(kept), "missing.yml", kept);
 }
+
+TEST_CASE("convert writes no XRDF for a robot without an actuated joint", "[cli][convert]") {
+  TempDir dir;
+  medspheres::RobotModel gripper = medspheres::test::three_link_arm();
+  for (medspheres::Joint& j : gripper.joints) {
+    j.type = medspheres::JointType::kFixed;
+    j.mimic.reset();
+    j.limits.reset();
+  }
+  for (medspheres::Link& l : gripper.links)
+    l.spheres.outer.spheres.push_back({{0.0, 0.0, 0.1}, 0.05});
+  const std::string robot = dir.file("gripper.robot.json");
+  medspheres::save_robot(gripper, robot);
+  const CommandResult r =
+      run_cli("convert " + shell_quote(robot) + " " + shell_quote(dir.file("g.xrdf")));
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err, Contains("--to") && Contains("no actuated joint"));
+  CHECK(!std::filesystem::exists(dir.file("g.xrdf")));
+  // The cuRobo YAML carries the same spheres.
+  convert(shell_quote(robot) + " " + shell_quote(dir.file("g.yml")));
+  const auto read = formats::read_link_sphere_map(dir.file("g.yml"), "in");
+  CHECK(read.size() == gripper.links.size());
+}

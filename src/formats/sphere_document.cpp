@@ -5,6 +5,7 @@
 #include <nlohmann/json.hpp>
 
 #include "medspheres/error.h"
+#include "medspheres/formats/curobo_urdf_check.h"
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/foam_json.h"
 #include "medspheres/formats/planner_options.h"
@@ -254,6 +255,12 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
       return curobo_yaml_text(spheres, o);
     }
     case SphereFormat::kXrdf: {
+      if (doc.model && !writes_xrdf(*doc.model))
+        throw InputError::option(
+            ErrorKind::kOutOfRange, "to", "xrdf",
+            "the robot has no actuated joint, and cuRobo's XRDF loaders need one in the cspace "
+            "(v1 and v2 take the largest of its acceleration limits); the cuRobo YAML "
+            "(--to curobo) carries the spheres");
       const RobotSpheres spheres = per_link(doc, options);
       return xrdf_text(spheres, doc.model ? xrdf_options(*doc.model, spheres) : XrdfOptions{});
     }

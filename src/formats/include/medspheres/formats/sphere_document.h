@@ -26,7 +26,8 @@
 /// link, and a link named then is refused (it would go unused). foam output is foam's one-mesh list
 /// for a one-set input or when a link is named, its per-link database otherwise. A robot file is
 /// written only from a robot file (it needs the kinematic tree); a spherized URDF needs the robot's
-/// URDF (the input's, or WriteOptions::urdf_text).
+/// URDF (the input's, or WriteOptions::urdf_text). An XRDF is not written from a robot model
+/// without an actuated joint (writes_xrdf): cuRobo's loaders refuse an XRDF with an empty cspace.
 
 #include <map>
 #include <optional>
