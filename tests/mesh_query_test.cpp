@@ -12,6 +12,7 @@
 #include "medspheres/triangle_tree.h"
 #include "support/point_triangle_oracle.h"
 #include "support/random_points.h"
+#include "support/sanitizer_build.h"
 #include "support/shared_meshes.h"
 
 using namespace medspheres;
@@ -513,8 +514,10 @@ TEST_CASE("closest points and inside tests on every closed shared mesh", "[mesh_
     if (!row.closed) continue;
     INFO(row.file);
     const LoadedMesh loaded = load_mesh(row.path);
-    // Brute force costs points x triangles; keep it to a few million pair tests.
-    const std::size_t n = std::max<std::size_t>(30, 3000000 / loaded.mesh.triangles.size());
+    // Brute force costs points x triangles; keep it to a few million pair tests (one
+    // million in the sanitizer builds).
+    const std::size_t pair_tests = test::kSanitizerBuild ? 1000000 : 3000000;
+    const std::size_t n = std::max<std::size_t>(30, pair_tests / loaded.mesh.triangles.size());
     check_closest_points(loaded.mesh, n, 99);
     const MeshQuery q(loaded.mesh);
     std::size_t agree = 0, total = 0;
