@@ -275,7 +275,7 @@ class DepthProfiles {
  public:
   DepthProfiles(const DepthGrid& grid, const std::vector<Eigen::Vector3d>& points, double diagonal,
                 bool penalized, int threads)
-      : points_(points), delta_(grid.delta), bin_(0.5 * grid.delta) {
+      : delta_(grid.delta), bin_(0.5 * grid.delta) {
     bins_ = static_cast<std::size_t>((diagonal + 2.0 * delta_) / bin_) + 2;
     table_.assign(points.size() * bins_, 0.0);  // 0: the max(0, ...) of step 4
     const long long n = static_cast<long long>(points.size());
@@ -315,7 +315,6 @@ class DepthProfiles {
       for (std::size_t j = 0; j < bins_; ++j) row[j] = std::max(row[j], beyond[j]);
   }
 
-  const std::vector<Eigen::Vector3d>& points_;
   double delta_, bin_;
   std::size_t bins_ = 0;
   std::vector<double> table_;
