@@ -86,7 +86,7 @@ TEST_CASE("cover lower bound: below the one-ball cover of a sphere", "[cover_low
   const double truth = max_protrusion(query, ball);
   const CoverLowerBound b = cover_protrusion_lower_bound(query, 1, quick());
   INFO("bound " << b.bound << " one ball " << truth);
-  CHECK(b.bound >= 0.0);
+  CHECK(b.bound >= 0.9 * truth);  // two antipodal witnesses: a ball holding both is as wide
   CHECK(b.bound <= truth + 1e-9);
   CHECK(b.witnesses.size() == 2);
   CHECK(b.closed);
@@ -253,7 +253,7 @@ TEST_CASE("cover lower bound: one ball covers a sphere, so no K proves more",
     const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
     INFO("K = " << K << " bound " << lb.bound << " counting " << lb.count_bound << " one ball "
                 << truth);
-    CHECK(lb.count_bound >= 0.0);
+    if (K == 2) CHECK(lb.count_bound > 0.5 * truth);  // the counting argument proves much
     CHECK(lb.bound <= truth + 1e-9);
   }
 }
@@ -346,7 +346,7 @@ TEST_CASE("cover lower bound: a flat open square", "[cover_lower_bound]") {
     const CoverLowerBound lb = cover_protrusion_lower_bound(query, K, o);
     INFO("K = " << K << " bound " << lb.bound << " one ball " << one_ball);
     CHECK(std::isfinite(lb.bound));
-    CHECK(lb.bound >= 0.0);
+    if (K == 1) CHECK(lb.bound >= 0.9 * one_ball);  // two far corners: as wide as the ball
     CHECK(lb.bound <= one_ball);
   }
 }
