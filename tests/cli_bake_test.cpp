@@ -5,6 +5,7 @@
 #include <fstream>
 #include <sstream>
 #include <string>
+#include <vector>
 
 #include <sys/stat.h>
 
@@ -224,6 +225,46 @@ TEST_CASE("bake checks its options and output path before loading the mesh", "[c
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Contains(c.path) && Contains(c.says));
   }
+}
+
+TEST_CASE("an output naming an input, or empty, exits 2 and the input stays", "[cli][bake]") {
+  TempDir dir;
+  const std::string mesh = dir.write("eight.off", medspheres::read_text_file(kEight));
+  const std::string set = dir.file("eight.spheres.json");
+  REQUIRE(cli("bake -q " + shell_quote(mesh) + " -o " + shell_quote(set) + " --resolution 8")
+              .exit_code == 0);
+  const std::string mesh_bytes = medspheres::read_text_file(mesh);
+  const std::string set_bytes = medspheres::read_text_file(set);
+  // The same file by another name: a symbolic link to the mesh.
+  const std::string link = dir.file("link.off");
+  std::filesystem::create_symlink(mesh, link);
+  const std::string m = shell_quote(mesh), q = shell_quote(set);
+  struct Case {
+    std::string args, expect;
+  };
+  const std::vector<Case> cases = {
+      {"bake -q " + m + " -o " + m + " --resolution 8", "--output: is the input"},
+      {"bake -q " + m + " -o " + shell_quote(link) + " --resolution 8", "--output: is the input"},
+      {"bake -q " + m + " --method cover --cover-start " + q + " -o " + q,
+       "--output: is the input"},
+      {"render " + m + " " + q + " -o " + m + " --size 32x32", "--output: is the input"},
+      {"render " + m + " " + q + " -o " + q + " --size 32x32", "--output: is the input"},
+      {"view " + m + " " + q + " -o " + q, "--output: is the input"},
+      {"bake -q " + m + " -o ''", "--output: must not be empty"},
+      {"render " + m + " " + q + " -o ''", "--output: must not be empty"},
+      {"view " + m + " " + q + " -o ''", "--output: must not be empty"},
+      {"convert '' " + shell_quote(dir.file("o.sph")), "must not be empty"},
+      {"convert " + q + " ''", "must not be empty"},
+  };
+  for (const Case& c : cases) {
+    INFO(c.args);
+    const CommandResult r = cli(c.args);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(c.expect));
+    CHECK(medspheres::read_text_file(mesh) == mesh_bytes);
+    CHECK(medspheres::read_text_file(set) == set_bytes);
+  }
+  CHECK_FALSE(std::filesystem::exists(dir.file("o.sph")));
 }
 
 TEST_CASE("bake -o: links are followed, devices written in place, failures exit 1", "[cli][bake]") {

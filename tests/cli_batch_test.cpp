@@ -72,6 +72,25 @@ TEST_CASE("bake FOLDER -o DIR: mirrored outputs, a report, exit 2 for a bad mesh
   }
 }
 
+TEST_CASE("bake -q batch: a failed input leaves no folder of its own, and says why",
+          "[cli][batch]") {
+  TempDir dir;
+  write_inputs(dir);  // in/sub holds a good and a bad mesh
+  fs::create_directories(dir.path() / "in/broken/deeper");
+  dir.write("in/broken/deeper/bad.off", "OFF\n3 1 0\n0 0 0\n");
+  const std::string out = dir.file("out");
+  const CommandResult r = run_cli(
+      "bake -q " + shell_quote(dir.file("in")) + " -o " + shell_quote(out) + " --resolution 10",
+      300);
+  CHECK(r.exit_code == 2);
+  CHECK_THAT(r.err,
+             Contains("medspheres: error: failed") && Contains("bad.off") && Contains("bad.obj"));
+  CHECK(r.out.empty());
+  CHECK(fs::exists(out + "/box.spheres.json"));
+  CHECK(fs::exists(out + "/sub/ball.spheres.json"));  // its folder kept: it holds a good one
+  CHECK_FALSE(fs::exists(out + "/broken"));
+}
+
 TEST_CASE("bake --from-list - with --cache: the second run copies, CSV report", "[cli][batch]") {
   TempDir dir;
   write_inputs(dir);
@@ -107,7 +126,8 @@ TEST_CASE("bake batch flags: bad values are exit 2 before any work", "[cli][batc
                         Case{in + " -o " + out + " --shard x", "--shard"},
                         Case{in + " -o " + out + " --report r.txt", "--report"},
                         Case{in + " -o " + shell_quote(file), "--output"}, Case{in, "--output"},
-                        Case{in + " -o " + out + " --jobs -1", "--jobs"}}) {
+                        Case{in + " -o " + out + " --jobs -1", "--jobs"},
+                        Case{in + " -o " + out + " --cache " + shell_quote(file), "--cache"}}) {
     INFO(c.args);
     const CommandResult r = run_cli("bake " + c.args, 60);
     CHECK(r.exit_code == 2);

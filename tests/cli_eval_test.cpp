@@ -140,6 +140,14 @@ TEST_CASE("eval rejects bad input with exit 2 and names the file or option", "[c
     CHECK(r.exit_code == 2);
     CHECK_THAT(r.err, Contains(option));
   }
+  // Counts whose points would not fit in memory: refused at once, naming the option.
+  for (const std::string too_many : {" --samples 10000000001", " --surface-samples 100000001",
+                                     " --surface-samples 99999999999"}) {
+    INFO(too_many);
+    const CommandResult r = eval(both + too_many);
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains(too_many.substr(1, too_many.find(' ', 1) - 1)) && Contains("1 .. "));
+  }
   CHECK(eval(both + " --samples -5").exit_code == 2);
   CHECK(eval(both + " --samples many").exit_code == 2);
   CHECK(eval(both + " --seed -1").exit_code == 2);

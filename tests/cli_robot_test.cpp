@@ -249,6 +249,38 @@ TEST_CASE(
   for (const medspheres::Joint& j : model.joints) CHECK(j.name != "free");
 }
 
+TEST_CASE("robot: an output folder that holds an input is refused, and the inputs stay",
+          "[cli][robot]") {
+  // The folder is replaced as a whole: -o naming the URDF's folder, or a folder above its
+  // meshes, would remove them.
+  TempDir dir;
+  const std::string urdf = medspheres::test::write_arm(dir);
+  const std::string mesh = dir.file("meshes/forearm.obj");
+  const std::string bytes = medspheres::read_text_file(mesh);
+  for (const std::string& out : {dir.path().string(), dir.file("meshes"), dir.file("pkg")}) {
+    INFO(out);
+    const std::size_t before = entries(dir.path());
+    const CommandResult r = cli("robot " + arm_args(dir, urdf, out));
+    CHECK(r.exit_code == 2);
+    CHECK_THAT(r.err, Contains("--output: " + out + " holds the input"));
+    CHECK(entries(dir.path()) == before);
+    CHECK(medspheres::read_text_file(mesh) == bytes);
+  }
+  CHECK(fs::exists(dir.file("pkg/arm_pkg/meshes/hand.obj")));
+  // A batch whose robot's own folder (out/arm) holds its meshes: quiet, yet it says why.
+  fs::create_directories(dir.path() / "batch/arm");
+  fs::copy_file(mesh, dir.path() / "batch/arm/forearm.obj");
+  std::string text = medspheres::read_text_file(urdf);
+  text.replace(text.find("meshes/forearm.obj"), 18, "arm/forearm.obj");
+  dir.write("batch/arm.urdf", text);
+  const CommandResult batch =
+      cli("robot " + shell_quote(dir.file("batch")) + " -o " + shell_quote(dir.file("batch")) +
+          " -q --package " + shell_quote("arm_pkg=" + (dir.path() / "pkg/arm_pkg").string()));
+  CHECK(batch.exit_code == 2);
+  CHECK_THAT(batch.err, Contains("holds the input") && Contains("forearm.obj"));
+  CHECK(medspheres::read_text_file(dir.file("batch/arm/forearm.obj")) == bytes);
+}
+
 TEST_CASE("robot: a gripper on its own (one link, no joint) gets files cuRobo loads",
           "[cli][robot]") {
   TempDir dir;

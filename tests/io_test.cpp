@@ -101,6 +101,46 @@ TEST_CASE("a missing sphere file names the path", "[io]") {
   CHECK_THROWS_WITH(medspheres::load_sphere_set(dir.path().string()), Contains("directory"));
 }
 
+TEST_CASE("a device is not read as a file", "[io]") {
+  // /dev/zero would be read for ever; /dev/null is a device too.
+  TempDir dir;
+  const std::string zero = dir.file("zero.json");
+  std::filesystem::create_symlink("/dev/zero", zero);
+  for (const std::string& path : {zero, std::string("/dev/null")}) {
+    INFO(path);
+    CHECK_THROWS_WITH(medspheres::read_text_file(path), Contains(path) && Contains("is a device"));
+    CHECK_THROWS_AS(medspheres::load_sphere_set(path), InputError);
+  }
+}
+
+TEST_CASE("an output may not be, nor hold, one of the inputs", "[io]") {
+  TempDir dir;
+  std::filesystem::create_directory(dir.file("in"));
+  const std::string input = dir.write("in/a.json", "{}");
+  std::filesystem::create_symlink(input, dir.file("link.json"));
+  std::filesystem::create_symlink(dir.file("in"), dir.file("in_link"));
+  auto problem = [&](const std::string& out) -> std::string {
+    try {
+      medspheres::check_output_spares_inputs(out, {"", dir.file("other.json"), input});
+    } catch (const InputError& e) {
+      CHECK(e.field() == "output");
+      CHECK(e.value() == out);
+      return e.problem();
+    }
+    return "";
+  };
+  CHECK_THAT(problem(input), Contains("is the input " + input));
+  CHECK_THAT(problem(dir.file("link.json")), Contains("is the input"));  // the same file
+  CHECK_THAT(problem(dir.file("in")), Contains(dir.file("in") + " holds the input " + input));
+  CHECK_THAT(problem(dir.file("in") + "/"), Contains("holds the input"));
+  CHECK_THAT(problem(dir.file("in_link")), Contains("holds the input"));  // a link to it
+  CHECK_THAT(problem(dir.path().string()), Contains("holds the input"));
+  CHECK(problem(dir.file("in/b.json")).empty());  // beside it
+  CHECK(problem(dir.file("in2")).empty());        // a name that starts the same
+  CHECK(problem(dir.file("new/out")).empty());    // not there yet
+  CHECK(problem("").empty());
+}
+
 TEST_CASE("saving is atomic: failures leave no file and no temporary behind", "[io]") {
   TempDir dir;
   SphereSet good = random_set(3, 1);

@@ -8,6 +8,7 @@
 /// errors.
 
 #include <string>
+#include <vector>
 
 #include "medspheres/sphere_set.h"
 
@@ -26,8 +27,8 @@ inline constexpr int kSphereSetVersion = 1;
 SphereSet load_sphere_set(const std::string& path);
 
 /// The whole content of the file \p path, byte for byte.
-/// \throws InputError naming \p path when it does not exist, is a directory, or cannot be
-///   opened or read.
+/// \throws InputError naming \p path when it does not exist, is a directory or a device
+///   (/dev/zero would never end), or cannot be opened or read.
 std::string read_text_file(const std::string& path);
 
 /// Parses sphere-set JSON text; \p source names it in error messages.
@@ -63,5 +64,11 @@ void write_file_atomically(const std::string& path, const std::string& contents)
 /// cannot be looked up, or the directory, or the existing non-regular file, is not
 /// writable for this process).
 void check_output_path(const std::string& path);
+
+/// Writing \p output (a file, or a folder replaced as a whole) must not overwrite or remove
+/// any of \p inputs (files read before it is written): none may be \p output itself or lie
+/// under it, symbolic links resolved as far as the paths exist; empty names are skipped.
+/// \throws InputError (field "output", value \p output) naming the first such input.
+void check_output_spares_inputs(const std::string& output, const std::vector<std::string>& inputs);
 
 }  // namespace medspheres

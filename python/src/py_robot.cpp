@@ -9,6 +9,7 @@
 
 #include "medspheres/formats/robot_outputs.h"
 #include "medspheres/formats/sphere_document.h"
+#include "medspheres/io.h"
 #include "medspheres/measure/evaluate_set.h"
 #include "medspheres/number_text.h"
 #include "medspheres/options/bake_flags.h"
@@ -31,6 +32,7 @@ namespace {
 struct RobotBake {
   RobotBakeResult result;
   std::string urdf;
+  std::vector<std::string> inputs;  // the files read: an output folder must hold none
   std::vector<LinkSolid> solids;
   PlannerRequest planner;
   formats::SphereChoice choice = formats::SphereChoice::kOuter;  // of result.model.planner
@@ -70,6 +72,7 @@ void write_outputs(RobotBake& b, const std::string& out, const std::vector<std::
   const std::vector<formats::SphereFormat> chosen = formats::robot_output_formats(names);
   const std::optional<formats::SphereChoice> choice = formats::parse_set_choice(set);
   formats::check_output_dir(out);
+  check_output_spares_inputs(out, b.inputs);
   py::gil_scoped_release release;
   const formats::SphereChoice c = formats::robot_output_choice(choice, b.result.model);
   plan_for(b, c);
@@ -139,6 +142,9 @@ RobotBake bake_robot_py(const std::string& urdf, const RobotArgs& a) {
   {
     py::gil_scoped_release release;
     const UrdfRobot robot = read_urdf(urdf, read);
+    out.inputs = robot_input_files(robot);
+    out.inputs.push_back(out.planner.srdf);
+    if (a.output) check_output_spares_inputs(*a.output, out.inputs);
     check_planner_request(robot.model, out.planner);
     warnings = robot_warnings(robot, read.from_visual);
     out.solids = load_link_solids(robot);

@@ -82,6 +82,24 @@ def test_bad_robot_options_raise_the_clis_message(cli, arm, tmp_path, kwargs, fl
     assert not (tmp_path / "o").exists()
 
 
+def test_an_output_folder_holding_an_input_is_refused_and_the_inputs_stay(cli, arm, tmp_path):
+    # The folder is replaced as a whole: the URDF's own folder, or the folder of its meshes.
+    mesh = tmp_path / "meshes" / "hand.obj"
+    before = mesh.read_bytes()
+    for out in (tmp_path, tmp_path / "meshes"):
+        r = cli("robot", arm, "-o", out, "-q", check=False)
+        assert r.returncode == 2
+        assert "holds the input" in r.stderr
+        with pytest.raises(medspheres.InputError) as info:
+            medspheres.bake_robot(arm, out, spheres_per_link=4)
+        assert str(info.value) == flagged(r.stderr.removeprefix("medspheres: error: ").strip())
+        assert arm.exists() and mesh.read_bytes() == before
+    baked = medspheres.bake_robot(arm, spheres_per_link=4, outer=False, measure=False)
+    with pytest.raises(medspheres.InputError, match="holds the input"):
+        baked.save(tmp_path / "meshes")
+    assert mesh.read_bytes() == before
+
+
 def rz(angle):
     c, s = np.cos(angle), np.sin(angle)
     x = np.eye(4)

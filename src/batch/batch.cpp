@@ -27,11 +27,23 @@ double seconds_since(Clock::time_point start) {
   return std::chrono::duration<double>(Clock::now() - start).count();
 }
 
-void run_input(const BatchWork& work, const BakeCache* cache, BatchRow& row) {
+// The folders from \p dir up that do not exist yet, deepest first.
+std::vector<fs::path> missing_folders(fs::path dir) {
+  std::vector<fs::path> missing;
+  std::error_code ec;
+  for (; !dir.empty() && !fs::exists(dir, ec); dir = dir.parent_path()) missing.push_back(dir);
+  return missing;
+}
+
+// Runs one input; \p made gets the folders made for its output (deepest first).
+void run_input(const BatchWork& work, const BakeCache* cache, BatchRow& row,
+               std::vector<fs::path>& made) {
   const Clock::time_point start = Clock::now();
   try {
     std::error_code ec;  // the work reports what is wrong with the folder
-    fs::create_directories(fs::path(row.output).parent_path(), ec);
+    const fs::path folder = fs::path(row.output).parent_path();
+    made = missing_folders(folder);
+    fs::create_directories(folder, ec);
     work.run(row, cache);
   } catch (const InputError& e) {
     row.input_error = e;
@@ -105,13 +117,13 @@ BatchResult run_batch(const std::vector<BatchInput>& inputs, const BatchSettings
     row.output = (fs::path(options.output_dir) / work.output_relative(in.relative)).string();
     result.rows.push_back(std::move(row));
   }
+  std::optional<BakeCache> cache;  // a cache folder that is a file fails before any output
+  if (!options.cache_dir.empty()) cache.emplace(options.cache_dir);
   std::error_code ec;
   fs::create_directories(options.output_dir, ec);
   if (!fs::is_directory(options.output_dir))
     throw InputError::option(ErrorKind::kWriteFailed, "output", options.output_dir,
                              "'" + options.output_dir + "' is not a folder and cannot be made one");
-  std::optional<BakeCache> cache;
-  if (!options.cache_dir.empty()) cache.emplace(options.cache_dir);
 
   const int jobs =
       std::max(1, std::min(thread_count(options.jobs),
@@ -120,9 +132,10 @@ BatchResult run_batch(const std::vector<BatchInput>& inputs, const BatchSettings
   std::atomic<std::size_t> next{0};
   std::mutex report;
   std::size_t done = 0;
+  std::vector<std::vector<fs::path>> made(result.rows.size());
   auto worker = [&] {
     for (std::size_t i = next++; i < result.rows.size(); i = next++) {
-      run_input(work, store, result.rows[i]);
+      run_input(work, store, result.rows[i], made[i]);
       std::lock_guard<std::mutex> lock(report);
       ++done;
       if (options.progress) options.progress(result.rows[i], done, result.rows.size());
@@ -132,6 +145,11 @@ BatchResult run_batch(const std::vector<BatchInput>& inputs, const BatchSettings
   for (int t = 1; t < jobs; ++t) threads.emplace_back(worker);
   worker();
   for (std::thread& t : threads) t.join();
+  // A failed input leaves no folder of its own: those made for it are removed when empty
+  // (after every worker, so that none is removed under another's output).
+  for (std::size_t i = 0; i < result.rows.size(); ++i)
+    if (result.rows[i].outcome == BatchOutcome::kFailed)
+      for (const fs::path& folder : made[i]) fs::remove(folder, ec);
   result.seconds = seconds_since(start);
   return result;
 }

@@ -14,6 +14,7 @@
 #include "medspheres/formats/curobo_yaml.h"
 #include "medspheres/formats/robot_spheres.h"
 #include "medspheres/formats/sphere_document.h"
+#include "medspheres/io.h"
 #include "medspheres/mesh/mesh_io.h"
 #include "medspheres/number_text.h"
 #include "medspheres/robot/link_solid.h"
@@ -74,6 +75,13 @@ std::optional<BatchPlannerSummary> summary_of(const nlohmann::json& j) {
   s.false_positives = j.at("false_positives").get<std::size_t>();
   s.false_negatives = j.at("false_negatives").get<std::size_t>();
   return s;
+}
+
+// The files \p robot's bake reads before its folder \p out is replaced must lie outside it.
+void check_output_spares(const UrdfRobot& robot, const std::string& out, const RobotJob& job) {
+  std::vector<std::string> inputs = robot_input_files(robot);
+  inputs.push_back(job.planner.srdf);
+  check_output_spares_inputs(out, inputs);
 }
 
 // A robot read and baked into \p out; its files are kept in \p files.
@@ -219,6 +227,7 @@ std::string entry_bytes(const std::map<std::string, std::string>& files, const B
 void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row) {
   const std::string urdf_sha = file_sha256(row.input.path);
   const UrdfRobot robot = read_urdf(row.input.path, job.read);
+  check_output_spares(robot, row.output, job);
   row.warnings = robot_warnings(robot, job.read.from_visual);
   std::string key;
   if (cache) {
@@ -245,7 +254,9 @@ void bake_robot_input(const RobotJob& job, const BakeCache* cache, BatchRow& row
 RobotFileResult bake_robot_file(const std::string& urdf, const std::string& out,
                                 const RobotJob& job) {
   std::map<std::string, std::string> files;
-  return bake_read_robot(read_urdf(urdf, job.read), out, job, files);
+  const UrdfRobot robot = read_urdf(urdf, job.read);
+  check_output_spares(robot, out, job);
+  return bake_read_robot(robot, out, job, files);
 }
 
 std::string robot_output_relative(const std::string& relative) {

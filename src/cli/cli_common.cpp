@@ -12,6 +12,10 @@ std::string non_negative(const std::string& text) {
   return text.rfind('-', 0) == 0 ? "must be an integer >= 0, got " + text : std::string();
 }
 
+std::string non_empty(const std::string& text) {
+  return text.empty() ? "must not be empty" : std::string();
+}
+
 bool stderr_is_terminal() {
   return ::isatty(STDERR_FILENO) == 1;
 }

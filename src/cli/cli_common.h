@@ -51,6 +51,9 @@ bool stderr_is_terminal();
 /// "" otherwise.
 std::string non_negative(const std::string& text);
 
+/// The check of a path option (CLI11's ->check): "must not be empty" for "", "" otherwise.
+std::string non_empty(const std::string& text);
+
 /// The flag of a library field: "max_spheres" is --max-spheres.
 std::string flag_of(std::string field);
 

@@ -190,6 +190,7 @@ int run_bake(BakeArgs& args) {
   const std::string out = args.out.empty() ? default_output(args.mesh) : args.out;
   check_bake_output(out);
   check_output_path(out);
+  check_output_spares_inputs(out, {args.mesh, args.cover_start});
 
   ProgressBar bar(!args.quiet);
   request.medial.progress = [&bar](const std::string& stage, std::size_t done, std::size_t total) {
@@ -227,7 +228,8 @@ Runner register_bake(CLI::App& app) {
                   "bake a batch into the folder -o");
   sub->add_option("-o,--output", a->out,
                   "Output file (default: MESH's stem + .spheres.json, here); a batch's output "
-                  "folder");
+                  "folder")
+      ->check(non_empty);
   sub->add_option("--resolution", a->flags.resolution,
                   "Grid cells along the bounding box's longest side")
       ->capture_default_str();

@@ -188,7 +188,13 @@ int run_batch(const std::vector<std::string>& inputs, const std::string& out,
   InputScan scan;
   scan.extensions = flags.extensions.empty() ? command.extensions : flags.extensions;
   scan.relative_to = flags.relative_to;
-  const std::vector<BatchInput> list = collect_inputs(all_paths(inputs, flags), scan);
+  std::vector<BatchInput> list;
+  try {
+    list = collect_inputs(all_paths(inputs, flags), scan);
+  } catch (const InputError& e) {
+    if (e.field() == "extensions") throw e.with_field("ext");  // the library's name of --ext
+    throw;
+  }
   if (list.empty())
     throw InputError(ErrorKind::kFileMissing, inputs.empty() ? flags.from_list : inputs.front(),
                      std::string("no ") + command.noun +
@@ -201,6 +207,10 @@ int run_batch(const std::vector<std::string>& inputs, const std::string& out,
   if (!flags.report.empty())
     write_file_atomically(flags.report, csv ? batch_report_csv(result) : batch_report_json(result));
   if (!quiet) print_summary(result, out);
+  if (quiet)  // quiet drops progress and the summary, not why an input failed
+    for (const BatchRow& row : result.rows)
+      if (row.outcome == BatchOutcome::kFailed)
+        std::cerr << "medspheres: error: " << row_line(row) << "\n";
   return exit_code(result);
 }
 

@@ -43,7 +43,14 @@ int run_convert(const ConvertArgs& a) {
     write.urdf_text = read_text_file(a.urdf);
     write.urdf_source = a.urdf;
   }
-  formats::write_sphere_document(a.out, doc, to, write);
+  try {
+    formats::write_sphere_document(a.out, doc, to, write);
+  } catch (const InputError& e) {
+    // A writer that cannot know the path names its format (".sph: no spheres to write").
+    if (e.field().empty() && e.file() == "." + std::string(formats::sphere_format_name(to)))
+      throw e.with_file(a.out + " (from " + a.in + ")");
+    throw;
+  }
   std::cout << "converted " << a.in << " ("
             << (doc.set ? std::string("one set") : count_text(doc.links.size(), "link")) << ", "
             << count_text(sphere_count(doc), "sphere") << ") -> " << a.out << " ("
@@ -57,8 +64,8 @@ Runner register_convert(CLI::App& app) {
   auto a = std::make_shared<ConvertArgs>();
   CLI::App* sub = app.add_subcommand(
       "convert", "Convert sphere files: spheres, robot, curobo, xrdf, urdf, srdf, foam, sph");
-  sub->add_option("in", a->in, "Input sphere file")->required();
-  sub->add_option("out", a->out, "Output file (written atomically)")->required();
+  sub->add_option("in", a->in, "Input sphere file")->required()->check(non_empty);
+  sub->add_option("out", a->out, "Output file (written atomically)")->required()->check(non_empty);
   sub->add_option("--from", a->from, "Input format (default: from the extension and content)");
   sub->add_option("--to", a->to, "Output format (default: from the extension)");
   sub->add_option("--link", a->link,

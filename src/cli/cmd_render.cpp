@@ -11,6 +11,7 @@
 #include "medspheres/render/legend_overlay.h"
 #include "medspheres/render/png_write.h"
 #include "medspheres/render/render.h"
+#include "medspheres/thread_option.h"
 #include "scene_input.h"
 
 namespace medspheres::cli {
@@ -61,15 +62,10 @@ int run_render(const RenderArgs& args) {
   render::RenderOptions options;
   options.view = render::parse_view(args.view);
   parse_size(args.size, options);
+  check_threads_option(args.threads, "threads");
   options.threads = args.threads;
   const render::SetChoice choice = parse_set(args.set);
-  try {
-    check_output_path(args.output);
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& e) {
-    throw InputError("-o", e.what());  // an output that cannot be written is bad usage
-  }
+  check_scene_output(args.output, args.scene);
   if (!(args.tolerance >= 0.0) || !std::isfinite(args.tolerance))
     throw InputError("--tolerance", "must be a finite number >= 0");
   const SceneInput in = load_scene_input(args.scene);
@@ -96,7 +92,7 @@ Runner register_render(CLI::App& app) {
   CLI::App* sub = app.add_subcommand(
       "render", "Draw a sphere set over its mesh, or a robot, to a PNG (headless ray casting)");
   add_scene_options(sub, args->scene);
-  sub->add_option("-o,--output", args->output, "PNG file to write")->required();
+  sub->add_option("-o,--output", args->output, "PNG file to write")->required()->check(non_empty);
   sub->add_option("--view", args->view, "iso, front, side, top or grid (the four in one)")
       ->capture_default_str();
   sub->add_option("--size", args->size, "Image size WIDTHxHEIGHT in pixels")->capture_default_str();

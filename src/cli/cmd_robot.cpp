@@ -286,14 +286,15 @@ RobotJob robot_job(const RobotArgs& a) {
   job.planner.sample = !a.no_self_collision;
   job.planner.self_collision = a.self_collision;
   validate(job.planner.self_collision);
+  ContactOptions contact = a.contact_options;
+  contact.threads = a.batch.jobs;
+  validate(contact);  // the values are checked with or without --contact
   if (a.contact) {
     if (a.no_self_collision || a.no_outer)
       throw InputError::option(ErrorKind::kConflict, "contact", "",
                                "needs the self-collision matrix and the outer sets "
                                "(drop --no-self-collision and --no-outer)");
-    job.contact = a.contact_options;
-    job.contact->threads = a.batch.jobs;
-    validate(*job.contact);
+    job.contact = contact;
   }
   return job;
 }
@@ -322,6 +323,7 @@ int run_robot(const RobotArgs& a) {
   }
   const std::string& urdf = a.urdfs.front();
   formats::check_output_dir(a.out);
+  check_output_spares_inputs(a.out, {urdf, a.srdf, a.cover_start});
   if (!a.quiet) {
     std::cerr << "baking " << urdf << "\n";
     job.bake.progress = print_progress;
@@ -354,8 +356,10 @@ void add_robot_input_options(CLI::App* sub, RobotArgs* a) {
                   "Robot description (URDF); several files or folders bake a batch, each robot "
                   "into its own folder under -o");
   sub->add_option("-o,--output", a->out,
-                  "Output folder (replaced as a whole); a batch's output folder")
-      ->required();
+                  "Output folder (replaced as a whole; it must not hold the inputs); a batch's "
+                  "output folder")
+      ->required()
+      ->check(non_empty);
   sub->add_option("--format", a->formats,
                   "robot, curobo, xrdf, urdf, srdf, foam, sph (default: all)")
       ->delimiter(',');

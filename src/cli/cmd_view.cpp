@@ -7,6 +7,7 @@
 #include "medspheres/error.h"
 #include "medspheres/io.h"
 #include "medspheres/render/view_html.h"
+#include "medspheres/thread_option.h"
 #include "scene_input.h"
 
 namespace medspheres::cli {
@@ -22,13 +23,8 @@ struct ViewArgs {
 
 int run_view(const ViewArgs& args) {
   if (args.depth < 0 || args.depth > 10) throw InputError("--cover-depth", "must be 0 .. 10");
-  try {
-    check_output_path(args.output);
-  } catch (const InputError&) {
-    throw;
-  } catch (const Error& e) {
-    throw InputError("-o", e.what());
-  }
+  check_threads_option(args.threads, "threads");
+  check_scene_output(args.output, args.scene);
   const SceneInput in = load_scene_input(args.scene);
   if (!in.mismatch.empty())
     std::cerr << "medspheres: warning: " << in.source << ": " << in.mismatch << "\n";
@@ -60,7 +56,7 @@ Runner register_view(CLI::App& app) {
   add_scene_options(sub, args->scene);
   sub->add_option("--outer", args->scene.outer,
                   "A mesh's covering set (.json), shown beside SPHERES (the inner set)");
-  sub->add_option("-o,--output", args->output, "HTML file to write")->required();
+  sub->add_option("-o,--output", args->output, "HTML file to write")->required()->check(non_empty);
   sub->add_option("--cover-depth", args->depth,
                   "Splits of a triangle when certifying which surface the spheres cover (0 .. 10)")
       ->capture_default_str();

@@ -147,6 +147,17 @@ void add_scene_options(CLI::App* sub, SceneArgs& args) {
   sub->add_option("--package", args.packages, "PKG=DIR: where package://PKG/ meshes live");
 }
 
+void check_scene_output(const std::string& output, const SceneArgs& args) {
+  try {
+    check_output_path(output);
+  } catch (const InputError&) {
+    throw;
+  } catch (const Error& e) {
+    throw InputError("-o", e.what());  // an output that cannot be written is bad usage
+  }
+  check_output_spares_inputs(output, {args.model, args.spheres, args.outer});
+}
+
 SceneInput load_scene_input(const SceneArgs& args) {
   if (is_robot_description(args.model) || ends_with(args.model, ".robot.json")) {
     if (!args.outer.empty())

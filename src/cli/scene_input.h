@@ -29,6 +29,11 @@ struct SceneInput {
 /// Registers the positional MODEL [SPHERES] and --outer, --joints, --package on \p sub.
 void add_scene_options(CLI::App* sub, SceneArgs& args);
 
+/// The checks of render's and view's output before any work: writable (an output that
+/// cannot be written is bad usage), and none of the scene's input files.
+/// \throws InputError naming -o.
+void check_scene_output(const std::string& output, const SceneArgs& args);
+
 /// Loads the scene; mesh warnings go to stderr.
 /// \throws InputError naming the file or option at fault.
 SceneInput load_scene_input(const SceneArgs& args);

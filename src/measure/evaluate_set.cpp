@@ -36,11 +36,17 @@ nlohmann::ordered_json estimate_json(const Estimate95& e) {
 
 FitOptions fit_options(long long samples, long long surface_samples, std::uint64_t seed,
                        int threads) {
-  if (samples < 1)
-    throw out_of_range("samples", samples, "must be >= 1, got " + std::to_string(samples));
-  if (surface_samples < 1)
+  // The largest counts: the Monte-Carlo points' winding cells (one byte per 16 points) and
+  // the surface points (24 bytes each) are held in memory.
+  constexpr long long kMaxSamples = 10'000'000'000LL, kMaxSurfaceSamples = 100'000'000LL;
+  if (samples < 1 || samples > kMaxSamples)
+    throw out_of_range(
+        "samples", samples,
+        "must be 1 .. " + std::to_string(kMaxSamples) + ", got " + std::to_string(samples));
+  if (surface_samples < 1 || surface_samples > kMaxSurfaceSamples)
     throw out_of_range("surface_samples", surface_samples,
-                       "must be >= 1, got " + std::to_string(surface_samples));
+                       "must be 1 .. " + std::to_string(kMaxSurfaceSamples) + ", got " +
+                           std::to_string(surface_samples));
   check_threads_option(threads, "threads");
   FitOptions options;
   options.volume_samples = static_cast<std::size_t>(samples);

@@ -365,6 +365,16 @@ UrdfRobot parse_urdf(const std::string& xml, const std::string& source, const st
   return robot;
 }
 
+std::vector<std::string> robot_input_files(const UrdfRobot& robot) {
+  std::vector<std::string> files{robot.path};
+  for (const UrdfLink& link : robot.links)
+    for (const LinkPart& part : link.parts)
+      if (part.shape == PartShape::kMesh &&
+          std::find(files.begin(), files.end(), part.path) == files.end())
+        files.push_back(part.path);
+  return files;
+}
+
 UrdfRobot read_urdf(const std::string& path, const UrdfReadOptions& options) {
   const std::string dir = std::filesystem::path(path).parent_path().string();
   return parse_urdf(read_text_file(path), path, dir, options);

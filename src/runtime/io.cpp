@@ -1,5 +1,6 @@
 #include "medspheres/io.h"
 
+#include <algorithm>
 #include <atomic>
 #include <cerrno>
 #include <cstring>
@@ -22,8 +23,11 @@ std::string read_text_file(const std::string& path) {
   std::error_code ec;
   if (!std::filesystem::exists(path, ec))
     throw InputError(ErrorKind::kFileMissing, path, "no such file");
-  if (std::filesystem::is_directory(path, ec))
+  const std::filesystem::file_status st = std::filesystem::status(path, ec);
+  if (std::filesystem::is_directory(st))
     throw InputError(ErrorKind::kFileUnreadable, path, "is a directory, not a file");
+  if (std::filesystem::is_character_file(st) || std::filesystem::is_block_file(st))
+    throw InputError(ErrorKind::kFileUnreadable, path, "is a device, not a file");
   std::ifstream in(path, std::ios::binary);
   if (!in)
     throw InputError(ErrorKind::kFileUnreadable, path,
@@ -261,6 +265,34 @@ void check_output_path(const std::string& path) {
   check_directory(path, dir);
   if (::access(dir.c_str(), W_OK | X_OK) != 0)
     throw Error(path + ": cannot write in directory " + dir.string() + ": " + std::strerror(errno));
+}
+
+namespace {
+
+// \p path absolute, links resolved as far as it exists, without a trailing separator.
+fs::path resolved(const std::string& path) {
+  std::error_code ec;
+  const fs::path p = fs::absolute(path, ec);
+  fs::path r = fs::weakly_canonical(p, ec);
+  if (ec) r = p.lexically_normal();
+  return r.filename().empty() ? r.parent_path() : r;
+}
+
+}  // namespace
+
+void check_output_spares_inputs(const std::string& output, const std::vector<std::string>& inputs) {
+  if (output.empty()) return;
+  const fs::path out = resolved(output);
+  for (const std::string& input : inputs) {
+    if (input.empty()) continue;
+    const fs::path in = resolved(input);
+    if (std::mismatch(out.begin(), out.end(), in.begin(), in.end()).first == out.end())
+      throw InputError::option(ErrorKind::kConflict, "output", output,
+                               (in == out ? "is the input " : output + " holds the input ") +
+                                   input +
+                                   ", which writing it would overwrite or remove: choose "
+                                   "another path");
+  }
 }
 
 // The temporary file is created by this call with O_EXCL, so an existing file or symbolic

@@ -65,7 +65,9 @@ struct RobotFileResult {
 /// Reads \p urdf (read_urdf), loads its meshes, bakes it (bake_robot) and replaces the
 /// folder \p out with its files (write_robot_outputs).
 /// \throws InputError as read_urdf, load_link_solids, bake_robot and the writers (naming
-///   the URDF, the link and the problem); Error when the folder cannot be replaced.
+///   the URDF, the link and the problem), and (field "output") before any bake when \p out
+///   holds the URDF, a mesh it names or the job's SRDF (check_output_spares_inputs); Error
+///   when the folder cannot be replaced.
 RobotFileResult bake_robot_file(const std::string& urdf, const std::string& out,
                                 const RobotJob& job);
 

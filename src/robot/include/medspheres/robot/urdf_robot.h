@@ -64,6 +64,9 @@ struct UrdfRobot {
   FreeBase free_base;
 };
 
+/// The files \p robot was read from: its URDF, then each mesh file its links name (once).
+std::vector<std::string> robot_input_files(const UrdfRobot& robot);
+
 /// Reads the URDF in \p path with urdfdom. Links and joints keep the file's order.
 /// \throws InputError whose source is \p path and whose message names the link or joint
 ///   and the problem: a file that is missing or not well-formed XML, anything urdfdom
