@@ -251,6 +251,7 @@ TEST_CASE("an output naming an input, or empty, exits 2 and the input stays", "[
       {"render " + m + " " + q + " -o " + q + " --size 32x32", "--output: is the input"},
       {"view " + m + " " + q + " -o " + q, "--output: is the input"},
       {"bake -q " + m + " -o ''", "--output: must not be empty"},
+      {"bake -q " + m + " --method cover --cover-start ''", "--cover-start: must not be empty"},
       {"render " + m + " " + q + " -o ''", "--output: must not be empty"},
       {"view " + m + " " + q + " -o ''", "--output: must not be empty"},
       {"convert '' " + shell_quote(dir.file("o.sph")), "must not be empty"},

@@ -127,7 +127,10 @@ TEST_CASE("bake batch flags: bad values are exit 2 before any work", "[cli][batc
                         Case{in + " -o " + out + " --report r.txt", "--report"},
                         Case{in + " -o " + shell_quote(file), "--output"}, Case{in, "--output"},
                         Case{in + " -o " + out + " --jobs -1", "--jobs"},
-                        Case{in + " -o " + out + " --cache " + shell_quote(file), "--cache"}}) {
+                        Case{in + " -o " + out + " --cache " + shell_quote(file), "--cache"},
+                        Case{in + " -o " + out + " --cache ''", "--cache"},
+                        Case{in + " -o " + out + " --shard ''", "--shard"},
+                        Case{in + " -o " + out + " --report ''", "--report"}}) {
     INFO(c.args);
     const CommandResult r = run_cli("bake " + c.args, 60);
     CHECK(r.exit_code == 2);

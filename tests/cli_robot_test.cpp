@@ -346,6 +346,8 @@ TEST_CASE("robot: bad options exit 2 before any work", "[cli][robot]") {
                                  std::string(" --tool-frame ghost"),
                                  std::string(" --free-joint ghost"),
                                  std::string(" --srdf ") + shell_quote(dir.file("missing.srdf")),
+                                 std::string(" --srdf ''"),
+                                 std::string(" --contact-band -1"),  // checked without --contact
                                  std::string(" --contact --no-self-collision"),
                                  std::string(" --contact --no-outer"),
                                  std::string(" --contact --contact-band 0"),

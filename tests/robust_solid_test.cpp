@@ -298,7 +298,9 @@ TEST_CASE("robust solid options out of range name the option", "[robust_solid]")
   const TriangleMesh box = make_box({1.0, 1.0, 1.0});
   for (const RobustSolidOptions& o :
        {RobustSolidOptions{7, 0.0}, RobustSolidOptions{1025, 0.0}, RobustSolidOptions{32, -1.0},
-        RobustSolidOptions{32, std::nan("")}}) {
+        RobustSolidOptions{32, std::nan("")},
+        RobustSolidOptions{32, 2.5},  // walls thicker than the box is wide (L = 2)
+        RobustSolidOptions{0, 5.0}}) {
     try {
       make_robust_solid(box, o, "box");
       FAIL("accepted");

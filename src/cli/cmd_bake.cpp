@@ -269,7 +269,7 @@ Runner register_bake(CLI::App& app) {
       "a planner's own set need not cover) into a certified cover of at most as many spheres, "
       "each grown or shrunk to the surface nearest it, then tightened; instead of "
       "--max-spheres");
-  start->excludes(max);
+  start->excludes(max)->check(non_empty);
   sub->add_option("--cover-start-link", a->cover_start_link,
                   "The link of a per-link --cover-start file (cuRobo, XRDF, ...) to start from "
                   "(default: its only link)")

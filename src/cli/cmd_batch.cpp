@@ -144,18 +144,23 @@ BatchCommand mesh_batch(const BakeRequest& request) {
 
 void add_batch_flags(CLI::App& sub, BatchFlags& f, const BatchCommand& c) {
   sub.add_option("--from-list", f.from_list,
-                 "Also bake the paths in this file, one a line ('-': standard input)");
+                 "Also bake the paths in this file, one a line ('-': standard input)")
+      ->check(non_empty);
   sub.add_option("--jobs", f.jobs, c.jobs_help)->capture_default_str();
   sub.add_option("--shard", f.shard,
-                 "i/N: bake only share i of N (by a hash of each input's relative path)");
+                 "i/N: bake only share i of N (by a hash of each input's relative path)")
+      ->check(non_empty);
   sub.add_option("--cache", f.cache,
                  std::string("Cache folder: a ") + c.noun +
-                     " already baked with the same options is copied from it");
-  sub.add_option("--report", f.report, "Write one row per input to this .json or .csv file");
+                     " already baked with the same options is copied from it")
+      ->check(non_empty);
+  sub.add_option("--report", f.report, "Write one row per input to this .json or .csv file")
+      ->check(non_empty);
   sub.add_option("--ext", f.extensions, c.extensions_help)->delimiter(',');
   sub.add_option("--relative-to", f.relative_to,
                  "Files given by path mirror their path relative to this folder (default: the "
-                 "working directory; outside it, their name)");
+                 "working directory; outside it, their name)")
+      ->check(non_empty);
 }
 
 bool is_batch(const std::vector<std::string>& inputs, const BatchFlags& f, const BatchCommand& c) {

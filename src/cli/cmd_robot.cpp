@@ -413,7 +413,8 @@ void add_robot_bake_options(CLI::App* sub, RobotArgs* a) {
                   "A per-link sphere file (cuRobo, XRDF, ...; link frames) whose spheres, a "
                   "planner's own set that need not cover, become each link's certified covering "
                   "set of at most as many spheres, tightened; links it lacks are baked to "
-                  "their budget");
+                  "their budget")
+      ->check(non_empty);
 }
 
 // The planner files: tool frames, the self-collision matrix, contact-aware covers.
@@ -429,7 +430,8 @@ void add_robot_planner_options(CLI::App* sub, RobotArgs* a) {
                   "gripper's or hand's finger joint, for in-hand planning; repeatable)");
   sub->add_option("--srdf", a->srdf,
                   "An SRDF whose disabled pairs are taken as given and whose end effectors "
-                  "are the tool frames");
+                  "are the tool frames")
+      ->check(non_empty);
   sub->add_flag("--no-self-collision", a->no_self_collision,
                 "Skip the self-collision matrix (only adjacent pairs skipped; the default "
                 "configuration not checked)");

@@ -447,6 +447,12 @@ RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions
                               const std::string& name) {
   validate(options);
   const Eigen::AlignedBox3d box = checked_box(mesh, name);
+  const double longest = box.sizes().maxCoeff();
+  // Thicker walls than the mesh is wide would only grow the grid (5 L: 11 L a side).
+  if (options.thickness > longest)
+    throw option_error("robust_thickness", options.thickness,
+                       "must be at most the mesh's largest side L = " + number_text(longest) +
+                           ", got " + number_text(options.thickness));
   auto solid = [&](double thickness, bool escalated = false) {
     if (options.resolution == 0) return solid_of_budget(mesh, box, thickness, name, escalated);
     return solid_at(mesh, box, options.resolution, thickness, name);
@@ -454,7 +460,6 @@ RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions
   if (!options.escalate) return solid(options.thickness);
   // The given thickness, then each step of the schedule above it, until the walls enclose a
   // cell; the error of the last one tried when none does.
-  const double longest = box.sizes().maxCoeff();
   try {
     return solid(options.thickness);
   } catch (const InputError& e) {

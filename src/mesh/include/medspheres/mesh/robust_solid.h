@@ -93,10 +93,11 @@ void validate(const RobustSolidOptions& options);
 
 /// The robust solid of \p mesh (see the file comment); \p name names the mesh in errors.
 /// \throws InputError (kOutOfRange, field "robust_resolution" or "robust_thickness") for
-///   options out of range, (kNoInterior, file \p name) when the walls enclose no volume (at
-///   any probe's resolution, when chosen; at any thickness tried, when escalating): the
-///   surface bounds no volume (a flat sheet), has holes wider than the walls close, or
-///   parts thinner than the walls, which then fill them.
+///   options out of range (a thickness above the mesh's largest side too), (kNoInterior,
+///   file \p name) when the walls enclose no volume (at any probe's resolution, when
+///   chosen; at any thickness tried, when escalating): the surface bounds no volume (a flat
+///   sheet), has holes wider than the walls close, or parts thinner than the walls, which
+///   then fill them.
 /// \throws std::invalid_argument for a mesh without triangles or with indices out of range.
 RobustSolid make_robust_solid(const TriangleMesh& mesh, const RobustSolidOptions& options,
                               const std::string& name);
