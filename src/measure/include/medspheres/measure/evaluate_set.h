@@ -23,7 +23,8 @@
 
 namespace medspheres {
 
-/// The evaluation options as a user gives them, checked: counts >= 1, threads in [0,
+/// The evaluation options as a user gives them, checked: samples in [1, 10^10] and
+/// surface_samples in [1, 10^8] (their points are held in memory), threads in [0,
 /// kMaxThreads]. \throws InputError (kOutOfRange) naming the field.
 FitOptions fit_options(long long samples, long long surface_samples, std::uint64_t seed,
                        int threads);
