@@ -155,6 +155,9 @@ TEST_CASE("convert rejects bad input with exit 2, a message and no output", "[cl
   fails(shell_quote(yml) + " " + shell_quote(dir.file("r.robot.json")), "kinematic tree",
         dir.file("r.robot.json"));
   fails(shell_quote(dir.file("missing.yml")) + " " + shell_quote(kept), "missing.yml", kept);
+  // A set without spheres has no .sph: the message names the file, not only the format.
+  const std::string empty = dir.write("empty.json", R"({"spheres": []})");
+  fails(shell_quote(empty) + " " + shell_quote(out), out + ": no spheres to write", out);
 }
 
 TEST_CASE("convert writes no XRDF for a robot without an actuated joint", "[cli][convert]") {

@@ -625,6 +625,13 @@ TEST_CASE("robot --cover-start: a planner's own spheres become certified covers,
     CHECK_THAT(b.err, Contains("--cover-start"));
     CHECK_FALSE(fs::exists(out));
   }
+  // The folder that holds the start file is no output: replacing it would remove the file.
+  const std::string before = medspheres::read_text_file(start);
+  const CommandResult held = cli("robot " + arm_args(dir, urdf, dir.file("inner")) +
+                                 " --cover-start " + shell_quote(start));
+  CHECK(held.exit_code == 2);
+  CHECK_THAT(held.err, Contains("holds the input " + start));
+  CHECK(medspheres::read_text_file(start) == before);
 }
 
 TEST_CASE("robot: tool frames, the matrix and the default configuration in every planner file",

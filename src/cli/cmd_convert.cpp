@@ -43,14 +43,7 @@ int run_convert(const ConvertArgs& a) {
     write.urdf_text = read_text_file(a.urdf);
     write.urdf_source = a.urdf;
   }
-  try {
-    formats::write_sphere_document(a.out, doc, to, write);
-  } catch (const InputError& e) {
-    // A writer that cannot know the path names its format (".sph: no spheres to write").
-    if (e.field().empty() && e.file() == "." + std::string(formats::sphere_format_name(to)))
-      throw e.with_file(a.out + " (from " + a.in + ")");
-    throw;
-  }
+  formats::write_sphere_document(a.out, doc, to, write);
   std::cout << "converted " << a.in << " ("
             << (doc.set ? std::string("one set") : count_text(doc.links.size(), "link")) << ", "
             << count_text(sphere_count(doc), "sphere") << ") -> " << a.out << " ("

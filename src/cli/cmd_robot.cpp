@@ -323,7 +323,8 @@ int run_robot(const RobotArgs& a) {
   }
   const std::string& urdf = a.urdfs.front();
   formats::check_output_dir(a.out);
-  check_output_spares_inputs(a.out, {urdf, a.srdf, a.cover_start});
+  // bake_robot_file checks the URDF, its meshes and the SRDF; the start spheres are read here.
+  check_output_spares_inputs(a.out, {a.cover_start});
   if (!a.quiet) {
     std::cerr << "baking " << urdf << "\n";
     job.bake.progress = print_progress;

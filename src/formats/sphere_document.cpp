@@ -289,7 +289,16 @@ std::string sphere_document_text(const SphereDocument& doc, SphereFormat format,
 
 void write_sphere_document(const std::string& path, const SphereDocument& doc, SphereFormat format,
                            const WriteOptions& options) {
-  write_file_atomically(path, sphere_document_text(doc, format, options));
+  std::string text;
+  try {
+    text = sphere_document_text(doc, format, options);
+  } catch (const InputError& e) {
+    // A writer without a path names its format (".sph: no spheres to write"); here is one.
+    if (e.field().empty() && e.file() == "." + std::string(sphere_format_name(format)))
+      throw e.with_file(path);
+    throw;
+  }
+  write_file_atomically(path, text);
 }
 
 }  // namespace medspheres::formats

@@ -108,7 +108,8 @@ std::vector<Sphere> one_set_of(const SphereDocument& doc, const std::string& lin
 std::map<std::string, std::vector<Sphere>> read_link_sphere_map(const std::string& path,
                                                                 const std::string& option);
 
-/// Writes sphere_document_text atomically to \p path: nothing is written on error.
+/// Writes sphere_document_text atomically to \p path: nothing is written on error. A
+/// writer's InputError that names only its format (".sph") names \p path instead.
 void write_sphere_document(const std::string& path, const SphereDocument& doc, SphereFormat format,
                            const WriteOptions& options = {});
 
